@@ -1,0 +1,314 @@
+"""The body catalogue: orbits, spin poles, rotation periods and moments of inertia.
+
+Each dataset is a TOML file in ``data/catalogue/`` (format: ``SCHEMA.md``
+there); every value carries its unit, its uncertainty where the source gives
+one, and a source key resolved in ``data/references.toml``. Units are
+converted with astropy at load time; the records below hold plain floats in
+the units their field names state.
+
+Records validate themselves: a bad value raises
+:class:`~ephem.errors.InvalidInputError` naming the body and the field, whether
+it comes from a catalogue file or from a user's own body.
+"""
+from __future__ import annotations
+
+import math
+import os
+import tomllib
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+
+from .constants import GM_CENTER, J2000_JD
+from .errors import InvalidInputError, UnknownBodyError
+
+DEFAULT_DATASET = "current"
+
+
+def data_dir() -> Path:
+    """Directory of the shipped data (catalogue, references, reference tables).
+
+    ``$EPHEM_DATA_DIR`` overrides; otherwise the copy inside an installed wheel
+    (``ephem/_data``) or the repository's ``data/``.
+    """
+    env = os.environ.get("EPHEM_DATA_DIR")
+    if env:
+        return Path(env)
+    here = Path(__file__).resolve().parent
+    for candidate in (here / "_data", here.parent / "data"):
+        if (candidate / "catalogue").is_dir():
+            return candidate
+    raise FileNotFoundError("ephem data directory not found (set EPHEM_DATA_DIR)")
+
+
+@dataclass(frozen=True)
+class Measured:
+    """A catalogue value as published: value, unit, 1-sigma uncertainty, source key."""
+
+    value: float
+    unit: str
+    source: str
+    uncertainty: float | None = None
+    note: str | None = None
+
+
+def _check_finite(body: str | None, name: str, value: float) -> None:
+    if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
+        raise InvalidInputError(name, f"must be a finite number, got {value!r}", body)
+
+
+@dataclass(frozen=True)
+class Orbit:
+    """Osculating Keplerian elements, ecliptic and equinox J2000, at ``epoch_jd_tdb``.
+
+    ``center`` is the attracting (and torquing) body: "Sun" for heliocentric
+    orbits, "Earth" for the Moon.
+    """
+
+    a_au: float
+    e: float
+    i_deg: float
+    node_deg: float
+    peri_deg: float
+    mean_anomaly_deg: float
+    epoch_jd_tdb: float
+    center: str = "Sun"
+    body: str | None = field(default=None, compare=False)
+
+    def __post_init__(self):
+        b = self.body
+        for name in ("a_au", "e", "i_deg", "node_deg", "peri_deg", "mean_anomaly_deg", "epoch_jd_tdb"):
+            _check_finite(b, f"orbit.{name}", getattr(self, name))
+        if self.a_au <= 0:
+            raise InvalidInputError("orbit.a_au", f"semi-major axis must be positive, got {self.a_au}", b)
+        if not 0.0 <= self.e < 1.0:
+            raise InvalidInputError("orbit.e", f"eccentricity must satisfy 0 <= e < 1 (bound orbit), got {self.e}", b)
+        if not 0.0 <= self.i_deg <= 180.0:
+            raise InvalidInputError("orbit.i_deg", f"inclination must lie in [0, 180] deg, got {self.i_deg}", b)
+        if self.center not in GM_CENTER:
+            raise InvalidInputError("orbit.center", f"unknown centre {self.center!r}; known: {sorted(GM_CENTER)}", b)
+
+
+@dataclass(frozen=True)
+class Pole:
+    """The instantaneous spin axis (positive pole, right-hand rule) in the ICRF at ``epoch_jd_tdb``."""
+
+    ra_deg: float
+    dec_deg: float
+    epoch_jd_tdb: float = J2000_JD
+    body: str | None = field(default=None, compare=False)
+
+    def __post_init__(self):
+        for name in ("ra_deg", "dec_deg", "epoch_jd_tdb"):
+            _check_finite(self.body, f"pole.{name}", getattr(self, name))
+        if abs(self.dec_deg) > 90.0:
+            raise InvalidInputError("pole.dec_deg", f"declination must lie in [-90, 90] deg, got {self.dec_deg}", self.body)
+
+
+@dataclass(frozen=True)
+class Body:
+    """Everything the theory needs about one body.
+
+    Either ``moments`` (A, B, C in any common normalisation) or
+    ``dynamical_ellipticity`` must be given; if both are, the explicit H_d
+    wins (``hd_from`` says which was used).
+    """
+
+    name: str
+    orbit: Orbit
+    pole: Pole
+    rotation_period_hours: float
+    moments: tuple[float, float, float] | None = None
+    dynamical_ellipticity: float | None = None
+    naif_id: int | None = None
+    kind: str = "asteroid"
+    dataset: str = "user"
+    mean_radius_km: float | None = None
+    values: dict = field(default_factory=dict, compare=False, repr=False)
+
+    def __post_init__(self):
+        from .kinoshita import dynamical_ellipticity
+
+        n = self.name
+        _check_finite(n, "rotation_period_hours", self.rotation_period_hours)
+        if self.rotation_period_hours <= 0:
+            raise InvalidInputError("rotation_period_hours",
+                                    f"must be positive, got {self.rotation_period_hours}", n)
+        if self.mean_radius_km is not None:
+            _check_finite(n, "mean_radius_km", self.mean_radius_km)
+            if self.mean_radius_km <= 0:
+                raise InvalidInputError("mean_radius_km", f"must be positive, got {self.mean_radius_km}", n)
+        if self.moments is None and self.dynamical_ellipticity is None:
+            raise InvalidInputError("moments", "give the principal moments (A, B, C) or the dynamical ellipticity", n)
+        hd_moments = None
+        if self.moments is not None:
+            if len(self.moments) != 3:
+                raise InvalidInputError("moments", "expected three principal moments (A, B, C)", n)
+            for label, v in zip("ABC", self.moments):
+                _check_finite(n, f"moments.{label}", v)
+            hd_moments = dynamical_ellipticity(*self.moments, body=n)
+        if self.dynamical_ellipticity is not None:
+            _check_finite(n, "dynamical_ellipticity", self.dynamical_ellipticity)
+            if not 0.0 < self.dynamical_ellipticity <= 0.5:
+                raise InvalidInputError(
+                    "dynamical_ellipticity",
+                    f"must lie in (0, 0.5] (oblate about the spin axis, C >= (A+B)/2 and C <= A+B), "
+                    f"got {self.dynamical_ellipticity}", n)
+        object.__setattr__(self, "_hd_moments", hd_moments)
+
+    @property
+    def hd(self) -> float:
+        """The dynamical ellipticity H_d the theory uses."""
+        return self.dynamical_ellipticity if self.dynamical_ellipticity is not None else self._hd_moments
+
+    @property
+    def hd_from(self) -> str:
+        return "dynamical_ellipticity" if self.dynamical_ellipticity is not None else "moments"
+
+    @property
+    def hd_from_moments(self) -> float | None:
+        """H_d implied by the moments, whether or not an explicit value overrides it."""
+        return self._hd_moments
+
+
+# --------------------------------------------------------------------------- loading
+
+def _measured(raw: dict, where: str, body: str) -> Measured:
+    if not isinstance(raw, dict) or "value" not in raw:
+        raise InvalidInputError(where, "expected a table {value, unit, source[, uncertainty, note]}", body)
+    if "source" not in raw:
+        raise InvalidInputError(where, "every value needs a source key", body)
+    _check_finite(body, where, raw["value"])
+    unc = raw.get("uncertainty")
+    if unc is not None:
+        _check_finite(body, f"{where}.uncertainty", unc)
+        if unc < 0:
+            raise InvalidInputError(f"{where}.uncertainty", f"must be >= 0, got {unc}", body)
+    return Measured(float(raw["value"]), str(raw.get("unit", "")), str(raw["source"]),
+                    None if unc is None else float(unc), raw.get("note"))
+
+
+def _convert(m: Measured, target: str, where: str, body: str) -> float:
+    import astropy.units as u
+
+    try:
+        return float((m.value * u.Unit(m.unit)).to_value(u.Unit(target)))
+    except (ValueError, u.UnitConversionError) as exc:
+        raise InvalidInputError(where, f"cannot convert unit {m.unit!r} to {target!r}: {exc}", body) from None
+
+
+def _body_from_record(rec: dict, dataset: str) -> Body:
+    from .geometry import ecliptic_to_icrf, lon_lat
+
+    name = rec.get("name")
+    if not name:
+        raise InvalidInputError("name", "every body record needs a name", None)
+    values: dict[str, Measured] = {}
+
+    def get(section: str, key: str, target: str, required: bool = True) -> float | None:
+        sec = rec.get(section, {}) if section else rec
+        if key not in sec:
+            if required:
+                raise InvalidInputError(f"{section}.{key}" if section else key, "missing", name)
+            return None
+        where = f"{section}.{key}" if section else key
+        m = _measured(sec[key], where, name)
+        values[where] = m
+        return _convert(m, target, where, name)
+
+    orbit_rec = rec.get("orbit", {})
+    orbit = Orbit(
+        a_au=get("orbit", "a", "AU"), e=get("orbit", "e", ""), i_deg=get("orbit", "i", "deg"),
+        node_deg=get("orbit", "node", "deg"), peri_deg=get("orbit", "peri", "deg"),
+        mean_anomaly_deg=get("orbit", "mean_anomaly", "deg"), epoch_jd_tdb=get("orbit", "epoch", "d"),
+        center=orbit_rec.get("center", "Sun"), body=name)
+
+    pole_rec = rec.get("pole", {})
+    frame = pole_rec.get("frame", "icrf")
+    epoch = get("pole", "epoch", "d", required=False) or J2000_JD
+    if frame == "icrf":
+        ra, dec = get("pole", "ra", "deg"), get("pole", "dec", "deg")
+    elif frame == "ecliptic_j2000":
+        lon, lat = get("pole", "lon", "deg"), get("pole", "lat", "deg")
+        if abs(lat) > 90:
+            raise InvalidInputError("pole.lat", f"latitude must lie in [-90, 90] deg, got {lat}", name)
+        ra_r, dec_r = lon_lat(ecliptic_to_icrf(math.radians(lon), math.radians(lat)))
+        ra, dec = math.degrees(float(ra_r)), math.degrees(float(dec_r))
+    else:
+        raise InvalidInputError("pole.frame", f"must be 'icrf' or 'ecliptic_j2000', got {frame!r}", name)
+    pole = Pole(ra, dec, epoch, body=name)
+
+    period_h = get("rotation", "period", "h")
+    inertia = rec.get("inertia", {})
+    moments = None
+    if all(k in inertia for k in "ABC"):
+        units = {inertia[k].get("unit", "") for k in "ABC" if isinstance(inertia[k], dict)}
+        if len(units) != 1:
+            raise InvalidInputError("inertia", f"A, B and C must share one unit, got {sorted(units)}", name)
+        unit = units.pop()
+        moments = tuple(get("inertia", k, unit) for k in "ABC")
+    elif any(k in inertia for k in "ABC"):
+        raise InvalidInputError("inertia", "give all three of A, B, C or none", name)
+    hd = get("inertia", "dynamical_ellipticity", "", required=False)
+    radius = get("", "mean_radius", "km", required=False)
+    naif = rec.get("naif_id")
+    return Body(name=name, orbit=orbit, pole=pole, rotation_period_hours=period_h, moments=moments,
+                dynamical_ellipticity=hd, naif_id=None if naif is None else int(naif),
+                kind=rec.get("kind", "asteroid"), dataset=dataset, mean_radius_km=radius, values=values)
+
+
+@dataclass(frozen=True)
+class Catalogue:
+    """One dataset of bodies, looked up by case-insensitive name or NAIF id."""
+
+    name: str
+    description: str
+    bodies: tuple[Body, ...]
+
+    @property
+    def names(self) -> list[str]:
+        return [b.name for b in self.bodies]
+
+    def get(self, query: str | int) -> Body:
+        q = str(query).strip()
+        for b in self.bodies:
+            if b.name.lower() == q.lower() or (b.naif_id is not None and q == str(b.naif_id)):
+                return b
+        raise UnknownBodyError(str(query), self.names)
+
+
+def available_datasets() -> list[str]:
+    return sorted(p.stem for p in (data_dir() / "catalogue").glob("*.toml"))
+
+
+def parse_catalogue(text: str, dataset: str) -> Catalogue:
+    """Parse and validate a catalogue TOML document."""
+    doc = tomllib.loads(text)
+    meta = doc.get("dataset", {})
+    bodies = tuple(_body_from_record(rec, dataset) for rec in doc.get("body", []))
+    names = [b.name.lower() for b in bodies]
+    if len(set(names)) != len(names):
+        raise InvalidInputError("name", f"duplicate body names in dataset {dataset!r}", None)
+    return Catalogue(dataset, meta.get("description", ""), bodies)
+
+
+@lru_cache(maxsize=None)
+def load_catalogue(dataset: str = DEFAULT_DATASET) -> Catalogue:
+    """Load (once) and validate a shipped dataset: "current" (default) or "petit2014"."""
+    known = available_datasets()
+    if dataset not in known:
+        raise InvalidInputError("dataset", f"unknown dataset {dataset!r}; known: {', '.join(known)}")
+    path = data_dir() / "catalogue" / f"{dataset}.toml"
+    return parse_catalogue(path.read_text(encoding="utf-8"), dataset)
+
+
+@lru_cache(maxsize=1)
+def load_references() -> dict:
+    """The references file: source key -> {authors, year, title, journal, where, …}."""
+    with open(data_dir() / "references.toml", "rb") as fh:
+        return tomllib.load(fh)
+
+
+def get_body(query: str | int, dataset: str = DEFAULT_DATASET) -> Body:
+    """A catalogue body by case-insensitive name or NAIF id (2000004 = Vesta)."""
+    return load_catalogue(dataset).get(query)

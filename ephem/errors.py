@@ -1,0 +1,55 @@
+"""Exceptions raised by the science core.
+
+Every error names what was wrong, so that the CLI and the HTTP service can
+pass the message straight to the user (a 4xx, never a 500).
+"""
+from __future__ import annotations
+
+
+class EphemError(Exception):
+    """Base class of every error the library raises on purpose."""
+
+
+class InvalidInputError(EphemError, ValueError):
+    """An input value is malformed or outside its physical domain.
+
+    ``field`` is the dotted name of the offending input (``orbit.e``,
+    ``inertia.A``…), ``body`` the body it belongs to, if any.
+    """
+
+    def __init__(self, field: str, reason: str, body: str | None = None):
+        self.field = field
+        self.reason = reason
+        self.body = body
+        where = f"{body}: " if body else ""
+        super().__init__(f"{where}{field}: {reason}")
+
+
+class UnknownBodyError(EphemError, LookupError):
+    """A body name or NAIF id that is not in the catalogue."""
+
+    def __init__(self, query: str, known: list[str]):
+        self.query = query
+        self.known = list(known)
+        super().__init__(
+            f"unknown body {query!r}; known bodies: {', '.join(self.known)}"
+        )
+
+    def __str__(self) -> str:  # LookupError would repr() the message
+        return self.args[0]
+
+
+class NotApplicableError(EphemError):
+    """The theory does not hold for this body (for instance a synchronous rotator).
+
+    ``ratio`` is the quantity that decided it (spin rate over orbital mean
+    motion for the rotation-averaging condition) and ``threshold`` the limit.
+    """
+
+    def __init__(self, body: str, reason: str, ratio: float | None = None,
+                 threshold: float | None = None):
+        self.body = body
+        self.reason = reason
+        self.ratio = ratio
+        self.threshold = threshold
+        super().__init__(f"not applicable to {body}: {reason}")

@@ -1,0 +1,118 @@
+"""Spin-pole and orbit geometry: obliquity, the body's equinox, the angle to pericentre.
+
+References: Petit, Souchay & Lhotka (2014), A&A 565, A79, sect. 4.2-4.3, eqs. 26-29.
+The printed equations have sign slips (eq. 26's second component, eq. 27's
+second component) and eq. 29 takes an arccos, which loses the sign of the
+angle. Here everything is done with vectors and signed angles (atan2).
+
+Frames: poles are given in the ICRF (RA, Dec); orbits in the ecliptic and
+equinox J2000. The ICRF -> ecliptic rotation is astropy's
+``BarycentricMeanEcliptic(equinox="J2000")`` (ERFA ``ecm06``: IAU 2006
+obliquity at J2000 and the ICRS frame bias); it is computed once and cached.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from .errors import InvalidInputError
+from .kepler import orbit_basis
+
+
+@lru_cache(maxsize=1)
+def icrf_to_ecliptic_matrix() -> np.ndarray:
+    """3x3 rotation taking ICRF unit vectors to the mean ecliptic and equinox J2000."""
+    import astropy.units as u
+    from astropy.coordinates import ICRS, BarycentricMeanEcliptic
+
+    basis = ICRS(ra=[0.0, 90.0, 0.0] * u.deg, dec=[0.0, 0.0, 90.0] * u.deg)
+    ecl = basis.transform_to(BarycentricMeanEcliptic(equinox="J2000"))
+    columns = ecl.cartesian.xyz.value  # column j = image of ICRF basis vector j
+    # re-orthonormalise away the round-off of the spherical round trip
+    u_, _, vt = np.linalg.svd(columns)
+    return u_ @ vt
+
+
+def unit_vector(lon, lat) -> np.ndarray:
+    """Unit vector(s) from longitude and latitude in radians; last axis is xyz."""
+    lon = np.asarray(lon, dtype=float)
+    lat = np.asarray(lat, dtype=float)
+    return np.stack([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)], axis=-1)
+
+
+def lon_lat(vec) -> tuple[np.ndarray, np.ndarray]:
+    """Longitude in [0, 2π) and latitude (radians) of vector(s) along the last axis."""
+    vec = np.asarray(vec, dtype=float)
+    x, y, z = vec[..., 0], vec[..., 1], vec[..., 2]
+    lon = np.remainder(np.arctan2(y, x), 2.0 * math.pi)
+    lat = np.arctan2(z, np.hypot(x, y))
+    return lon, lat
+
+
+def icrf_to_ecliptic(ra: float, dec: float) -> np.ndarray:
+    """Ecliptic-J2000 unit vector of an ICRF direction (ra, dec in radians)."""
+    return icrf_to_ecliptic_matrix() @ unit_vector(ra, dec)
+
+
+def ecliptic_to_icrf(lon: float, lat: float) -> np.ndarray:
+    """ICRF unit vector of an ecliptic-J2000 direction (lon, lat in radians)."""
+    return icrf_to_ecliptic_matrix().T @ unit_vector(lon, lat)
+
+
+def signed_angle(a: np.ndarray, b: np.ndarray, axis: np.ndarray) -> float:
+    """Angle from a to b, counter-clockwise about ``axis`` (radians in (-π, π])."""
+    return math.atan2(float(np.dot(np.cross(a, b), axis)), float(np.dot(a, b)))
+
+
+@dataclass(frozen=True)
+class SpinGeometry:
+    """Where the spin axis stands relative to the orbit.
+
+    Attributes
+    ----------
+    obliquity : angle between the orbit normal and the spin axis, radians in [0, π].
+    equinox : unit vector (ecliptic J2000) of the body's equinox γ, the
+        ascending node of the orbit on the body's equator: s × W / |s × W|.
+        The Sun, seen from the body, crosses the equator northward there.
+    equinox_to_pericentre : signed angle from γ to the pericentre, measured in
+        the orbit plane in the direction of motion (radians). The Sun's
+        longitude from γ is then λ = this + ν (+π, which drops out of 2λ).
+        Petit et al.'s ω + 180° − Λ.
+    orbit_frame : 3x3 matrix whose rows are (γ, W × γ, W) in ecliptic J2000: it
+        takes ecliptic vectors to the frame of the orbit and the equinox.
+    """
+
+    obliquity: float
+    equinox: np.ndarray
+    equinox_to_pericentre: float
+    orbit_frame: np.ndarray
+
+
+#: Below this sin(obliquity) the node of the equator on the orbit is undefined.
+MIN_SIN_OBLIQUITY = 1e-10
+
+
+def spin_geometry(pole_ecliptic: np.ndarray, i: float, node: float, peri: float,
+                  body: str | None = None) -> SpinGeometry:
+    """Obliquity, equinox and equinox-to-pericentre angle of a spin axis.
+
+    ``pole_ecliptic`` is the spin-axis unit vector in ecliptic J2000; the orbit
+    angles are in radians (ecliptic and equinox J2000).
+    """
+    s = np.asarray(pole_ecliptic, dtype=float)
+    s = s / np.linalg.norm(s)
+    p, _, w = orbit_basis(i, node, peri)
+    cross = np.cross(s, w)
+    sin_eps = float(np.linalg.norm(cross))
+    obliquity = math.atan2(sin_eps, float(np.dot(s, w)))
+    if sin_eps < MIN_SIN_OBLIQUITY:
+        raise InvalidInputError(
+            "pole", "the spin axis is normal to the orbit (obliquity 0 or 180 deg): "
+            "the equinox and the longitude of the node are undefined", body)
+    gamma = cross / sin_eps
+    theta = signed_angle(gamma, p, w)
+    frame = np.vstack([gamma, np.cross(w, gamma), w])
+    return SpinGeometry(obliquity, gamma, theta, frame)

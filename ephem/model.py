@@ -1,0 +1,155 @@
+"""Precession-nutation model of one body: geometry + Kinoshita's theory, evaluated over time.
+
+The catalogue pole is the *instantaneous* spin axis at its epoch t0; the
+theory's mean pole differs from it by the nutation (Δψ(t0), Δε(t0)), which is
+removed here (two fixed-point passes; the correction is second order).
+
+The track follows the issue's definition, in the frame of the orbit and the
+mean equinox at t0:
+
+    ψ(t) = ψ̇ (t - t0) + Δψ(t),    ε(t) = ε̄0 + Δε(t)
+
+and the spin axis s(t) = (sin ε sin ψ, sin ε cos ψ, cos ε): s turns about
+the orbit normal by -ψ (ψ̇ > 0 is retrograde, as the Earth's precession).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .catalogue import Body
+from .errors import NotApplicableError
+from .geometry import icrf_to_ecliptic_matrix, lon_lat, spin_geometry, unit_vector
+from .kepler import mean_motion_rad_per_day
+from .kinoshita import NutationSeries, nutation_series, precession_rate, scaling_factor
+
+#: Rotation-averaging needs the spin much faster than the orbital motion. This
+#: threshold on ω/n is provisional (the speed-accuracy work measures where the
+#: averaged theory fails against a full rigid-body integration).
+MIN_SPIN_ORBIT_RATIO = 10.0
+
+
+@dataclass(frozen=True)
+class Track:
+    """Spin-axis track over epochs (radians; times JD TDB)."""
+
+    jd_tdb: np.ndarray
+    psi: np.ndarray
+    delta_psi: np.ndarray
+    delta_epsilon: np.ndarray
+    obliquity: np.ndarray
+    pole_ra: np.ndarray
+    pole_dec: np.ndarray
+
+
+@dataclass(frozen=True)
+class PrecessionNutation:
+    """The forced precession and nutation of one body, first order in the torque.
+
+    Rates in rad/day, angles in radians, times JD TDB.
+    """
+
+    body: str
+    dataset: str
+    hd: float
+    mean_motion: float           # n, rad/day
+    spin_rate: float             # ω, rad/day
+    eccentricity: float
+    scaling_factor: float        # K = 3 n² H_d / ω, rad/day
+    obliquity: float             # mean obliquity ε̄0 at the pole epoch
+    equinox_to_pericentre: float  # θ̄ from the mean equinox at t0
+    precession_rate: float       # ψ̇, rad/day
+    nutation: NutationSeries
+    pole_epoch: float            # t0
+    orbit_epoch: float
+    mean_anomaly_at_epoch: float  # M at orbit_epoch
+    nutation_at_pole_epoch: tuple[float, float]  # (Δψ(t0), Δε(t0))
+    icrf_from_orbit: np.ndarray  # columns: mean equinox, W × equinox, W in ICRF
+    order: int | None
+
+    @property
+    def spin_orbit_ratio(self) -> float:
+        return self.spin_rate / self.mean_motion
+
+    def mean_anomaly(self, jd_tdb) -> np.ndarray:
+        return self.mean_anomaly_at_epoch + self.mean_motion * (np.asarray(jd_tdb, dtype=float) - self.orbit_epoch)
+
+    def nutation_at(self, jd_tdb) -> tuple[np.ndarray, np.ndarray]:
+        """Δψ, Δε (radians) at epochs (JD TDB)."""
+        return self.nutation.evaluate(self.mean_anomaly(jd_tdb))
+
+    def angles(self, jd_tdb) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """ψ, Δψ, Δε and ε (radians) at epochs: the cheap part of a track."""
+        t = np.asarray(jd_tdb, dtype=float)
+        dpsi, deps = self.nutation_at(t)
+        psi = self.precession_rate * (t - self.pole_epoch) + dpsi
+        return psi, dpsi, deps, self.obliquity + deps
+
+    def pole_orbit_frame(self, psi, eps) -> np.ndarray:
+        """Spin-axis unit vectors (..., 3) in the frame of the orbit and mean equinox at t0."""
+        se = np.sin(eps)
+        return np.stack([se * np.sin(psi), se * np.cos(psi), np.cos(eps)], axis=-1)
+
+    def track(self, jd_tdb) -> Track:
+        t = np.asarray(jd_tdb, dtype=float)
+        psi, dpsi, deps, eps = self.angles(t)
+        s = self.pole_orbit_frame(psi, eps) @ self.icrf_from_orbit.T
+        ra, dec = lon_lat(s)
+        return Track(t, psi, dpsi, deps, eps, ra, dec)
+
+
+def check_applicable(body: Body, spin_rate: float, mean_motion: float) -> None:
+    """Refuse bodies whose rotation is too slow to average the torque over (the Moon)."""
+    ratio = spin_rate / mean_motion
+    if ratio < MIN_SPIN_ORBIT_RATIO:
+        what = "synchronous with its orbit" if abs(ratio - 1.0) < 0.01 else "slow compared with its orbital motion"
+        raise NotApplicableError(
+            body.name,
+            f"the rotation is {what} (spin rate / orbital mean motion ω/n = {ratio:.4g}); Kinoshita's theory "
+            f"averages the torque over the rotation and needs ω/n >= {MIN_SPIN_ORBIT_RATIO:g}",
+            ratio=ratio, threshold=MIN_SPIN_ORBIT_RATIO)
+
+
+def build_model(body: Body, order: int | None = None) -> PrecessionNutation:
+    """Precession-nutation model of ``body``.
+
+    ``order`` None uses exact Hansen coefficients; an integer truncates them
+    at that power of e (the paper: 4).
+    """
+    orb = body.orbit
+    n = mean_motion_rad_per_day(orb.a_au, orb.center)
+    omega = 2.0 * math.pi / (body.rotation_period_hours / 24.0)
+    check_applicable(body, omega, n)
+    K = scaling_factor(n, omega, body.hd)
+
+    ecl_from_icrf = icrf_to_ecliptic_matrix()
+    s_ecl = ecl_from_icrf @ unit_vector(math.radians(body.pole.ra_deg), math.radians(body.pole.dec_deg))
+    i, node, peri = (math.radians(x) for x in (orb.i_deg, orb.node_deg, orb.peri_deg))
+    geo = spin_geometry(s_ecl, i, node, peri, body.name)
+
+    t0 = body.pole.epoch_jd_tdb
+    m0 = math.radians(orb.mean_anomaly_deg)
+    m_t0 = m0 + n * (t0 - orb.epoch_jd_tdb)
+    dpsi0 = deps0 = 0.0
+    for _ in range(3):
+        eps_mean = geo.obliquity - deps0
+        theta_mean = geo.equinox_to_pericentre - dpsi0
+        series = nutation_series(K, n, eps_mean, orb.e, theta_mean, order)
+        dpsi_a, deps_a = series.evaluate(np.array([m_t0]))
+        dpsi0, deps0 = float(dpsi_a[0]), float(deps_a[0])
+    eps_mean = geo.obliquity - deps0
+    theta_mean = geo.equinox_to_pericentre - dpsi0
+
+    gamma, y_true, w = geo.orbit_frame
+    x_mean = math.cos(dpsi0) * gamma + math.sin(dpsi0) * y_true
+    frame_ecl = np.vstack([x_mean, np.cross(w, x_mean), w])  # rows in ecliptic
+    icrf_from_orbit = ecl_from_icrf.T @ frame_ecl.T
+
+    return PrecessionNutation(
+        body=body.name, dataset=body.dataset, hd=body.hd, mean_motion=n, spin_rate=omega,
+        eccentricity=orb.e, scaling_factor=K, obliquity=eps_mean, equinox_to_pericentre=theta_mean,
+        precession_rate=precession_rate(K, eps_mean, orb.e, order), nutation=series,
+        pole_epoch=t0, orbit_epoch=orb.epoch_jd_tdb, mean_anomaly_at_epoch=m0,
+        nutation_at_pole_epoch=(dpsi0, deps0), icrf_from_orbit=icrf_from_orbit, order=order)
