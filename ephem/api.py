@@ -1,0 +1,179 @@
+"""The library's public answers: plain dicts with the contract's keys and units.
+
+The CLI and the HTTP service both render these; the science stays in
+:mod:`ephem.model` and below. Angles in degrees, precession and nutation in
+arcseconds, rates per Julian year, times as JD TDB.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .catalogue import DEFAULT_DATASET, Body, get_body, load_catalogue, load_references
+from .constants import ARCSEC, JULIAN_YEAR_DAYS
+from .errors import InvalidInputError
+from .model import MIN_SPIN_ORBIT_RATIO, PrecessionNutation, build_model
+from .timeparse import to_jd_tdb
+
+#: e-power series of the Hansen coefficients diverge beyond the Laplace limit.
+LAPLACE_LIMIT = 0.6627434193491815
+#: Default cap on the number of epochs in one track.
+MAX_TRACK_SAMPLES = 1_000_000
+#: Obliquity within this many degrees of 90: ψ̇ ∝ cos ε is small and poorly determined.
+NEAR_RIGHT_ANGLE_DEG = 2.0
+
+THEORY = ("Kinoshita (1977) forced precession-nutation, first order in the solar torque, "
+          "as in Petit, Souchay & Lhotka (2014)")
+ASSUMPTIONS = [
+    "rigid body; figure, rotation and angular-momentum axes coincide (free wobble J = 0)",
+    "torque averaged over the rotation; triaxial P22 term of the potential dropped",
+    "fixed Keplerian orbit (osculating elements at their epoch); orbital plane fixed",
+    "single perturber: the orbit's centre",
+    "first order in the torque: the equinox drift is not fed back into the nutation phases",
+]
+
+
+def _order(order: int | None) -> int | None:
+    if order is None:
+        return None
+    if isinstance(order, bool) or not isinstance(order, int) or order < 0 or order > 60:
+        raise InvalidInputError("order", f"eccentricity order must be an integer in [0, 60] or omitted "
+                                f"for exact Hansen coefficients, got {order!r}")
+    return order
+
+
+def resolve_body(body: str | int | Body, dataset: str = DEFAULT_DATASET) -> Body:
+    return body if isinstance(body, Body) else get_body(body, dataset)
+
+
+def model_for(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None) -> PrecessionNutation:
+    """Validated model of a catalogue body (by name or NAIF id) or of a :class:`Body`."""
+    b = resolve_body(body, dataset)
+    order = _order(order)
+    if order is not None and b.orbit.e > LAPLACE_LIMIT:
+        raise InvalidInputError(
+            "order", f"e = {b.orbit.e} exceeds the Laplace limit {LAPLACE_LIMIT:.4f}: the e-power series "
+            "diverge; omit the order to use exact Hansen coefficients", b.name)
+    return build_model(b, order)
+
+
+def model_info(m: PrecessionNutation, b: Body) -> dict:
+    warnings = []
+    if abs(math.degrees(m.obliquity) - 90.0) < NEAR_RIGHT_ANGLE_DEG:
+        warnings.append("obliquity within 2 deg of 90: the precession rate (∝ cos ε) is small and "
+                        "dominated by the obliquity's uncertainty")
+    if b.hd_from == "dynamical_ellipticity" and b.hd_from_moments is not None \
+            and abs(b.hd - b.hd_from_moments) > 1e-4 * b.hd:
+        warnings.append(f"dynamical ellipticity {b.hd:.6g} given explicitly; the catalogue moments imply "
+                        f"{b.hd_from_moments:.6g} (see data/errata.toml)")
+    return {
+        "theory": THEORY,
+        "eccentricity_order": "exact" if m.order is None else m.order,
+        "assumptions": ASSUMPTIONS,
+        "warnings": warnings,
+        "spin_orbit_ratio": m.spin_orbit_ratio,
+        "min_spin_orbit_ratio": MIN_SPIN_ORBIT_RATIO,
+        "pole_epoch_jd_tdb": m.pole_epoch,
+        "orbit_epoch_jd_tdb": m.orbit_epoch,
+    }
+
+
+def list_bodies(dataset: str = DEFAULT_DATASET) -> list[dict]:
+    cat = load_catalogue(dataset)
+    return [{
+        "name": b.name, "naif_id": b.naif_id, "kind": b.kind, "dataset": b.dataset,
+        "a_au": b.orbit.a_au, "e": b.orbit.e, "orbit_center": b.orbit.center,
+        "rotation_period_hours": b.rotation_period_hours,
+        "pole_ra_deg": b.pole.ra_deg, "pole_dec_deg": b.pole.dec_deg,
+        "dynamical_ellipticity": b.hd,
+    } for b in cat.bodies]
+
+
+def body_record(body: str | int, dataset: str = DEFAULT_DATASET) -> dict:
+    """The full catalogue record: every value with unit, uncertainty and resolved source."""
+    b = get_body(body, dataset)
+    refs = load_references()
+    values = {}
+    for key, m in b.values.items():
+        values[key] = {"value": m.value, "unit": m.unit, "uncertainty": m.uncertainty,
+                       "source": m.source, "reference": refs.get(m.source), "note": m.note}
+    return {"name": b.name, "naif_id": b.naif_id, "kind": b.kind, "dataset": b.dataset,
+            "orbit_center": b.orbit.center, "dynamical_ellipticity": b.hd,
+            "dynamical_ellipticity_from": b.hd_from, "values": values}
+
+
+def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None) -> dict:
+    """Obliquity, H_d, K and the precession rate ψ̇ (Petit et al. Table 4 columns)."""
+    b = resolve_body(body, dataset)
+    m = model_for(b, dataset, order)
+    per_year = JULIAN_YEAR_DAYS / ARCSEC
+    return {
+        "body": b.name, "dataset": b.dataset,
+        "obliquity_deg": math.degrees(m.obliquity),
+        "dynamical_ellipticity": m.hd,
+        "scaling_factor_arcsec_per_year": m.scaling_factor * per_year,
+        "precession_rate_arcsec_per_year": m.precession_rate * per_year,
+        "model": model_info(m, b),
+    }
+
+
+def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None) -> dict:
+    """Nutation terms: Δψ = Σ S sin kM + C cos kM (likewise Δε), arcsec."""
+    b = resolve_body(body, dataset)
+    m = model_for(b, dataset, order)
+    s = m.nutation
+    periods = s.period_days
+    terms = [{
+        "multiple": int(k), "period_days": float(p), "period_years": float(p / JULIAN_YEAR_DAYS),
+        "longitude_sin_arcsec": float(a / ARCSEC), "longitude_cos_arcsec": float(c / ARCSEC),
+        "obliquity_sin_arcsec": float(d / ARCSEC), "obliquity_cos_arcsec": float(f / ARCSEC),
+    } for k, p, a, c, d, f in zip(s.multiple, periods, s.lon_sin, s.lon_cos, s.obl_sin, s.obl_cos)]
+    half_psi, half_eps = s.semi_peak_to_peak()
+    return {
+        "body": b.name, "dataset": b.dataset, "argument": "mean anomaly M",
+        "mean_anomaly_at_epoch_deg": math.degrees(m.mean_anomaly_at_epoch) % 360.0,
+        "orbit_epoch_jd_tdb": m.orbit_epoch,
+        "mean_motion_deg_per_day": math.degrees(m.mean_motion),
+        "terms": terms,
+        "delta_psi_half_peak_to_peak_arcsec": half_psi / ARCSEC,
+        "delta_epsilon_half_peak_to_peak_arcsec": half_eps / ARCSEC,
+        "model": model_info(m, b),
+    }
+
+
+def track_epochs(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPLES) -> np.ndarray:
+    """Evenly spaced JD TDB epochs from start to stop (inclusive when it falls on the grid)."""
+    t0 = to_jd_tdb(start, "start")
+    t1 = to_jd_tdb(stop, "stop")
+    if isinstance(step_days, bool) or not isinstance(step_days, (int, float)) or not math.isfinite(step_days):
+        raise InvalidInputError("step_days", f"must be a finite number, got {step_days!r}")
+    if step_days <= 0:
+        raise InvalidInputError("step_days", f"must be positive, got {step_days}")
+    if t1 < t0:
+        raise InvalidInputError("stop", f"stop (JD {t1}) is before start (JD {t0})")
+    count = int(math.floor((t1 - t0) / step_days + 1e-9)) + 1
+    if count > max_samples:
+        raise InvalidInputError("step_days", f"{count} samples exceed the cap of {max_samples}; "
+                                "use a larger step or a shorter span")
+    return t0 + step_days * np.arange(count)
+
+
+def track(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,
+          order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES) -> dict:
+    """Spin-axis track: ψ, Δψ, Δε (arcsec), obliquity and pole RA/Dec (deg) at each epoch."""
+    b = resolve_body(body, dataset)
+    t = track_epochs(start, stop, step_days, max_samples)
+    m = model_for(b, dataset, order)
+    tr = m.track(t)
+    return {
+        "body": b.name, "dataset": b.dataset,
+        "jd_tdb": tr.jd_tdb.tolist(),
+        "psi_arcsec": (tr.psi / ARCSEC).tolist(),
+        "delta_psi_arcsec": (tr.delta_psi / ARCSEC).tolist(),
+        "delta_epsilon_arcsec": (tr.delta_epsilon / ARCSEC).tolist(),
+        "obliquity_deg": np.degrees(tr.obliquity).tolist(),
+        "pole_ra_deg": np.degrees(tr.pole_ra).tolist(),
+        "pole_dec_deg": np.degrees(tr.pole_dec).tolist(),
+        "model": model_info(m, b),
+    }

@@ -1,0 +1,158 @@
+"""Command-line interface: ``ephem bodies | body | precession | nutation | track | demo``.
+
+Output is JSON (default), CSV or an aligned text table. Errors go to stderr
+with exit status 2 (bad input, unknown body) or 3 (theory not applicable).
+"""
+from __future__ import annotations
+
+import csv
+import io
+import json
+import sys
+from enum import Enum
+from typing import Optional
+
+import typer
+
+from . import api
+from .errors import EphemError, NotApplicableError
+
+app = typer.Typer(add_completion=False, no_args_is_help=True,
+                  help="Precession and nutation of the spin axes of asteroids, planets and moons.")
+
+
+class Format(str, Enum):
+    json = "json"
+    csv = "csv"
+    table = "table"
+
+
+DatasetOpt = typer.Option("current", "--dataset", "-d", help="Catalogue dataset: current or petit2014.")
+FormatOpt = typer.Option(Format.json, "--format", "-f", help="Output format.")
+OrderOpt = typer.Option(None, "--order", help="Truncate the Hansen coefficients at this power of e "
+                        "(the paper: 4). Default: exact.")
+
+
+def _fail(exc: EphemError) -> None:
+    typer.echo(f"error: {exc}", err=True)
+    raise typer.Exit(3 if isinstance(exc, NotApplicableError) else 2)
+
+
+def _rows_to_csv(rows: list[dict]) -> str:
+    buf = io.StringIO()
+    writer = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    return buf.getvalue()
+
+
+def _rows_to_table(rows: list[dict]) -> str:
+    def cell(v):
+        return f"{v:.10g}" if isinstance(v, float) else str(v)
+    cols = list(rows[0])
+    cells = [[cell(r[c]) for c in cols] for r in rows]
+    widths = [max(len(c), *(len(r[i]) for r in cells)) for i, c in enumerate(cols)]
+    line = lambda vals: "  ".join(v.rjust(w) for v, w in zip(vals, widths))  # noqa: E731
+    return "\n".join([line(cols), line(["-" * w for w in widths])] + [line(r) for r in cells]) + "\n"
+
+
+def _emit(answer, fmt: Format, rows: list[dict] | None = None) -> None:
+    if fmt is Format.json:
+        sys.stdout.write(json.dumps(answer, indent=2, allow_nan=False) + "\n")
+        return
+    rows = rows if rows is not None else [answer]
+    sys.stdout.write(_rows_to_csv(rows) if fmt is Format.csv else _rows_to_table(rows))
+
+
+def _flat(answer: dict) -> dict:
+    return {k: v for k, v in answer.items() if not isinstance(v, (dict, list))}
+
+
+@app.command()
+def bodies(dataset: str = DatasetOpt, fmt: Format = FormatOpt):
+    """List the catalogue's bodies."""
+    try:
+        rows = api.list_bodies(dataset)
+    except EphemError as exc:
+        _fail(exc)
+    _emit(rows, fmt, rows)
+
+
+@app.command()
+def body(name: str, dataset: str = DatasetOpt):
+    """Full catalogue record of BODY (name or NAIF id): values, units, uncertainties, sources."""
+    try:
+        _emit(api.body_record(name, dataset), Format.json)
+    except EphemError as exc:
+        _fail(exc)
+
+
+@app.command()
+def precession(name: str = typer.Argument(..., metavar="BODY"), dataset: str = DatasetOpt,
+               fmt: Format = FormatOpt, order: Optional[int] = OrderOpt):
+    """Obliquity, dynamical ellipticity, scaling factor K and precession rate of BODY."""
+    try:
+        ans = api.precession(name, dataset, order)
+    except EphemError as exc:
+        _fail(exc)
+    _emit(ans, fmt, [_flat(ans)])
+
+
+@app.command()
+def nutation(name: str = typer.Argument(..., metavar="BODY"), dataset: str = DatasetOpt,
+             fmt: Format = FormatOpt, order: Optional[int] = OrderOpt):
+    """Nutation series of BODY in longitude and obliquity (harmonics of the mean anomaly)."""
+    try:
+        ans = api.nutation(name, dataset, order)
+    except EphemError as exc:
+        _fail(exc)
+    _emit(ans, fmt, ans["terms"])
+
+
+@app.command()
+def track(name: str = typer.Argument(..., metavar="BODY"),
+          start: str = typer.Option(..., "--start", help="ISO 8601 (UTC unless a scale follows) or JD TDB."),
+          stop: str = typer.Option(..., "--stop", help="ISO 8601 or JD TDB."),
+          step_days: float = typer.Option(..., "--step-days", help="Sampling step in days."),
+          dataset: str = DatasetOpt, fmt: Format = FormatOpt, order: Optional[int] = OrderOpt):
+    """Spin-axis track of BODY: ψ, Δψ, Δε, obliquity and pole RA/Dec over time."""
+    try:
+        ans = api.track(name, start, stop, step_days, dataset, order)
+    except EphemError as exc:
+        _fail(exc)
+    keys = ["jd_tdb", "psi_arcsec", "delta_psi_arcsec", "delta_epsilon_arcsec", "obliquity_deg",
+            "pole_ra_deg", "pole_dec_deg"]
+    rows = [dict(zip(keys, vals)) for vals in zip(*(ans[k] for k in keys))]
+    if not rows:
+        rows = [dict.fromkeys(keys, "")]
+    _emit(ans, fmt, rows)
+
+
+@app.command()
+def demo(dataset: str = DatasetOpt):
+    """A short tour: precession of every body the theory applies to, and Vesta's nutation."""
+    typer.echo(f"Precession rates ({dataset} dataset)")
+    rows = []
+    for b in api.list_bodies(dataset):
+        try:
+            p = api.precession(b["name"], dataset)
+            rows.append({"body": b["name"], "obliquity_deg": round(p["obliquity_deg"], 4),
+                         "H_d": round(p["dynamical_ellipticity"], 6),
+                         "K_arcsec_per_yr": round(p["scaling_factor_arcsec_per_year"], 4),
+                         "psi_dot_arcsec_per_yr": round(p["precession_rate_arcsec_per_year"], 4)})
+        except NotApplicableError as exc:
+            rows.append({"body": b["name"], "obliquity_deg": "-", "H_d": "-", "K_arcsec_per_yr": "-",
+                         "psi_dot_arcsec_per_yr": f"not applicable (ω/n = {exc.ratio:.3g})"})
+    typer.echo(_rows_to_table(rows))
+    typer.echo("Nutation of Vesta (arcsec), harmonics of the mean anomaly")
+    terms = api.nutation("vesta", dataset)["terms"][:6]
+    typer.echo(_rows_to_table([{k: (round(v, 4) if isinstance(v, float) else v) for k, v in t.items()}
+                               for t in terms]))
+
+
+def main() -> None:  # pragma: no cover
+    app()
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()
