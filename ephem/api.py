@@ -142,8 +142,11 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
     }
 
 
-def track_epochs(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPLES) -> np.ndarray:
-    """Evenly spaced JD TDB epochs from start to stop (inclusive when it falls on the grid)."""
+def track_grid(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPLES) -> tuple[float, float, int]:
+    """(first JD TDB, step in days, count) of the evenly spaced epochs from start to stop.
+
+    stop is included when it falls on the grid.
+    """
     t0 = to_jd_tdb(start, "start")
     t1 = to_jd_tdb(stop, "stop")
     if isinstance(step_days, bool) or not isinstance(step_days, (int, float)) or not math.isfinite(step_days):
@@ -156,16 +159,16 @@ def track_epochs(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAM
     if count > max_samples:
         raise InvalidInputError("step_days", f"{count} samples exceed the cap of {max_samples}; "
                                 "use a larger step or a shorter span")
-    return t0 + step_days * np.arange(count)
+    return t0, float(step_days), count
 
 
 def track(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,
           order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES) -> dict:
     """Spin-axis track: ψ, Δψ, Δε (arcsec), obliquity and pole RA/Dec (deg) at each epoch."""
     b = resolve_body(body, dataset)
-    t = track_epochs(start, stop, step_days, max_samples)
+    t0, step, count = track_grid(start, stop, step_days, max_samples)
     m = model_for(b, dataset, order)
-    tr = m.track(t)
+    tr = m.track_grid(t0, step, count)
     return {
         "body": b.name, "dataset": b.dataset,
         "jd_tdb": tr.jd_tdb.tolist(),

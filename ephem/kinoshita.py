@@ -96,10 +96,19 @@ class NutationSeries:
 
     def evaluate(self, mean_anomaly) -> tuple[np.ndarray, np.ndarray]:
         """Δψ and Δε (radians) at mean anomalies M (any array shape)."""
-        return evaluate_harmonics(
-            mean_anomaly, self.multiple,
-            np.stack([self.lon_sin, self.obl_sin], axis=1),
-            np.stack([self.lon_cos, self.obl_cos], axis=1))
+        return evaluate_harmonics(mean_anomaly, self.multiple, self._sin_coef, self._cos_coef)
+
+    def evaluate_uniform(self, m_start: float, m_step: float, count: int) -> tuple[np.ndarray, np.ndarray]:
+        """Δψ and Δε on the evenly spaced grid M = m_start + j m_step, j = 0..count-1 (faster)."""
+        return evaluate_harmonics_uniform(m_start, m_step, count, self.multiple, self._sin_coef, self._cos_coef)
+
+    @property
+    def _sin_coef(self) -> np.ndarray:
+        return np.stack([self.lon_sin, self.obl_sin], axis=1)
+
+    @property
+    def _cos_coef(self) -> np.ndarray:
+        return np.stack([self.lon_cos, self.obl_cos], axis=1)
 
     def semi_peak_to_peak(self, samples: int = 20000) -> tuple[float, float]:
         """Half the peak-to-peak excursion of Δψ and of Δε over one orbit (radians).
@@ -141,49 +150,133 @@ def nutation_series(K: float, n: float, obliquity: float, e: float, equinox_to_p
                           obl_cos[sl], n, order)
 
 
-#: Epochs per block in :func:`evaluate_harmonics`: small enough to stay in cache.
-_BLOCK = 16384
+#: Epochs per block in the evaluators: small enough to stay in cache.
+_BLOCK = 8192
+#: The power basis of cos x is used when it amplifies rounding by at most this factor over
+#: the Chebyshev (harmonic) coefficients: its coefficients grow like 2^k for slowly decaying
+#: series (random ones), not for nutation series, whose terms fall off like e^k.
+_MAX_POWER_BASIS_GROWTH = 8.0
+
+
+def _power_basis(multiple: np.ndarray, sin_coef: np.ndarray, cos_coef: np.ndarray) -> np.ndarray:
+    """Coefficients of the sums in powers of c = cos x: Σ = P(c) + sin x · Q(c).
+
+    cos kx = T_k(c) and sin kx = sin x · U_{k-1}(c) (Chebyshev polynomials of the
+    first and second kinds). Returns an array (kmax+1, 2 ncol): P's columns, then Q's.
+    """
+    from numpy.polynomial import chebyshev
+
+    kmax, ncol = sin_coef.shape
+    out = np.zeros((kmax + 1, 2 * ncol))
+    u_prev, u = np.zeros(kmax + 1), np.zeros(kmax + 1)
+    u[0] = 1.0  # U_0
+    u_list = [u.copy()]
+    for _ in range(1, kmax):
+        nxt = np.zeros(kmax + 1)
+        nxt[1:] = 2.0 * u[:-1]
+        nxt -= u_prev
+        u_prev, u = u, nxt
+        u_list.append(u.copy())
+    for j in range(ncol):
+        out[:, j] = chebyshev.cheb2poly(np.concatenate([[0.0], cos_coef[:, j]]))
+        out[:, ncol + j] = sum(sin_coef[k, j] * u_list[k] for k in range(kmax))
+    return out
+
+
+def _sum_block(c: np.ndarray, s: np.ndarray, kmax: int, power_coef: np.ndarray | None,
+               sin_coef: np.ndarray, cos_coef: np.ndarray, out: np.ndarray, work: np.ndarray) -> None:
+    """Harmonic sums for one block, given c = cos x and s = sin x; writes out (ncol, m)."""
+    m = c.size
+    ncol = sin_coef.shape[1]
+    if power_coef is not None:
+        pw = work[: kmax + 1, :m]  # rows: 1, c, c², … (contiguous)
+        pw[0] = 1.0
+        pw[1] = c
+        for k in range(2, kmax + 1):
+            np.multiply(pw[k - 1], c, out=pw[k])
+        r = power_coef.T @ pw  # (2 ncol, m): P's rows then Q's
+        np.multiply(r[ncol:], s, out=r[ncol:])
+        np.add(r[:ncol], r[ncol:], out=out)
+        return
+    tab = work[: 2 * kmax, :m]  # rows: cos x .. cos kmax x, sin x .. sin kmax x
+    cos_t, sin_t = tab[:kmax], tab[kmax:]
+    cos_t[0] = c
+    sin_t[0] = s
+    two_c = 2.0 * c
+    if kmax > 1:
+        np.multiply(two_c, c, out=cos_t[1])
+        cos_t[1] -= 1.0
+        np.multiply(two_c, s, out=sin_t[1])
+    for k in range(2, kmax):
+        np.multiply(two_c, cos_t[k - 1], out=cos_t[k])
+        cos_t[k] -= cos_t[k - 2]
+        np.multiply(two_c, sin_t[k - 1], out=sin_t[k])
+        sin_t[k] -= sin_t[k - 2]
+    np.matmul(np.concatenate([cos_coef, sin_coef], axis=0).T, tab, out=out)
+
+
+def _prepare(multiple, sin_coef, cos_coef):
+    kmax = len(multiple)
+    if kmax and not np.array_equal(multiple, np.arange(1, kmax + 1)):
+        raise ValueError("multiple must be 1..kmax")
+    power = None
+    if kmax:
+        candidate = _power_basis(multiple, sin_coef, cos_coef)
+        scale = np.abs(sin_coef).sum() + np.abs(cos_coef).sum()
+        if np.abs(candidate).sum() <= _MAX_POWER_BASIS_GROWTH * scale:
+            power = candidate
+    width = kmax + 1 if power is not None else 2 * kmax
+    return kmax, power, np.empty((max(width, 1), _BLOCK))
 
 
 def evaluate_harmonics(angle, multiple: np.ndarray, sin_coef: np.ndarray, cos_coef: np.ndarray):
-    """Σ_k S[k, j] sin(k x) + C[k, j] cos(k x) for each output column j.
+    """Σ_k S[k, j] sin(k x) + C[k, j] cos(k x) for each output column j, at any angles x.
 
-    ``multiple`` must be 1, 2, …, kmax (consecutive). One sin and one cos of x
-    per epoch; the higher harmonics come from the Chebyshev recurrence
-    cos((k+1)x) = 2 cos x cos kx - cos((k-1)x) (likewise for sin), and the sums
-    are one matrix product per block. Returns a tuple of arrays shaped like x.
+    ``multiple`` must be 1, 2, …, kmax. One sin and one cos of x per epoch; the
+    harmonics come from Chebyshev polynomials of cos x (a power table and one
+    matrix product per cache-sized block, or the three-term recurrence for many
+    harmonics) — never a sin/cos per harmonic. Returns arrays shaped like x.
     """
     x = np.asarray(angle, dtype=float)
-    shape = x.shape
     flat = x.ravel()
-    kmax = len(multiple)
     ncol = sin_coef.shape[1]
-    if kmax == 0:
-        return tuple(np.zeros(shape) for _ in range(ncol))
-    if not np.array_equal(multiple, np.arange(1, kmax + 1)):
-        raise ValueError("multiple must be 1..kmax")
-    coef = np.concatenate([cos_coef, sin_coef], axis=0)  # (2 kmax, ncol)
-    out = np.empty((flat.size, ncol))
-    block = min(_BLOCK, max(flat.size, 1))
-    table = np.empty((2 * kmax, block))  # rows: cos x .. cos kmax x, sin x .. sin kmax x
-    two_c = np.empty(block)
-    for start in range(0, flat.size, block):
-        stop = min(start + block, flat.size)
-        m = stop - start
-        t = table[:, :m]
-        cos_rows, sin_rows = t[:kmax], t[kmax:]
-        np.cos(flat[start:stop], out=cos_rows[0])
-        np.sin(flat[start:stop], out=sin_rows[0])
-        if kmax > 1:
-            tc = two_c[:m]
-            np.multiply(cos_rows[0], 2.0, out=tc)
-            np.multiply(tc, cos_rows[0], out=cos_rows[1])
-            cos_rows[1] -= 1.0
-            np.multiply(tc, sin_rows[0], out=sin_rows[1])
-            for j in range(2, kmax):
-                np.multiply(tc, cos_rows[j - 1], out=cos_rows[j])
-                cos_rows[j] -= cos_rows[j - 2]
-                np.multiply(tc, sin_rows[j - 1], out=sin_rows[j])
-                sin_rows[j] -= sin_rows[j - 2]
-        np.matmul(t.T, coef, out=out[start:stop])
-    return tuple(out[:, j].reshape(shape) for j in range(ncol))
+    out = np.zeros((ncol, flat.size))
+    kmax, power, work = _prepare(multiple, sin_coef, cos_coef)
+    if kmax:
+        for start in range(0, flat.size, _BLOCK):
+            xb = flat[start:start + _BLOCK]
+            _sum_block(np.cos(xb), np.sin(xb), kmax, power, sin_coef, cos_coef, out[:, start:start + xb.size], work)
+    return tuple(out[j].reshape(x.shape) for j in range(ncol))
+
+
+def evaluate_harmonics_uniform(x_start: float, x_step: float, count: int, multiple: np.ndarray,
+                               sin_coef: np.ndarray, cos_coef: np.ndarray):
+    """As :func:`evaluate_harmonics` on the grid x_j = x_start + j x_step, j < count.
+
+    cos and sin of x come from one table of cos/sin(j x_step) for j within a
+    block and one exact cos/sin per block start (the angle-addition formulas),
+    so the cost per epoch is a handful of multiplications instead of two
+    trigonometric calls; rounding stays at the level of a direct evaluation.
+    """
+    ncol = sin_coef.shape[1]
+    out = np.zeros((ncol, count))
+    kmax, power, work = _prepare(multiple, sin_coef, cos_coef)
+    if kmax and count:
+        offsets = x_step * np.arange(min(_BLOCK, count))
+        cos_off, sin_off = np.cos(offsets), np.sin(offsets)
+        c = np.empty(offsets.size)
+        s = np.empty(offsets.size)
+        tmp = np.empty(offsets.size)
+        for start in range(0, count, _BLOCK):
+            m = min(_BLOCK, count - start)
+            a = x_start + x_step * start
+            ca, sa = math.cos(a), math.sin(a)
+            cb, sb, cm, sm, tm = cos_off[:m], sin_off[:m], c[:m], s[:m], tmp[:m]
+            np.multiply(cb, ca, out=cm)
+            np.multiply(sb, sa, out=tm)
+            cm -= tm
+            np.multiply(sb, ca, out=sm)
+            np.multiply(cb, sa, out=tm)
+            sm += tm
+            _sum_block(cm, sm, kmax, power, sin_coef, cos_coef, out[:, start:start + m], work)
+    return tuple(out[j] for j in range(ncol))

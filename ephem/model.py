@@ -87,14 +87,29 @@ class PrecessionNutation:
         psi = self.precession_rate * (t - self.pole_epoch) + dpsi
         return psi, dpsi, deps, self.obliquity + deps
 
+    def angles_grid(self, jd_start: float, step_days: float, count: int):
+        """As :meth:`angles` on the grid t_j = jd_start + j step_days (no trig per epoch)."""
+        t = jd_start + step_days * np.arange(count)
+        m_start = float(self.mean_anomaly(jd_start))
+        dpsi, deps = self.nutation.evaluate_uniform(m_start, self.mean_motion * step_days, count)
+        psi = self.precession_rate * (t - self.pole_epoch) + dpsi
+        return t, psi, dpsi, deps, self.obliquity + deps
+
     def pole_orbit_frame(self, psi, eps) -> np.ndarray:
         """Spin-axis unit vectors (..., 3) in the frame of the orbit and mean equinox at t0."""
         se = np.sin(eps)
         return np.stack([se * np.sin(psi), se * np.cos(psi), np.cos(eps)], axis=-1)
 
     def track(self, jd_tdb) -> Track:
+        """Track at any epochs (JD TDB)."""
         t = np.asarray(jd_tdb, dtype=float)
-        psi, dpsi, deps, eps = self.angles(t)
+        return self._track(t, *self.angles(t))
+
+    def track_grid(self, jd_start: float, step_days: float, count: int) -> Track:
+        """Track on an evenly spaced grid: the same numbers as :meth:`track`, faster."""
+        return self._track(*self.angles_grid(jd_start, step_days, count))
+
+    def _track(self, t, psi, dpsi, deps, eps) -> Track:
         s = self.pole_orbit_frame(psi, eps) @ self.icrf_from_orbit.T
         ra, dec = lon_lat(s)
         return Track(t, psi, dpsi, deps, eps, ra, dec)

@@ -9,8 +9,8 @@ from ephem.catalogue import Body, Orbit, Pole
 from ephem.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from ephem.errors import InvalidInputError, NotApplicableError
 from ephem.geometry import unit_vector
-from ephem.kinoshita import (dynamical_ellipticity, eccentricity_factor, evaluate_harmonics, nutation_series,
-                             precession_rate)
+from ephem.kinoshita import (dynamical_ellipticity, eccentricity_factor, evaluate_harmonics,
+                             evaluate_harmonics_uniform, nutation_series, precession_rate)
 from ephem.model import build_model
 from ephem.numerical import angular_separation, integrate_spin_axis
 
@@ -62,17 +62,71 @@ def test_semiannual_signs_match_the_iau_1980_solar_term():
     assert deps[0] > 0
 
 
-def test_harmonic_evaluator_matches_direct_sums():
-    rng = np.random.default_rng(1)
-    kmax = 30
+def _rounding_bound(sin_c, cos_c):
+    """Worst-case rounding of the three-term recurrence for O(1) coefficients: each of the
+    kmax harmonics carries up to ~kmax ulps, summed over the coefficients' magnitudes."""
+    kmax = sin_c.shape[0]
+    return 4.0 * kmax**2 * np.finfo(float).eps * (np.abs(sin_c).sum() + np.abs(cos_c).sum())
+
+
+def _direct_sums(x, sin_c, cos_c):
+    """Reference sums, one sin/cos per harmonic in long double (k x reaches ~1e3 rad, where
+    float64 products alone would carry ~1e-13 of rounding)."""
+    x = np.asarray(x, dtype=np.longdouble)
+    k = np.arange(1, sin_c.shape[0] + 1, dtype=np.longdouble)[:, None]
+    kx = k * x
+    return (np.sin(kx).T @ sin_c.astype(np.longdouble) + np.cos(kx).T @ cos_c.astype(np.longdouble)).astype(float)
+
+
+@pytest.mark.parametrize("kmax", [1, 2, 6, 12, 16, 17, 30])
+def test_harmonic_evaluator_matches_direct_sums(kmax):
+    # kmax <= 16 uses the power basis of cos x, above it the three-term recurrence
+    rng = np.random.default_rng(kmax)
     sin_c = rng.normal(size=(kmax, 2))
     cos_c = rng.normal(size=(kmax, 2))
     x = rng.uniform(-50, 50, size=70001)  # more than one block
     got = evaluate_harmonics(x, np.arange(1, kmax + 1), sin_c, cos_c)
-    k = np.arange(1, kmax + 1)[:, None]
-    direct = np.sin(k * x).T @ sin_c + np.cos(k * x).T @ cos_c
+    direct = _direct_sums(x, sin_c, cos_c)
     for j in range(2):
-        assert np.max(np.abs(got[j] - direct[:, j])) < 1e-12
+        assert np.max(np.abs(got[j] - direct[:, j])) < _rounding_bound(sin_c, cos_c)
+
+
+@pytest.mark.parametrize("kmax, count", [(6, 1), (12, 20000), (30, 9000)])
+def test_uniform_grid_evaluator_matches_direct_sums(kmax, count):
+    rng = np.random.default_rng(kmax)
+    sin_c = rng.normal(size=(kmax, 2))
+    cos_c = rng.normal(size=(kmax, 2))
+    x0, dx = 2.345678, 0.0173
+    got = evaluate_harmonics_uniform(x0, dx, count, np.arange(1, kmax + 1), sin_c, cos_c)
+    x = np.longdouble(x0) + np.longdouble(dx) * np.arange(count, dtype=np.longdouble)
+    direct = _direct_sums(x, sin_c, cos_c)
+    for j in range(2):
+        assert np.max(np.abs(got[j] - direct[:, j])) < _rounding_bound(sin_c, cos_c)
+
+
+@pytest.mark.parametrize("e", [0.09, 0.28, 0.6])
+def test_evaluator_on_physical_series_is_accurate_to_rounding(e):
+    # exact-Hansen nutation series (terms falling like e^k, up to ~60 harmonics at e = 0.6):
+    # both evaluators agree with the long-double direct sum to 1e-14 of the series' size
+    s = nutation_series(1e-4, 0.0172, math.radians(30), e, math.radians(20))
+    sin_c, cos_c = s._sin_coef, s._cos_coef
+    scale = np.abs(sin_c).sum() + np.abs(cos_c).sum()
+    x = np.linspace(-30, 30, 20001)
+    ref = _direct_sums(x, sin_c, cos_c)
+    got = s.evaluate(x)
+    grid = s.evaluate_uniform(-30.0, 60.0 / 20000, 20001)
+    for j in range(2):
+        assert np.max(np.abs(got[j] - ref[:, j])) < 1e-14 * scale
+        assert np.max(np.abs(grid[j] - ref[:, j])) < 1e-14 * scale
+
+
+def test_track_on_a_grid_equals_track_at_the_same_epochs(vesta_like):
+    m = build_model(vesta_like)
+    t0, step, count = 2451000.5, 0.37, 30000
+    a = m.track(t0 + step * np.arange(count))
+    b = m.track_grid(t0, step, count)
+    for name in ("psi", "delta_psi", "delta_epsilon", "obliquity", "pole_ra", "pole_dec"):
+        assert np.max(np.abs(getattr(a, name) - getattr(b, name))) < 1e-15
 
 
 def test_order_series_converges_to_exact(vesta_like):
