@@ -95,6 +95,24 @@ class PrecessionNutation:
         psi = self.precession_rate * (t - self.pole_epoch) + dpsi
         return t, psi, dpsi, deps, self.obliquity + deps
 
+    def first_order_error_bound(self, span_days: float) -> float:
+        """Estimated upper bound (radians) on the pole error the first-order theory leaves over a span.
+
+        Two second-order effects grow with time: the equinox drifts by ψ̇ T while the
+        nutation phases are held fixed (error ≲ 2 A |ψ̇| T, A the largest nutation
+        semi-amplitude), and the nutation feeds back into the torque's coefficients
+        (a secular drift ≲ K² f(e)² T / (8 n), f(e) = (1 - e²)^(-3/2)). Order-of-magnitude
+        estimate, checked against the numerical integration in the tests (it must
+        never be exceeded there).
+        """
+        from .kinoshita import eccentricity_factor
+
+        half_psi, half_eps = self.nutation.semi_peak_to_peak()
+        amp = max(half_psi, half_eps)
+        f = eccentricity_factor(self.eccentricity)
+        rate = 2.0 * amp * abs(self.precession_rate) + self.scaling_factor**2 * f * f / (8.0 * self.mean_motion)
+        return abs(span_days) * rate
+
     def pole_orbit_frame(self, psi, eps) -> np.ndarray:
         """Spin-axis unit vectors (..., 3) in the frame of the orbit and mean equinox at t0."""
         se = np.sin(eps)

@@ -40,7 +40,7 @@ def _parse_iso(text: str, field: str) -> float:
     import warnings
 
     from astropy.time import Time
-    from astropy.utils.exceptions import ErfaWarning
+    from erfa import ErfaWarning
 
     scale = "utc"
     parts = text.rsplit(None, 1)

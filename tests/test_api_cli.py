@@ -1,0 +1,105 @@
+"""The contract: JSON keys of the library answers and the CLI, errors and exit codes."""
+import csv
+import io
+import json
+import math
+
+import pytest
+from typer.testing import CliRunner
+
+from ephem import api
+from ephem.catalogue import Body, Orbit, Pole
+from ephem.cli import app
+from ephem.errors import InvalidInputError, NotApplicableError
+
+runner = CliRunner()
+TERM_KEYS = {"multiple", "period_days", "period_years", "longitude_sin_arcsec", "longitude_cos_arcsec",
+             "obliquity_sin_arcsec", "obliquity_cos_arcsec"}
+TRACK_KEYS = ["jd_tdb", "psi_arcsec", "delta_psi_arcsec", "delta_epsilon_arcsec", "obliquity_deg",
+              "pole_ra_deg", "pole_dec_deg"]
+
+
+def _json(args):
+    res = runner.invoke(app, args)
+    assert res.exit_code == 0, res.output
+    return json.loads(res.stdout)
+
+
+def test_cli_precession_vesta_petit2014():
+    ans = _json(["precession", "vesta", "--dataset", "petit2014"])
+    assert round(ans["precession_rate_arcsec_per_year"], 2) == 13.67
+    assert {"obliquity_deg", "dynamical_ellipticity", "scaling_factor_arcsec_per_year",
+            "precession_rate_arcsec_per_year", "model"} <= set(ans)
+    assert ans["model"]["eccentricity_order"] == "exact"
+
+
+def test_cli_nutation_terms_and_order():
+    ans = _json(["nutation", "2000004", "--order", "4"])
+    assert ans["terms"] and all(set(t) == TERM_KEYS for t in ans["terms"])
+    assert [t["multiple"] for t in ans["terms"]] == list(range(1, 7))  # order 4: k up to order + 2
+    assert ans["model"]["eccentricity_order"] == 4
+
+
+def test_cli_track_json_and_csv():
+    ans = _json(["track", "Itokawa", "--start", "2020-01-01", "--stop", "2020-02-01", "--step-days", "10"])
+    assert all(len(ans[k]) == 4 for k in TRACK_KEYS)
+    assert ans["jd_tdb"][0] == pytest.approx(2458849.5 + 69.184 / 86400, abs=1e-6)  # UTC -> TDB
+    res = runner.invoke(app, ["track", "vesta", "--start", "2451545.0", "--stop", "2451565", "--step-days", "5",
+                              "--format", "csv"])
+    rows = list(csv.DictReader(io.StringIO(res.stdout)))
+    assert list(rows[0]) == TRACK_KEYS and len(rows) == 5
+
+
+def test_cli_bodies_table_and_csv():
+    res = runner.invoke(app, ["bodies", "--format", "table"])
+    assert res.exit_code == 0 and "Itokawa" in res.stdout
+    res = runner.invoke(app, ["bodies", "--format", "csv"])
+    assert len(list(csv.DictReader(io.StringIO(res.stdout)))) == 8
+
+
+@pytest.mark.parametrize("args, code, text", [
+    (["precession", "pallas"], 2, "known bodies: Ceres, Vesta"),
+    (["precession", "moon"], 3, "not applicable to Moon"),
+    (["nutation", "vesta", "--order", "-1"], 2, "order"),
+    (["track", "vesta", "--start", "2020-01-01", "--stop", "2019-01-01", "--step-days", "1"], 2, "stop"),
+    (["track", "vesta", "--start", "yesterday", "--stop", "2019-01-01", "--step-days", "1"], 2, "start"),
+    (["track", "vesta", "--start", "2020-01-01", "--stop", "2021-01-01", "--step-days", "0"], 2, "step_days"),
+    (["track", "vesta", "--start", "2020-01-01", "--stop", "2021-01-01", "--step-days", "nan"], 2, "step_days"),
+    (["precession", "vesta", "--dataset", "old"], 2, "dataset"),
+])
+def test_cli_errors_are_clear(args, code, text):
+    res = runner.invoke(app, args)
+    assert res.exit_code == code
+    assert text in res.output
+
+
+def test_not_applicable_reports_the_ratio():
+    with pytest.raises(NotApplicableError) as info:
+        api.precession("moon")
+    assert info.value.ratio == pytest.approx(1.0, abs=0.01)
+    assert "ω/n" in str(info.value)
+
+
+def test_order_beyond_the_laplace_limit_is_refused():
+    b = Body("eccentric", Orbit(2.0, 0.7, 5, 10, 20, 30, 2451545.0), Pole(10, 40), 6.0, dynamical_ellipticity=0.1)
+    with pytest.raises(InvalidInputError, match="Laplace"):
+        api.nutation(b, order=8)
+    assert api.nutation(b)["terms"]  # exact Hansen coefficients are fine
+
+
+def test_track_sample_cap():
+    with pytest.raises(InvalidInputError, match="cap"):
+        api.track("vesta", 2451545.0, 2451545.0 + 1e6, 0.5)
+
+
+def test_user_body_answers_have_finite_numbers():
+    b = Body("my-asteroid", Orbit(2.36, 0.089, 7.14, 103.7, 151.7, 169.2, 2460200.5), Pole(309.03, 42.23), 5.342,
+             moments=(0.3433, 0.3546, 0.42))
+    ans = api.track(b, "2020-01-01", "2030-01-01", 10)
+    json.dumps(ans, allow_nan=False)
+    assert all(math.isfinite(x) for k in TRACK_KEYS for x in ans[k])
+
+
+def test_demo_runs():
+    res = runner.invoke(app, ["demo"])
+    assert res.exit_code == 0 and "not applicable" in res.stdout and "Vesta" in res.stdout
