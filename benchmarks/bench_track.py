@@ -1,8 +1,8 @@
 """Benchmark: a spin-axis track at 10^6 epochs against one numpy.sin over the same array.
 
-Target (issue 2): the nutation (Δψ, Δε) and the precession angles ψ, ε at 10^6 epochs cost at
-most 3x one ``numpy.sin`` of 10^6 float64. The pole direction (RA, Dec) needs sin/cos of ψ and ε
-and an atan2 and an arcsin more; its cost is reported separately. Also the import time of ``ephem``.
+Target (issue 2): a track at 10^6 epochs costs at most 3x one ``numpy.sin`` of 10^6 float64.
+Reported: the nutation alone, the angles ψ, Δψ, Δε, ε, and the full track with the pole's RA and
+Dec, each at arbitrary epochs and on the even grid the track routes use. Also the import time.
 
 Run: ``make bench`` (or ``.venv/bin/python benchmarks/bench_track.py``). Best of several repeats.
 """
@@ -41,18 +41,23 @@ def import_time() -> tuple[float, float]:
 
 def main() -> None:
     m = model_for("vesta")
-    t = m.pole_epoch + np.linspace(0.0, 20 * 365.25, N)
+    step = 20 * 365.25 / N
+    t = m.pole_epoch + step * np.arange(N)
     x = m.mean_anomaly(t)
     sin_t = best(lambda: np.sin(x))
-    nut_t = best(lambda: m.nutation_at(t))
-    ang_t = best(lambda: m.angles(t))
-    trk_t = best(lambda: m.track(t))
+    rows = [
+        ("nutation Δψ, Δε (any epochs)", best(lambda: m.nutation_at(t))),
+        ("angles ψ, Δψ, Δε, ε (any epochs)", best(lambda: m.angles(t))),
+        ("angles ψ, Δψ, Δε, ε (even grid)", best(lambda: m.angles_grid(t[0], step, N))),
+        ("track + pole RA/Dec (any epochs)", best(lambda: m.track(t))),
+        ("track + pole RA/Dec (even grid)", best(lambda: m.track_grid(t[0], step, N))),
+    ]
     light, full = import_time()
     k = len(m.nutation.multiple)
-    print(f"epochs: {N:,}; Vesta, exact Hansen coefficients, {k} harmonics")
-    print(f"{'numpy.sin (reference)':34s} {sin_t * 1e3:8.2f} ms   1.00x")
-    for name, v in (("nutation Δψ, Δε", nut_t), ("angles ψ, Δψ, Δε, ε", ang_t), ("full track incl. pole RA/Dec", trk_t)):
-        print(f"{name:34s} {v * 1e3:8.2f} ms  {v / sin_t:5.2f}x")
+    print(f"epochs: {N:,} over 20 years; Vesta, exact Hansen coefficients, {k} harmonics; best of {REPEAT}")
+    print(f"{'numpy.sin of the same array':36s} {sin_t * 1e3:8.2f} ms   1.00x")
+    for name, v in rows:
+        print(f"{name:36s} {v * 1e3:8.2f} ms  {v / sin_t:5.2f}x")
     print(f"import ephem: {light * 1e3:.0f} ms; import ephem.model + ephem.api: {full * 1e3:.0f} ms")
 
 

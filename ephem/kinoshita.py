@@ -249,34 +249,50 @@ def evaluate_harmonics(angle, multiple: np.ndarray, sin_coef: np.ndarray, cos_co
     return tuple(out[j].reshape(x.shape) for j in range(ncol))
 
 
+def uniform_cos_sin(x_start: float, x_step: float, count: int, block: int = _BLOCK):
+    """Yield (start, cos x, sin x) by blocks for x_j = x_start + j x_step, j < count.
+
+    One table of cos/sin(j x_step) within a block and one exact cos/sin per block
+    start (angle addition): a few multiplications per epoch instead of two
+    trigonometric calls, with rounding at the level of a direct evaluation.
+    """
+    if count <= 0:
+        return
+    offsets = x_step * np.arange(min(block, count))
+    cos_off, sin_off = np.cos(offsets), np.sin(offsets)
+    for start in range(0, count, block):
+        m = min(block, count - start)
+        a = x_start + x_step * start
+        ca, sa = math.cos(a), math.sin(a)
+        cb, sb = cos_off[:m], sin_off[:m]
+        yield start, cb * ca - sb * sa, sb * ca + cb * sa
+
+
+def cos_sin_shifted(cos_x, sin_x, delta):
+    """cos and sin of x + δ from cos x, sin x and a small δ (|δ| <= 0.01 rad).
+
+    Taylor series of cos δ and sin δ to δ^6 and δ^5: truncation below 3e-18.
+    """
+    d2 = delta * delta
+    sd = delta * (1.0 - d2 * (1.0 / 6.0 - d2 / 120.0))
+    cd = 1.0 - d2 * (0.5 - d2 * (1.0 / 24.0 - d2 / 720.0))
+    return cos_x * cd - sin_x * sd, sin_x * cd + cos_x * sd
+
+
+#: Largest |δ| (radians) for :func:`cos_sin_shifted`.
+MAX_SHIFT = 0.01
+
+
 def evaluate_harmonics_uniform(x_start: float, x_step: float, count: int, multiple: np.ndarray,
                                sin_coef: np.ndarray, cos_coef: np.ndarray):
     """As :func:`evaluate_harmonics` on the grid x_j = x_start + j x_step, j < count.
 
-    cos and sin of x come from one table of cos/sin(j x_step) for j within a
-    block and one exact cos/sin per block start (the angle-addition formulas),
-    so the cost per epoch is a handful of multiplications instead of two
-    trigonometric calls; rounding stays at the level of a direct evaluation.
+    cos and sin of x come from :func:`uniform_cos_sin` (no trigonometric call per epoch).
     """
     ncol = sin_coef.shape[1]
     out = np.zeros((ncol, count))
     kmax, power, work = _prepare(multiple, sin_coef, cos_coef)
-    if kmax and count:
-        offsets = x_step * np.arange(min(_BLOCK, count))
-        cos_off, sin_off = np.cos(offsets), np.sin(offsets)
-        c = np.empty(offsets.size)
-        s = np.empty(offsets.size)
-        tmp = np.empty(offsets.size)
-        for start in range(0, count, _BLOCK):
-            m = min(_BLOCK, count - start)
-            a = x_start + x_step * start
-            ca, sa = math.cos(a), math.sin(a)
-            cb, sb, cm, sm, tm = cos_off[:m], sin_off[:m], c[:m], s[:m], tmp[:m]
-            np.multiply(cb, ca, out=cm)
-            np.multiply(sb, sa, out=tm)
-            cm -= tm
-            np.multiply(sb, ca, out=sm)
-            np.multiply(cb, sa, out=tm)
-            sm += tm
-            _sum_block(cm, sm, kmax, power, sin_coef, cos_coef, out[:, start:start + m], work)
+    if kmax:
+        for start, c, s in uniform_cos_sin(x_start, x_step, count):
+            _sum_block(c, s, kmax, power, sin_coef, cos_coef, out[:, start:start + c.size], work)
     return tuple(out[j] for j in range(ncol))

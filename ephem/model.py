@@ -21,9 +21,10 @@ import numpy as np
 
 from .catalogue import Body
 from .errors import NotApplicableError
-from .geometry import icrf_to_ecliptic_matrix, lon_lat, spin_geometry, unit_vector
+from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from .kepler import mean_motion_rad_per_day
-from .kinoshita import NutationSeries, nutation_series, precession_rate, scaling_factor
+from .kinoshita import (MAX_SHIFT, NutationSeries, cos_sin_shifted, nutation_series, precession_rate,
+                        scaling_factor, uniform_cos_sin)
 
 #: Rotation-averaging needs the spin much faster than the orbital motion. This
 #: threshold on ω/n is provisional (the speed-accuracy work measures where the
@@ -124,13 +125,44 @@ class PrecessionNutation:
         return self._track(t, *self.angles(t))
 
     def track_grid(self, jd_start: float, step_days: float, count: int) -> Track:
-        """Track on an evenly spaced grid: the same numbers as :meth:`track`, faster."""
-        return self._track(*self.angles_grid(jd_start, step_days, count))
+        """Track on an evenly spaced grid: the same numbers as :meth:`track`, faster.
+
+        ψ = ψ̇ (t - t0) + Δψ and ε = ε̄0 + Δε: the linear part of ψ is evenly spaced
+        (angle addition) and the nutation is small (short Taylor series), so no
+        trigonometric call per epoch remains but the final atan2's; the pole is
+        computed by cache-sized blocks.
+        """
+        t, psi, dpsi, deps, eps = self.angles_grid(jd_start, step_days, count)
+        if count == 0 or max(np.max(np.abs(dpsi)), np.max(np.abs(deps))) > MAX_SHIFT:
+            return self._track(t, psi, dpsi, deps, eps)
+        ra = np.empty(count)
+        dec = np.empty(count)
+        psi_start = self.precession_rate * (jd_start - self.pole_epoch)
+        ce0, se0 = math.cos(self.obliquity), math.sin(self.obliquity)
+        for start, c, s in uniform_cos_sin(psi_start, self.precession_rate * step_days, count):
+            sl = slice(start, start + c.size)
+            cos_psi, sin_psi = cos_sin_shifted(c, s, dpsi[sl])
+            cos_eps, sin_eps = cos_sin_shifted(ce0, se0, deps[sl])
+            self._pole_into(sin_eps * sin_psi, sin_eps * cos_psi, cos_eps, ra[sl], dec[sl])
+        return Track(t, psi, dpsi, deps, eps, ra, dec)
 
     def _track(self, t, psi, dpsi, deps, eps) -> Track:
-        s = self.pole_orbit_frame(psi, eps) @ self.icrf_from_orbit.T
-        ra, dec = lon_lat(s)
+        ra = np.empty(t.shape)
+        dec = np.empty(t.shape)
+        se = np.sin(eps)
+        self._pole_into(se * np.sin(psi), se * np.cos(psi), np.cos(eps), ra, dec)
         return Track(t, psi, dpsi, deps, eps, ra, dec)
+
+    def _pole_into(self, x, y, z, ra, dec) -> None:
+        """RA in [0, 2π) and Dec of the orbit-frame unit vectors (x, y, z), written into ra, dec."""
+        r = self.icrf_from_orbit
+        xi = r[0, 0] * x + r[0, 1] * y + r[0, 2] * z
+        yi = r[1, 0] * x + r[1, 1] * y + r[1, 2] * z
+        zi = r[2, 0] * x + r[2, 1] * y + r[2, 2] * z
+        np.arctan2(yi, xi, out=ra)
+        ra += (ra < 0.0) * (2.0 * math.pi)
+        np.arctan2(zi, np.sqrt(xi * xi + yi * yi), out=dec)  # unit vectors: no overflow to guard
+
 
 
 def check_applicable(body: Body, spin_rate: float, mean_motion: float) -> None:
