@@ -13,11 +13,10 @@ import numpy as np
 from .catalogue import DEFAULT_DATASET, Body, get_body, load_catalogue, load_references
 from .constants import ARCSEC, JULIAN_YEAR_DAYS
 from .errors import InvalidInputError
+from .hansen import LAPLACE_LIMIT
 from .model import MIN_SPIN_ORBIT_RATIO, PrecessionNutation, build_model
 from .timeparse import to_jd_tdb
 
-#: e-power series of the Hansen coefficients diverge beyond the Laplace limit.
-LAPLACE_LIMIT = 0.6627434193491815
 #: Default cap on the number of epochs in one track.
 MAX_TRACK_SAMPLES = 1_000_000
 #: Obliquity within this many degrees of 90: ψ̇ ∝ cos ε is small and poorly determined.

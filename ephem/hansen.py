@@ -37,7 +37,8 @@ from typing import Mapping
 
 import numpy as np
 
-from ephem.errors import InvalidInputError
+from .errors import InvalidInputError
+from .kepler import solve_kepler
 
 __all__ = [
     "HansenCoefficients",
@@ -168,56 +169,6 @@ def _check_eccentricity(e) -> float:
 # ---------------------------------------------------------------------------
 # Exact coefficients: FFT over the mean anomaly
 # ---------------------------------------------------------------------------
-
-def _e_minus_sin(E: np.ndarray) -> np.ndarray:
-    """``E - sin E`` without cancellation for small ``|E|`` (Taylor series
-    below 1, summed to ``E^25/25!`` < 1e-25; direct above)."""
-    E = np.asarray(E, dtype=float)
-    out = E - np.sin(E)
-    small = np.abs(E) < 1.0
-    x = E[small]
-    x2 = x * x
-    series = np.ones_like(x)
-    for n in range(11, 0, -1):   # E^3/3! (1 - E^2/(4*5) (1 - E^2/(6*7) (...)))
-        series = 1.0 - x2 / ((2 * n + 2) * (2 * n + 3)) * series
-    out[small] = x * x2 / 6.0 * series
-    return out
-
-
-def solve_kepler(M, e: float) -> np.ndarray:
-    """Eccentric anomaly ``E`` with ``E - e sin E = M``, to round-off, vectorised.
-
-    ``M`` is reduced to ``[-pi, pi]`` and solved for ``|M|``.  Newton's method
-    starts at ``E0 = min(|M| + e, pi)``, where ``E - e sin E - |M| >= 0``; as
-    that function is increasing and convex on ``[0, pi]`` the iterates decrease
-    monotonically onto the root, for every ``0 <= e < 1``.  Both
-    ``E - e sin E = (1-e) E + e (E - sin E)`` and ``1 - e cos E =
-    (1-e) + 2 e sin^2(E/2)`` are evaluated without cancellation, so ``E`` is
-    accurate to a few ulps even for ``e -> 1`` near pericentre.  Each point
-    stops once its residual is at round-off level (plus that last step).
-    The returned ``E`` lies in ``[-pi, pi]`` with the sign of the reduced ``M``.
-    """
-    M = np.asarray(M, dtype=float)
-    # Exact (no rounding) whenever |M| <= pi already: keeps M tiny near
-    # pericentre, where E is most sensitive to it.
-    reduced = M - 2.0 * np.pi * np.round(M / (2.0 * np.pi))
-    m = np.abs(reduced).ravel()
-    E = np.minimum(m + e, np.pi)
-    eps = np.finfo(float).eps
-    active = np.arange(m.size)
-    for _ in range(200):
-        Ea, ma = E[active], m[active]
-        residual = (1.0 - e) * Ea + e * _e_minus_sin(Ea) - ma
-        slope = (1.0 - e) + 2.0 * e * np.sin(0.5 * Ea) ** 2
-        Ea = Ea - residual / slope
-        E[active] = Ea
-        active = active[np.abs(residual) > 4.0 * eps * (Ea + ma)]
-        if active.size == 0:
-            break
-    else:  # pragma: no cover - monotone Newton always converges
-        raise RuntimeError(f"Kepler solver did not converge for e={e!r}")
-    return np.copysign(E.reshape(reduced.shape), reduced)
-
 
 def _decay_rate(e: float) -> float:
     """``sigma`` in ``|X_k| ~ exp(-sigma k)`` for Fourier series in ``M``.

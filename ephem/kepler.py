@@ -22,24 +22,67 @@ def mean_motion_rad_per_day(a_au: float, center: str = "Sun", mass_ratio: float 
     return math.sqrt(gm / a_m**3) * DAY_S
 
 
-def solve_kepler(mean_anomaly, e: float):
-    """Eccentric anomaly E from mean anomaly M and eccentricity e (0 <= e < 1).
+def _e_minus_sin(E: np.ndarray) -> np.ndarray:
+    """``E - sin E`` without cancellation for small ``|E|`` (Taylor series
+    below 1, summed to ``E^25/25!`` < 1e-25; direct above)."""
+    E = np.asarray(E, dtype=float)
+    out = E - np.sin(E)
+    small = np.abs(E) < 1.0
+    x = E[small]
+    x2 = x * x
+    series = np.ones_like(x)
+    for n in range(11, 0, -1):   # E^3/3! (1 - E^2/(4*5) (1 - E^2/(6*7) (...)))
+        series = 1.0 - x2 / ((2 * n + 2) * (2 * n + 3)) * series
+    out[small] = x * x2 / 6.0 * series
+    return out
 
-    Vectorised Newton iteration with Markley's-style safe start E0 = M + e sin M
-    (E0 = pi for e > 0.8); converges to machine precision in a few steps for any
-    e < 1. Returns an array shaped like ``mean_anomaly``.
+
+def solve_kepler(M, e: float) -> np.ndarray:
+    """Eccentric anomaly ``E`` with ``E - e sin E = M``, to round-off, vectorised.
+
+    ``M`` is reduced to ``[-pi, pi]`` and solved for ``|M|``.  Newton's method
+    starts at ``E0 = min(|M| + e, pi)``, where ``E - e sin E - |M| >= 0``; as
+    that function is increasing and convex on ``[0, pi]`` the iterates decrease
+    monotonically onto the root, for every ``0 <= e < 1``.  Both
+    ``E - e sin E = (1-e) E + e (E - sin E)`` and ``1 - e cos E =
+    (1-e) + 2 e sin^2(E/2)`` are evaluated without cancellation, so ``E`` is
+    accurate to a few ulps even for ``e -> 1`` near pericentre.  Each point
+    stops once its residual is at round-off level (plus that last step).
+    The returned ``E`` lies in ``[-pi, pi]`` with the sign of the reduced ``M``.
     """
-    m = np.remainder(np.asarray(mean_anomaly, dtype=float), 2.0 * math.pi)
-    if e == 0.0:
-        return m
-    ecc = np.where(m < math.pi, m + 0.85 * e, m - 0.85 * e) if e > 0.8 else m + e * np.sin(m)
-    for _ in range(50):
-        f = ecc - e * np.sin(ecc) - m
-        step = f / (1.0 - e * np.cos(ecc))
-        ecc = ecc - step
-        if np.all(np.abs(step) < 1e-15):
+    M = np.asarray(M, dtype=float)
+    # Exact (no rounding) whenever |M| <= pi already: keeps M tiny near
+    # pericentre, where E is most sensitive to it.
+    reduced = M - 2.0 * np.pi * np.round(M / (2.0 * np.pi))
+    m = np.abs(reduced).ravel()
+    E = np.minimum(m + e, np.pi)
+    eps = np.finfo(float).eps
+    active = np.arange(m.size)
+    for _ in range(200):
+        Ea, ma = E[active], m[active]
+        residual = (1.0 - e) * Ea + e * _e_minus_sin(Ea) - ma
+        slope = (1.0 - e) + 2.0 * e * np.sin(0.5 * Ea) ** 2
+        Ea = Ea - residual / slope
+        E[active] = Ea
+        active = active[np.abs(residual) > 4.0 * eps * (Ea + ma)]
+        if active.size == 0:
             break
-    return ecc
+    else:  # pragma: no cover - monotone Newton always converges
+        raise RuntimeError(f"Kepler solver did not converge for e={e!r}")
+    return np.copysign(E.reshape(reduced.shape), reduced)
+
+
+def solve_kepler_scalar(m: float, e: float) -> float:
+    """Scalar twin of :func:`solve_kepler` (same monotone Newton), for ODE right-hand sides."""
+    reduced = m - 2.0 * math.pi * round(m / (2.0 * math.pi))
+    x = abs(reduced)
+    ecc = min(x + e, math.pi)
+    for _ in range(200):
+        residual = ecc - e * math.sin(ecc) - x
+        ecc -= residual / (1.0 - e * math.cos(ecc))
+        if abs(residual) <= 4.0 * 2.220446049250313e-16 * (ecc + x):
+            break
+    return math.copysign(ecc, reduced)
 
 
 def true_anomaly(mean_anomaly, e: float):
@@ -48,11 +91,6 @@ def true_anomaly(mean_anomaly, e: float):
     beta = e / (1.0 + math.sqrt(1.0 - e * e))
     # signed and free of the (1+e)/(1-e) overflow of the half-angle tangent form
     return ecc + 2.0 * np.arctan2(beta * np.sin(ecc), 1.0 - beta * np.cos(ecc))
-
-
-def radius_over_a(mean_anomaly, e: float):
-    """r/a = 1 - e cos E."""
-    return 1.0 - e * np.cos(solve_kepler(mean_anomaly, e))
 
 
 def orbit_basis(i: float, node: float, peri: float) -> np.ndarray:

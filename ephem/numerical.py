@@ -15,18 +15,8 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from .kepler import solve_kepler_scalar
 from .model import PrecessionNutation
-
-
-def _kepler_scalar(m: float, e: float) -> float:
-    m = math.fmod(m, 2.0 * math.pi)
-    ecc = m + e * math.sin(m) if e < 0.8 else math.pi
-    for _ in range(60):
-        step = (ecc - e * math.sin(ecc) - m) / (1.0 - e * math.cos(ecc))
-        ecc -= step
-        if abs(step) < 1e-15:
-            break
-    return ecc
 
 
 def integrate_spin_axis(model: PrecessionNutation, jd_tdb, rtol: float = 1e-12,
@@ -46,7 +36,7 @@ def integrate_spin_axis(model: PrecessionNutation, jd_tdb, rtol: float = 1e-12,
 
     def rhs(tt, s):
         m = model.mean_anomaly_at_epoch + n * (tt - model.orbit_epoch)
-        ecc = _kepler_scalar(m, e)
+        ecc = solve_kepler_scalar(m, e)
         nu = ecc + 2.0 * math.atan2(beta * math.sin(ecc), 1.0 - beta * math.cos(ecc))
         a_over_r = 1.0 / (1.0 - e * math.cos(ecc))
         lam = theta + nu

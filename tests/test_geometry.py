@@ -9,7 +9,7 @@ from ephem.constants import MAS
 from ephem.errors import InvalidInputError
 from ephem.geometry import (icrf_to_ecliptic, icrf_to_ecliptic_matrix, lon_lat, signed_angle, spin_geometry,
                             unit_vector)
-from ephem.kepler import orbit_basis, orbit_normal, solve_kepler, true_anomaly
+from ephem.kepler import orbit_basis, orbit_normal, solve_kepler, solve_kepler_scalar, true_anomaly
 
 
 def test_ecliptic_matrix_is_erfa_ecm06_at_j2000():
@@ -113,7 +113,10 @@ def test_pole_normal_to_orbit_is_refused():
 
 
 @pytest.mark.parametrize("e", [0.0, 0.1, 0.5, 0.9, 0.99])
-def test_kepler_solver(e):
+def test_kepler_solvers(e):
     m = np.linspace(-7, 7, 1001)
     ecc = solve_kepler(m, e)
-    assert np.max(np.abs(ecc - e * np.sin(ecc) - np.remainder(m, 2 * np.pi))) < 1e-14
+    resid = ecc - e * np.sin(ecc) - m
+    assert np.max(np.abs(np.remainder(resid + np.pi, 2 * np.pi) - np.pi)) < 1e-14
+    scalar = np.array([solve_kepler_scalar(x, e) for x in m])
+    assert np.max(np.abs(scalar - ecc)) < 1e-13
