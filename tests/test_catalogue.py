@@ -110,3 +110,13 @@ def test_current_poles_are_the_wgccre_values():
     assert (get_body("vesta").pole.ra_deg, get_body("vesta").pole.dec_deg) == (309.031, 42.235)
     assert (get_body("ceres").pole.ra_deg, get_body("ceres").pole.dec_deg) == (291.418, 66.764)
     assert math.isclose(get_body("eros").hd, 1 - (0.229427 + 0.963754) / 2, rel_tol=1e-12)  # Lara (2014) Table 1
+
+
+def test_earth_pole_is_the_cip_at_j2000():
+    # the catalogue holds the instantaneous axis: for the Earth, ERFA's IAU 2006/2000A CIP at J2000.0
+    import erfa
+    x, y = erfa.xy06(2451545.0, 0.0)
+    b = get_body("earth")
+    ra, dec = math.radians(b.pole.ra_deg), math.radians(b.pole.dec_deg)
+    assert math.cos(dec) * math.cos(ra) == pytest.approx(x, abs=1e-9)  # 0.2 mas
+    assert math.cos(dec) * math.sin(ra) == pytest.approx(y, abs=1e-9)
