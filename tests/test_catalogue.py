@@ -45,7 +45,7 @@ def test_every_source_resolves_in_the_references(ds):
     for b in load_catalogue(ds).bodies:
         for where, m in b.values.items():
             assert m.source in refs, f"{b.name} {where}: {m.source}"
-            assert {"authors", "year"} <= set(refs[m.source]), m.source
+            assert {"authors", "year", "journal", "where"} <= set(refs[m.source]), m.source
 
 
 def test_lookup_by_name_any_case_and_naif_id():
