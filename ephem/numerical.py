@@ -54,6 +54,9 @@ def integrate_spin_axis(model: PrecessionNutation, jd_tdb, rtol: float = 1e-12,
             continue
         tt = t[mask]
         end = tt.max() if tt[0] >= t0 else tt.min()
+        if end == t0:  # only the start epoch itself
+            out[mask] = s0
+            continue
         order = np.argsort(tt) if end > t0 else np.argsort(-tt)
         sol = solve_ivp(rhs, (t0, end), s0, method="DOP853", t_eval=tt[order], rtol=rtol, atol=atol)
         if not sol.success:
