@@ -7,6 +7,7 @@ arcseconds, rates per Julian year, times as JD TDB.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -54,7 +55,18 @@ def model_for(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int
         raise InvalidInputError(
             "order", f"e = {b.orbit.e} exceeds the Laplace limit {LAPLACE_LIMIT:.4f}: the e-power series "
             "diverge; omit the order to use exact Hansen coefficients", b.name)
-    return build_model(b, order)
+    return _cached_model(b, order)
+
+
+@lru_cache(maxsize=512)
+def _cached_model(body: Body, order: int | None) -> PrecessionNutation:
+    # a pure function of immutable inputs: memoising it keeps the library (and service) stateless
+    return build_model(body, order)
+
+
+@lru_cache(maxsize=512)
+def _semi_amplitudes(body: Body, order: int | None) -> tuple[float, float]:
+    return _cached_model(body, order).nutation.semi_peak_to_peak()
 
 
 def model_info(m: PrecessionNutation, b: Body) -> dict:
@@ -128,7 +140,7 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
         "longitude_sin_arcsec": float(a / ARCSEC), "longitude_cos_arcsec": float(c / ARCSEC),
         "obliquity_sin_arcsec": float(d / ARCSEC), "obliquity_cos_arcsec": float(f / ARCSEC),
     } for k, p, a, c, d, f in zip(s.multiple, periods, s.lon_sin, s.lon_cos, s.obl_sin, s.obl_cos)]
-    half_psi, half_eps = s.semi_peak_to_peak()
+    half_psi, half_eps = _semi_amplitudes(b, m.order)
     return {
         "body": b.name, "dataset": b.dataset, "argument": "mean anomaly M",
         "mean_anomaly_at_epoch_deg": math.degrees(m.mean_anomaly_at_epoch) % 360.0,
