@@ -4,8 +4,11 @@
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
+HOST ?= 127.0.0.1
+PORT ?= 8000
+WORKERS ?= 1
 
-.PHONY: serve test bench clean
+.PHONY: serve demo test bench bench-service clean
 
 $(BIN)/ephem: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -14,6 +17,9 @@ $(BIN)/ephem: pyproject.toml
 	touch $(BIN)/ephem
 
 serve: $(BIN)/ephem
+	$(BIN)/uvicorn service.app:app --host $(HOST) --port $(PORT) --workers $(WORKERS)
+
+demo: $(BIN)/ephem
 	$(BIN)/ephem demo
 
 test: $(BIN)/ephem
@@ -21,6 +27,9 @@ test: $(BIN)/ephem
 
 bench: $(BIN)/ephem
 	$(BIN)/python benchmarks/bench_track.py
+
+bench-service: $(BIN)/ephem
+	$(BIN)/python benchmarks/bench_service.py
 
 clean:
 	rm -rf $(VENV)

@@ -1,0 +1,166 @@
+"""FastAPI application: ``service.app:app``. Routes are thin: each calls :mod:`ephem.api`."""
+from __future__ import annotations
+
+from contextlib import asynccontextmanager
+from enum import Enum
+from typing import Annotated, Optional
+
+import numpy as np
+from fastapi import Body as BodyParam, FastAPI, Path, Query
+from fastapi.responses import JSONResponse, PlainTextResponse, StreamingResponse
+
+import ephem
+from ephem import api
+from ephem.catalogue import Body, Orbit, Pole, available_datasets, load_catalogue
+from ephem.geometry import icrf_to_ecliptic_matrix
+from ephem.tables import FORMATS, render_nutation
+
+from . import problems, schemas
+from .limits import BodySizeLimit
+from .settings import Settings
+
+
+class Dataset(str, Enum):
+    current = "current"
+    petit2014 = "petit2014"
+
+
+class TableFormat(str, Enum):
+    json = "json"
+    csv = "csv"
+    markdown = "markdown"
+    latex = "latex"
+
+
+class TrackFormat(str, Enum):
+    json = "json"
+    csv = "csv"
+
+
+BodyPath = Annotated[str, Path(description="case-insensitive name or NAIF id", examples=["vesta", "2000004"])]
+DatasetQuery = Annotated[Dataset, Query(description="catalogue dataset")]
+OrderQuery = Annotated[Optional[int], Query(ge=0, le=api.MAX_ORDER, description="truncate the Hansen coefficients at e^order "
+                                                                     "(the paper: 4); omit for exact", examples=[4])]
+ERRORS = {404: {"description": "unknown body (problem+json lists the known ones)"},
+          422: {"description": "invalid input (the field is named) or not applicable (with the reason)"}}
+CSV_CHUNK = 20_000
+
+
+def create_app(settings: Settings | None = None) -> FastAPI:
+    settings = settings or Settings.from_env()
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI):
+        for ds in available_datasets():  # read (and validate) the catalogue once, at start-up
+            load_catalogue(ds)
+        icrf_to_ecliptic_matrix()
+        yield
+
+    app = FastAPI(title="ephem: asteroid precession-nutation ephemeris", version=ephem.__version__,
+                  description="Forced precession and nutation of the spin axes of asteroids, planets and moons "
+                              "(Kinoshita's theory, Petit et al. 2014). Angles in degrees, precession and nutation "
+                              "in arcseconds, times as JD TDB or ISO 8601 (UTC unless a scale follows).",
+                  lifespan=lifespan)
+    app.state.settings = settings
+    app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
+    problems.install(app)
+
+    @app.get("/healthz", response_model=schemas.Health, tags=["service"],
+             responses={200: {"content": {"application/json": {"example": {
+                 "status": "ok", "version": ephem.__version__, "datasets": ["current", "petit2014"]}}}}})
+    def healthz():
+        return {"status": "ok", "version": ephem.__version__, "datasets": available_datasets()}
+
+    @app.get("/v1/bodies", response_model=list[schemas.BodySummary], tags=["catalogue"],
+             responses={200: {"content": {"application/json": {"example": [{
+                 "name": "Vesta", "naif_id": 2000004, "kind": "asteroid", "dataset": "current", "a_au": 2.3615413,
+                 "e": 0.0901676, "orbit_center": "Sun", "rotation_period_hours": 5.342128248, "pole_ra_deg": 309.031,
+                 "pole_dec_deg": 42.235, "dynamical_ellipticity": 0.168871}]}}}})
+    def bodies(dataset: DatasetQuery = Dataset.current):
+        return api.list_bodies(dataset.value)
+
+    @app.get("/v1/bodies/{body}", response_model=schemas.BodyRecord, tags=["catalogue"], responses={
+        **ERRORS, 200: {"content": {"application/json": {"example": {
+            "name": "Vesta", "naif_id": 2000004, "kind": "asteroid", "dataset": "current", "orbit_center": "Sun",
+            "dynamical_ellipticity": 0.168871, "dynamical_ellipticity_from": "moments",
+            "values": {"pole.ra": {"value": 309.031, "unit": "deg", "uncertainty": None, "source": "archinal2018",
+                                   "reference": {"authors": "Archinal, B. A. et al.", "year": 2018},
+                                   "note": None}}}}}}})
+    def body_record(body: BodyPath, dataset: DatasetQuery = Dataset.current):
+        return api.body_record(body, dataset.value)
+
+    @app.get("/v1/bodies/{body}/precession", response_model=schemas.Precession, tags=["theory"], responses={
+        **ERRORS, 200: {"content": {"application/json": {"example": {
+            "body": "Vesta", "dataset": "petit2014", "obliquity_deg": 27.46, "dynamical_ellipticity": 0.16917,
+            "scaling_factor_arcsec_per_year": 30.4404, "precession_rate_arcsec_per_year": 13.6713,
+            "model": {"theory": "Kinoshita (1977) …", "eccentricity_order": "exact", "assumptions": ["…"],
+                      "warnings": [], "spin_orbit_ratio": 5949.6, "min_spin_orbit_ratio": 10.0,
+                      "pole_epoch_jd_tdb": 2451545.0, "orbit_epoch_jd_tdb": 2461000.5}}}}}})
+    def precession(body: BodyPath, dataset: DatasetQuery = Dataset.current, order: OrderQuery = None):
+        return api.precession(body, dataset.value, order)
+
+    @app.get("/v1/bodies/{body}/nutation", response_model=schemas.Nutation, tags=["theory"], responses={
+        **ERRORS, 200: {"content": {
+            "application/json": {"example": {"terms": [{
+                "multiple": 2, "period_days": 662.69, "period_years": 1.8143, "longitude_sin_arcsec": -2.6118,
+                "longitude_cos_arcsec": -2.6478, "obliquity_sin_arcsec": -1.3763, "obliquity_cos_arcsec": 1.4318}]}},
+            "text/csv": {"example": "component,sin_arcsec,cos_arcsec,amp_arcsec,period_years,arg\n"
+                                    "longitude,2.3784,0.2431,1.1025,3.6287,M\n"},
+            "text/markdown": {"example": "| Sin (\") | Cos (\") | Amp (\") | Period (year) | Arg |\n"},
+            "application/x-latex": {"example": "\\begin{tabular}{rrrrl}\n\\toprule\n"}}}})
+    def nutation(body: BodyPath, dataset: DatasetQuery = Dataset.current, order: OrderQuery = None,
+                 format: Annotated[TableFormat, Query(description="json, or the paper's table layout as "
+                                                                  "csv, markdown or latex")] = TableFormat.json):
+        ans = api.nutation(body, dataset.value, order)
+        if format is TableFormat.json:
+            return ans
+        return PlainTextResponse(render_nutation(ans, format.value), media_type=FORMATS[format.value])
+
+    @app.get("/v1/bodies/{body}/track", response_model=schemas.Track, tags=["theory"], responses={
+        **ERRORS, 200: {"content": {"application/json": {"example": {
+            "body": "Ceres", "dataset": "current", "jd_tdb": [2466154.5008], "psi_arcsec": [260.05],
+            "delta_psi_arcsec": [-1.8865], "delta_epsilon_arcsec": [0.1519], "obliquity_deg": [4.03956],
+            "pole_ra_deg": [291.43043], "pole_dec_deg": [66.76515]}},
+            "text/csv": {"example": "jd_tdb,psi_arcsec,delta_psi_arcsec,delta_epsilon_arcsec,obliquity_deg,"
+                                    "pole_ra_deg,pole_dec_deg\n"}}}})
+    def track(body: BodyPath,
+              start: Annotated[str, Query(description="ISO 8601 (UTC unless a scale follows) or JD TDB",
+                                          examples=["2040-01-01"])],
+              stop: Annotated[str, Query(description="ISO 8601 or JD TDB", examples=["2041-01-01"])],
+              step_days: Annotated[float, Query(description="sampling step, days", examples=[10.0])],
+              dataset: DatasetQuery = Dataset.current, order: OrderQuery = None,
+              format: Annotated[TrackFormat, Query(description="json or csv (streamed)")] = TrackFormat.json):
+        arrays = api.track_arrays(body, start, stop, step_days, dataset.value, order,
+                                  settings.max_track_samples)
+        if format is TrackFormat.csv:
+            return StreamingResponse(_csv_rows(arrays), media_type="text/csv; charset=utf-8")
+        for key in api.TRACK_KEYS:
+            arrays[key] = arrays[key].tolist()
+        return JSONResponse(arrays)
+
+    @app.post("/v1/precession-nutation", response_model=schemas.PrecessionNutation, tags=["theory"],
+              responses=ERRORS)
+    def precession_nutation(user: Annotated[schemas.UserBody, BodyParam()]):
+        b = Body(name=user.name, orbit=Orbit(**user.orbit.model_dump(), body=user.name),
+                 pole=Pole(**user.pole.model_dump(), body=user.name),
+                 rotation_period_hours=user.rotation_period_hours,
+                 moments=None if user.moments is None else (user.moments.A, user.moments.B, user.moments.C),
+                 dynamical_ellipticity=user.dynamical_ellipticity)
+        answer = {"precession": api.precession(b, order=user.order), "nutation": api.nutation(b, order=user.order)}
+        if user.track is not None:
+            answer["track"] = api.track(b, user.track.start, user.track.stop, user.track.step_days,
+                                        order=user.order, max_samples=settings.max_track_samples)
+        return JSONResponse(answer)
+
+    return app
+
+
+def _csv_rows(arrays: dict):
+    yield ",".join(api.TRACK_KEYS) + "\n"
+    columns = np.column_stack([arrays[k] for k in api.TRACK_KEYS])
+    for start in range(0, columns.shape[0], CSV_CHUNK):
+        block = columns[start:start + CSV_CHUNK]
+        yield "".join(",".join(repr(float(v)) for v in row) + "\n" for row in block)
+
+
+app = create_app()

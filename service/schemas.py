@@ -1,0 +1,168 @@
+"""Pydantic schemas: the JSON contract of the routes (units in the key names)."""
+from __future__ import annotations
+
+from typing import Literal, Optional, Union
+
+from pydantic import BaseModel, ConfigDict, Field
+
+Finite = ConfigDict(allow_inf_nan=False, extra="forbid")
+
+
+class ModelInfo(BaseModel):
+    theory: str
+    eccentricity_order: Union[int, Literal["exact"]]
+    assumptions: list[str]
+    warnings: list[str]
+    spin_orbit_ratio: float
+    min_spin_orbit_ratio: float
+    pole_epoch_jd_tdb: float
+    orbit_epoch_jd_tdb: float
+
+
+class BodySummary(BaseModel):
+    name: str
+    naif_id: Optional[int]
+    kind: str
+    dataset: str
+    a_au: float
+    e: float
+    orbit_center: str
+    rotation_period_hours: float
+    pole_ra_deg: float
+    pole_dec_deg: float
+    dynamical_ellipticity: float
+
+
+class MeasuredValue(BaseModel):
+    value: float
+    unit: str
+    uncertainty: Optional[float]
+    source: str
+    reference: Optional[dict]
+    note: Optional[str]
+
+
+class BodyRecord(BaseModel):
+    name: str
+    naif_id: Optional[int]
+    kind: str
+    dataset: str
+    orbit_center: str
+    dynamical_ellipticity: float
+    dynamical_ellipticity_from: str
+    values: dict[str, MeasuredValue]
+
+
+class Precession(BaseModel):
+    body: str
+    dataset: str
+    obliquity_deg: float
+    dynamical_ellipticity: float
+    scaling_factor_arcsec_per_year: float
+    precession_rate_arcsec_per_year: float
+    model: ModelInfo
+
+
+class NutationTerm(BaseModel):
+    multiple: int
+    period_days: float
+    period_years: float
+    longitude_sin_arcsec: float
+    longitude_cos_arcsec: float
+    obliquity_sin_arcsec: float
+    obliquity_cos_arcsec: float
+
+
+class Nutation(BaseModel):
+    body: str
+    dataset: str
+    argument: str
+    mean_anomaly_at_epoch_deg: float
+    orbit_epoch_jd_tdb: float
+    mean_motion_deg_per_day: float
+    obliquity_deg: float
+    terms: list[NutationTerm]
+    delta_psi_half_peak_to_peak_arcsec: float
+    delta_epsilon_half_peak_to_peak_arcsec: float
+    model: ModelInfo
+
+
+class Track(BaseModel):
+    body: str
+    dataset: str
+    jd_tdb: list[float]
+    psi_arcsec: list[float]
+    delta_psi_arcsec: list[float]
+    delta_epsilon_arcsec: list[float]
+    obliquity_deg: list[float]
+    pole_ra_deg: list[float]
+    pole_dec_deg: list[float]
+    model: ModelInfo
+
+
+class OrbitIn(BaseModel):
+    """Osculating heliocentric elements, ecliptic and equinox J2000, at ``epoch_jd_tdb``."""
+    model_config = Finite
+    a_au: float = Field(description="semi-major axis, AU")
+    e: float = Field(description="eccentricity, 0 <= e < 1")
+    i_deg: float = Field(description="inclination to the ecliptic J2000, deg")
+    node_deg: float = Field(description="longitude of the ascending node, deg")
+    peri_deg: float = Field(description="argument of perihelion, deg")
+    mean_anomaly_deg: float = Field(description="mean anomaly at the epoch, deg")
+    epoch_jd_tdb: float = Field(description="epoch of the elements, JD TDB")
+
+
+class PoleIn(BaseModel):
+    """The instantaneous spin axis (positive pole) in the ICRF at ``epoch_jd_tdb``."""
+    model_config = Finite
+    ra_deg: float
+    dec_deg: float
+    epoch_jd_tdb: float = 2451545.0
+
+
+class MomentsIn(BaseModel):
+    """Principal moments of inertia A <= B <= C, any common normalisation."""
+    model_config = Finite
+    A: float
+    B: float
+    C: float
+
+
+class TrackIn(BaseModel):
+    model_config = Finite
+    start: Union[float, str] = Field(description="ISO 8601 (UTC unless a scale follows) or JD TDB")
+    stop: Union[float, str] = Field(description="ISO 8601 or JD TDB")
+    step_days: float = Field(description="sampling step, days")
+
+
+class UserBody(BaseModel):
+    """A body of the user's own; give ``moments`` or ``dynamical_ellipticity``."""
+    model_config = ConfigDict(allow_inf_nan=False, extra="forbid", json_schema_extra={"examples": [{
+        "name": "my-asteroid",
+        "orbit": {"a_au": 2.36, "e": 0.089, "i_deg": 7.14, "node_deg": 103.7, "peri_deg": 151.7,
+                  "mean_anomaly_deg": 169.2, "epoch_jd_tdb": 2460200.5},
+        "pole": {"ra_deg": 309.03, "dec_deg": 42.23, "epoch_jd_tdb": 2451545.0},
+        "rotation_period_hours": 5.342,
+        "moments": {"A": 0.3433, "B": 0.3546, "C": 0.42},
+        "track": {"start": "2020-01-01", "stop": "2030-01-01", "step_days": 10}}]})
+    name: str = Field("user body", max_length=100)
+    orbit: OrbitIn
+    pole: PoleIn
+    rotation_period_hours: float
+    moments: Optional[MomentsIn] = None
+    dynamical_ellipticity: Optional[float] = None
+    order: Optional[int] = Field(None, ge=0, le=30, description="e-power order of the Hansen coefficients "
+                                                                 "(0 to 30); omit for exact")
+    track: Optional[TrackIn] = None
+
+
+class PrecessionNutation(BaseModel):
+    precession: Precession
+    nutation: Nutation
+    track: Optional[Track] = None
+
+
+class Health(BaseModel):
+    status: Literal["ok"]
+    version: str
+    datasets: list[str]
