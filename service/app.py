@@ -1,13 +1,15 @@
 """FastAPI application: ``service.app:app``. Routes are thin: each calls :mod:`ephem.api`."""
 from __future__ import annotations
 
+import math
 from contextlib import asynccontextmanager
 from enum import Enum
 from typing import Annotated, Optional
 
 import numpy as np
+import orjson
 from fastapi import Body as BodyParam, FastAPI, Path, Query
-from fastapi.responses import JSONResponse, PlainTextResponse, StreamingResponse
+from fastapi.responses import PlainTextResponse, Response, StreamingResponse
 
 import ephem
 from ephem import api
@@ -134,9 +136,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                   settings.max_track_samples)
         if format is TrackFormat.csv:
             return StreamingResponse(_csv_rows(arrays), media_type="text/csv; charset=utf-8")
-        for key in api.TRACK_KEYS:
-            arrays[key] = arrays[key].tolist()
-        return JSONResponse(arrays)
+        return finite_json(arrays)
 
     @app.post("/v1/precession-nutation", response_model=schemas.PrecessionNutation, tags=["theory"],
               responses=ERRORS)
@@ -148,11 +148,32 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                  dynamical_ellipticity=user.dynamical_ellipticity)
         answer = {"precession": api.precession(b, order=user.order), "nutation": api.nutation(b, order=user.order)}
         if user.track is not None:
-            answer["track"] = api.track(b, user.track.start, user.track.stop, user.track.step_days,
-                                        order=user.order, max_samples=settings.max_track_samples)
-        return JSONResponse(answer)
+            answer["track"] = api.track_arrays(b, user.track.start, user.track.stop, user.track.step_days,
+                                               order=user.order, max_samples=settings.max_track_samples)
+        return finite_json(answer)
 
     return app
+
+
+def finite_json(content) -> Response:
+    """JSON with numpy arrays serialised natively (orjson: 1.7 ms for a 10^4-epoch track against
+    ~45 ms for json.dumps of lists). orjson would write NaN as null, so non-finite numbers are
+    refused here instead: they would be a bug, reported as a problem, never sent."""
+    if not _all_finite(content):
+        return problems.problem(500, "internal", "Internal error", "the computation produced non-finite values")
+    return Response(orjson.dumps(content, option=orjson.OPT_SERIALIZE_NUMPY), media_type="application/json")
+
+
+def _all_finite(obj) -> bool:
+    if isinstance(obj, np.ndarray):
+        return bool(np.isfinite(obj).all())
+    if isinstance(obj, float):
+        return math.isfinite(obj)
+    if isinstance(obj, dict):
+        return all(_all_finite(v) for v in obj.values())
+    if isinstance(obj, (list, tuple)):
+        return all(_all_finite(v) for v in obj)
+    return True
 
 
 def _csv_rows(arrays: dict):

@@ -225,3 +225,13 @@ def test_real_uvicorn_process_over_loopback():
     finally:
         proc.terminate()
         proc.wait(timeout=10)
+
+
+def test_non_finite_numbers_are_never_sent():
+    import numpy as np
+    from service.app import finite_json
+    ok = finite_json({"a": np.array([1.0, 2.0]), "b": [0.5], "c": {"d": 3.0}})
+    assert ok.status_code == 200 and json.loads(ok.body) == {"a": [1.0, 2.0], "b": [0.5], "c": {"d": 3.0}}
+    bad = finite_json({"a": np.array([1.0, np.nan])})
+    assert bad.status_code == 500 and bad.media_type == PROBLEM and b"NaN" not in bad.body
+    assert finite_json({"x": float("inf")}).status_code == 500

@@ -1,0 +1,46 @@
+# ephem REST service: `docker build -t ephem .` then `docker run -p 8000:8000 ephem`
+# (`-e WORKERS=4` for more uvicorn worker processes; the limits below can be overridden likewise).
+#
+# Stage 1 builds the project's wheel (hatchling; the wheel carries data/ as ephem/_data, so the
+# installed package needs no EPHEM_DATA_DIR). Stage 2 installs it, as `pip install .` would, and
+# keeps no source tree: the app is imported from site-packages.
+
+FROM python:3.11-slim AS build
+ENV PIP_NO_CACHE_DIR=1 \
+    PIP_DISABLE_PIP_VERSION_CHECK=1
+WORKDIR /src
+COPY pyproject.toml README.md ./
+COPY ephem ./ephem
+COPY service ./service
+COPY data ./data
+RUN python -m pip wheel --no-deps --wheel-dir /wheels .
+
+
+FROM python:3.11-slim
+ENV PYTHONDONTWRITEBYTECODE=1 \
+    PYTHONUNBUFFERED=1 \
+    PIP_NO_CACHE_DIR=1 \
+    PIP_DISABLE_PIP_VERSION_CHECK=1
+
+COPY --from=build /wheels /wheels
+RUN python -m pip install /wheels/*.whl \
+    && rm -rf /wheels \
+    && useradd --create-home --uid 10001 --user-group --shell /usr/sbin/nologin ephem
+
+# Number of uvicorn worker processes (one per core is a good start).
+ENV WORKERS=2
+# Largest number of epochs in one /track request (422 beyond). Each 10^4 epochs cost ~1.2 MB of
+# JSON and ~7 ms of one worker's CPU, so the default 10^6 allows ~120 MB / ~0.7 s per request.
+ENV EPHEM_MAX_TRACK_SAMPLES=1000000
+# Largest request body in bytes (413 beyond).
+ENV EPHEM_MAX_BODY_BYTES=65536
+
+USER ephem
+WORKDIR /home/ephem
+EXPOSE 8000
+
+HEALTHCHECK --interval=30s --timeout=5s --start-period=30s --retries=3 \
+    CMD ["python", "-c", "import sys, urllib.request; r = urllib.request.urlopen('http://127.0.0.1:8000/healthz', timeout=4); sys.exit(0 if r.status == 200 else 1)"]
+
+# exec: uvicorn becomes PID 1 and gets SIGTERM from `docker stop` (it then stops its workers).
+CMD ["sh", "-c", "exec uvicorn service.app:app --host 0.0.0.0 --port 8000 --workers \"${WORKERS:-2}\""]
