@@ -157,7 +157,7 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
     }
 
 
-def track_grid(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPLES) -> tuple[float, float, int]:
+def epoch_grid(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPLES) -> tuple[float, float, int]:
     """(first JD TDB, step in days, count) of the evenly spaced epochs from start to stop.
 
     stop is included when it falls on the grid.
@@ -185,7 +185,7 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
                  order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES) -> dict:
     """As :func:`track`, with numpy arrays instead of lists (for streaming and numerical use)."""
     b = resolve_body(body, dataset)
-    t0, step, count = track_grid(start, stop, step_days, max_samples)
+    t0, step, count = epoch_grid(start, stop, step_days, max_samples)
     m = model_for(b, dataset, order)
     tr = m.track_grid(t0, step, count)
     return {
