@@ -7,15 +7,17 @@ arcseconds, rates per Julian year, times as JD TDB.
 from __future__ import annotations
 
 import math
+import time
 from functools import lru_cache
 
 import numpy as np
 
 from .catalogue import DEFAULT_DATASET, Body, get_body, load_catalogue, load_references
-from .constants import ARCSEC, JULIAN_YEAR_DAYS
+from .constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from .errors import InvalidInputError
 from .hansen import LAPLACE_LIMIT
-from .model import MIN_SPIN_ORBIT_RATIO, PrecessionNutation, build_model
+from .ladder import RUNGS, Ladder, cached_model, truncation_bound
+from .model import MIN_SPIN_ORBIT_RATIO, PrecessionNutation
 from .timeparse import to_jd_tdb
 
 #: Highest e-power order served: the exact-rational series costs ~0.7 s to build at 30 and grows
@@ -26,15 +28,34 @@ MAX_TRACK_SAMPLES = 1_000_000
 #: Obliquity within this many degrees of 90: ψ̇ ∝ cos ε is small and poorly determined.
 NEAR_RIGHT_ANGLE_DEG = 2.0
 
-THEORY = ("Kinoshita (1977) forced precession-nutation, first order in the solar torque, "
-          "as in Petit, Souchay & Lhotka (2014)")
+THEORY = ("Kinoshita (1977) forced precession-nutation in the solar torque, as in Petit, Souchay & Lhotka (2014), "
+          "on the fidelity ladder of ephem.ladder")
+#: What every rung assumes, and what each drops besides (see :mod:`ephem.ladder`).
 ASSUMPTIONS = [
     "rigid body; figure, rotation and angular-momentum axes coincide (free wobble J = 0)",
     "torque averaged over the rotation; triaxial P22 term of the potential dropped",
-    "fixed Keplerian orbit (osculating elements at their epoch); orbital plane fixed",
     "single perturber: the orbit's centre",
-    "first order in the torque: the equinox drift is not fed back into the nutation phases",
 ]
+RUNG_ASSUMPTIONS = {
+    "secular": ["no nutation", "fixed Keplerian orbit (osculating elements at their epoch)"],
+    "series": ["first order in the torque", "Hansen coefficients truncated at a power of e",
+               "fixed Keplerian orbit (osculating elements at their epoch)"],
+    "hansen": ["first order in the torque: the equinox drift is not fed back into the nutation phases",
+               "fixed Keplerian orbit (osculating elements at their epoch)"],
+    "second_order": ["second order in the torque", "fixed Keplerian orbit (osculating elements at their epoch)"],
+    "numerical": ["fixed Keplerian orbit (osculating elements at their epoch)"],
+    "real_orbit": ["orbit from DE421 (planets) or integrated under the DE421 planets (asteroids)"],
+}
+#: What each rung of the fidelity ladder drops (see :mod:`ephem.ladder`).
+RUNG_DESCRIPTIONS = {
+    "secular": "precession only: no nutation",
+    "series": "Kinoshita-Cayley nutation, Hansen coefficients as e-power series truncated at e^order",
+    "hansen": "Kinoshita-Cayley nutation with exact Hansen coefficients (first order in the torque)",
+    "second_order": "second order in the torque: the equinox drift re-phases the nutation, plus the "
+                    "second-order mean rates",
+    "numerical": "rotation-averaged torque integrated numerically along the fixed Keplerian orbit",
+    "real_orbit": "rotation-averaged torque integrated along the real orbit (DE421 and planetary perturbations)",
+}
 
 
 def _order(order: int | None) -> int | None:
@@ -58,18 +79,56 @@ def model_for(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int
         raise InvalidInputError(
             "order", f"e = {b.orbit.e} exceeds the Laplace limit {LAPLACE_LIMIT:.4f}: the e-power series "
             "diverge; omit the order to use exact Hansen coefficients", b.name)
-    return _cached_model(b, order)
-
-
-@lru_cache(maxsize=512)
-def _cached_model(body: Body, order: int | None) -> PrecessionNutation:
-    # a pure function of immutable inputs: memoising it keeps the library (and service) stateless
-    return build_model(body, order)
+    return cached_model(b, order)
 
 
 @lru_cache(maxsize=512)
 def _semi_amplitudes(body: Body, order: int | None) -> tuple[float, float]:
-    return _cached_model(body, order).nutation.semi_peak_to_peak()
+    return cached_model(body, order).nutation.semi_peak_to_peak()
+
+
+def _tolerance(tolerance_mas) -> float | None:
+    if tolerance_mas is None:
+        return None
+    if isinstance(tolerance_mas, bool) or not isinstance(tolerance_mas, (int, float)) \
+            or not math.isfinite(tolerance_mas) or tolerance_mas <= 0.0:
+        raise InvalidInputError("tolerance_mas", f"must be a positive finite number of milliarcseconds, "
+                                f"got {tolerance_mas!r}")
+    return float(tolerance_mas) * MAS
+
+
+def _rung(name) -> str | None:
+    if name is None:
+        return None
+    if name not in RUNGS:
+        raise InvalidInputError("model", f"unknown model {name!r}; one of {', '.join(RUNGS)}")
+    return name
+
+
+def _order_for_tolerance(b: Body, tolerance: float | None, order: int | None) -> int | None:
+    """The lowest e-order whose truncation error is within the tolerance (None: exact coefficients).
+
+    For the rate and the nutation terms (no time span): the truncation bound alone.
+    """
+    if tolerance is None:
+        return order
+    if order is not None:
+        raise InvalidInputError("order", "give either order or tolerance_mas, not both")
+    m = cached_model(b)
+    if m.eccentricity < LAPLACE_LIMIT:
+        kmax = int(m.nutation.multiple.max()) if m.nutation.multiple.size else 0
+        for n in range(0, min(kmax, MAX_ORDER)):
+            if truncation_bound(m, n, 0.0) <= tolerance:
+                return n
+    return None
+
+
+def _selection_info(name: str, order: int | None, estimate: float | None, cost_ms: float,
+                    tolerance: float | None, terms: dict | None = None) -> dict:
+    return {"name": name, "order": order, "description": RUNG_DESCRIPTIONS[name],
+            "estimated_error_mas": None if estimate is None else estimate / MAS,
+            "error_terms_mas": None if terms is None else {k: v / MAS for k, v in terms.items()},
+            "tolerance_mas": None if tolerance is None else tolerance / MAS, "cost_ms": cost_ms}
 
 
 def model_info(m: PrecessionNutation, b: Body) -> dict:
@@ -84,7 +143,7 @@ def model_info(m: PrecessionNutation, b: Body) -> dict:
     return {
         "theory": THEORY,
         "eccentricity_order": "exact" if m.order is None else m.order,
-        "assumptions": ASSUMPTIONS,
+        "assumptions": ASSUMPTIONS + RUNG_ASSUMPTIONS["hansen" if m.order is None else "series"],
         "warnings": warnings,
         "spin_orbit_ratio": m.spin_orbit_ratio,
         "min_spin_orbit_ratio": MIN_SPIN_ORBIT_RATIO,
@@ -117,12 +176,20 @@ def body_record(body: str | int, dataset: str = DEFAULT_DATASET) -> dict:
             "dynamical_ellipticity_from": b.hd_from, "values": values}
 
 
-def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None) -> dict:
-    """Obliquity, H_d, K and the precession rate ψ̇ (Petit et al. Table 4 columns)."""
+def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None,
+               tolerance_mas: float | None = None) -> dict:
+    """Obliquity, H_d, K and the precession rate ψ̇ (Petit et al. Table 4 columns).
+
+    ``tolerance_mas`` picks the lowest e-order whose truncated nutation stays within it
+    (the rate is then the truncated one); ``model`` reports what was used.
+    """
+    start = time.perf_counter()
     b = resolve_body(body, dataset)
+    tol = _tolerance(tolerance_mas)
+    order = _order_for_tolerance(b, tol, _order(order))
     m = model_for(b, dataset, order)
     per_year = JULIAN_YEAR_DAYS / ARCSEC
-    return {
+    ans = {
         "body": b.name, "dataset": b.dataset,
         "obliquity_deg": math.degrees(m.obliquity),
         "dynamical_ellipticity": m.hd,
@@ -130,11 +197,27 @@ def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: in
         "precession_rate_arcsec_per_year": m.precession_rate * per_year,
         "model": model_info(m, b),
     }
+    ans["model"].update(_series_selection(b, order, tol, start))
+    return ans
 
 
-def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None) -> dict:
-    """Nutation terms: Δψ = Σ S sin kM + C cos kM (likewise Δε), arcsec."""
+def _series_selection(b: Body, order: int | None, tol: float | None, start: float) -> dict:
+    estimate = None if order is None else truncation_bound(cached_model(b), order, 0.0)
+    return _selection_info("hansen" if order is None else "series", order, estimate or 0.0,
+                           1e3 * (time.perf_counter() - start), tol)
+
+
+def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None,
+             tolerance_mas: float | None = None) -> dict:
+    """Nutation terms: Δψ = Σ S sin kM + C cos kM (likewise Δε), arcsec.
+
+    ``tolerance_mas`` picks the lowest e-order whose terms move the pole by no more than
+    that from the exact-coefficient series (the bound in ``model.estimated_error_mas``).
+    """
+    start = time.perf_counter()
     b = resolve_body(body, dataset)
+    tol = _tolerance(tolerance_mas)
+    order = _order_for_tolerance(b, tol, _order(order))
     m = model_for(b, dataset, order)
     s = m.nutation
     periods = s.period_days
@@ -144,7 +227,7 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
         "obliquity_sin_arcsec": float(d / ARCSEC), "obliquity_cos_arcsec": float(f / ARCSEC),
     } for k, p, a, c, d, f in zip(s.multiple, periods, s.lon_sin, s.lon_cos, s.obl_sin, s.obl_cos)]
     half_psi, half_eps = _semi_amplitudes(b, m.order)
-    return {
+    ans = {
         "body": b.name, "dataset": b.dataset, "argument": "mean anomaly M",
         "mean_anomaly_at_epoch_deg": math.degrees(m.mean_anomaly_at_epoch) % 360.0,
         "orbit_epoch_jd_tdb": m.orbit_epoch,
@@ -155,6 +238,8 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
         "delta_epsilon_half_peak_to_peak_arcsec": half_eps / ARCSEC,
         "model": model_info(m, b),
     }
+    ans["model"].update(_series_selection(b, order, tol, start))
+    return ans
 
 
 def epoch_grid(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPLES) -> tuple[float, float, int]:
@@ -182,12 +267,38 @@ TRACK_KEYS = ("jd_tdb", "psi_arcsec", "delta_psi_arcsec", "delta_epsilon_arcsec"
 
 
 def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,
-                 order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES) -> dict:
+                 order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES,
+                 tolerance_mas: float | None = None, model: str | None = None) -> dict:
     """As :func:`track`, with numpy arrays instead of lists (for streaming and numerical use)."""
+    begin = time.perf_counter()
     b = resolve_body(body, dataset)
     t0, step, count = epoch_grid(start, stop, step_days, max_samples)
+    order, tol, rung = _order(order), _tolerance(tolerance_mas), _rung(model)
+    if tol is not None and (order is not None or rung is not None):
+        raise InvalidInputError("tolerance_mas", "give a tolerance, or a model and order, not both")
+    if rung is None:
+        rung = "hansen" if order is None else "series"
+    if rung == "series" and order is None:
+        raise InvalidInputError("order", "the 'series' model needs an e-order")
+    if order is not None and rung != "series":
+        raise InvalidInputError("order", f"an e-order applies to the 'series' model, not to {rung!r}")
     m = model_for(b, dataset, order)
-    tr = m.track_grid(t0, step, count)
+    ladder = Ladder(b)
+    t = t0 + step * np.arange(count)
+    if tol is not None:
+        est = ladder.choose(t, tol)
+        rung, order = est.rung, est.order
+    else:
+        est = next((e for e in ladder.estimates(t) if e.rung == rung and e.order == order), None)
+    if rung in ("hansen", "series"):   # the fast evaluation on an even grid
+        tr = cached_model(b, order).track_grid(t0, step, count)
+    else:
+        tr = ladder.track(rung, t, order)
+    estimate = None if est is None or not est.available else est.total
+    info = model_info(m, b)
+    info["assumptions"] = ASSUMPTIONS + RUNG_ASSUMPTIONS[rung]
+    info.update(_selection_info(rung, order, estimate, 1e3 * (time.perf_counter() - begin), tol,
+                                None if est is None else est.terms))
     return {
         "body": b.name, "dataset": b.dataset,
         "jd_tdb": tr.jd_tdb,
@@ -197,14 +308,21 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
         "obliquity_deg": np.degrees(tr.obliquity),
         "pole_ra_deg": np.degrees(tr.pole_ra),
         "pole_dec_deg": np.degrees(tr.pole_dec),
-        "model": model_info(m, b),
+        "model": info,
     }
 
 
 def track(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,
-          order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES) -> dict:
-    """Spin-axis track: ψ, Δψ, Δε (arcsec), obliquity and pole RA/Dec (deg) at each epoch."""
-    ans = track_arrays(body, start, stop, step_days, dataset, order, max_samples)
+          order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES, tolerance_mas: float | None = None,
+          model: str | None = None) -> dict:
+    """Spin-axis track: ψ, Δψ, Δε (arcsec), obliquity and pole RA/Dec (deg) at each epoch.
+
+    ``tolerance_mas`` lets the fidelity ladder (:mod:`ephem.ladder`) pick the cheapest model
+    whose pole is estimated within that many milliarcseconds of the truth at every epoch;
+    ``model`` (a rung name) and ``order`` choose one explicitly. The answer's ``model``
+    reports ``name``, ``order``, ``estimated_error_mas`` and ``cost_ms``.
+    """
+    ans = track_arrays(body, start, stop, step_days, dataset, order, max_samples, tolerance_mas, model)
     for key in TRACK_KEYS:
         ans[key] = ans[key].tolist()
     return ans

@@ -31,6 +31,8 @@ DatasetOpt = typer.Option("current", "--dataset", "-d", help="Catalogue dataset:
 FormatOpt = typer.Option(Format.json, "--format", "-f", help="Output format.")
 OrderOpt = typer.Option(None, "--order", help="Truncate the Hansen coefficients at this power of e "
                         "(the paper: 4). Default: exact.")
+ToleranceOpt = typer.Option(None, "--tolerance-mas", min=0.0, help="Let the fidelity ladder pick the cheapest "
+                            "model estimated within this many milliarcseconds of the truth.")
 
 
 def _fail(exc: EphemError) -> None:
@@ -89,10 +91,11 @@ def body(name: str, dataset: str = DatasetOpt):
 
 @app.command()
 def precession(name: str = typer.Argument(..., metavar="BODY"), dataset: str = DatasetOpt,
-               fmt: Format = FormatOpt, order: Optional[int] = OrderOpt):
+               fmt: Format = FormatOpt, order: Optional[int] = OrderOpt,
+               tolerance_mas: Optional[float] = ToleranceOpt):
     """Obliquity, dynamical ellipticity, scaling factor K and precession rate of BODY."""
     try:
-        ans = api.precession(name, dataset, order)
+        ans = api.precession(name, dataset, order, tolerance_mas)
     except EphemError as exc:
         _fail(exc)
     _emit(ans, fmt, [_flat(ans)])
@@ -100,10 +103,11 @@ def precession(name: str = typer.Argument(..., metavar="BODY"), dataset: str = D
 
 @app.command()
 def nutation(name: str = typer.Argument(..., metavar="BODY"), dataset: str = DatasetOpt,
-             fmt: Format = FormatOpt, order: Optional[int] = OrderOpt):
+             fmt: Format = FormatOpt, order: Optional[int] = OrderOpt,
+             tolerance_mas: Optional[float] = ToleranceOpt):
     """Nutation series of BODY in longitude and obliquity (harmonics of the mean anomaly)."""
     try:
-        ans = api.nutation(name, dataset, order)
+        ans = api.nutation(name, dataset, order, tolerance_mas)
     except EphemError as exc:
         _fail(exc)
     _emit(ans, fmt, ans["terms"])
@@ -114,12 +118,24 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
           start: str = typer.Option(..., "--start", help="ISO 8601 (UTC unless a scale follows) or JD TDB."),
           stop: str = typer.Option(..., "--stop", help="ISO 8601 or JD TDB."),
           step_days: float = typer.Option(..., "--step-days", help="Sampling step in days."),
-          dataset: str = DatasetOpt, fmt: Format = FormatOpt, order: Optional[int] = OrderOpt):
-    """Spin-axis track of BODY: ψ, Δψ, Δε, obliquity and pole RA/Dec over time."""
+          dataset: str = DatasetOpt, fmt: Format = FormatOpt, order: Optional[int] = OrderOpt,
+          tolerance_mas: Optional[float] = ToleranceOpt,
+          model: Optional[str] = typer.Option(None, "--model", help="A rung of the fidelity ladder: "
+                                              "secular, series, hansen, second_order, numerical, real_orbit.")):
+    """Spin-axis track of BODY: ψ, Δψ, Δε, obliquity and pole RA/Dec over time.
+
+    The model used (rung, order, estimated error, cost) goes to stderr with --format csv or table.
+    """
     try:
-        ans = api.track(name, start, stop, step_days, dataset, order)
+        ans = api.track(name, start, stop, step_days, dataset, order, tolerance_mas=tolerance_mas, model=model)
     except EphemError as exc:
         _fail(exc)
+    if fmt is not Format.json:
+        info = ans["model"]
+        err = info["estimated_error_mas"]
+        typer.echo(f"model: {info['name']}" + (f" (order {info['order']})" if info["order"] is not None else "")
+                   + (f", estimated error {err:.4g} mas" if err is not None else "")
+                   + f", {info['cost_ms']:.1f} ms", err=True)
     keys = ["jd_tdb", "psi_arcsec", "delta_psi_arcsec", "delta_epsilon_arcsec", "obliquity_deg",
             "pole_ra_deg", "pole_dec_deg"]
     rows = [dict(zip(keys, vals)) for vals in zip(*(ans[k] for k in keys))]

@@ -172,6 +172,55 @@ def nutation_series(K: float, n: float, obliquity: float, e: float, equinox_to_p
                           obl_cos[sl], n, order)
 
 
+@dataclass(frozen=True)
+class NutationComponents:
+    """The nutation split by its dependence on the equinox-to-pericentre angle θ.
+
+    With C' = cos 2θ and S' = sin 2θ (the paper's constants) the first-order series is
+
+        Δψ = cos ε (a(M) - C' b(M) - S' c(M)),    Δε = -sin ε (S' b(M) - C' c(M))
+
+    where a = Σ (K/2kn) C0_k sin kM, b = Σ (K/2kn) C2_k sin kM, c = Σ (K/2kn) S2_k cos kM.
+    Holding θ and ε fixed gives :func:`nutation_series`; letting them drift with the
+    precession (θ = θ̄0 + ψ̄) is the second-order theory (:mod:`ephem.second_order`).
+    Radians; ``mean_motion`` in rad/day.
+    """
+
+    multiple: np.ndarray
+    sin_coef: np.ndarray  # (kmax, 3): columns a, b, c
+    cos_coef: np.ndarray
+    mean_motion: float
+    order: int | None
+
+    def evaluate(self, mean_anomaly) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """a, b, c (radians) at mean anomalies M."""
+        return evaluate_harmonics(mean_anomaly, self.multiple, self.sin_coef, self.cos_coef)
+
+    @staticmethod
+    def combine(a, b, c, obliquity, equinox_to_pericentre):
+        """Δψ, Δε (radians) from a, b, c and the (possibly time-dependent) ε and θ."""
+        cp, sp = np.cos(2.0 * equinox_to_pericentre), np.sin(2.0 * equinox_to_pericentre)
+        return np.cos(obliquity) * (a - cp * b - sp * c), -np.sin(obliquity) * (sp * b - cp * c)
+
+
+def nutation_components(K: float, n: float, e: float, order: int | None = None,
+                        min_amplitude: float = 1e-14) -> NutationComponents:
+    """The θ-free parts a, b, c of the nutation (see :class:`NutationComponents`).
+
+    Harmonics whose three coefficients are all below ``min_amplitude`` (radians)
+    are dropped from the end of the series.
+    """
+    h = hansen_exact(e) if order is None else hansen_series(order).evaluate(e)
+    k = np.asarray(h.k[1:], dtype=float)
+    amp = 0.5 * K / (k * n)
+    zero = np.zeros_like(k)
+    sin_coef = np.stack([amp * h.c0[1:], amp * h.c2[1:], zero], axis=1)
+    cos_coef = np.stack([zero, zero, amp * h.s2[1:]], axis=1)
+    big = np.nonzero(np.max(np.abs(sin_coef) + np.abs(cos_coef), axis=1) >= min_amplitude)[0]
+    last = big[-1] + 1 if big.size else 0
+    return NutationComponents(np.asarray(h.k[1:][:last], dtype=int), sin_coef[:last], cos_coef[:last], n, order)
+
+
 #: Epochs per block in the evaluators: small enough to stay in cache.
 _BLOCK = 8192
 #: The power basis of cos x is used when it amplifies rounding by at most this factor over

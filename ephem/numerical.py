@@ -15,16 +15,25 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from .constants import AU_M, DAY_S, GM_SUN
 from .kepler import solve_kepler_scalar
 from .model import PrecessionNutation
 
+#: Heliocentric gravitational constant in AU^3/day^2.
+GM_SUN_AU3_PER_DAY2 = GM_SUN * DAY_S**2 / AU_M**3
+
 
 def integrate_spin_axis(model: PrecessionNutation, jd_tdb, rtol: float = 1e-12,
-                        atol: float = 1e-14) -> np.ndarray:
+                        atol: float = 1e-14, sun=None) -> np.ndarray:
     """Spin-axis unit vectors (N, 3) in the ICRF at ``jd_tdb``, by numerical integration.
 
     Starts from the catalogue (instantaneous) pole at the model's pole epoch and
     integrates forwards and backwards to cover the requested epochs.
+
+    ``sun`` None moves the Sun on the model's Keplerian orbit (rung 5 of the ladder).
+    Otherwise it is a callable t -> (x, y, z), the Sun's position seen from the body
+    in AU, ICRF axes (e.g. :meth:`ephem.ephemeris.SunPath.position_scalar`): the real,
+    perturbed orbit of rung 6, with the torque coefficient 3 GM H_d / (ω r^3).
     """
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     e = model.eccentricity
@@ -33,8 +42,19 @@ def integrate_spin_axis(model: PrecessionNutation, jd_tdb, rtol: float = 1e-12,
     theta = model.equinox_to_pericentre
     beta = e / (1.0 + math.sqrt(1.0 - e * e))
     t0 = model.pole_epoch
+    # ICRF -> orbit frame: the transpose of the model's orbit -> ICRF matrix
+    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = model.icrf_from_orbit.T.tolist()
+    coef = 3.0 * GM_SUN_AU3_PER_DAY2 * model.hd / model.spin_rate
 
-    def rhs(tt, s):
+    def rhs_real(tt, s):
+        x, y, z = sun(tt)
+        rx, ry, rz = r00 * x + r01 * y + r02 * z, r10 * x + r11 * y + r12 * z, r20 * x + r21 * y + r22 * z
+        r2 = rx * rx + ry * ry + rz * rz
+        sr = s[0] * rx + s[1] * ry + s[2] * rz
+        f = coef * sr / (r2 * r2 * math.sqrt(r2))   # (3 GM H_d / ω r^3) (s·r̂) / r
+        return [f * (ry * s[2] - rz * s[1]), f * (rz * s[0] - rx * s[2]), f * (rx * s[1] - ry * s[0])]
+
+    def rhs_kepler(tt, s):
         m = model.mean_anomaly_at_epoch + n * (tt - model.orbit_epoch)
         ecc = solve_kepler_scalar(m, e)
         nu = ecc + 2.0 * math.atan2(beta * math.sin(ecc), 1.0 - beta * math.cos(ecc))
@@ -58,7 +78,7 @@ def integrate_spin_axis(model: PrecessionNutation, jd_tdb, rtol: float = 1e-12,
             out[mask] = s0
             continue
         order = np.argsort(tt) if end > t0 else np.argsort(-tt)
-        sol = solve_ivp(rhs, (t0, end), s0, method="DOP853", t_eval=tt[order], rtol=rtol, atol=atol)
+        sol = solve_ivp(rhs_kepler if sun is None else rhs_real, (t0, end), s0, method="DOP853", t_eval=tt[order], rtol=rtol, atol=atol)
         if not sol.success:
             raise RuntimeError(f"integration failed: {sol.message}")
         res = np.empty((tt.size, 3))

@@ -43,6 +43,20 @@ BodyPath = Annotated[str, Path(description="case-insensitive name or NAIF id", e
 DatasetQuery = Annotated[Dataset, Query(description="catalogue dataset")]
 OrderQuery = Annotated[Optional[int], Query(ge=0, le=api.MAX_ORDER, description="truncate the Hansen coefficients at e^order "
                                                                      "(the paper: 4); omit for exact", examples=[4])]
+ToleranceQuery = Annotated[Optional[float], Query(gt=0, description="pick the cheapest model estimated within this "
+                                                  "many milliarcseconds of the truth (see /docs/accuracy)",
+                                                  examples=[10.0])]
+
+
+class Rung(str, Enum):
+    secular = "secular"
+    series = "series"
+    hansen = "hansen"
+    second_order = "second_order"
+    numerical = "numerical"
+    real_orbit = "real_orbit"
+
+
 ERRORS = {404: {"description": "unknown body (problem+json lists the known ones)"},
           422: {"description": "invalid input (the field is named) or not applicable (with the reason)"}}
 CSV_CHUNK = 20_000
@@ -98,8 +112,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             "model": {"theory": "Kinoshita (1977) …", "eccentricity_order": "exact", "assumptions": ["…"],
                       "warnings": [], "spin_orbit_ratio": 5949.6, "min_spin_orbit_ratio": 10.0,
                       "pole_epoch_jd_tdb": 2451545.0, "orbit_epoch_jd_tdb": 2461000.5}}}}}})
-    def precession(body: BodyPath, dataset: DatasetQuery = Dataset.current, order: OrderQuery = None):
-        return api.precession(body, dataset.value, order)
+    def precession(body: BodyPath, dataset: DatasetQuery = Dataset.current, order: OrderQuery = None,
+                   tolerance_mas: ToleranceQuery = None):
+        return api.precession(body, dataset.value, order, tolerance_mas)
 
     @app.get("/v1/bodies/{body}/nutation", response_model=schemas.Nutation, tags=["theory"], responses={
         **ERRORS, 200: {"content": {
@@ -111,9 +126,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             "text/markdown": {"example": "| Sin (\") | Cos (\") | Amp (\") | Period (year) | Arg |\n"},
             "application/x-latex": {"example": "\\begin{tabular}{rrrrl}\n\\toprule\n"}}}})
     def nutation(body: BodyPath, dataset: DatasetQuery = Dataset.current, order: OrderQuery = None,
-                 format: Annotated[TableFormat, Query(description="json, or the paper's table layout as "
+                 tolerance_mas: ToleranceQuery = None, format: Annotated[TableFormat, Query(description="json, or the paper's table layout as "
                                                                   "csv, markdown or latex")] = TableFormat.json):
-        ans = api.nutation(body, dataset.value, order)
+        ans = api.nutation(body, dataset.value, order, tolerance_mas)
         if format is TableFormat.json:
             return ans
         return PlainTextResponse(render_nutation(ans, format.value), media_type=FORMATS[format.value])
@@ -131,9 +146,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
               stop: Annotated[str, Query(description="ISO 8601 or JD TDB", examples=["2041-01-01"])],
               step_days: Annotated[float, Query(description="sampling step, days", examples=[10.0])],
               dataset: DatasetQuery = Dataset.current, order: OrderQuery = None,
+              tolerance_mas: ToleranceQuery = None,
+              model: Annotated[Optional[Rung], Query(description="a rung of the fidelity ladder (not with "
+                                                                 "tolerance_mas); default hansen")] = None,
               format: Annotated[TrackFormat, Query(description="json or csv (streamed)")] = TrackFormat.json):
         arrays = api.track_arrays(body, start, stop, step_days, dataset.value, order,
-                                  settings.max_track_samples)
+                                  settings.max_track_samples, tolerance_mas, None if model is None else model.value)
         if format is TrackFormat.csv:
             return StreamingResponse(_csv_rows(arrays), media_type="text/csv; charset=utf-8")
         return finite_json(arrays)
@@ -148,8 +166,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                  dynamical_ellipticity=user.dynamical_ellipticity)
         answer = {"precession": api.precession(b, order=user.order), "nutation": api.nutation(b, order=user.order)}
         if user.track is not None:
-            answer["track"] = api.track_arrays(b, user.track.start, user.track.stop, user.track.step_days,
-                                               order=user.order, max_samples=settings.max_track_samples)
+            tr = user.track
+            answer["track"] = api.track_arrays(b, tr.start, tr.stop, tr.step_days, order=user.order,
+                                               max_samples=settings.max_track_samples,
+                                               tolerance_mas=tr.tolerance_mas, model=tr.model)
         return finite_json(answer)
 
     return app

@@ -6,6 +6,7 @@ from typing import Literal, Optional, Union
 from pydantic import BaseModel, ConfigDict, Field
 
 Finite = ConfigDict(allow_inf_nan=False, extra="forbid")
+RungName = Literal["secular", "series", "hansen", "second_order", "numerical", "real_orbit"]
 
 
 class ModelInfo(BaseModel):
@@ -17,6 +18,15 @@ class ModelInfo(BaseModel):
     min_spin_orbit_ratio: float
     pole_epoch_jd_tdb: float
     orbit_epoch_jd_tdb: float
+    name: RungName = Field(description="the rung of the fidelity ladder that computed the answer")
+    order: Optional[int] = Field(description="e-power order of the Hansen coefficients (series rung), else null")
+    description: str
+    estimated_error_mas: Optional[float] = Field(
+        description="estimated upper bound on the pole's distance from the truth over the epochs, mas "
+                    "(for rates and nutation terms: the truncation bound)")
+    error_terms_mas: Optional[dict[str, float]] = Field(description="the estimate by named term, mas")
+    tolerance_mas: Optional[float] = Field(description="the tolerance that chose the rung, if one was given")
+    cost_ms: float = Field(description="wall time of the computation, ms")
 
 
 class BodySummary(BaseModel):
@@ -133,6 +143,9 @@ class TrackIn(BaseModel):
     start: Union[float, str] = Field(description="ISO 8601 (UTC unless a scale follows) or JD TDB")
     stop: Union[float, str] = Field(description="ISO 8601 or JD TDB")
     step_days: float = Field(description="sampling step, days")
+    tolerance_mas: Optional[float] = Field(None, gt=0, description="pick the cheapest model whose pole is estimated "
+                                                                   "within this many mas of the truth")
+    model: Optional[RungName] = Field(None, description="use this rung of the ladder (not with tolerance_mas)")
 
 
 class UserBody(BaseModel):

@@ -1,0 +1,329 @@
+"""The fidelity ladder: models of rising cost and accuracy, each with an error estimate; a tolerance picks one.
+
+Rungs, cheapest first (names as reported in a track's ``model.name``):
+
+1. ``secular``       ψ = ψ̇ (t - t0), ε = ε̄0: precession only.
+2. ``series``        Kinoshita-Cayley nutation with the Hansen coefficients as e-power
+                     series truncated at e^N (``order`` N; the paper: 4). Only below the
+                     Laplace limit e < 0.6627, where the series converge.
+3. ``hansen``        the same with exact Hansen coefficients (the science core's default).
+4. ``second_order``  rung 3 with the equinox drift fed back into the phases and the
+                     second-order mean rates (:mod:`ephem.second_order`).
+5. ``numerical``     the rotation-averaged torque integrated along the Keplerian orbit
+                     (:mod:`ephem.numerical`).
+6. ``real_orbit``    the same along the real, perturbed orbit from DE421
+                     (:mod:`ephem.ephemeris`), inside DE421's span (1899-2053).
+7. the full rigid body (:mod:`ephem.rigid`): a reference for what rotation averaging
+   leaves out, too costly to serve (thousands of rotations per orbit).
+
+Every rung carries an error *estimate*: an upper bound, in radians, on the angle
+between its pole and the truth over the requested epochs, as a sum of named terms:
+
+* ``nutation_omitted`` (rung 1), ``truncation`` (rung 2): exact sums of the omitted
+  coefficients;
+* ``second_order`` (rungs 1-3): the equinox drift and the second-order mean rates,
+  growing with the time T from the pole epoch;
+* ``higher_order`` (rungs 1-4): what the second-order theory leaves (periodic terms
+  of relative size K/n and a third-order drift), calibrated against rung 5;
+* ``integration`` (rungs 5-6): the ODE tolerance;
+* ``orbit_motion`` (rungs 1-5): the fixed Keplerian orbit against the real one
+  (the orbit plane turns, the mean motion differs from the osculating one), from the
+  measured drift rates in ``data/orbit_motion.toml``;
+* ``rotation_averaging`` (all): what averaging over the rotation leaves out, against
+  the full rigid body.
+
+The tests hold each estimate against the next rungs up for many bodies and spans.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+
+from .catalogue import Body
+from .constants import MAS
+from .errors import InvalidInputError, NotApplicableError
+from .hansen import LAPLACE_LIMIT, hansen_exact, hansen_series
+from .kinoshita import eccentricity_factor
+from .model import PrecessionNutation, Track, build_model
+from .numerical import integrate_spin_axis
+from .physics_errors import (ephemeris_bound, orbit_motion_bound, real_orbit_unavailable, rotation_averaging_bound,
+                             sun_path_for)
+from .second_order import SecondOrderTheory, second_order_theory
+
+RUNGS = ("secular", "series", "hansen", "second_order", "numerical", "real_orbit")
+#: Highest e-power order the ladder tries for rung 2 (a truncated series is cheaper than the
+#: exact one only while it has fewer harmonics).
+MAX_LADDER_ORDER = 20
+#: Relative tolerance of the numerical rungs.
+NUMERICAL_RTOL = 1e-12
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """Estimated pole error of one rung (radians), by named term."""
+
+    rung: str
+    order: int | None
+    terms: dict = field(compare=False)
+    available: bool = True
+    why_not: str | None = None
+
+    @property
+    def total(self) -> float:
+        return float(sum(self.terms.values()))
+
+
+def _coefficient_bound(sin_psi, cos_psi, sin_eps, cos_eps, obliquity: float) -> float:
+    """Σ_k of the largest pole displacement each harmonic can make: sin ε |Δψ_k| + |Δε_k| (radians)."""
+    return float(np.sum(abs(math.sin(obliquity)) * np.hypot(sin_psi, cos_psi) + np.hypot(sin_eps, cos_eps)))
+
+
+def _pole_displacement_bound(series, obliquity: float) -> float:
+    return _coefficient_bound(series.lon_sin, series.lon_cos, series.obl_sin, series.obl_cos, obliquity)
+
+
+def _series_coefficients(model: PrecessionNutation, order: int | None, kmax: int):
+    """The nutation coefficients (lon_sin, lon_cos, obl_sin, obl_cos) for k = 1..kmax at the model's ε̄, θ̄."""
+    h = hansen_exact(model.eccentricity) if order is None else hansen_series(order).evaluate(model.eccentricity)
+    out = np.zeros((4, kmax))
+    m = min(kmax, len(h.k) - 1)
+    k = np.arange(1, m + 1, dtype=float)
+    K, n, eps, th = model.scaling_factor, model.mean_motion, model.obliquity, model.equinox_to_pericentre
+    cp, sp = math.cos(2 * th), math.sin(2 * th)
+    f_psi = 0.5 * K * math.cos(eps) / (k * n)
+    f_eps = -0.5 * K * math.sin(eps) / (k * n)
+    c0, c2, s2 = (np.asarray(x[1:m + 1]) for x in (h.c0, h.c2, h.s2))
+    out[:, :m] = [f_psi * (c0 - cp * c2), -f_psi * sp * s2, f_eps * sp * c2, -f_eps * cp * s2]
+    return out
+
+
+def truncation_bound(model: PrecessionNutation, order: int, span_days: float) -> float:
+    """Pole error (radians) of the e^order series against the exact Hansen coefficients.
+
+    Twice the sum of the coefficient differences (the track's error, plus the error it
+    makes in the mean pole through the nutation removed at the pole epoch) and the
+    difference of the precession rates over the span.
+    """
+    exact = model.nutation
+    kmax = max(int(exact.multiple.max()) if exact.multiple.size else 0, order + 3)
+    diff = _series_coefficients(model, order, kmax) - _series_coefficients(model, None, kmax)
+    rate_diff = 0.5 * model.scaling_factor * abs(math.cos(model.obliquity)) * abs(
+        eccentricity_factor(model.eccentricity, order) - eccentricity_factor(model.eccentricity))
+    return 2.0 * _coefficient_bound(*diff, model.obliquity) + abs(math.sin(model.obliquity)) * rate_diff * span_days
+
+
+def second_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, span_days: float) -> float:
+    """What the first-order theory leaves over ``span_days`` from the pole epoch (radians).
+
+    The θ-dependent terms b, c of the nutation change phase at 2|ψ̇| per unit time, moving
+    the pole by at most 2 sin ε (|cos ε| + 1) Σ(|b_k| + |c_k|) per radian of ψ; the
+    second-order mean rates move it at most by their bound times T.
+    """
+    comp = theory.components
+    phase_amp = float(np.sum(np.abs(comp.sin_coef[:, 1]) + np.abs(comp.cos_coef[:, 2])))
+    se, ce = abs(math.sin(model.obliquity)), abs(math.cos(model.obliquity))
+    rephase = 2.0 * se * (ce + 1.0) * phase_amp * abs(model.precession_rate) * span_days
+    return rephase + theory.second_order_rate_bound() * span_days
+
+
+def higher_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, span_days: float) -> float:
+    """What the second-order theory leaves (radians): periodic terms of relative size K/n
+    (the second-order nutation, and the initial mean pole taken to first order) and a
+    third-order drift, K/n times the second-order rates.
+
+    The factors are set from the measured residuals against rung 5 (largest ratio seen:
+    0.47 for the periodic term) with a margin of 4; the tests check them across bodies,
+    spans and a random sweep.
+    """
+    ratio = model.scaling_factor / model.mean_motion
+    amplitude = _pole_displacement_bound(model.nutation, model.obliquity)
+    return 2.0 * ratio * amplitude + 4.0 * ratio * theory.second_order_rate_bound() * span_days \
+        + ratio * ratio * abs(model.precession_rate) * span_days * amplitude
+
+
+def integration_bound(model: PrecessionNutation, span_days: float) -> float:
+    """Error of the numerical rungs (radians): the tolerance per step accumulated over the
+    span's orbits (DOP853 at rtol 1e-12; measured against rtol 1e-14 at ~1e-13 rad per orbit)."""
+    orbits = abs(span_days) * model.mean_motion / (2.0 * math.pi)
+    return 1e-11 * (1.0 + orbits)
+
+
+# --- evaluating a rung ----------------------------------------------------------------------------
+
+def secular_track(model: PrecessionNutation, jd_tdb) -> Track:
+    """Rung 1: the mean pole precessing uniformly, no nutation."""
+    t = np.asarray(jd_tdb, dtype=float)
+    zero = np.zeros(t.shape)
+    psi = model.precession_rate * (t - model.pole_epoch)
+    return model._track(t, psi, zero, zero, np.full(t.shape, model.obliquity))
+
+
+def second_order_track(model: PrecessionNutation, theory: SecondOrderTheory, jd_tdb) -> Track:
+    """Rung 4: ψ, ε from the second-order theory, in the frame of the orbit and mean equinox at t0."""
+    t = np.asarray(jd_tdb, dtype=float)
+    psi, dpsi, deps, eps = theory.angles(model.mean_anomaly(t), t)
+    return model._track(t, psi, dpsi, deps, eps)
+
+
+def track_from_vectors(model: PrecessionNutation, theory: SecondOrderTheory, jd_tdb, pole_icrf) -> Track:
+    """A :class:`Track` from ICRF pole vectors (the numerical rungs).
+
+    ψ and ε are read off the pole in the frame of the orbit and mean equinox at t0; the
+    nutation Δψ, Δε is what remains after the second-order theory's mean ψ̄, ε̄.
+    """
+    t = np.asarray(jd_tdb, dtype=float)
+    s = pole_icrf @ model.icrf_from_orbit   # rows: orbit-frame vectors
+    psi_bar, eps_bar = theory.mean_track(t)(t)
+    raw = np.arctan2(s[:, 0], s[:, 1])
+    psi = psi_bar + np.remainder(raw - psi_bar + math.pi, 2.0 * math.pi) - math.pi  # unwrap about ψ̄
+    eps = np.arctan2(np.hypot(s[:, 0], s[:, 1]), s[:, 2])
+    ra = np.arctan2(pole_icrf[:, 1], pole_icrf[:, 0])
+    ra += (ra < 0.0) * (2.0 * math.pi)
+    dec = np.arctan2(pole_icrf[:, 2], np.hypot(pole_icrf[:, 0], pole_icrf[:, 1]))
+    return Track(t, psi, psi - psi_bar, eps - eps_bar, eps, ra, dec)
+
+
+def pole_vectors(track: Track) -> np.ndarray:
+    """ICRF unit vectors (N, 3) of a track's pole."""
+    cd = np.cos(track.pole_dec)
+    return np.stack([cd * np.cos(track.pole_ra), cd * np.sin(track.pole_ra), np.sin(track.pole_dec)], axis=-1)
+
+
+# --- the ladder of one body -----------------------------------------------------------------------
+
+@lru_cache(maxsize=512)
+def cached_model(body: Body, order: int | None = None) -> PrecessionNutation:
+    """:func:`~ephem.model.build_model`, memoised (a pure function of immutable inputs)."""
+    return build_model(body, order)
+
+
+@lru_cache(maxsize=512)
+def cached_theory(body: Body) -> SecondOrderTheory:
+    return second_order_theory(cached_model(body))
+
+
+def _span(model: PrecessionNutation, t: np.ndarray) -> float:
+    """Largest |t - t0| over the epochs (days): the theories' errors grow from the pole epoch."""
+    if t.size == 0:
+        return 0.0
+    return float(max(abs(t.max() - model.pole_epoch), abs(t.min() - model.pole_epoch)))
+
+
+@dataclass(frozen=True)
+class Ladder:
+    """The rungs for one body: estimates, choice by tolerance, and evaluation."""
+
+    body: Body
+
+    @property
+    def model(self) -> PrecessionNutation:
+        return cached_model(self.body)
+
+    @property
+    def theory(self) -> SecondOrderTheory:
+        return cached_theory(self.body)
+
+    def physics_terms(self, jd_tdb: np.ndarray, rung: str) -> dict:
+        """Error terms every fixed-orbit rung shares: the orbit's motion and rotation averaging."""
+        terms = {"rotation_averaging": rotation_averaging_bound(self.model, _span(self.model, jd_tdb))}
+        if rung != "real_orbit":
+            terms["orbit_motion"] = orbit_motion_bound(self.body, self.model, jd_tdb)
+        return terms
+
+    def estimates(self, jd_tdb) -> list[Estimate]:
+        """Every rung's estimate for these epochs, cheapest first (rung 2 once per order)."""
+        t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+        m, th = self.model, self.theory
+        T = _span(m, t)
+        higher = higher_order_bound(m, th, T)
+        second = second_order_bound(m, th, T) + higher
+        out = [Estimate("secular", None, {"nutation_omitted": _pole_displacement_bound(m.nutation, m.obliquity),
+                                          "second_order": second, **self.physics_terms(t, "secular")})]
+        kmax = int(m.nutation.multiple.max()) if m.nutation.multiple.size else 0
+        if m.eccentricity < LAPLACE_LIMIT:
+            for order in range(0, min(MAX_LADDER_ORDER, kmax)):
+                out.append(Estimate("series", order, {"truncation": truncation_bound(m, order, T),
+                                                       "second_order": second,
+                                                       **self.physics_terms(t, "series")}))
+        else:
+            out.append(Estimate("series", None, {}, available=False, why_not=(
+                f"e = {m.eccentricity:.4g} exceeds the Laplace limit {LAPLACE_LIMIT:.4f}: the e-power series "
+                "of the Hansen coefficients diverge")))
+        out.append(Estimate("hansen", None, {"second_order": second, **self.physics_terms(t, "hansen")}))
+        out.append(Estimate("second_order", None, {"higher_order": higher, **self.physics_terms(t, "second_order")}))
+        out.append(Estimate("numerical", None, {"integration": integration_bound(m, T),
+                                                **self.physics_terms(t, "numerical")}))
+        why = real_orbit_unavailable(self.body, t)
+        if why is None:
+            out.append(Estimate("real_orbit", None, {"integration": integration_bound(m, T),
+                                                     "ephemeris": ephemeris_bound(self.body, m, T),
+                                                     **self.physics_terms(t, "real_orbit")}))
+        else:
+            out.append(Estimate("real_orbit", None, {}, available=False, why_not=why))
+        return out
+
+    def choose(self, jd_tdb, tolerance: float) -> Estimate:
+        """The cheapest rung whose estimated error over the epochs is within ``tolerance`` (radians).
+
+        Raises :class:`NotApplicableError` when none is, naming the best estimate available.
+        """
+        if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or not math.isfinite(tolerance) \
+                or tolerance <= 0.0:
+            raise InvalidInputError("tolerance_mas", f"must be a positive finite number, got {tolerance!r}",
+                                    self.body.name)
+        candidates = [e for e in self.estimates(jd_tdb) if e.available]
+        for est in candidates:
+            if est.total <= tolerance:
+                return est
+        best = min(candidates, key=lambda e: e.total)
+        raise NotApplicableError(self.body.name, (
+            f"no model meets the tolerance of {tolerance / MAS:.6g} mas over these epochs: the best, "
+            f"'{best.rung}', is estimated good to {best.total / MAS:.6g} mas (largest term: "
+            f"{max(best.terms, key=best.terms.get)}); widen the tolerance or shorten the span"))
+
+    def track(self, rung: str, jd_tdb, order: int | None = None) -> Track:
+        """The pole track of one rung at the epochs (JD TDB)."""
+        t = np.asarray(jd_tdb, dtype=float)
+        m = self.model
+        if rung == "secular":
+            return secular_track(m, t)
+        if rung == "series":
+            return cached_model(self.body, order).track(t)
+        if rung == "hansen":
+            return m.track(t)
+        if rung == "second_order":
+            return second_order_track(m, self.theory, t)
+        if rung == "numerical":
+            return track_from_vectors(m, self.theory, t, integrate_spin_axis(m, t, rtol=NUMERICAL_RTOL))
+        if rung == "real_orbit":
+            why = real_orbit_unavailable(self.body, t)
+            if why is not None:
+                raise NotApplicableError(self.body.name, why)
+            path = sun_path_for(self.body, t)
+            return track_from_vectors(m, self.theory, t, integrate_spin_axis(
+                m, t, rtol=NUMERICAL_RTOL, sun=path.position_scalar))
+        raise InvalidInputError("model", f"unknown rung {rung!r}; one of {', '.join(RUNGS)}", self.body.name)
+
+
+@dataclass(frozen=True)
+class Selection:
+    """A track computed by the rung a tolerance chose, with what it cost."""
+
+    track: Track
+    estimate: Estimate
+    cost_ms: float
+    tolerance: float | None
+
+
+def track_within(body: Body, jd_tdb, tolerance: float) -> Selection:
+    """Track of ``body`` whose pole is estimated within ``tolerance`` (radians) of the truth."""
+    ladder = Ladder(body)
+    t = np.asarray(jd_tdb, dtype=float)
+    start = time.perf_counter()
+    est = ladder.choose(t, tolerance)
+    tr = ladder.track(est.rung, t, est.order)
+    return Selection(tr, est, 1e3 * (time.perf_counter() - start), tolerance)

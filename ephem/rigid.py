@@ -1,0 +1,338 @@
+"""Rung 7: the full rigid body, spinning and torqued by the Sun, without rotation averaging.
+
+Euler's equations for the angular velocity ω_b in the principal-axis (body)
+frame, with the principal moments A <= B <= C normalised by C, and the attitude
+as a unit quaternion q (scalar first) taking body vectors to the model's orbit
+frame:
+
+    A ω̇1 = (B - C) ω2 ω3 + 3 n² (a/r)³ (C - B) y z
+    B ω̇2 = (C - A) ω3 ω1 + 3 n² (a/r)³ (A - C) z x
+    C ω̇3 = (A - B) ω1 ω2 + 3 n² (a/r)³ (B - A) x y
+    q̇    = ½ q ⊗ (0, ω_b)
+
+where r̂_b = (x, y, z) is the Sun's direction in the body frame. The torque is
+MacCullagh's gravity-gradient torque T = (3 GM / r⁵) r_b × I r_b (Goldstein,
+Poole & Safko, Classical Mechanics, 3rd ed., §5.6 for Euler's equations and
+§5.9 for the torque of an external field on a rigid body; Hughes, Spacecraft
+Attitude Dynamics, 1986, §8.1 for the gravity-gradient form); the quaternion
+kinematics are those of Markley & Crassidis, Fundamentals of Spacecraft
+Attitude Determination and Control (2014), §3.3. GM / a³ is written n² (the
+model's mean motion is sqrt(GM_sun / a³), the planet's mass neglected exactly
+as in :func:`ephem.numerical.integrate_spin_axis`), so the torque constant is
+the same 3 n² that enters K = 3 n² H_d / ω.
+
+Frame and phase are those of rung 5 (:func:`ephem.numerical.integrate_spin_axis`):
+x = the mean equinox at the pole epoch, z = the orbit normal, and the Sun's
+longitude from x is λ = θ + ν (θ = ``model.equinox_to_pericentre``, ν the true
+anomaly of the Keplerian orbit of :mod:`ephem.kepler`). The torque is
+quadratic in r̂, so the Sun-from-body and body-from-Sun conventions agree.
+
+Units: time in days (integrated as τ = t - t0 from the pole epoch, so that the
+rotation phase is not rounded to the ~1e-10 day resolution of a Julian date),
+ω in rad/day, moments dimensionless.
+
+Initial state at the pole epoch t0: rotation about the C axis at ω =
+``model.spin_rate``, the C axis along the model's initial spin axis (the
+catalogue's instantaneous pole), and the A axis at ``initial_angle`` from the
+body's equinox of date, ê1 = (s × z)/|s × z| (the x axis when ψ = 0), towards
+ê2 = s × ê1. So L, ω and the figure axis coincide at t0, as Kinoshita's J = 0.
+
+What this adds to the averaged theory (Kinoshita 1977; Petit et al. 2014,
+eq. 5): the P₂² (triaxial, (B - A)) part of the torque, which the averaged
+theory drops because it averages to zero over a rotation, and the free and
+forced wobble of the figure axis about L, which it removes by taking L, ω and
+the figure axis as one. The rung-5 error these cause is studied by
+:func:`averaging_error_study` (docs/rigid_body_study.md) and bounded by
+:func:`averaging_error_estimate`.
+
+Validity: a rigid body (no elasticity, no dissipation, no core), a point-mass
+Sun on a fixed Keplerian orbit, the quadrupole (second-degree) potential only;
+no restriction on ω/n, obliquity or shape. Cost grows with the number of
+rotations simulated (about 50 µs of right-hand side per call, ~12 calls per
+DOP853 step; see the study for CPU seconds per rotation).
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from .kepler import solve_kepler_scalar
+from .model import PrecessionNutation
+
+# --------------------------------------------------------------------------- inputs
+
+
+@dataclass(frozen=True)
+class SunOrbit:
+    """The Sun's Keplerian motion as seen in a model's orbit frame (angles in rad, times JD TDB)."""
+
+    mean_motion: float            # n, rad/day
+    eccentricity: float
+    mean_anomaly_at_epoch: float  # M at orbit_epoch
+    orbit_epoch: float
+    equinox_to_pericentre: float  # θ
+
+    @classmethod
+    def from_model(cls, model: PrecessionNutation) -> "SunOrbit":
+        return cls(model.mean_motion, model.eccentricity, model.mean_anomaly_at_epoch, model.orbit_epoch,
+                   model.equinox_to_pericentre)
+
+    def direction(self, jd_tdb) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """cos λ, sin λ and (a/r)³ at epochs (vectorised; for estimates and plots)."""
+        from .kepler import true_anomaly
+
+        m = self.mean_anomaly_at_epoch + self.mean_motion * (np.asarray(jd_tdb, dtype=float) - self.orbit_epoch)
+        nu = true_anomaly(m, self.eccentricity)
+        e = self.eccentricity
+        a_over_r = (1.0 + e * np.cos(nu)) / (1.0 - e * e)
+        lam = self.equinox_to_pericentre + nu
+        return np.cos(lam), np.sin(lam), a_over_r**3
+
+
+def normalised_moments(moments=None, hd: float | None = None) -> tuple[float, float, float]:
+    """Principal moments (A/C, B/C, 1) from (A, B, C) in any common unit, or A = B = 1 - H_d from H_d alone.
+
+    With only H_d the body is taken as axisymmetric, H_d = (C - A)/C.
+    """
+    if moments is not None:
+        a, b, c = (float(x) for x in moments)
+        if not 0.0 < a <= b <= c or c > a + b:
+            raise ValueError(f"principal moments must satisfy 0 < A <= B <= C <= A + B, got {moments}")
+        return a / c, b / c, 1.0
+    if hd is None or not 0.0 < hd <= 0.5:
+        raise ValueError(f"need the moments or a dynamical ellipticity in (0, 0.5], got {hd!r}")
+    return 1.0 - hd, 1.0 - hd, 1.0
+
+
+def model_moments(model: PrecessionNutation) -> tuple[float, float, float]:
+    """The normalised moments of the catalogue body a model was built from (axisymmetric if it has only H_d)."""
+    from .catalogue import get_body
+
+    body = get_body(model.body, model.dataset)
+    return normalised_moments(body.moments, body.hd)
+
+
+# --------------------------------------------------------------------------- attitude helpers
+
+
+def quaternion_from_matrix(m: np.ndarray) -> np.ndarray:
+    """Unit quaternion (scalar first) of a rotation matrix (Shepperd's method: the largest pivot)."""
+    tr = m[0, 0] + m[1, 1] + m[2, 2]
+    pivots = [tr, m[0, 0], m[1, 1], m[2, 2]]
+    k = int(np.argmax(pivots))
+    if k == 0:
+        s = 2.0 * math.sqrt(1.0 + tr)
+        q = [0.25 * s, (m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s]
+    else:
+        i, j, l = (k - 1, k % 3, (k + 1) % 3)
+        s = 2.0 * math.sqrt(1.0 + m[i, i] - m[j, j] - m[l, l])
+        q = [0.0] * 4
+        q[0] = (m[l, j] - m[j, l]) / s
+        q[1 + i] = 0.25 * s
+        q[1 + j] = (m[j, i] + m[i, j]) / s
+        q[1 + l] = (m[l, i] + m[i, l]) / s
+    q = np.array(q)
+    return q / np.linalg.norm(q)
+
+
+def rotation_matrices(q: np.ndarray) -> np.ndarray:
+    """Rotation matrices (N, 3, 3), body to orbit frame, of quaternions (N, 4) (normalised here)."""
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    a, b, c, d = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    return np.stack([
+        np.stack([1 - 2 * (c * c + d * d), 2 * (b * c - a * d), 2 * (b * d + a * c)], axis=-1),
+        np.stack([2 * (b * c + a * d), 1 - 2 * (b * b + d * d), 2 * (c * d - a * b)], axis=-1),
+        np.stack([2 * (b * d - a * c), 2 * (c * d + a * b), 1 - 2 * (b * b + c * c)], axis=-1),
+    ], axis=-2)
+
+
+def initial_attitude(spin_axis: np.ndarray, initial_angle: float = 0.0) -> np.ndarray:
+    """Quaternion putting the C axis on ``spin_axis`` (orbit frame) and the A axis ``initial_angle`` from its equinox.
+
+    The equinox ê1 = (s × z)/|s × z| is the x axis when ψ = 0; if the spin axis
+    is along the orbit normal the x axis is used instead.
+    """
+    s = np.asarray(spin_axis, dtype=float)
+    s = s / np.linalg.norm(s)
+    e1 = np.cross(s, [0.0, 0.0, 1.0])
+    if np.linalg.norm(e1) < 1e-12:
+        e1 = np.array([1.0, 0.0, 0.0]) - s[0] * s
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(s, e1)
+    a1 = math.cos(initial_angle) * e1 + math.sin(initial_angle) * e2
+    a2 = np.cross(s, a1)
+    return quaternion_from_matrix(np.column_stack([a1, a2, s]))
+
+
+# --------------------------------------------------------------------------- the equations
+
+
+def warm_kepler(e: float, m_start: float):
+    """Solver m -> (cos E, sin E) of Kepler's equation, warm-started from its previous call.
+
+    An ODE right-hand side asks for nearby mean anomalies in turn, so Newton
+    from the last root (with a first-order predictor) needs one or two steps
+    where :func:`ephem.kepler.solve_kepler_scalar` needs four or five: it
+    halves the cost of the Sun's position. M is not reduced (E stays
+    continuous); its rounding, |M| ulp, is 1e-13 rad after a hundred orbits.
+    Stops as that solver does, at a residual of a few ulp of |E| + |M|.
+    """
+    last = [m_start, solve_kepler_scalar(m_start, e)]   # unreduced M, E
+    last[1] += m_start - (last[1] - e * math.sin(last[1]))  # move E to M's branch (solver reduces M)
+
+    def solve(m: float) -> tuple[float, float]:
+        m_prev, ecc = last
+        ecc += (m - m_prev) / (1.0 - e * math.cos(ecc))
+        for _ in range(50):
+            se, ce = math.sin(ecc), math.cos(ecc)
+            residual = ecc - e * se - m
+            if abs(residual) <= 4.0 * 2.220446049250313e-16 * (abs(ecc) + abs(m)):
+                last[0], last[1] = m, ecc
+                return ce, se
+            ecc -= residual / (1.0 - e * ce)
+        raise RuntimeError(f"Kepler's equation did not converge at M={m!r}, e={e!r}")  # pragma: no cover
+
+    return solve
+
+
+def make_rhs(moments, spin_rate: float, sun: SunOrbit | None, t0: float):
+    """Right-hand side f(τ, y) of Euler's equations plus the quaternion kinematics, τ = t - t0 in days.
+
+    State y = (ω_b / ω0, q): the angular velocity in units of ω0 = ``spin_rate``
+    (so one tolerance suits every component) and the quaternion, body to orbit
+    frame. ``sun`` None is the torque-free body. Plain floats and ``math``:
+    numpy on 3-vectors costs ~10x more per call.
+    """
+    A, B, C = (float(x) for x in moments)
+    k1, k2, k3 = (B - C) / A, (C - A) / B, (A - B) / C
+    w0 = float(spin_rate)
+    h = 0.5 * w0
+    if sun is None:
+        def rhs(tau, y):
+            w1, w2, w3, a, b, c, d = y.tolist()
+            return [k1 * w0 * w2 * w3, k2 * w0 * w3 * w1, k3 * w0 * w1 * w2,
+                    -h * (b * w1 + c * w2 + d * w3), h * (a * w1 + c * w3 - d * w2),
+                    h * (a * w2 + d * w1 - b * w3), h * (a * w3 + b * w2 - c * w1)]
+        return rhs
+
+    n, e = sun.mean_motion, sun.eccentricity
+    m_t0 = sun.mean_anomaly_at_epoch + n * (t0 - sun.orbit_epoch)
+    cth, sth = math.cos(sun.equinox_to_pericentre), math.sin(sun.equinox_to_pericentre)
+    sq = math.sqrt(1.0 - e * e)
+    gc = 3.0 * n * n / w0   # torque / ω0 per unit (a/r)³ and unit moment difference
+
+    kepler = warm_kepler(e, m_t0)
+
+    def rhs(tau, y):
+        w1, w2, w3, a, b, c, d = y.tolist()
+        ce, se = kepler(m_t0 + n * tau)
+        a_r = 1.0 / (1.0 - e * ce)
+        cnu, snu = (ce - e) * a_r, sq * se * a_r
+        cl, sl = cnu * cth - snu * sth, snu * cth + cnu * sth   # the Sun's (cos λ, sin λ)
+        g = gc * a_r * a_r * a_r
+        s = 2.0 / (a * a + b * b + c * c + d * d)   # rotation of a not-quite-unit q stays orthogonal
+        # r̂_b = Rᵀ r̂ with r̂ = (cos λ, sin λ, 0)
+        x = (1.0 - s * (c * c + d * d)) * cl + s * (b * c + a * d) * sl
+        yb = s * (b * c - a * d) * cl + (1.0 - s * (b * b + d * d)) * sl
+        z = s * (b * d + a * c) * cl + s * (c * d - a * b) * sl
+        return [k1 * (w0 * w2 * w3 - g * yb * z), k2 * (w0 * w3 * w1 - g * z * x), k3 * (w0 * w1 * w2 - g * x * yb),
+                -h * (b * w1 + c * w2 + d * w3), h * (a * w1 + c * w3 - d * w2),
+                h * (a * w2 + d * w1 - b * w3), h * (a * w3 + b * w2 - c * w1)]
+    return rhs
+
+
+def integrate_states(moments, spin_rate: float, y0, t0: float, jd_tdb, sun: SunOrbit | None,
+                     rtol: float = 1e-12, atol: float = 1e-14) -> tuple[np.ndarray, int]:
+    """States (N, 7) = (ω_b/ω0, q) at ``jd_tdb`` from y0 at t0, forwards and backwards; and the call count.
+
+    DOP853; the quaternion is renormalised on output.
+    """
+    t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+    tau = t - t0
+    rhs = make_rhs(moments, spin_rate, sun, t0)
+    out = np.empty((t.size, 7))
+    nfev = 0
+    for mask in (tau >= 0.0, tau < 0.0):
+        if not mask.any():
+            continue
+        tt = tau[mask]
+        end = tt.max() if tt[0] >= 0.0 else tt.min()
+        if end == 0.0:
+            out[mask] = y0
+            continue
+        order = np.argsort(tt) if end > 0.0 else np.argsort(-tt)
+        sol = solve_ivp(rhs, (0.0, end), y0, method="DOP853", t_eval=tt[order], rtol=rtol, atol=atol)
+        if not sol.success:
+            raise RuntimeError(f"rigid-body integration failed: {sol.message}")
+        nfev += sol.nfev
+        res = np.empty((tt.size, 7))
+        res[order] = sol.y.T
+        out[mask] = res
+    out[:, 3:] /= np.linalg.norm(out[:, 3:], axis=1, keepdims=True)
+    return out, nfev
+
+
+# --------------------------------------------------------------------------- the model-level integrator
+
+
+@dataclass(frozen=True)
+class RigidTrack:
+    """A rung-7 run at epochs (JD TDB). Vectors are unit vectors in the ICRF unless named ``*_orbit``."""
+
+    jd_tdb: np.ndarray
+    moments: tuple[float, float, float]  # (A/C, B/C, 1)
+    omega_body: np.ndarray       # (N, 3) angular velocity in the body frame, rad/day
+    quaternion: np.ndarray       # (N, 4) unit, scalar first, body -> orbit frame
+    angular_momentum: np.ndarray  # (N, 3) direction of L
+    figure_axis: np.ndarray      # (N, 3) the C axis
+    icrf_from_orbit: np.ndarray
+    nfev: int                    # right-hand-side calls (the cost)
+
+    @property
+    def angular_momentum_orbit(self) -> np.ndarray:
+        return self.angular_momentum @ self.icrf_from_orbit
+
+    @property
+    def figure_axis_orbit(self) -> np.ndarray:
+        return self.figure_axis @ self.icrf_from_orbit
+
+    def energy(self) -> np.ndarray:
+        """Rotational kinetic energy per unit C, ½ Σ I_i ω_i² (rad²/day²)."""
+        return 0.5 * (self.omega_body**2 @ np.asarray(self.moments))
+
+    def momentum_norm(self) -> np.ndarray:
+        """|L| per unit C (rad/day)."""
+        return np.linalg.norm(self.omega_body * np.asarray(self.moments), axis=1)
+
+
+def integrate_rigid_body(model: PrecessionNutation, jd_tdb, moments=None, initial_angle: float = 0.0,
+                         initial_omega_body=None, solar_torque: bool = True, rtol: float = 1e-12,
+                         atol: float = 1e-14) -> RigidTrack:
+    """Rung 7 at ``jd_tdb`` (JD TDB, either side of the pole epoch): see the module docstring.
+
+    ``moments`` (A, B, C) in any common unit, default the catalogue body's;
+    ``initial_angle`` (rad) places the A axis; ``initial_omega_body`` (rad/day,
+    body frame) overrides the default (0, 0, ω); ``solar_torque`` False is the
+    torque-free body (GM = 0).
+    """
+    mom = model_moments(model) if moments is None else normalised_moments(moments)
+    t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+    w0 = model.spin_rate
+    dpsi0, deps0 = model.nutation_at_pole_epoch
+    s0 = model.pole_orbit_frame(dpsi0, model.obliquity + deps0)
+    q0 = initial_attitude(s0, initial_angle)
+    w_init = np.array([0.0, 0.0, w0]) if initial_omega_body is None else np.asarray(initial_omega_body, dtype=float)
+    y0 = np.concatenate([w_init / w0, q0])
+    sun = SunOrbit.from_model(model) if solar_torque else None
+    states, nfev = integrate_states(mom, w0, y0, model.pole_epoch, t, sun, rtol, atol)
+    omega = states[:, :3] * w0
+    rot = rotation_matrices(states[:, 3:])
+    ang = np.einsum("nij,nj->ni", rot, omega * np.asarray(mom))
+    ang /= np.linalg.norm(ang, axis=1, keepdims=True)
+    fig = rot[:, :, 2]
+    r = model.icrf_from_orbit
+    return RigidTrack(t, mom, omega, states[:, 3:], ang @ r.T, fig @ r.T, r, nfev)
