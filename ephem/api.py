@@ -297,6 +297,9 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     estimate = None if est is None or not est.available else est.total
     info = model_info(m, b)
     info["assumptions"] = ASSUMPTIONS + RUNG_ASSUMPTIONS[rung]
+    if est is not None and "orbit_motion" in est.unestimated:
+        info["warnings"].append("the real orbit's departure from the fixed Keplerian one was never measured for "
+                                "this body: the error estimate treats the given orbit as exact (see docs/accuracy.md)")
     info.update(_selection_info(rung, order, estimate, 1e3 * (time.perf_counter() - begin), tol,
                                 None if est is None else est.terms))
     return {

@@ -55,11 +55,16 @@ from .physics_errors import (ephemeris_bound, orbit_motion_bound, real_orbit_una
 from .second_order import SecondOrderTheory, second_order_theory
 
 RUNGS = ("secular", "series", "hansen", "second_order", "numerical", "real_orbit")
+#: Terms from physics every rung up to ``numerical`` shares (the reference those rungs are tested against
+#: has them too); the rest are the rung's own approximations.
+PHYSICS_TERMS = ("orbit_motion", "rotation_averaging")
 #: Highest e-power order the ladder tries for rung 2 (a truncated series is cheaper than the
 #: exact one only while it has fewer harmonics).
 MAX_LADDER_ORDER = 20
 #: Relative tolerance of the numerical rungs.
 NUMERICAL_RTOL = 1e-12
+#: Rounding floor of any pole computed in double precision through a few rotations (radians, 0.2 µas).
+ROUNDING = 1e-12
 
 
 @dataclass(frozen=True)
@@ -71,10 +76,17 @@ class Estimate:
     terms: dict = field(compare=False)
     available: bool = True
     why_not: str | None = None
+    #: terms that could not be estimated (a user's body: its orbit's motion was never measured)
+    unestimated: tuple = ()
 
     @property
     def total(self) -> float:
         return float(sum(self.terms.values()))
+
+    @property
+    def theory_total(self) -> float:
+        """The estimate without the physics terms: the error against rung 5 (``numerical``)."""
+        return float(sum(v for k, v in self.terms.items() if k not in PHYSICS_TERMS))
 
 
 def _coefficient_bound(sin_psi, cos_psi, sin_eps, cos_eps, obliquity: float) -> float:
@@ -231,8 +243,15 @@ class Ladder:
         """Error terms every fixed-orbit rung shares: the orbit's motion and rotation averaging."""
         terms = {"rotation_averaging": rotation_averaging_bound(self.model, _span(self.model, jd_tdb))}
         if rung != "real_orbit":
-            terms["orbit_motion"] = orbit_motion_bound(self.body, self.model, jd_tdb)
+            orbit = orbit_motion_bound(self.body, self.model, jd_tdb)
+            if orbit is not None:
+                terms["orbit_motion"] = orbit
         return terms
+
+    def _estimate(self, rung: str, order: int | None, terms: dict, t: np.ndarray) -> Estimate:
+        terms = {**terms, **self.physics_terms(t, rung), "rounding": ROUNDING}
+        missing = () if rung == "real_orbit" or "orbit_motion" in terms else ("orbit_motion",)
+        return Estimate(rung, order, terms, unestimated=missing)
 
     def estimates(self, jd_tdb) -> list[Estimate]:
         """Every rung's estimate for these epochs, cheapest first (rung 2 once per order)."""
@@ -241,27 +260,24 @@ class Ladder:
         T = _span(m, t)
         higher = higher_order_bound(m, th, T)
         second = second_order_bound(m, th, T) + higher
-        out = [Estimate("secular", None, {"nutation_omitted": _pole_displacement_bound(m.nutation, m.obliquity),
-                                          "second_order": second, **self.physics_terms(t, "secular")})]
+        out = [self._estimate("secular", None, {"nutation_omitted": _pole_displacement_bound(m.nutation, m.obliquity),
+                                                "second_order": second}, t)]
         kmax = int(m.nutation.multiple.max()) if m.nutation.multiple.size else 0
         if m.eccentricity < LAPLACE_LIMIT:
             for order in range(0, min(MAX_LADDER_ORDER, kmax)):
-                out.append(Estimate("series", order, {"truncation": truncation_bound(m, order, T),
-                                                       "second_order": second,
-                                                       **self.physics_terms(t, "series")}))
+                out.append(self._estimate("series", order, {"truncation": truncation_bound(m, order, T),
+                                                             "second_order": second}, t))
         else:
             out.append(Estimate("series", None, {}, available=False, why_not=(
                 f"e = {m.eccentricity:.4g} exceeds the Laplace limit {LAPLACE_LIMIT:.4f}: the e-power series "
                 "of the Hansen coefficients diverge")))
-        out.append(Estimate("hansen", None, {"second_order": second, **self.physics_terms(t, "hansen")}))
-        out.append(Estimate("second_order", None, {"higher_order": higher, **self.physics_terms(t, "second_order")}))
-        out.append(Estimate("numerical", None, {"integration": integration_bound(m, T),
-                                                **self.physics_terms(t, "numerical")}))
+        out.append(self._estimate("hansen", None, {"second_order": second}, t))
+        out.append(self._estimate("second_order", None, {"higher_order": higher}, t))
+        out.append(self._estimate("numerical", None, {"integration": integration_bound(m, T)}, t))
         why = real_orbit_unavailable(self.body, t)
         if why is None:
-            out.append(Estimate("real_orbit", None, {"integration": integration_bound(m, T),
-                                                     "ephemeris": ephemeris_bound(self.body, m, T),
-                                                     **self.physics_terms(t, "real_orbit")}))
+            out.append(self._estimate("real_orbit", None, {"integration": integration_bound(m, T),
+                                                           "ephemeris": ephemeris_bound(self.body, m, T)}, t))
         else:
             out.append(Estimate("real_orbit", None, {}, available=False, why_not=why))
         return out
