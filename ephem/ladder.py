@@ -63,6 +63,9 @@ PHYSICS_TERMS = ("orbit_motion", "rotation_averaging")
 MAX_LADDER_ORDER = 20
 #: Relative tolerance of the numerical rungs.
 NUMERICAL_RTOL = 1e-12
+#: The numerical rungs integrate through every orbit (~5 ms each); beyond this many orbits from the
+#: pole epoch a request would tie up a worker for seconds, so they are not offered.
+MAX_NUMERICAL_ORBITS = 1000
 #: Rounding floor of any pole computed in double precision through a few rotations (radians, 0.2 µas).
 ROUNDING = 1e-12
 
@@ -149,19 +152,32 @@ def higher_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, spa
 
     The factors are set from the measured residuals against rung 5 (largest ratio seen:
     0.47 for the periodic term) with a margin of 4; the tests check them across bodies,
-    spans and a random sweep.
+    spans, e up to 0.95 and a random sweep.
     """
-    ratio = model.scaling_factor / model.mean_motion
+    # the small parameter is the torque over the orbital rate; near pericentre both grow, the torque
+    # faster, and its mean over the orbit carries f(e) = (1 - e²)^(-3/2) (needed at e = 0.9)
+    ratio = model.scaling_factor / model.mean_motion * eccentricity_factor(model.eccentricity)
     amplitude = _pole_displacement_bound(model.nutation, model.obliquity)
     return 2.0 * ratio * amplitude + 4.0 * ratio * theory.second_order_rate_bound() * span_days \
         + ratio * ratio * abs(model.precession_rate) * span_days * amplitude
 
 
 def integration_bound(model: PrecessionNutation, span_days: float) -> float:
-    """Error of the numerical rungs (radians): the tolerance per step accumulated over the
-    span's orbits (DOP853 at rtol 1e-12; measured against rtol 1e-14 at ~1e-13 rad per orbit)."""
+    """Error of the numerical rungs (radians) at rtol 1e-12.
+
+    Measured against rtol 1e-14: the error per orbit is a few times rtol times the pole's motion
+    per orbit, 2π (K/n)(1-e²)^(-3/2) (5e-16 for the Earth, 5e-15 for Itokawa, 1.2e-12 for a
+    K/n = 5e-3 body on an e = 0.5 orbit); the bound allows 100 rtol per orbit on that motion
+    plus 1e-3 rad, and a floor of 1e-12.
+    """
     orbits = abs(span_days) * model.mean_motion / (2.0 * math.pi)
-    return 1e-11 * (1.0 + orbits)
+    motion = 2.0 * math.pi * model.scaling_factor / model.mean_motion * eccentricity_factor(model.eccentricity)
+    return 1e-12 + orbits * 100.0 * NUMERICAL_RTOL * (motion + 1e-3)
+
+
+def orbits_in_span(model: PrecessionNutation, t: np.ndarray) -> float:
+    """Orbits the numerical rungs integrate through to reach the epochs from the pole epoch."""
+    return _span(model, t) * model.mean_motion / (2.0 * math.pi)
 
 
 # --- evaluating a rung ----------------------------------------------------------------------------
@@ -225,6 +241,14 @@ def _span(model: PrecessionNutation, t: np.ndarray) -> float:
     return float(max(abs(t.max() - model.pole_epoch), abs(t.min() - model.pole_epoch)))
 
 
+def numerical_unavailable(model: PrecessionNutation, t: np.ndarray) -> str | None:
+    orbits = orbits_in_span(model, t)
+    if orbits <= MAX_NUMERICAL_ORBITS:
+        return None
+    return (f"the numerical rungs integrate through every orbit from the pole epoch and are limited to "
+            f"{MAX_NUMERICAL_ORBITS} orbits per request; these epochs need {orbits:.0f}")
+
+
 @dataclass(frozen=True)
 class Ladder:
     """The rungs for one body: estimates, choice by tolerance, and evaluation."""
@@ -239,45 +263,51 @@ class Ladder:
     def theory(self) -> SecondOrderTheory:
         return cached_theory(self.body)
 
-    def physics_terms(self, jd_tdb: np.ndarray, rung: str) -> dict:
-        """Error terms every fixed-orbit rung shares: the orbit's motion and rotation averaging."""
-        terms = {"rotation_averaging": rotation_averaging_bound(self.model, _span(self.model, jd_tdb))}
-        if rung != "real_orbit":
-            orbit = orbit_motion_bound(self.body, self.model, jd_tdb)
-            if orbit is not None:
-                terms["orbit_motion"] = orbit
+    def physics_terms(self, jd_tdb: np.ndarray) -> dict:
+        """Error terms every fixed-orbit rung shares: the orbit's motion and rotation averaging
+        (the real-orbit rung drops the first). A user's body has no measured orbit motion."""
+        terms = {"rotation_averaging": rotation_averaging_bound(self.body, self.model, _span(self.model, jd_tdb))}
+        orbit = orbit_motion_bound(self.body, self.model, jd_tdb)
+        if orbit is not None:
+            terms["orbit_motion"] = orbit
         return terms
 
-    def _estimate(self, rung: str, order: int | None, terms: dict, t: np.ndarray) -> Estimate:
-        terms = {**terms, **self.physics_terms(t, rung), "rounding": ROUNDING}
-        missing = () if rung == "real_orbit" or "orbit_motion" in terms else ("orbit_motion",)
-        return Estimate(rung, order, terms, unestimated=missing)
+    @staticmethod
+    def _estimate(rung: str, order: int | None, terms: dict, physics: dict) -> Estimate:
+        shared = {k: v for k, v in physics.items() if not (rung == "real_orbit" and k == "orbit_motion")}
+        missing = () if rung == "real_orbit" or "orbit_motion" in physics else ("orbit_motion",)
+        return Estimate(rung, order, {**terms, **shared, "rounding": ROUNDING}, unestimated=missing)
 
     def estimates(self, jd_tdb) -> list[Estimate]:
         """Every rung's estimate for these epochs, cheapest first (rung 2 once per order)."""
         t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
         m, th = self.model, self.theory
         T = _span(m, t)
+        physics = self.physics_terms(t)
         higher = higher_order_bound(m, th, T)
         second = second_order_bound(m, th, T) + higher
         out = [self._estimate("secular", None, {"nutation_omitted": _pole_displacement_bound(m.nutation, m.obliquity),
-                                                "second_order": second}, t)]
+                                                "second_order": second}, physics)]
         kmax = int(m.nutation.multiple.max()) if m.nutation.multiple.size else 0
         if m.eccentricity < LAPLACE_LIMIT:
             for order in range(0, min(MAX_LADDER_ORDER, kmax)):
                 out.append(self._estimate("series", order, {"truncation": truncation_bound(m, order, T),
-                                                             "second_order": second}, t))
+                                                             "second_order": second}, physics))
         else:
             out.append(Estimate("series", None, {}, available=False, why_not=(
                 f"e = {m.eccentricity:.4g} exceeds the Laplace limit {LAPLACE_LIMIT:.4f}: the e-power series "
                 "of the Hansen coefficients diverge")))
-        out.append(self._estimate("hansen", None, {"second_order": second}, t))
-        out.append(self._estimate("second_order", None, {"higher_order": higher}, t))
-        out.append(self._estimate("numerical", None, {"integration": integration_bound(m, T)}, t))
-        why = real_orbit_unavailable(self.body, t)
+        out.append(self._estimate("hansen", None, {"second_order": second}, physics))
+        out.append(self._estimate("second_order", None, {"higher_order": higher}, physics))
+        too_long = numerical_unavailable(m, t)
+        if too_long is None:
+            out.append(self._estimate("numerical", None, {"integration": integration_bound(m, T)}, physics))
+        else:
+            out.append(Estimate("numerical", None, {}, available=False, why_not=too_long))
+        why = too_long or real_orbit_unavailable(self.body, t)
         if why is None:
             out.append(self._estimate("real_orbit", None, {"integration": integration_bound(m, T),
-                                                           "ephemeris": ephemeris_bound(self.body, m, T)}, t))
+                                                           "ephemeris": ephemeris_bound(self.body, m, T)}, physics))
         else:
             out.append(Estimate("real_orbit", None, {}, available=False, why_not=why))
         return out
@@ -313,6 +343,10 @@ class Ladder:
             return m.track(t)
         if rung == "second_order":
             return second_order_track(m, self.theory, t)
+        if rung in ("numerical", "real_orbit"):
+            why = numerical_unavailable(m, t)
+            if why is not None:
+                raise NotApplicableError(self.body.name, why)
         if rung == "numerical":
             return track_from_vectors(m, self.theory, t, integrate_spin_axis(m, t, rtol=NUMERICAL_RTOL))
         if rung == "real_orbit":

@@ -159,8 +159,21 @@ def orbit_motion_bound(body: Body, model: PrecessionNutation, jd_tdb: np.ndarray
     return float(np.max(plane + phase + rate))
 
 
-def rotation_averaging_bound(model: PrecessionNutation, span_days: float) -> float:
-    return 0.0  # filled from the rigid-body study
+def rotation_averaging_bound(body: Body, model: PrecessionNutation, span_days: float) -> float:
+    """What averaging over the rotation leaves out (radians): rung 5 against the full rigid body
+    (rung 7, :mod:`ephem.rigid`) for the figure axis, the pole a body-fixed frame shows.
+
+    :func:`ephem.rigid.averaging_error_estimate` over ±span (the 2ω circle of a triaxial body,
+    the figure axis's offset from the angular momentum, a second-order drift); a body known only
+    by H_d gets the worst triaxiality its H_d allows. Never exceeded in the rigid-body runs
+    (1.0-3.6x conservative for the catalogue bodies, docs/rigid_body_study.md).
+    """
+    from .rigid import averaging_error_estimate, normalised_moments, worst_case_moments
+
+    if model.hd == 0.0:  # a sphere: no torque to average
+        return 0.0
+    moments = normalised_moments(body.moments) if body.moments is not None else worst_case_moments(model.hd)
+    return max(averaging_error_estimate(model, span_days, moments), averaging_error_estimate(model, -span_days, moments))
 
 
 def real_orbit_unavailable(body: Body, jd_tdb: np.ndarray) -> str | None:

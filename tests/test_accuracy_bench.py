@@ -1,0 +1,175 @@
+"""The speed-against-accuracy charts (ephem.accuracy_bench), in their quick versions.
+
+Runs every task once into a temporary directory (module-scoped: a few seconds in all), then
+checks the files and properties of the plotted numbers that a wrong chart would break:
+every estimate at least the true error, the truncated series converging geometrically at
+the rate e / 0.6627 below the Laplace limit and not at all beyond it, the errors growing
+with the span.
+"""
+from __future__ import annotations
+
+import math
+from itertools import pairwise
+
+import pytest
+
+from ephem import accuracy_bench as ab
+from ephem.hansen import LAPLACE_LIMIT
+
+CHARTS = ("work_precision", "error_vs_order", "error_vs_span")
+
+
+@pytest.fixture(scope="module")
+def out_dir(tmp_path_factory):
+    out = tmp_path_factory.mktemp("charts")
+    jobs = ab.tasks(out, quick=True)
+    assert len(jobs) == len(CHARTS)
+    for label, job in jobs:
+        assert isinstance(label, str) and label
+        job()
+    return out
+
+
+def _rows(out_dir, name):
+    return ab.read_csv(out_dir / f"{name}.csv")
+
+
+def _f(value: str) -> float:
+    return math.nan if value == "" else float(value)
+
+
+@pytest.mark.parametrize("name", CHARTS)
+def test_each_chart_is_written(out_dir, name):
+    for ext in ("png", "svg", "csv"):
+        path = out_dir / f"{name}.{ext}"
+        assert path.is_file() and path.stat().st_size > 0, path
+    assert (out_dir / f"{name}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert b"<svg" in (out_dir / f"{name}.svg").read_bytes()[:2000]
+
+
+def test_work_precision_covers_every_body_and_rung(out_dir):
+    rows = _rows(out_dir, "work_precision")
+    assert {r["body"] for r in rows} == set(ab.CATALOGUE_BODIES)
+    for body in ab.CATALOGUE_BODIES:
+        sub = [r for r in rows if r["body"] == body]
+        rungs = {r["rung"] for r in sub}
+        assert {"secular", "series", "hansen", "second_order", "numerical"} <= rungs
+        refs = [r for r in sub if r["is_reference"] == "True"]
+        assert len(refs) == 1 and refs[0]["rung"] == refs[0]["reference"]
+        assert refs[0]["reference"] in ("numerical", "real_orbit")
+        assert all(_f(r["cost_ms"]) > 0.0 for r in sub)
+
+
+def test_work_precision_estimates_bound_the_truth(out_dir):
+    rows = [r for r in _rows(out_dir, "work_precision") if r["is_reference"] == "False"]
+    below = [(r["body"], r["label"], r["true_error_mas"], r["estimate_vs_reference_mas"]) for r in rows
+             if not _f(r["estimate_vs_reference_mas"]) >= _f(r["true_error_mas"])]
+    assert not below, f"estimate below the true error: {below}"
+    assert all(r["estimate_ge_true"] == "True" for r in rows)
+    # the theory alone, against numerical (same fixed orbit), within the estimate without the physics terms
+    fixed = [r for r in rows if r["true_error_vs_numerical_mas"] != ""]
+    assert all(_f(r["theory_estimate_mas"]) >= _f(r["true_error_vs_numerical_mas"]) for r in fixed), fixed
+    # the full estimate (what the ladder chooses by) adds the physics the reference shares
+    assert all(_f(r["estimate_mas"]) >= _f(r["estimate_vs_reference_mas"]) for r in _rows(out_dir, "work_precision"))
+
+
+def test_work_precision_ladder_climbs(out_dir):
+    """Nutation with exact coefficients beats precession alone for every body; against the
+    fixed-orbit reference, second order beats first order too (against the real orbit the
+    orbit's motion may swamp that difference)."""
+    rows = _rows(out_dir, "work_precision")
+    for body in ab.CATALOGUE_BODIES:
+        sub = [r for r in rows if r["body"] == body]
+        err = {r["label"]: _f(r["true_error_mas"]) for r in sub}
+        assert err["hansen"] < err["secular"], body
+        if sub[0]["reference"] == "numerical":
+            assert err["second_order"] < err["hansen"], body
+
+
+def test_error_vs_order_converges_at_the_laplace_rate(out_dir):
+    rows = _rows(out_dir, "error_vs_order")
+    ratio = ab.geometric_ratio(rows, 0.1)
+    assert ratio == pytest.approx(0.1 / LAPLACE_LIMIT, rel=0.15)
+    # every second order at least (the coefficients come in steps of e^2 for some harmonics)
+    err = [_f(r["nutation_error_mas"]) for r in rows if float(r["e"]) == 0.1]
+    assert all(b < a for a, b in zip(err[:-2], err[2:]))
+
+
+def test_error_vs_order_diverges_beyond_the_laplace_limit(out_dir):
+    rows = [r for r in _rows(out_dir, "error_vs_order") if float(r["e"]) == 0.7]
+    err = [_f(r["nutation_error_mas"]) for r in rows]
+    assert min(err) > 1e3   # mas: never useful
+    assert err[-1] > min(err) * 1.5          # turns round and grows again
+    assert err[-1] > err[-3] > err[-5]
+    assert all(r["beyond_laplace_limit"] == "True" and r["product_refuses"] == "True" for r in rows)
+    assert "Laplace" in rows[0]["refusal"]
+    below = [r for r in _rows(out_dir, "error_vs_order") if float(r["e"]) < LAPLACE_LIMIT]
+    assert all(r["product_refuses"] == "False" for r in below)
+
+
+def test_error_vs_order_estimates_bound_the_truth(out_dir):
+    rows = _rows(out_dir, "error_vs_order")
+    for r in rows:
+        assert _f(r["estimate_mas"]) >= _f(r["nutation_error_mas"]), r
+        # whole tracks: the same, plus the precession-rate difference over the orbit, above the
+        # rounding of float64 pole vectors (~1e-15 rad)
+        assert _f(r["track_estimate_one_orbit_mas"]) + ab.TRACK_ROUNDING_MAS >= _f(r["track_error_one_orbit_mas"]), r
+
+
+def test_error_vs_span_estimates_bound_the_truth_and_grow(out_dir):
+    rows = _rows(out_dir, "error_vs_span")
+    checked = [r for r in rows if r["rung"] != "numerical"]
+    assert checked
+    below = [(r["body"], r["label"], r["span_years"], r["true_error_mas"], r["estimate_mas"]) for r in checked
+             if not _f(r["estimate_mas"]) >= _f(r["true_error_mas"])]
+    assert not below, f"estimate below the true error: {below}"
+    for body in {r["body"] for r in rows}:
+        for label in {r["label"] for r in rows}:
+            sub = [r for r in rows if r["body"] == body and r["label"] == label]
+            spans = [_f(r["span_years"]) for r in sub]
+            assert spans == sorted(spans)
+            est = [_f(r["estimate_mas"]) for r in sub]
+            assert all(b >= a for a, b in pairwise(est)), (body, label)
+            if label != "numerical":   # a running maximum over nested epoch sets
+                true = [_f(r["true_error_mas"]) for r in sub]
+                assert all(b >= a for a, b in pairwise(true)), (body, label)
+
+
+def test_error_vs_span_crossings(out_dir):
+    rows = _rows(out_dir, "error_vs_span")
+    crossings = ab.read_csv(out_dir / "error_vs_span_crossings.csv")
+    assert {float(c["threshold_mas"]) for c in crossings} == set(ab.THRESHOLDS_MAS)
+    for c in crossings:
+        if c["rung"] == "numerical":
+            continue
+        sub = [r for r in rows if r["body"] == c["body"] and r["label"] == c["label"]]
+        thr, first, last = float(c["threshold_mas"]), _f(sub[0]["true_error_mas"]), _f(sub[-1]["true_error_mas"])
+        x = _f(c["true_crossing_years"])
+        if first >= thr:
+            assert x == -math.inf
+        elif last < thr:
+            assert math.isnan(x)
+        else:
+            assert float(sub[0]["span_years"]) <= x <= float(sub[-1]["span_years"])
+
+
+def test_crossing_interpolates_log_log():
+    assert ab.crossing([1.0, 10.0], [1.0, 100.0], 10.0) == pytest.approx(math.sqrt(10.0))
+    assert ab.crossing([1.0, 10.0], [20.0, 30.0], 10.0) == -math.inf
+    assert math.isnan(ab.crossing([1.0, 10.0], [1.0, 2.0], 10.0))
+
+
+def test_work_precision_falls_back_to_numerical(monkeypatch):
+    """Where the real orbit is unavailable, the fixed-orbit integration is the reference, the
+    estimates without the shared physics terms are held against it, and the chart says why."""
+    import ephem.ladder
+
+    monkeypatch.setattr(ephem.ladder, "real_orbit_unavailable", lambda body, t: "outside DE421 (test)")
+    rows = ab.work_precision_rows("Vesta", ab.QUICK)
+    assert {r["reference"] for r in rows} == {"numerical"}
+    assert "real_orbit" not in {r["rung"] for r in rows}
+    assert all("outside DE421 (test)" in r["note"] for r in rows)
+    checked = [r for r in rows if not r["is_reference"]]
+    assert checked and all(r["estimate_ge_true"] for r in checked)
+    err = {r["label"]: r["true_error_mas"] for r in rows}
+    assert err["second_order"] < err["hansen"] < err["secular"]
