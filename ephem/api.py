@@ -128,7 +128,7 @@ def _selection_info(name: str, order: int | None, estimate: float | None, cost_m
     return {"name": name, "order": order, "description": RUNG_DESCRIPTIONS[name],
             "estimated_error_mas": None if estimate is None else estimate / MAS,
             "error_terms_mas": None if terms is None else {k: v / MAS for k, v in terms.items()},
-            "tolerance_mas": None if tolerance is None else tolerance / MAS, "cost_ms": cost_ms}
+            "tolerance_mas": None if tolerance is None else float(f"{tolerance / MAS:.12g}"), "cost_ms": cost_ms}
 
 
 def model_info(m: PrecessionNutation, b: Body) -> dict:

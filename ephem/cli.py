@@ -1,4 +1,4 @@
-"""Command-line interface: ``ephem bodies | body | precession | nutation | track | demo``.
+"""Command-line interface: ``ephem bodies | body | precession | nutation | track | bench accuracy | demo``.
 
 Output is JSON (default), CSV or an aligned text table. Errors go to stderr
 with exit status 2 (bad input, unknown body) or 3 (theory not applicable).
@@ -10,6 +10,7 @@ import io
 import json
 import sys
 from enum import Enum
+from pathlib import Path
 from typing import Optional
 
 import typer
@@ -142,6 +143,23 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
     if not rows:
         rows = [dict.fromkeys(keys, "")]
     _emit(ans, fmt, rows)
+
+
+bench_app = typer.Typer(no_args_is_help=True, help="Benchmarks that regenerate the committed charts.")
+app.add_typer(bench_app, name="bench")
+
+
+@bench_app.command("accuracy")
+def bench_accuracy(out: Path = typer.Option(Path("docs/charts"), "--out", help="Directory for the PNG, SVG and CSV."),
+                   quick: bool = typer.Option(False, "--quick", help="Small versions in seconds (as the tests).")):
+    """Work-precision, error-against-order and error-against-span charts of the fidelity ladder."""
+    from .accuracy_bench import tasks
+
+    jobs = tasks(out, quick=quick)
+    with typer.progressbar(jobs, label="charts", item_show_func=lambda job: job[0] if job else "") as bar:
+        for _, job in bar:
+            job()
+    typer.echo(f"wrote {len(jobs)} charts to {out}/ (see docs/accuracy.md)")
 
 
 @app.command()

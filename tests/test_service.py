@@ -237,3 +237,50 @@ def test_non_finite_numbers_are_never_sent():
     bad = finite_json({"a": np.array([1.0, np.nan])})
     assert bad.status_code == 500 and bad.media_type == PROBLEM and b"NaN" not in bad.body
     assert finite_json({"x": float("inf")}).status_code == 500
+
+
+def test_track_with_a_tolerance_reports_the_chosen_model(client):
+    q = "start=2000-01-01&stop=2010-01-01&step_days=30"
+    loose = client.get(f"/v1/bodies/mars/track?{q}&tolerance_mas=1000").json()["model"]
+    tight = client.get(f"/v1/bodies/mars/track?{q}&tolerance_mas=10").json()["model"]
+    assert loose["name"] in ("secular", "series") and tight["name"] == "real_orbit"
+    for m in (loose, tight):
+        assert m["estimated_error_mas"] <= m["tolerance_mas"] and m["cost_ms"] > 0
+    csv_text = client.get(f"/v1/bodies/mars/track?{q}&tolerance_mas=10&format=csv").text
+    assert csv_text.count("\n") == 123
+    explicit = client.get(f"/v1/bodies/mars/track?{q}&model=second_order").json()["model"]
+    assert explicit["name"] == "second_order" and explicit["tolerance_mas"] is None
+
+
+def test_tolerance_on_rates_and_terms_picks_the_order(client):
+    coarse = client.get("/v1/bodies/vesta/nutation?tolerance_mas=100").json()
+    fine = client.get("/v1/bodies/vesta/nutation?tolerance_mas=0.001").json()
+    assert coarse["model"]["order"] < fine["model"]["order"]
+    assert len(coarse["terms"]) <= len(fine["terms"])
+    assert client.get("/v1/bodies/vesta/precession?tolerance_mas=5").json()["model"]["name"] == "series"
+
+
+def test_post_track_takes_a_tolerance(client):
+    body = dict(USER, track={"start": "2020-01-01", "stop": "2021-01-01", "step_days": 30, "tolerance_mas": 500})
+    r = client.post("/v1/precession-nutation", json=body)
+    assert r.status_code == 200, r.text
+    model = r.json()["track"]["model"]
+    assert model["tolerance_mas"] == 500 and model["estimated_error_mas"] <= 500
+    assert any("never measured" in w for w in model["warnings"])  # a user's orbit: its motion is unknown
+
+
+@pytest.mark.parametrize("query, field", [
+    ("tolerance_mas=0", "tolerance_mas"), ("tolerance_mas=-3", "tolerance_mas"),
+    ("tolerance_mas=nan", "tolerance_mas"), ("model=exact", "model"),
+    ("tolerance_mas=10&order=4", "tolerance_mas"), ("model=series", "order"),
+])
+def test_bad_tolerance_or_model_is_422_naming_the_field(client, query, field):
+    body = _problem(client.get(f"/v1/bodies/vesta/track?start=2020-01-01&stop=2021-01-01&step_days=10&{query}"),
+                    422)
+    assert any(e["field"] == field for e in body["errors"]) or body.get("field") == field, body
+
+
+def test_unreachable_tolerance_is_422_not_applicable_with_the_best_estimate(client):
+    body = _problem(client.get("/v1/bodies/vesta/track?start=2000-01-01&stop=2200-01-01&step_days=365"
+                               "&tolerance_mas=1"), 422)
+    assert body["title"] == "Not applicable" and "estimated good to" in body["reason"]
