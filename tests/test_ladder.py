@@ -52,7 +52,7 @@ def test_estimates_bound_the_true_error_for_catalogue_bodies(name, years):
 
 @st.composite
 def scenes(draw):
-    e = draw(st.floats(0.0, 0.6))
+    e = draw(st.floats(0.0, 0.95))
     eps = draw(st.floats(2.0, 178.0))
     hd = draw(st.floats(1e-3, 0.3))
     period = draw(st.floats(2.0, 30.0))
