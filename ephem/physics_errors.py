@@ -173,7 +173,8 @@ def rotation_averaging_bound(body: Body, model: PrecessionNutation, span_days: f
     if model.hd == 0.0:  # a sphere: no torque to average
         return 0.0
     moments = normalised_moments(body.moments) if body.moments is not None else worst_case_moments(model.hd)
-    return max(averaging_error_estimate(model, span_days, moments), averaging_error_estimate(model, -span_days, moments))
+    return max(averaging_error_estimate(model, span_days, moments),
+               averaging_error_estimate(model, -span_days, moments))
 
 
 def real_orbit_unavailable(body: Body, jd_tdb: np.ndarray) -> str | None:
