@@ -110,8 +110,11 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             "body": "Vesta", "dataset": "petit2014", "obliquity_deg": 27.46, "dynamical_ellipticity": 0.16917,
             "scaling_factor_arcsec_per_year": 30.4404, "precession_rate_arcsec_per_year": 13.6713,
             "model": {"theory": "Kinoshita (1977) …", "eccentricity_order": "exact", "assumptions": ["…"],
-                      "warnings": [], "spin_orbit_ratio": 5949.6, "min_spin_orbit_ratio": 10.0,
-                      "pole_epoch_jd_tdb": 2451545.0, "orbit_epoch_jd_tdb": 2461000.5}}}}}})
+                      "warnings": [], "spin_orbit_ratio": 5949.6, "min_spin_orbit_ratio": 30.0,
+                      "pole_epoch_jd_tdb": 2451545.0, "orbit_epoch_jd_tdb": 2461000.5, "name": "hansen",
+                      "order": None, "description": "Kinoshita-Cayley nutation with exact Hansen coefficients …",
+                      "estimated_error_mas": 0.0, "error_terms_mas": None, "tolerance_mas": None,
+                      "cost_ms": 0.05}}}}}})
     def precession(body: BodyPath, dataset: DatasetQuery = Dataset.current, order: OrderQuery = None,
                    tolerance_mas: ToleranceQuery = None):
         return api.precession(body, dataset.value, order, tolerance_mas)
@@ -135,9 +138,13 @@ def create_app(settings: Settings | None = None) -> FastAPI:
 
     @app.get("/v1/bodies/{body}/track", response_model=schemas.Track, tags=["theory"], responses={
         **ERRORS, 200: {"content": {"application/json": {"example": {
-            "body": "Ceres", "dataset": "current", "jd_tdb": [2466154.5008], "psi_arcsec": [260.05],
-            "delta_psi_arcsec": [-1.8865], "delta_epsilon_arcsec": [0.1519], "obliquity_deg": [4.03956],
-            "pole_ra_deg": [291.43043], "pole_dec_deg": [66.76515]}},
+            "body": "Ceres", "dataset": "current", "jd_tdb": [2466154.5008], "psi_arcsec": [257.5227],
+            "delta_psi_arcsec": [-1.92987], "delta_epsilon_arcsec": [0.15848], "obliquity_deg": [4.039563],
+            "pole_ra_deg": [291.430308], "pole_dec_deg": [66.765141],
+            "model": {"name": "series", "order": 1, "estimated_error_mas": 925.0,
+                      "error_terms_mas": {"truncation": 212.2, "second_order": 2.44, "rotation_averaging": 0.361,
+                                          "orbit_motion": 710.0, "rounding": 0.0002},
+                      "tolerance_mas": 1000.0, "cost_ms": 1.9}}},
             "text/csv": {"example": "jd_tdb,psi_arcsec,delta_psi_arcsec,delta_epsilon_arcsec,obliquity_deg,"
                                     "pole_ra_deg,pole_dec_deg\n"}}}})
     def track(body: BodyPath,
