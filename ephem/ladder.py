@@ -54,7 +54,6 @@ from .errors import InvalidInputError, NotApplicableError
 from .hansen import LAPLACE_LIMIT, hansen_exact, hansen_series
 from .kinoshita import eccentricity_factor
 from .model import PrecessionNutation, Track, build_model
-from .numerical import integrate_spin_axis
 from .physics_errors import (ephemeris_bound, orbit_motion_bound, real_orbit_unavailable, rotation_averaging_bound,
                              sun_path_for)
 from .second_order import SecondOrderTheory, second_order_theory
@@ -128,12 +127,24 @@ def truncation_bound(model: PrecessionNutation, order: int, span_days: float) ->
     makes in the mean pole through the nutation removed at the pole epoch) and the
     difference of the precession rates over the span.
     """
+    periodic, drift = _truncation_parts(model, order)
+    return periodic + drift * span_days
+
+
+def _truncation_parts(model: PrecessionNutation, order: int) -> tuple[float, float]:
+    """(periodic bound, rate of the secular part) of :func:`truncation_bound`, radians and rad/day."""
     exact = model.nutation
     kmax = max(int(exact.multiple.max()) if exact.multiple.size else 0, order + 3)
     diff = _series_coefficients(model, order, kmax) - _series_coefficients(model, None, kmax)
     rate_diff = 0.5 * model.scaling_factor * abs(math.cos(model.obliquity)) * abs(
         eccentricity_factor(model.eccentricity, order) - eccentricity_factor(model.eccentricity))
-    return 2.0 * _coefficient_bound(*diff, model.obliquity) + abs(math.sin(model.obliquity)) * rate_diff * span_days
+    return 2.0 * _coefficient_bound(*diff, model.obliquity), abs(math.sin(model.obliquity)) * rate_diff
+
+
+@lru_cache(maxsize=4096)
+def _cached_truncation_parts(body: Body, order: int) -> tuple[float, float]:
+    # independent of the epochs: computed once per body and order
+    return _truncation_parts(cached_model(body), order)
 
 
 def second_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, span_days: float) -> float:
@@ -296,7 +307,8 @@ class Ladder:
         kmax = int(m.nutation.multiple.max()) if m.nutation.multiple.size else 0
         if m.eccentricity < LAPLACE_LIMIT:
             for order in range(0, min(MAX_LADDER_ORDER, kmax)):
-                out.append(self._estimate("series", order, {"truncation": truncation_bound(m, order, T),
+                periodic, drift = _cached_truncation_parts(self.body, order)
+                out.append(self._estimate("series", order, {"truncation": periodic + drift * T,
                                                              "second_order": second}, physics))
         else:
             out.append(Estimate("series", None, {}, available=False, why_not=(
@@ -338,6 +350,8 @@ class Ladder:
 
     def track(self, rung: str, jd_tdb, order: int | None = None) -> Track:
         """The pole track of one rung at the epochs (JD TDB)."""
+        from .numerical import integrate_spin_axis  # scipy.integrate: 0.35 s to import, only for these rungs
+
         t = np.asarray(jd_tdb, dtype=float)
         m = self.model
         if rung == "secular":

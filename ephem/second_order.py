@@ -42,7 +42,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from .kepler import solve_kepler, true_anomaly
 from .kinoshita import NutationComponents, eccentricity_factor, nutation_components
@@ -140,6 +139,8 @@ class SecondOrderTheory:
 
     def mean_track(self, jd_tdb) -> MeanTrack:
         """Integrate the mean equations over the epochs' span (DOP853, dense output)."""
+        from scipy.integrate import solve_ivp  # imported on first use: 0.35 s
+
         t = np.asarray(jd_tdb, dtype=float)
         y0 = [0.0, self.obliquity]
 
