@@ -15,10 +15,20 @@ SVG, with the plotted numbers as CSV beside it:
 3. ``error_vs_span``: each rung's true error against the numerical rung (the same
    fixed Keplerian orbit) from 1 to 1000 years, with the estimates, and where each rung
    crosses 1, 10 and 100 mas (``error_vs_span_crossings.csv``).
+4. ``averaging_vs_spin``: where rotation averaging fails. The rotation-averaged pole (rung 5,
+   ``numerical``) against the full rigid body (rung 7, :mod:`ephem.rigid`) over one orbit, as
+   a fraction of the pole's largest displacement, against ω/n, for the synthetic rotators of
+   :func:`ephem.rigid.averaging_error_study` (figure axis and angular momentum, one panel
+   each), with :func:`ephem.rigid.averaging_error_estimate`, the 10% criterion, the product's
+   refusal threshold ``MIN_SPIN_ORBIT_RATIO`` and the catalogue bodies' own ω/n; where each
+   case crosses 10% (``averaging_vs_spin_crossings.csv``) and the bodies' ω/n
+   (``averaging_vs_spin_bodies.csv``). Rung 7 costs ~2 ms CPU per rotation, so the run is
+   dominated by ω/n = 1000 (1000 rotations per case).
 
 ``quick=True`` makes small versions of the same charts in seconds (for the tests).
-Errors in milliarcseconds, times in milliseconds of wall clock (``time.perf_counter``,
-best of a few repeats after a warm-up call that builds the caches).
+Errors in milliarcseconds (chart 4: relative errors, and CPU seconds from the study), times in
+milliseconds of wall clock (``time.perf_counter``, best of a few repeats after a warm-up call
+that builds the caches).
 """
 from __future__ import annotations
 
@@ -76,6 +86,8 @@ class Settings:
     span_years: tuple[float, ...]
     per_orbit: int               # epochs over the last orbit before each span's end
     background: int              # evenly spaced epochs over the longest span
+    avg_ratios: tuple[float, ...]    # ω/n of the synthetic rotators of chart 4
+    avg_cases: tuple[tuple[str, str], ...] | None   # (body, "catalogue" | "axisymmetric"); None: every study case
     quick: bool
 
 
@@ -83,12 +95,14 @@ FULL = Settings(
     wp_bodies=CATALOGUE_BODIES, wp_years=20.0, wp_step_days=1.0, wp_orders=(0, 1, 2, 4, 8), repeats=7,
     eccentricities=(0.01, 0.1, 0.28, 0.5, 0.7), max_order=20, orbit_samples=4096,
     span_bodies=("Vesta", "Itokawa", "Earth"), span_years=tuple(float(x) for x in np.geomspace(1.0, 1000.0, 19)),
-    per_orbit=256, background=2000, quick=False)
+    per_orbit=256, background=2000,
+    avg_ratios=(1.2, 1.5, 2.0, 3.0, 5.0, 7.0, 10.0, 15.0, 20.0, 30.0, 50.0, 100.0, 300.0, 1000.0), avg_cases=None,
+    quick=False)
 QUICK = Settings(
     wp_bodies=CATALOGUE_BODIES, wp_years=1.0, wp_step_days=2.0, wp_orders=(0, 2, 4), repeats=1,
     eccentricities=(0.01, 0.1, 0.28, 0.5, 0.7), max_order=14, orbit_samples=1024,
     span_bodies=("Vesta", "Itokawa"), span_years=(1.0, 3.0, 10.0, 30.0), per_orbit=96, background=100,
-    quick=True)
+    avg_ratios=(3.0, 10.0, 30.0), avg_cases=(("Eros", "catalogue"),), quick=True)
 
 
 # --- helpers ---------------------------------------------------------------------------------------
@@ -566,6 +580,200 @@ def error_vs_span(out_dir: Path, s: Settings) -> None:
     _draw_error_vs_span(rows, crossings, s, out_dir)
 
 
+# --- 4. where rotation averaging fails --------------------------------------------------------------
+
+#: The relative error (of the pole's largest displacement over the orbit) at which chart 4 calls the
+#: rotation-averaged theory failed: the criterion of ``RECOMMENDED_MIN_SPIN_ORBIT_RATIO``.
+AVERAGING_LEVEL = 0.1
+#: Chart 4 compares over this many orbits from the pole epoch (the study's span).
+AVERAGING_SPAN_ORBITS = 1.0
+#: The rigid-body study claims ``averaging_error_estimate`` only from this ω/n up; chart 4 plots it there.
+ESTIMATE_MIN_RATIO = 10.0
+
+AVERAGING_COLOURS = {"Vesta": "tab:blue", "Eros": "tab:red", "Itokawa": "tab:green", "Earth": "tab:purple"}
+
+
+def _case_key(label: str) -> tuple[str, str]:
+    """(body, "axisymmetric" | "catalogue") of a study case label of :func:`ephem.rigid.study_cases`."""
+    return label.split(",")[0], "axisymmetric" if "axisymmetric" in label else "catalogue"
+
+
+def falls_below(ratios: list[float], values: list[float], level: float) -> float:
+    """The ω/n (log-log interpolation) above which ``values`` stay below ``level``: -inf if below at
+    every ratio, +inf if still at or above it at the last (the semantics of :func:`ephem.rigid.threshold_ratio`)."""
+    pts = sorted(zip(ratios, values))
+    above = [i for i, (_, v) in enumerate(pts) if v >= level]
+    if not above:
+        return -math.inf
+    i = above[-1]
+    if i == len(pts) - 1:
+        return math.inf
+    (r0, v0), (r1, v1) = pts[i], pts[i + 1]
+    f = (math.log(level) - math.log(v0)) / (math.log(max(v1, 1e-300)) - math.log(v0))
+    return math.exp(math.log(r0) + f * (math.log(r1) - math.log(r0)))
+
+
+def averaging_rows(s: Settings) -> list[dict]:
+    """Per study case and ω/n: rung 5 against rung 7 over one orbit (:func:`ephem.rigid.averaging_error_study`)."""
+    from .model import MIN_SPIN_ORBIT_RATIO
+    from .rigid import averaging_error_study, normalised_moments, study_cases
+
+    cases = [c for c in study_cases() if s.avg_cases is None or _case_key(c[0]) in s.avg_cases]
+    shape = {label: normalised_moments(mom) for label, _, mom in cases}
+    rows = []
+    for r in averaging_error_study(s.avg_ratios, AVERAGING_SPAN_ORBITS, cases):
+        body, kind = _case_key(r.case)
+        A, B, C = shape[r.case]
+        rel_l, rel_c = r.relative
+        valid = r.ratio >= ESTIMATE_MIN_RATIO
+        rows.append({"case": r.case, "body": body, "moments": kind, "b_minus_a_over_c": (B - A) / C,
+                     "hd": 1.0 - 0.5 * (A + B) / C, "spin_orbit_ratio": r.ratio, "k_over_n": r.k_over_n,
+                     "span_orbits": AVERAGING_SPAN_ORBITS, "displacement_mas": r.displacement / MAS,
+                     "momentum_error_mas": r.momentum_error / MAS, "figure_error_mas": r.figure_error / MAS,
+                     "relative_momentum": rel_l, "relative_figure": rel_c,
+                     "estimate_mas": r.estimate / MAS, "relative_estimate": r.estimate / r.displacement,
+                     "estimate_claimed": valid,
+                     "estimate_ge_figure": bool(r.estimate >= r.figure_error) if valid else None,
+                     "refused_by_product": r.ratio < MIN_SPIN_ORBIT_RATIO, "cpu_s": r.cpu})
+    return rows
+
+
+def averaging_crossing_rows(rows: list[dict]) -> list[dict]:
+    """Per case: the ω/n above which each relative error stays below :data:`AVERAGING_LEVEL`."""
+    from .model import MIN_SPIN_ORBIT_RATIO
+
+    out = []
+    for case in dict.fromkeys(r["case"] for r in rows):
+        sub = [r for r in rows if r["case"] == case]
+        ratios = [r["spin_orbit_ratio"] for r in sub]
+        claimed = [r for r in sub if r["estimate_claimed"]]
+        figure = falls_below(ratios, [r["relative_figure"] for r in sub], AVERAGING_LEVEL)
+        out.append({"case": case, "body": sub[0]["body"], "moments": sub[0]["moments"], "level": AVERAGING_LEVEL,
+                    "momentum_crossing": falls_below(ratios, [r["relative_momentum"] for r in sub], AVERAGING_LEVEL),
+                    "figure_crossing": figure,
+                    # where a per-body test on the estimate would draw the line (only where it is claimed)
+                    "estimate_crossing": falls_below([r["spin_orbit_ratio"] for r in claimed],
+                                                     [r["relative_estimate"] for r in claimed], AVERAGING_LEVEL)
+                    if claimed else math.nan,
+                    "product_threshold": MIN_SPIN_ORBIT_RATIO, "threshold_covers": figure < MIN_SPIN_ORBIT_RATIO,
+                    "first_ratio": min(ratios), "last_ratio": max(ratios)})
+    return out
+
+
+def catalogue_ratio_rows() -> list[dict]:
+    """ω/n of every catalogue body, as the product computes it, and whether it refuses the body."""
+    from .catalogue import load_catalogue
+    from .errors import NotApplicableError
+    from .model import MIN_SPIN_ORBIT_RATIO, build_model
+
+    rows = []
+    for body in load_catalogue().bodies:
+        try:
+            ratio, refused = build_model(body).spin_orbit_ratio, False
+        except NotApplicableError as exc:
+            ratio, refused = float(exc.ratio), True
+        rows.append({"body": body.name, "spin_orbit_ratio": ratio, "refused_by_product": refused,
+                     "product_threshold": MIN_SPIN_ORBIT_RATIO})
+    return sorted(rows, key=lambda r: r["spin_orbit_ratio"])
+
+
+def _ratio_groups(rows: list[dict], gap_decades: float = 0.1) -> list[list[dict]]:
+    """Catalogue bodies in runs closer than ``gap_decades`` in log ω/n (their labels are spread apart)."""
+    groups: list[list[dict]] = []
+    for r in rows:
+        if groups and math.log10(r["spin_orbit_ratio"] / groups[-1][-1]["spin_orbit_ratio"]) < gap_decades:
+            groups[-1].append(r)
+        else:
+            groups.append([r])
+    return groups
+
+
+def _draw_averaging_vs_spin(rows: list[dict], crossings: list[dict], bodies: list[dict], s: Settings,
+                            out_dir: Path) -> None:
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    from .model import MIN_SPIN_ORBIT_RATIO
+
+    fig = _figure(11.5, 5.6)
+    axes = fig.subplots(1, 2, sharey=True)
+    panels = (("relative_figure", "figure axis (the pole a body-fixed frame shows)"),
+              ("relative_momentum", "angular-momentum axis L"))
+    lo = min(min(r["spin_orbit_ratio"] for r in rows), min(b["spin_orbit_ratio"] for b in bodies)) / 1.25
+    hi = max(max(r["spin_orbit_ratio"] for r in rows), max(b["spin_orbit_ratio"] for b in bodies)) * 1.4
+    values = [r[k] for r in rows for k in ("relative_figure", "relative_momentum")] \
+        + [r["relative_estimate"] for r in rows if r["estimate_claimed"]]
+    ylo, yhi = min(values) / 3.0, max(values) * 40.0   # headroom for the body names
+    for ax, (key, title) in zip(axes, panels):
+        ax.axvspan(lo, MIN_SPIN_ORBIT_RATIO, color="0.9", zorder=0, lw=0)
+        ax.axvline(MIN_SPIN_ORBIT_RATIO, color="0.35", lw=1.0, zorder=1)
+        ax.axhline(AVERAGING_LEVEL, color="0.35", lw=0.9, ls="--", zorder=1)
+        ax.text(MIN_SPIN_ORBIT_RATIO / 1.12, ylo * 1.6, f"refused (not applicable)\nω/n < {MIN_SPIN_ORBIT_RATIO:g}",
+                ha="right", va="bottom", fontsize=8, color="0.3")
+        for case in dict.fromkeys(r["case"] for r in rows):
+            sub = [r for r in rows if r["case"] == case]
+            colour = AVERAGING_COLOURS.get(sub[0]["body"], "0.3")
+            axisym = sub[0]["moments"] == "axisymmetric"
+            ax.plot([r["spin_orbit_ratio"] for r in sub], [r[key] for r in sub], ls=":" if axisym else "-",
+                    marker="o", ms=3.0 if axisym else 3.5, lw=1.3 if axisym else 1.6, color=colour, zorder=3)
+            if key == "relative_figure" and not axisym:   # the axisymmetric variants' are in the CSV
+                est = [r for r in sub if r["estimate_claimed"]]
+                ax.plot([r["spin_orbit_ratio"] for r in est], [r["relative_estimate"] for r in est], ls="none",
+                        marker="o", ms=5, mfc="none", mec=colour, mew=1.0, alpha=0.8, zorder=2)
+            c = next(c for c in crossings if c["case"] == case)
+            x = c["figure_crossing" if key == "relative_figure" else "momentum_crossing"]
+            if math.isfinite(x):
+                ax.plot(x, AVERAGING_LEVEL, marker="|", ms=9, mew=1.6, color=colour, zorder=4)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        _log_ticks(ax)
+        ax.set_xlim(lo, hi)
+        ax.set_ylim(ylo, yhi)
+        ax.grid(True, which="major", alpha=0.3)
+        ax.set_xlabel("spin rate / orbital mean motion ω/n")
+        ax.set_title(title, fontsize=10)
+        ax.annotate(f"{AVERAGING_LEVEL:.0%}", (1.0, AVERAGING_LEVEL), xycoords=("axes fraction", "data"),
+                    xytext=(-3, 3), textcoords="offset points", ha="right", va="bottom", fontsize=8, color="0.3")
+        # the catalogue bodies' actual ω/n: markers on the top edge, names inside (the top right is empty)
+        for group in _ratio_groups(bodies):
+            for i, b in enumerate(group):
+                x = b["spin_orbit_ratio"]
+                ax.plot(x, 1.0, marker="v", ms=5, color="0.15", clip_on=False, transform=ax.get_xaxis_transform(),
+                        zorder=5)
+                ax.annotate(f"{b['body']} {x:.4g}" if x < 10 else f"{b['body']} {x:.0f}", (x, 1.0),
+                            xycoords=("data", "axes fraction"), xytext=(4.0 * (i - 0.5 * (len(group) - 1)), -7),
+                            textcoords="offset points", rotation=90, ha="center", va="top", fontsize=6.5,
+                            color="0.15")
+    axes[0].set_ylabel("max error of rung 5 over one orbit\n/ max pole displacement")
+    handles = []
+    for case in dict.fromkeys(r["case"] for r in rows):
+        sub = [r for r in rows if r["case"] == case]
+        axisym = sub[0]["moments"] == "axisymmetric"
+        handles.append(Line2D([], [], color=AVERAGING_COLOURS.get(sub[0]["body"], "0.3"), ls=":" if axisym else "-",
+                              marker="o", ms=3.5, label=case.replace("(B-A)/C", "(B−A)/C")))
+    handles += [Line2D([], [], color="0.3", marker="o", mfc="none", ls="none", ms=5,
+                       label="estimate: averaging_error_estimate / displacement\n"
+                             f"(figure axis, catalogue moments, ω/n ≥ {ESTIMATE_MIN_RATIO:g})"),
+                Line2D([], [], color="0.3", marker="|", ls="none", ms=9, mew=1.6, label="crosses 10%"),
+                Line2D([], [], color="0.15", marker="v", ls="none", ms=5, label="catalogue bodies' ω/n"),
+                Patch(color="0.9", label=f"refused by the product (ω/n < {MIN_SPIN_ORBIT_RATIO:g})")]
+    fig.legend(handles=handles, loc="outside lower center", ncol=4, fontsize=8, frameon=False)
+    fig.suptitle("Where rotation averaging fails: the rotation-averaged pole (rung 5, numerical) against the full "
+                 "rigid body (rung 7),\nsynthetic rotators with each case's orbit, pole and moments spun at ω = "
+                 "ratio × n, over one orbit from J2000", fontsize=11)
+    _save(fig, out_dir, "averaging_vs_spin")
+
+
+def averaging_vs_spin(out_dir: Path, s: Settings) -> None:
+    rows = averaging_rows(s)
+    crossings = averaging_crossing_rows(rows)
+    bodies = catalogue_ratio_rows()
+    write_csv(out_dir / "averaging_vs_spin.csv", rows)
+    write_csv(out_dir / "averaging_vs_spin_crossings.csv", crossings)
+    write_csv(out_dir / "averaging_vs_spin_bodies.csv", bodies)
+    _draw_averaging_vs_spin(rows, crossings, bodies, s, out_dir)
+
+
 # --- the command ------------------------------------------------------------------------------------
 
 def tasks(out_dir: Path, quick: bool = False) -> list[tuple[str, Callable[[], None]]]:
@@ -580,8 +788,10 @@ def tasks(out_dir: Path, quick: bool = False) -> list[tuple[str, Callable[[], No
         return job
 
     spans = f"{s.span_years[0]:g}-{s.span_years[-1]:g} y"
+    spins = f"{len(s.avg_ratios)} ω/n in {s.avg_ratios[0]:g}-{s.avg_ratios[-1]:g}"
     return [
         (f"work-precision diagram ({len(s.wp_bodies)} bodies, {s.wp_years:g} y)", run(work_precision)),
         (f"error against e-order N (N <= {s.max_order})", run(error_vs_order)),
         (f"error against span ({', '.join(s.span_bodies)}; {spans})", run(error_vs_span)),
+        (f"where rotation averaging fails (rigid body, {spins})", run(averaging_vs_spin)),
     ]

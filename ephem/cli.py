@@ -152,7 +152,8 @@ app.add_typer(bench_app, name="bench")
 @bench_app.command("accuracy")
 def bench_accuracy(out: Path = typer.Option(Path("docs/charts"), "--out", help="Directory for the PNG, SVG and CSV."),
                    quick: bool = typer.Option(False, "--quick", help="Small versions in seconds (as the tests).")):
-    """Work-precision, error-against-order and error-against-span charts of the fidelity ladder."""
+    """The fidelity ladder's charts: work-precision, error against e-order, error against span, and
+    where rotation averaging fails (ω/n); see docs/accuracy.md."""
     from .accuracy_bench import tasks
 
     jobs = tasks(out, quick=quick)

@@ -4,7 +4,8 @@ Runs every task once into a temporary directory (module-scoped: a few seconds in
 checks the files and properties of the plotted numbers that a wrong chart would break:
 every estimate at least the true error, the truncated series converging geometrically at
 the rate e / 0.6627 below the Laplace limit and not at all beyond it, the errors growing
-with the span.
+with the span, the rotation-averaged pole failing against the rigid body below the product's
+ω/n threshold and not above it.
 """
 from __future__ import annotations
 
@@ -15,8 +16,9 @@ import pytest
 
 from ephem import accuracy_bench as ab
 from ephem.hansen import LAPLACE_LIMIT
+from ephem.model import MIN_SPIN_ORBIT_RATIO
 
-CHARTS = ("work_precision", "error_vs_order", "error_vs_span")
+CHARTS = ("work_precision", "error_vs_order", "error_vs_span", "averaging_vs_spin")
 
 
 @pytest.fixture(scope="module")
@@ -173,3 +175,55 @@ def test_work_precision_falls_back_to_numerical(monkeypatch):
     assert checked and all(r["estimate_ge_true"] for r in checked)
     err = {r["label"]: r["true_error_mas"] for r in rows}
     assert err["second_order"] < err["hansen"] < err["secular"]
+
+
+def test_averaging_vs_spin_fails_below_the_threshold_only(out_dir):
+    """Rung 5 against rung 7 over one orbit (quick: triaxial Eros, the study's worst case, at
+    ω/n = 3, 10, 30): both axes' relative errors fall as ω/n grows, the figure axis's is above 10%
+    at the lowest ratio and below it from the product's threshold up, and the estimate bounds it
+    wherever the study claims it."""
+    for name in ("averaging_vs_spin_crossings", "averaging_vs_spin_bodies"):
+        assert (out_dir / f"{name}.csv").stat().st_size > 0
+    rows = _rows(out_dir, "averaging_vs_spin")
+    assert [r["case"] for r in rows] and {r["body"] for r in rows} == {"Eros"}
+    ratios = [_f(r["spin_orbit_ratio"]) for r in rows]
+    assert ratios == sorted(ratios) and list(ratios) == list(ab.QUICK.avg_ratios)
+    for key in ("relative_figure", "relative_momentum"):
+        rel = [_f(r[key]) for r in rows]
+        assert all(b < a for a, b in pairwise(rel)), (key, rel)
+        # relative to the forced motion: the columns agree with the errors in mas
+        for r in rows:
+            err = _f(r["figure_error_mas" if key == "relative_figure" else "momentum_error_mas"])
+            assert _f(r[key]) == pytest.approx(err / _f(r["displacement_mas"]), rel=1e-5)
+    figure = [_f(r["relative_figure"]) for r in rows]
+    assert figure[0] > ab.AVERAGING_LEVEL
+    assert all(f < ab.AVERAGING_LEVEL for x, f in zip(ratios, figure) if x >= MIN_SPIN_ORBIT_RATIO)
+    assert all((r["refused_by_product"] == "True") == (_f(r["spin_orbit_ratio"]) < MIN_SPIN_ORBIT_RATIO)
+               for r in rows)
+    claimed = [r for r in rows if r["estimate_claimed"] == "True"]
+    assert claimed and all(_f(r["spin_orbit_ratio"]) >= ab.ESTIMATE_MIN_RATIO for r in claimed)
+    assert all(_f(r["estimate_mas"]) >= _f(r["figure_error_mas"]) and r["estimate_ge_figure"] == "True"
+               for r in claimed)
+    (c,) = ab.read_csv(out_dir / "averaging_vs_spin_crossings.csv")
+    x = _f(c["figure_crossing"])
+    assert x == pytest.approx(ab.falls_below(ratios, figure, ab.AVERAGING_LEVEL), rel=1e-5)   # CSV: 6 digits
+    assert ratios[0] < x < MIN_SPIN_ORBIT_RATIO and c["threshold_covers"] == "True"
+    assert _f(c["momentum_crossing"]) < x   # L is the more robust axis
+
+
+def test_averaging_vs_spin_marks_the_catalogue(out_dir):
+    """Only the Moon (synchronous) is below the threshold; every other body is far above it."""
+    bodies = ab.read_csv(out_dir / "averaging_vs_spin_bodies.csv")
+    refused = {b["body"] for b in bodies if b["refused_by_product"] == "True"}
+    assert refused == {"Moon"}
+    assert _f(next(b for b in bodies if b["body"] == "Moon")["spin_orbit_ratio"]) == pytest.approx(1.0, abs=0.01)
+    others = [_f(b["spin_orbit_ratio"]) for b in bodies if b["body"] != "Moon"]
+    assert len(others) >= 6 and min(others) > 10 * MIN_SPIN_ORBIT_RATIO
+
+
+def test_falls_below_interpolates_log_log():
+    assert ab.falls_below([1.0, 100.0], [1.0, 0.01], 0.1) == pytest.approx(10.0)
+    assert ab.falls_below([1.0, 10.0], [0.05, 0.01], 0.1) == -math.inf
+    assert ab.falls_below([1.0, 10.0], [1.0, 0.5], 0.1) == math.inf
+    # the last time it is above counts, not the first time it is below
+    assert ab.falls_below([1.0, 2.0, 3.0, 4.0], [1.0, 0.05, 0.2, 0.01], 0.1) > 3.0
