@@ -329,3 +329,29 @@ def track(body: str | int | Body, start, stop, step_days: float, dataset: str = 
     for key in TRACK_KEYS:
         ans[key] = ans[key].tolist()
     return ans
+
+
+FREE_MOTION_KEYS = ("jd_tdb", "figure_axis_offset_x_arcsec", "figure_axis_offset_y_arcsec",
+                    "wobble_angle_J_arcsec", "andoyer_nu_deg")
+
+
+def free_motion_arrays(body: str | int | Body, start, stop, step_days: float, J_arcsec: float | None = None,
+                       method: str = "auto", dataset: str = DEFAULT_DATASET,
+                       max_samples: int = MAX_TRACK_SAMPLES) -> dict:
+    """The torque-free wobble: the figure axis's offsets from the angular momentum (arcsec) over time,
+    the angle J and Andoyer's ν, and the periods (see :mod:`ephem.free_motion`). J defaults to the
+    published amplitude (Lara 2014 Table 1: Earth, Moon, Mars, Eros)."""
+    from .free_motion import free_motion
+
+    b = resolve_body(body, dataset)
+    t0, step, count = epoch_grid(start, stop, step_days, max_samples)
+    return free_motion(b, t0 + step * np.arange(count), J_arcsec, method)
+
+
+def free_motion_answer(body: str | int | Body, start, stop, step_days: float, J_arcsec: float | None = None,
+                       method: str = "auto", dataset: str = DEFAULT_DATASET) -> dict:
+    """As :func:`free_motion_arrays`, with lists."""
+    ans = free_motion_arrays(body, start, stop, step_days, J_arcsec, method, dataset)
+    for key in FREE_MOTION_KEYS:
+        ans[key] = np.asarray(ans[key]).tolist()
+    return ans

@@ -1,4 +1,4 @@
-"""Command-line interface: ``ephem bodies | body | precession | nutation | track | bench accuracy | demo``.
+"""Command-line interface: ``ephem bodies | body | precession | nutation | track | free-motion | bench accuracy | demo``.
 
 Output is JSON (default), CSV or an aligned text table. Errors go to stderr
 with exit status 2 (bad input, unknown body) or 3 (theory not applicable).
@@ -143,6 +143,27 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
     if not rows:
         rows = [dict.fromkeys(keys, "")]
     _emit(ans, fmt, rows)
+
+
+@app.command("free-motion")
+def free_motion(name: str = typer.Argument(..., metavar="BODY"),
+                start: str = typer.Option(..., "--start", help="ISO 8601 (UTC unless a scale follows) or JD TDB."),
+                stop: str = typer.Option(..., "--stop", help="ISO 8601 or JD TDB."),
+                step_days: float = typer.Option(..., "--step-days", help="Sampling step in days."),
+                j_arcsec: Optional[float] = typer.Option(None, "--J-arcsec", help="Wobble amplitude J at start "
+                                                         "(default: the published one, Lara 2014 Table 1)."),
+                method: str = typer.Option("auto", "--method", help="auto, exact, series or numeric."),
+                dataset: str = DatasetOpt, fmt: Format = FormatOpt):
+    """Torque-free wobble of BODY: the figure axis about the angular momentum, and its periods."""
+    try:
+        ans = api.free_motion_answer(name, start, stop, step_days, j_arcsec, method, dataset)
+    except EphemError as exc:
+        _fail(exc)
+    rows = [dict(zip(api.FREE_MOTION_KEYS, vals)) for vals in zip(*(ans[k] for k in api.FREE_MOTION_KEYS))]
+    if fmt is not Format.json:
+        typer.echo(f"{ans['mode']} mode, method {ans['method']}: wobble period {ans['wobble_period_days']:.6g} d, "
+                   f"precession period {ans['precession_period_days']:.6g} d", err=True)
+    _emit(ans, fmt, rows or [dict.fromkeys(api.FREE_MOTION_KEYS, "")])
 
 
 bench_app = typer.Typer(no_args_is_help=True, help="Benchmarks that regenerate the committed charts.")

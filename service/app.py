@@ -57,6 +57,13 @@ class Rung(str, Enum):
     real_orbit = "real_orbit"
 
 
+class FreeMethod(str, Enum):
+    auto = "auto"
+    exact = "exact"
+    series = "series"
+    numeric = "numeric"
+
+
 ERRORS = {404: {"description": "unknown body (problem+json lists the known ones)"},
           422: {"description": "invalid input (the field is named) or not applicable (with the reason)"}}
 CSV_CHUNK = 20_000
@@ -162,6 +169,30 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         if format is TrackFormat.csv:
             return StreamingResponse(_csv_rows(arrays), media_type="text/csv; charset=utf-8")
         return finite_json(arrays)
+
+    @app.get("/v1/bodies/{body}/free-motion", tags=["theory"], responses={**ERRORS, 200: {"content": {
+        "application/json": {"example": {
+            "body": "Mars", "dataset": "current", "jd_tdb": [2451544.5007], "figure_axis_offset_x_arcsec": [0.0],
+            "figure_axis_offset_y_arcsec": [-0.1], "wobble_angle_J_arcsec": [0.1], "andoyer_nu_deg": [0.0],
+            "wobble_period_days": 190.65, "precession_period_days": 1.0205, "mode": "short-axis",
+            "method": "series", "J_arcsec": 0.1, "moments_over_C": [0.9942917, 0.9949813, 1.0],
+            "cost_ms": 3.1}}}}})
+    def free_motion(body: BodyPath,
+                    start: Annotated[str, Query(description="ISO 8601 (UTC unless a scale follows) or JD TDB",
+                                                examples=["2030-01-01"])],
+                    stop: Annotated[str, Query(description="ISO 8601 or JD TDB", examples=["2031-01-01"])],
+                    step_days: Annotated[float, Query(description="sampling step, days", examples=[1.0])],
+                    J_arcsec: Annotated[Optional[float], Query(
+                        ge=0, le=648000, description="wobble amplitude: the angle between the angular momentum and "
+                                                     "the C axis at start (default: the published one)")] = None,
+                    method: Annotated[FreeMethod, Query(description="auto (series where it converges fast, else "
+                                                                    "exact), exact, series or numeric")]
+                    = None,
+                    dataset: DatasetQuery = Dataset.current):
+        """The torque-free wobble of the figure axis about the angular momentum (ephem.free_motion)."""
+        return finite_json(api.free_motion_arrays(body, start, stop, step_days, J_arcsec,
+                                                  (method or FreeMethod.auto).value, dataset.value,
+                                                  settings.max_track_samples))
 
     @app.post("/v1/precession-nutation", response_model=schemas.PrecessionNutation, tags=["theory"],
               responses=ERRORS)
