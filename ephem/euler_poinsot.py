@@ -81,11 +81,11 @@ from scipy.special import ellipj, elliprf, elliprj
 from .andoyer import (
     N_OVER_M_SLACK,
     andoyer_from_attitude,
-    andoyer_matrix,
     body_momentum_from_j,
     check_finite,
     check_moments,
     invariable_frame,
+    rot1,
     rot1_cs,
     rot3,
     rot3_cs,
@@ -311,7 +311,8 @@ class FreeRotation:
         check_finite("andoyer angles", mu, lam, inc)
         if not 0.0 <= inc <= math.pi:
             raise InvalidInputError("inc", "I must lie in [0°, 180°]")
-        R0 = andoyer_matrix(lam, mu, nu, M * math.cos(inc), M, L[2])
+        # from the angles themselves: andoyer_matrix's sin J = √((M−N)(M+N))/M cancels below ~1″
+        R0 = rot3(nu) @ rot1(J) @ rot3(mu) @ rot1(inc) @ rot3(lam)
         return cls.from_body_momentum(moments, L, t0, R0)
 
     @classmethod

@@ -94,3 +94,12 @@ def test_route_and_cli_serve_the_free_motion():
                                    "--step-days", "1", "--format", "csv"])
     assert res.exit_code == 0, res.output
     assert res.stdout.splitlines()[0].startswith("jd_tdb,figure_axis_offset_x_arcsec") and "wobble period" in res.stderr
+
+
+def test_from_andoyer_keeps_an_arcsecond_wobble_exact():
+    # sin J must not come from cos J = N/M: at J = 0.1" that loses 4e-4 of it to cancellation
+    from ephem.euler_poinsot import FreeRotation
+    J = 0.1 * math.pi / 648000.0
+    rot = FreeRotation.from_andoyer((0.9942917, 0.9949813, 1.0), 6.1, J, 0.3, mu=0.2)
+    f = rot.attitude(np.array([0.0]))[0][2]          # the C axis in inertial coordinates; L along +z
+    assert math.atan2(math.hypot(f[0], f[1]), f[2]) == pytest.approx(J, rel=1e-12)
