@@ -175,7 +175,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             "body": "Mars", "dataset": "current", "jd_tdb": [2451544.5007], "figure_axis_offset_x_arcsec": [0.0],
             "figure_axis_offset_y_arcsec": [-0.1], "wobble_angle_J_arcsec": [0.1], "andoyer_nu_deg": [0.0],
             "wobble_period_days": 190.65, "precession_period_days": 1.0205, "mode": "short-axis",
-            "method": "series", "J_arcsec": 0.1, "moments_over_C": [0.9942917, 0.9949813, 1.0],
+            "method": "exact", "J_arcsec": 0.1, "moments_over_C": [0.9942917, 0.9949813, 1.0],
             "cost_ms": 3.1}}}}})
     def free_motion(body: BodyPath,
                     start: Annotated[str, Query(description="ISO 8601 (UTC unless a scale follows) or JD TDB",
@@ -185,8 +185,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                     J_arcsec: Annotated[Optional[float], Query(
                         ge=0, le=648000, description="wobble amplitude: the angle between the angular momentum and "
                                                      "the C axis at start (default: the published one)")] = None,
-                    method: Annotated[FreeMethod, Query(description="auto (series where it converges fast, else "
-                                                                    "exact), exact, series or numeric")]
+                    method: Annotated[FreeMethod, Query(description="auto (the exact solution, measured cheapest "
+                                                                    "and most accurate), exact, series (short-axis "
+                                                                    "mode, δ <= 0.1) or numeric")]
                     = None,
                     dataset: DatasetQuery = Dataset.current):
         """The torque-free wobble of the figure axis about the angular momentum (ephem.free_motion)."""

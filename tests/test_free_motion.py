@@ -47,14 +47,13 @@ def test_earth_rigid_euler_period_from_the_exact_solution():
     assert 300.0 < ans["wobble_period_days"] < 306.0
 
 
-def test_auto_never_serves_the_series_where_it_fails():
+def test_auto_serves_the_exact_solution_and_the_series_only_where_it_converges():
     eros = get_body("eros")
     t = J2000 + np.linspace(0.0, 1.0, 5)
-    assert free_motion(eros, t, 3600.0, "auto")["method"] == "series"
-    assert free_motion(eros, t, 60 * 3600.0, "auto")["method"] == "exact"      # δ = 0.5: too far out
-    assert free_motion(eros, t, 170 * 3600.0, "auto")["method"] == "exact"     # long-axis side? exact anyway
+    assert free_motion(eros, t, 3600.0, "auto")["method"] == "exact"       # cheapest and most accurate
+    assert free_motion(eros, t, 3600.0, "series")["method"] == "series"    # δ = 1.5e-4: served on request
     with pytest.raises(NotApplicableError, match="short-axis"):
-        free_motion(eros, t, 60 * 3600.0, "series")
+        free_motion(eros, t, 60 * 3600.0, "series")                         # δ = 0.5: refused
 
 
 @pytest.mark.parametrize("kwargs,field", [({"J_arcsec": -1.0}, "J_arcsec"), ({"J_arcsec": 700000.0}, "J_arcsec"),
@@ -81,10 +80,11 @@ def test_route_and_cli_serve_the_free_motion():
     r = client.get("/v1/bodies/earth/free-motion?start=2030-01-01&stop=2031-01-01&step_days=30")
     assert r.status_code == 200, r.text
     ans = r.json()
-    assert ans["method"] == "series" and ans["mode"] == "short-axis" and len(ans["jd_tdb"]) == 13
+    assert ans["method"] == "exact" and ans["mode"] == "short-axis" and len(ans["jd_tdb"]) == 13
     assert 300.0 < ans["wobble_period_days"] < 306.0 and ans["J_arcsec"] == 1.0
-    exact = client.get("/v1/bodies/earth/free-motion?start=2030-01-01&stop=2031-01-01&step_days=30&method=exact")
-    assert np.allclose(exact.json()["figure_axis_offset_x_arcsec"], ans["figure_axis_offset_x_arcsec"], atol=1e-8)
+    series = client.get("/v1/bodies/earth/free-motion?start=2030-01-01&stop=2031-01-01&step_days=30&method=series")
+    assert series.json()["method"] == "series"
+    assert np.allclose(series.json()["figure_axis_offset_x_arcsec"], ans["figure_axis_offset_x_arcsec"], atol=1e-8)
     bad = client.get("/v1/bodies/vesta/free-motion?start=2030-01-01&stop=2031-01-01&step_days=30")
     assert bad.status_code == 422 and bad.json()["errors"][0]["field"] == "J_arcsec"
     far = client.get("/v1/bodies/eros/free-motion?start=2030-01-01&stop=2030-01-02&step_days=1"
