@@ -38,6 +38,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from itertools import pairwise
 from pathlib import Path
 
@@ -147,20 +148,27 @@ def read_csv(path: Path) -> list[dict]:
         return list(csv.DictReader(fh))
 
 
-def _save(fig, out_dir: Path, stem: str) -> None:
+def save_chart(fig, out_dir: Path, stem: str, salt: str = "ephem-accuracy") -> None:
+    """PNG (150 dpi) and SVG of a figure, reproducible byte for byte (fixed SVG ids, no dates)."""
     import matplotlib
 
     fig.draw_without_rendering()   # lay out once (constrained layout), then keep it for both files
     fig.set_layout_engine("none")
-    with matplotlib.rc_context({"svg.hashsalt": "ephem-accuracy", "svg.fonttype": "none"}):
+    with matplotlib.rc_context({"svg.hashsalt": salt, "svg.fonttype": "none"}):
         fig.savefig(out_dir / f"{stem}.png", dpi=150, metadata={"Software": None})
         fig.savefig(out_dir / f"{stem}.svg", metadata={"Date": None})
 
 
-def _figure(width: float, height: float):
+_save = save_chart
+
+
+def new_figure(width: float, height: float):
     from matplotlib.figure import Figure
 
     return Figure(figsize=(width, height), layout="constrained")
+
+
+_figure = new_figure
 
 
 def _log_ticks(ax) -> None:
@@ -776,17 +784,19 @@ def averaging_vs_spin(out_dir: Path, s: Settings) -> None:
 
 # --- the command ------------------------------------------------------------------------------------
 
+def chart_job(fn, out_dir: Path, settings) -> Callable[[], None]:
+    """A zero-argument job that makes ``out_dir`` and draws one chart into it."""
+    def job() -> None:
+        out_dir.mkdir(parents=True, exist_ok=True)
+        fn(out_dir, settings)
+    return job
+
+
 def tasks(out_dir: Path, quick: bool = False) -> list[tuple[str, Callable[[], None]]]:
     """The chart jobs, as (label, zero-argument callable); each writes its chart and CSV into ``out_dir``."""
     out_dir = Path(out_dir)
     s = QUICK if quick else FULL
-
-    def run(fn):
-        def job() -> None:
-            out_dir.mkdir(parents=True, exist_ok=True)
-            fn(out_dir, s)
-        return job
-
+    run = partial(chart_job, out_dir=out_dir, settings=s)
     spans = f"{s.span_years[0]:g}-{s.span_years[-1]:g} y"
     spins = f"{len(s.avg_ratios)} ω/n in {s.avg_ratios[0]:g}-{s.avg_ratios[-1]:g}"
     return [

@@ -166,6 +166,13 @@ def free_motion(name: str = typer.Argument(..., metavar="BODY"),
     _emit(ans, fmt, rows or [dict.fromkeys(api.FREE_MOTION_KEYS, "")])
 
 
+def _run_charts(jobs, out: Path, doc: str) -> None:
+    with typer.progressbar(jobs, label="charts", item_show_func=lambda job: job[0] if job else "") as bar:
+        for _, job in bar:
+            job()
+    typer.echo(f"wrote {len(jobs)} charts to {out}/ (see {doc})")
+
+
 bench_app = typer.Typer(no_args_is_help=True, help="Benchmarks that regenerate the committed charts.")
 app.add_typer(bench_app, name="bench")
 
@@ -177,11 +184,16 @@ def bench_accuracy(out: Path = typer.Option(Path("docs/charts"), "--out", help="
     where rotation averaging fails (ω/n); see docs/accuracy.md."""
     from .accuracy_bench import tasks
 
-    jobs = tasks(out, quick=quick)
-    with typer.progressbar(jobs, label="charts", item_show_func=lambda job: job[0] if job else "") as bar:
-        for _, job in bar:
-            job()
-    typer.echo(f"wrote {len(jobs)} charts to {out}/ (see docs/accuracy.md)")
+    _run_charts(tasks(out, quick=quick), out, "docs/accuracy.md")
+
+
+@bench_app.command("free-motion")
+def bench_free_motion(out: Path = typer.Option(Path("docs/charts"), "--out", help="Directory for the PNG, SVG and CSV."),
+                      quick: bool = typer.Option(False, "--quick", help="Small versions in seconds.")):
+    """Cost against accuracy of the torque-free solutions (exact, series, numeric); see docs/free_motion.md."""
+    from .free_motion_bench import tasks
+
+    _run_charts(tasks(out, quick=quick), out, "docs/free_motion.md")
 
 
 @app.command()

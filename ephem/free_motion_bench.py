@@ -39,6 +39,7 @@ import numpy as np
 
 from .catalogue import get_body
 from .constants import ARCSEC
+from .accuracy_bench import chart_job, new_figure as _figure, save_chart
 from .free_motion import SERIES_MAX_DELTA
 
 #: Errors below this (radians) are drawn at it (an exact zero has no place on a log axis).
@@ -255,19 +256,7 @@ def _write_csv(path: Path, rows: list[dict]) -> None:
 
 
 def _save(fig, out_dir: Path, stem: str) -> None:
-    import matplotlib
-
-    fig.draw_without_rendering()
-    fig.set_layout_engine("none")
-    with matplotlib.rc_context({"svg.hashsalt": "ephem-free-motion", "svg.fonttype": "none"}):
-        fig.savefig(out_dir / f"{stem}.png", dpi=150, metadata={"Software": None})
-        fig.savefig(out_dir / f"{stem}.svg", metadata={"Date": None})
-
-
-def _figure(width: float, height: float):
-    from matplotlib.figure import Figure
-
-    return Figure(figsize=(width, height), layout="constrained")
+    save_chart(fig, out_dir, stem, salt="ephem-free-motion")
 
 
 def _floor(e: float) -> float:
@@ -383,13 +372,7 @@ def tasks(out_dir: Path, quick: bool = False) -> list[tuple[str, Callable[[], No
     """The chart jobs, as (label, zero-argument callable); each writes its chart and CSV into ``out_dir``."""
     out_dir = Path(out_dir)
     s = QUICK if quick else FULL
-
-    def run(fn):
-        def job() -> None:
-            out_dir.mkdir(parents=True, exist_ok=True)
-            fn(out_dir, s)
-        return job
-
+    run = partial(chart_job, out_dir=out_dir, settings=s)
     return [
         (f"free-motion work-precision ({', '.join(s.bodies)}; {len(s.j_arcsec)} J)", run(work_precision)),
         (f"where the series fails (orders {', '.join(map(str, s.fail_orders))})", run(series_failure)),
