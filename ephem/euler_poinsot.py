@@ -91,9 +91,9 @@ from .andoyer import (
     rot3_cs,
     wrap_angle,
 )
+from .constants import ARCSEC
 from .errors import InvalidInputError
 
-ARCSEC = math.pi / (180.0 * 3600.0)
 
 #: the long-axis-mode frame map b' = P b (moments (A, B, C) -> (C, B, A)); P = Pᵀ = P⁻¹, det P = +1
 P_LAM = np.array([[0.0, 0.0, 1.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0]])

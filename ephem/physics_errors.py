@@ -31,11 +31,11 @@ from functools import lru_cache
 import numpy as np
 
 from .catalogue import Body, data_dir
+from .constants import ARCSEC
 from .kepler import solve_kepler, true_anomaly
 from .kinoshita import eccentricity_factor
 from .model import PrecessionNutation
 
-ARCSEC = math.pi / 648_000.0
 
 
 @dataclass(frozen=True)

@@ -14,11 +14,11 @@ import sys
 from pathlib import Path
 
 from ephem.catalogue import available_datasets, load_catalogue
+from ephem.constants import ARCSEC
 from ephem.ephemeris import de421_span
 from ephem.ladder import cached_model
 from ephem.physics_errors import measure_orbit_motion
 
-ARCSEC = math.pi / 648_000.0
 #: Days kept clear of DE421's ends.
 MARGIN = 30.0
 
