@@ -9,7 +9,6 @@ ephem/physics_errors.py for how the fixed-orbit rungs turn them into an error bo
 """
 from __future__ import annotations
 
-import math
 import sys
 from pathlib import Path
 
