@@ -206,7 +206,7 @@ def _estimates(ladder: Ladder, t: np.ndarray) -> dict:
 
 def work_precision_rows(name: str, s: Settings) -> list[dict]:
     """One row per rung (series per order) of one body: cost, true error, estimate."""
-    ladder = Ladder(get_body(name))
+    ladder = Ladder(get_body(name), axis="angular_momentum")   # the forced theory (no free wobble)
     count = round(s.wp_years * JULIAN_YEAR_DAYS / s.wp_step_days) + 1
     t = ladder.model.pole_epoch + s.wp_step_days * np.arange(count)
     est = _estimates(ladder, t)
@@ -463,7 +463,7 @@ def crossing(spans: list[float], values: list[float], threshold: float) -> float
 
 
 def error_vs_span_rows(name: str, s: Settings) -> tuple[list[dict], list[dict]]:
-    ladder = Ladder(get_body(name))
+    ladder = Ladder(get_body(name), axis="angular_momentum")   # the forced theory (no free wobble)
     m = ladder.model
     spans_days = np.array(s.span_years) * JULIAN_YEAR_DAYS
     period = 2.0 * math.pi / m.mean_motion

@@ -16,7 +16,7 @@ from .catalogue import DEFAULT_DATASET, Body, get_body, load_catalogue, load_ref
 from .constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from .errors import InvalidInputError
 from .hansen import LAPLACE_LIMIT
-from .ladder import RUNGS, Ladder, cached_model, truncation_bound
+from .ladder import AXES, RUNGS, Ladder, cached_model, truncation_bound
 from .model import MIN_SPIN_ORBIT_RATIO, PrecessionNutation
 from .timeparse import to_jd_tdb
 
@@ -128,7 +128,8 @@ def _selection_info(name: str, order: int | None, estimate: float | None, cost_m
     return {"name": name, "order": order, "description": RUNG_DESCRIPTIONS[name],
             "estimated_error_mas": None if estimate is None else estimate / MAS,
             "error_terms_mas": None if terms is None else {k: v / MAS for k, v in terms.items()},
-            "tolerance_mas": None if tolerance is None else float(f"{tolerance / MAS:.12g}"), "cost_ms": cost_ms}
+            "tolerance_mas": None if tolerance is None else float(f"{tolerance / MAS:.12g}"), "cost_ms": cost_ms,
+            "axis": None, "free_wobble": None}   # tracks only
 
 
 def model_info(m: PrecessionNutation, b: Body) -> dict:
@@ -266,14 +267,41 @@ TRACK_KEYS = ("jd_tdb", "psi_arcsec", "delta_psi_arcsec", "delta_epsilon_arcsec"
               "pole_ra_deg", "pole_dec_deg")
 
 
+AXIS_ASSUMPTIONS = {
+    "angular_momentum": "the pole served is the angular momentum, which the free wobble does not move",
+    "figure": "the pole served is the figure axis, taken as the angular momentum: the free wobble is left "
+              "out and counted in the estimate (free_wobble)",
+    "figure+wobble": "the pole served is the figure axis: the torque-free rigid-body wobble (given J and phase) "
+                     "added about the forced angular momentum",
+}
+
+
+def _wobble_request(b: Body, axis: str, phase_deg, J_arcsec, epoch):
+    if phase_deg is None:
+        for name, value in (("free_wobble_J_arcsec", J_arcsec), ("free_wobble_epoch", epoch)):
+            if value is not None:
+                raise InvalidInputError(name, "give the wobble's phase (free_wobble_phase_deg) with it", b.name)
+        return None
+    if axis != "figure":
+        raise InvalidInputError("free_wobble_phase_deg", "the free wobble moves the figure axis, not the "
+                                "angular momentum: ask for axis=figure", b.name)
+    from .free_motion import make_wobble
+
+    return make_wobble(b, phase_deg, J_arcsec, None if epoch is None else to_jd_tdb(epoch, "free_wobble_epoch"))
+
+
 def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,
                  order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES,
-                 tolerance_mas: float | None = None, model: str | None = None) -> dict:
+                 tolerance_mas: float | None = None, model: str | None = None, axis: str = "figure",
+                 free_wobble_phase_deg: float | None = None, free_wobble_J_arcsec: float | None = None,
+                 free_wobble_epoch=None) -> dict:
     """As :func:`track`, with numpy arrays instead of lists (for streaming and numerical use)."""
     begin = time.perf_counter()
     b = resolve_body(body, dataset)
     t0, step, count = epoch_grid(start, stop, step_days, max_samples)
     order, tol, rung = _order(order), _tolerance(tolerance_mas), _rung(model)
+    if axis not in AXES:
+        raise InvalidInputError("axis", f"must be one of {', '.join(AXES)}, got {axis!r}", b.name)
     if tol is not None and (order is not None or rung is not None):
         raise InvalidInputError("tolerance_mas", "give a tolerance, or a model and order, not both")
     if rung is None:
@@ -283,25 +311,40 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     if order is not None and rung != "series":
         raise InvalidInputError("order", f"an e-order applies to the 'series' model, not to {rung!r}")
     m = model_for(b, dataset, order)
-    ladder = Ladder(b)
+    wobble = _wobble_request(b, axis, free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch)
+    ladder = Ladder(b, axis, wobble)
     t = t0 + step * np.arange(count)
     if tol is not None:
         est = ladder.choose(t, tol)
         rung, order = est.rung, est.order
-    else:
-        est = next((e for e in ladder.estimates(t) if e.rung == rung and e.order == order), None)
+    else:   # a named rung follows the wobble whenever its phase is given
+        est = next((e for e in ladder.estimates(t) if e.rung == rung and e.order == order
+                    and e.free_wobble == (wobble is not None)), None)
     if rung in ("hansen", "series"):   # the fast evaluation on an even grid
         tr = cached_model(b, order).track_grid(t0, step, count)
     else:
         tr = ladder.track(rung, t, order)
+    with_wobble = wobble is not None and (est is None or est.free_wobble)
+    if with_wobble:
+        tr = ladder.add_wobble(tr)
     estimate = None if est is None or not est.available else est.total
     info = model_info(m, b)
-    info["assumptions"] = ASSUMPTIONS + RUNG_ASSUMPTIONS[rung]
+    info["assumptions"] = [AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else axis]] + ASSUMPTIONS[1:] \
+        + RUNG_ASSUMPTIONS[rung]
     if est is not None and "orbit_motion" in est.unestimated:
         info["warnings"].append("the real orbit's departure from the fixed Keplerian one was never measured for "
                                 "this body: the error estimate treats the given orbit as exact (see docs/accuracy.md)")
+    if est is not None and "free_wobble" in est.unestimated:
+        info["warnings"].append("no free-wobble amplitude is published for this body: the estimate takes its "
+                                "figure axis to coincide with the angular momentum (a relaxed rotator)")
+    if with_wobble:
+        info["warnings"].append("the free wobble added is a rigid body's; its amplitude and phase are yours, "
+                                "and the estimate does not include their uncertainty")
     info.update(_selection_info(rung, order, estimate, 1e3 * (time.perf_counter() - begin), tol,
                                 None if est is None else est.terms))
+    info["axis"] = axis
+    info["free_wobble"] = None if not with_wobble else {
+        "J_arcsec": wobble.J_arcsec, "phase_deg": wobble.phase_deg, "epoch_jd_tdb": wobble.epoch_jd_tdb}
     return {
         "body": b.name, "dataset": b.dataset,
         "jd_tdb": tr.jd_tdb,
@@ -317,15 +360,24 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
 
 def track(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,
           order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES, tolerance_mas: float | None = None,
-          model: str | None = None) -> dict:
+          model: str | None = None, axis: str = "figure", free_wobble_phase_deg: float | None = None,
+          free_wobble_J_arcsec: float | None = None, free_wobble_epoch=None) -> dict:
     """Spin-axis track: ψ, Δψ, Δε (arcsec), obliquity and pole RA/Dec (deg) at each epoch.
 
     ``tolerance_mas`` lets the fidelity ladder (:mod:`ephem.ladder`) pick the cheapest model
     whose pole is estimated within that many milliarcseconds of the truth at every epoch;
     ``model`` (a rung name) and ``order`` choose one explicitly. The answer's ``model``
     reports ``name``, ``order``, ``estimated_error_mas`` and ``cost_ms``.
+
+    ``axis``: "figure" (default; the body's axis of largest inertia, which circles the angular
+    momentum by the free wobble) or "angular_momentum". ``free_wobble_phase_deg`` (the figure
+    axis's position angle about the angular momentum at ``free_wobble_epoch``, default the pole
+    epoch, from the ICRF north through east, with the angular momentum in the body's b2-b3 plane
+    then) lets the track add the free wobble when the tolerance needs it (or always, with a named
+    model); ``free_wobble_J_arcsec`` overrides the published amplitude.
     """
-    ans = track_arrays(body, start, stop, step_days, dataset, order, max_samples, tolerance_mas, model)
+    ans = track_arrays(body, start, stop, step_days, dataset, order, max_samples, tolerance_mas, model, axis,
+                       free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch)
     for key in TRACK_KEYS:
         ans[key] = ans[key].tolist()
     return ans

@@ -122,13 +122,26 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
           dataset: str = DatasetOpt, fmt: Format = FormatOpt, order: Optional[int] = OrderOpt,
           tolerance_mas: Optional[float] = ToleranceOpt,
           model: Optional[str] = typer.Option(None, "--model", help="A rung of the fidelity ladder: "
-                                              "secular, series, hansen, second_order, numerical, real_orbit.")):
+                                              "secular, series, hansen, second_order, numerical, real_orbit."),
+          axis: str = typer.Option("figure", "--axis", help="The pole to follow: figure (the axis of largest "
+                                   "inertia, which circles the angular momentum by the free wobble) or "
+                                   "angular_momentum."),
+          wobble_phase: Optional[float] = typer.Option(None, "--free-wobble-phase-deg", help="Position angle of "
+                                                       "the figure axis about the angular momentum at the wobble "
+                                                       "epoch (north through east): lets the track add the free "
+                                                       "wobble when the tolerance needs it."),
+          wobble_j: Optional[float] = typer.Option(None, "--free-wobble-J-arcsec", help="The wobble's amplitude "
+                                                   "(default: the published one)."),
+          wobble_epoch: Optional[str] = typer.Option(None, "--free-wobble-epoch", help="Epoch of the phase "
+                                                     "(default: the pole epoch).")):
     """Spin-axis track of BODY: ψ, Δψ, Δε, obliquity and pole RA/Dec over time.
 
     The model used (rung, order, estimated error, cost) goes to stderr with --format csv or table.
     """
     try:
-        ans = api.track(name, start, stop, step_days, dataset, order, tolerance_mas=tolerance_mas, model=model)
+        ans = api.track(name, start, stop, step_days, dataset, order, tolerance_mas=tolerance_mas, model=model,
+                        axis=axis, free_wobble_phase_deg=wobble_phase, free_wobble_J_arcsec=wobble_j,
+                        free_wobble_epoch=wobble_epoch)
     except EphemError as exc:
         _fail(exc)
     if fmt is not Format.json:
@@ -136,6 +149,7 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
         err = info["estimated_error_mas"]
         typer.echo(f"model: {info['name']}" + (f" (order {info['order']})" if info["order"] is not None else "")
                    + (f", estimated error {err:.4g} mas" if err is not None else "")
+                   + (", with the free wobble" if info["free_wobble"] else "")
                    + f", {info['cost_ms']:.1f} ms", err=True)
     keys = ["jd_tdb", "psi_arcsec", "delta_psi_arcsec", "delta_epsilon_arcsec", "obliquity_deg",
             "pole_ra_deg", "pole_dec_deg"]

@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 import tomllib
 import time
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -173,3 +174,137 @@ def free_motion(body: Body, jd_tdb: np.ndarray, J_arcsec: float | None = None, m
         "mode": rot.mode, "method": used, "J_arcsec": float(J_arcsec),
         "moments_over_C": list(moments), "cost_ms": 1e3 * (time.perf_counter() - start),
     }
+
+
+# --- the free wobble on a forced spin-axis track --------------------------------------------------
+
+@lru_cache(maxsize=1)
+def _observed_periods() -> dict:
+    with open(data_dir() / "free_motion.toml", "rb") as fh:
+        return {row["name"]: row["observed_wobble_period_days"] for row in tomllib.load(fh)["body"]
+                if "observed_wobble_period_days" in row}
+
+
+def observed_wobble_period_days(body: Body) -> float | None:
+    """The wobble period observed for a body whose rigid-body period is known to be wrong (the Earth's
+    Chandler wobble, 433 d against the rigid 303 d: the Earth is not rigid), or None."""
+    return _observed_periods().get(body.name) if body.dataset != "user" else None
+
+
+def free_wobble_bound(body: Body) -> float | None:
+    """The largest angle (radians) between the figure axis and the angular momentum in the published
+    free wobble, or None when no amplitude is published.
+
+    J0 is the angle at ν = 0 (the angular momentum in the body's b2-b3 plane), where it is largest in the
+    short-axis mode: energy conservation, sin²J (sin²ν/A + cos²ν/B) + cos²J/C = const with A ≤ B < C,
+    gives sin²J(ν = 90°) = sin²J0 (1/B - 1/C)/(1/A - 1/C) ≤ sin²J0 (tests/test_free_wobble.py checks
+    it against the exact solution).
+    """
+    j0 = default_wobble_arcsec(body)
+    return None if j0 is None else j0 * ARCSEC
+
+
+@dataclass(frozen=True)
+class Wobble:
+    """A free wobble to add to a forced track: the figure axis at angle J from the angular momentum L,
+    at position angle ``phase_deg`` about L (from the ICRF north through east) at ``epoch_jd_tdb``,
+    with L in the body's b2-b3 plane then (Andoyer ν = 0, where J is largest)."""
+
+    J_arcsec: float
+    phase_deg: float
+    epoch_jd_tdb: float
+
+
+def make_wobble(body: Body, phase_deg, J_arcsec=None, epoch_jd_tdb: float | None = None) -> Wobble:
+    """Validate a wobble request for ``body``: J defaults to the published amplitude, the epoch to the
+    pole epoch."""
+    _moments(body)
+    if epoch_jd_tdb is None:
+        epoch_jd_tdb = body.pole.epoch_jd_tdb
+    if isinstance(phase_deg, bool) or not isinstance(phase_deg, (int, float)) or not math.isfinite(phase_deg):
+        raise InvalidInputError("free_wobble_phase_deg", f"must be a finite angle in degrees, got {phase_deg!r}",
+                                body.name)
+    if J_arcsec is None:
+        J_arcsec = default_wobble_arcsec(body)
+        if J_arcsec is None:
+            raise InvalidInputError("free_wobble_J_arcsec", "this body has no published free-wobble amplitude; "
+                                    "give one", body.name)
+    if isinstance(J_arcsec, bool) or not isinstance(J_arcsec, (int, float)) or not math.isfinite(J_arcsec) \
+            or not 0.0 <= J_arcsec <= 3600.0:
+        raise InvalidInputError("free_wobble_J_arcsec", f"must be a finite angle in [0, 3600] arcsec: the wobble "
+                                f"is added to the forced track as a small offset, got {J_arcsec!r}", body.name)
+    return Wobble(float(J_arcsec), float(phase_deg), float(epoch_jd_tdb))
+
+
+def _wobble_path(body: Body, wobble: Wobble, jd_tdb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(opening, azimuth) of the figure axis about L (radians) at the epochs, by the exact solution started
+    at the wobble's epoch; the azimuth counted from its value at the epoch, positive anticlockwise about L."""
+    from .andoyer import rot1
+    from .euler_poinsot import FreeRotation
+
+    moments = _moments(body)
+    omega = 2.0 * math.pi / (body.rotation_period_hours / 24.0)
+    J = wobble.J_arcsec * ARCSEC
+    L0 = np.array([0.0, omega * math.sin(J), omega * math.cos(J)])
+    rot = FreeRotation.from_body_momentum(moments, L0, wobble.epoch_jd_tdb, rot1(J))
+    f = rot.attitude(np.concatenate([[wobble.epoch_jd_tdb], np.asarray(jd_tdb, dtype=float)]))[:, 2, :]
+    opening = np.arctan2(np.hypot(f[:, 0], f[:, 1]), f[:, 2])
+    az = np.arctan2(f[:, 1], f[:, 0])
+    return opening[1:], az[1:] - az[0]
+
+
+def add_free_wobble(body: Body, wobble: Wobble, jd_tdb, pole_icrf: np.ndarray, pole_at_epoch: np.ndarray) -> np.ndarray:
+    """The figure axis (N, 3, ICRF unit vectors): the forced pole taken as the angular momentum L, plus the
+    torque-free motion of the figure axis about it (exact Euler-Poinsot solution, :mod:`ephem.euler_poinsot`).
+
+    The free motion is computed about a fixed L and carried along the forced track by the rotation that
+    takes L(epoch) to L(t) along their great circle; the coupling this neglects is of the order of J times
+    the angle L moves (:func:`wobble_model_bound`). ``pole_at_epoch``: L at the wobble's epoch (ICRF unit
+    vector), where the phase is counted.
+    """
+    t = np.asarray(jd_tdb, dtype=float)
+    L = np.asarray(pole_icrf, dtype=float)
+    opening, az = _wobble_path(body, wobble, t)
+    # position angle about L from the north through east: azimuth anticlockwise about L runs the other way
+    pa = math.radians(wobble.phase_deg) - az
+    L0 = np.asarray(pole_at_epoch, dtype=float)
+    east0 = np.cross([0.0, 0.0, 1.0], L0)
+    if np.linalg.norm(east0) < 1e-12:       # L along the ICRF pole: any east will do
+        east0 = np.array([0.0, 1.0, 0.0])
+    east0 /= np.linalg.norm(east0)
+    north0 = np.cross(L0, east0)
+    offset0 = np.cos(pa)[:, None] * north0 + np.sin(pa)[:, None] * east0     # tangent at L0
+    offset = _carry(L0, L, offset0)
+    return np.cos(opening)[:, None] * L + np.sin(opening)[:, None] * offset
+
+
+def _carry(a: np.ndarray, b: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Vectors v (N, 3) tangent at the unit vector a, rotated by the rotations taking a to each b (N, 3) about
+    a × b (Rodrigues; the identity where b = a)."""
+    axis = np.cross(a, b)
+    s = np.linalg.norm(axis, axis=1)
+    c = b @ a
+    k = np.divide(axis, s[:, None], out=np.zeros_like(axis), where=s[:, None] > 0.0)
+    kv = np.einsum("ij,ij->i", k, v)
+    return v * c[:, None] + np.cross(k, v) * s[:, None] + k * (kv * (1.0 - c))[:, None]
+
+
+def wobble_model_bound(body: Body, wobble: Wobble, jd_tdb, pole_icrf: np.ndarray, pole_at_epoch: np.ndarray) -> float:
+    """Error (radians) of a track with the wobble added, against a rigid body with that wobble: the transport
+    along the forced track (J times the largest angle L moves from its epoch direction, over twice for the
+    frame's turn) and, where the observed wobble period differs from the rigid one (the Earth), the phase
+    the rigid wobble loses, 2 J sin(Δφ/2) with Δφ = 2π |1/P_rigid - 1/P_observed| |t - t0|."""
+    t = np.asarray(jd_tdb, dtype=float)
+    if t.size == 0:
+        return 0.0
+    J = wobble.J_arcsec * ARCSEC
+    L0 = np.asarray(pole_at_epoch, dtype=float)
+    moved = float(np.max(np.arctan2(np.linalg.norm(np.cross(pole_icrf, L0), axis=1), pole_icrf @ L0)))
+    bound = 2.0 * J * moved
+    observed = observed_wobble_period_days(body)
+    if observed is not None:
+        rigid = free_motion(body, np.array([wobble.epoch_jd_tdb]), max(wobble.J_arcsec, 1e-3),
+                            "exact")["wobble_period_days"]
+        dphi = 2.0 * math.pi * abs(1.0 / rigid - 1.0 / observed) * float(np.max(np.abs(t - wobble.epoch_jd_tdb)))
+        bound += 2.0 * J * (1.0 if dphi >= math.pi else math.sin(0.5 * dphi))
+    return bound

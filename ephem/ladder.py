@@ -31,7 +31,16 @@ between its pole and the truth over the requested epochs, as a sum of named term
   measured drift rates in ``data/orbit_motion.toml``;
 * ``rotation_averaging`` (all): what averaging over the rotation leaves out, against
   the full rigid body (the figure axis);
-* ``ephemeris`` (rung 6): the real orbit's own error; ``rounding``: double precision.
+* ``ephemeris`` (rung 6): the real orbit's own error; ``rounding``: double precision;
+* ``free_wobble`` (all, for the figure axis): the published free-wobble amplitude J0 the track
+  leaves out, or ``free_wobble_model`` when the track includes the wobble (:mod:`ephem.free_motion`).
+
+Two poles can be asked for. ``axis="figure"`` (the default) is the body's axis of largest inertia,
+the pole a body-fixed frame shows: it circles the angular momentum by the free wobble (amplitude
+J0: Earth 1", Mars 0.1", Eros 55", Lara 2014 Table 1), which every rung adds only when the
+tolerance needs it and its phase is given (``Wobble``). ``axis="angular_momentum"`` is the axis the
+forced theory describes (the analogue of the IAU's celestial intermediate pole, which leaves the
+free wobble to polar motion); the free wobble does not move it.
 
 The estimate is a promise about the pole direction against the truth over the requested
 epochs; it does not include the catalogue's own uncertainties (a pole known to 0.1° is
@@ -49,11 +58,12 @@ from functools import lru_cache
 import numpy as np
 
 from .catalogue import Body
-from .constants import MAS
+from .constants import ARCSEC, MAS
 from .errors import InvalidInputError, NotApplicableError
 from .hansen import LAPLACE_LIMIT, hansen_exact, hansen_series
 from .kinoshita import eccentricity_factor
 from .model import PrecessionNutation, Track, build_model
+from .free_motion import Wobble, add_free_wobble, free_wobble_bound, wobble_model_bound
 from .physics_errors import (ephemeris_bound, orbit_motion_bound, real_orbit_unavailable, rotation_averaging_bound,
                              sun_path_for)
 from .second_order import SecondOrderTheory, second_order_theory
@@ -61,7 +71,9 @@ from .second_order import SecondOrderTheory, second_order_theory
 RUNGS = ("secular", "series", "hansen", "second_order", "numerical", "real_orbit")
 #: Terms from physics every rung up to ``numerical`` shares (the reference those rungs are tested against
 #: has them too); the rest are the rung's own approximations.
-PHYSICS_TERMS = ("orbit_motion", "rotation_averaging")
+PHYSICS_TERMS = ("orbit_motion", "rotation_averaging", "free_wobble", "free_wobble_model")
+#: The poles a track can follow (see the module docstring).
+AXES = ("figure", "angular_momentum")
 #: Highest e-power order the ladder tries for rung 2 (a truncated series is cheaper than the
 #: exact one only while it has fewer harmonics).
 MAX_LADDER_ORDER = 20
@@ -85,6 +97,8 @@ class Estimate:
     why_not: str | None = None
     #: terms that could not be estimated (a user's body: its orbit's motion was never measured)
     unestimated: tuple = ()
+    #: the track adds the free wobble of the figure axis (:func:`ephem.free_motion.add_free_wobble`)
+    free_wobble: bool = False
 
     @property
     def total(self) -> float:
@@ -265,11 +279,37 @@ def numerical_unavailable(model: PrecessionNutation, t: np.ndarray) -> str | Non
             f"{MAX_NUMERICAL_ORBITS} orbits per request; these epochs need {orbits:.0f}")
 
 
+def with_free_wobble(model: PrecessionNutation, track: Track, figure_icrf: np.ndarray) -> Track:
+    """The track of the figure axis: ``track`` (of the angular momentum) moved to the vectors ``figure_icrf``;
+    the wobble's share of ψ and ε goes into Δψ and Δε."""
+    s = figure_icrf @ model.icrf_from_orbit
+    raw = np.arctan2(s[:, 0], s[:, 1])
+    psi = track.psi + np.remainder(raw - track.psi + math.pi, 2.0 * math.pi) - math.pi
+    eps = np.arctan2(np.hypot(s[:, 0], s[:, 1]), s[:, 2])
+    ra = np.arctan2(figure_icrf[:, 1], figure_icrf[:, 0])
+    ra += (ra < 0.0) * (2.0 * math.pi)
+    dec = np.arctan2(figure_icrf[:, 2], np.hypot(figure_icrf[:, 0], figure_icrf[:, 1]))
+    return Track(track.jd_tdb, psi, track.delta_psi + (psi - track.psi), track.delta_epsilon + (eps - track.obliquity),
+                 eps, ra, dec)
+
+
 @dataclass(frozen=True)
 class Ladder:
-    """The rungs for one body: estimates, choice by tolerance, and evaluation."""
+    """The rungs for one body: estimates, choice by tolerance, and evaluation.
+
+    ``axis`` is the pole followed ("figure" or "angular_momentum"); ``wobble``, for the figure axis, the
+    free wobble a track may add when the tolerance needs it (its amplitude and phase)."""
 
     body: Body
+    axis: str = "figure"
+    wobble: Wobble | None = None
+
+    def __post_init__(self):
+        if self.axis not in AXES:
+            raise InvalidInputError("axis", f"must be one of {', '.join(AXES)}, got {self.axis!r}", self.body.name)
+        if self.wobble is not None and self.axis != "figure":
+            raise InvalidInputError("free_wobble_phase_deg", "the free wobble moves the figure axis, not the "
+                                    "angular momentum: ask for axis=figure", self.body.name)
 
     @property
     def model(self) -> PrecessionNutation:
@@ -327,6 +367,28 @@ class Ladder:
                                                            "ephemeris": ephemeris_bound(self.body, m, T)}, physics))
         else:
             out.append(Estimate("real_orbit", None, {}, available=False, why_not=why))
+        return self._wobble_estimates(out, t) if self.axis == "figure" else out
+
+    def _wobble_estimates(self, estimates: list[Estimate], t: np.ndarray) -> list[Estimate]:
+        """For the figure axis: each rung leaves out the free wobble (its amplitude, a term) and, when the
+        wobble's phase is given, follows it at the cost of the wobble model's error (a second estimate)."""
+        left_out = free_wobble_bound(self.body) if self.wobble is None else self.wobble.J_arcsec * ARCSEC
+        modelled = None
+        if self.wobble is not None:
+            modelled = wobble_model_bound(self.body, self.wobble, t, pole_vectors(self.model.track(t)),
+                                          self._pole_at_wobble_epoch()) + ROUNDING
+        out = []
+        for e in estimates:
+            if not e.available:
+                out.append(e)
+                continue
+            if left_out is None:
+                out.append(Estimate(e.rung, e.order, e.terms, unestimated=e.unestimated + ("free_wobble",)))
+            else:
+                out.append(Estimate(e.rung, e.order, {**e.terms, "free_wobble": left_out}, unestimated=e.unestimated))
+            if modelled is not None:
+                out.append(Estimate(e.rung, e.order, {**e.terms, "free_wobble_model": modelled},
+                                    unestimated=e.unestimated, free_wobble=True))
         return out
 
     def choose(self, jd_tdb, tolerance: float) -> Estimate:
@@ -343,16 +405,44 @@ class Ladder:
             if est.total <= tolerance:
                 return est
         best = min(candidates, key=lambda e: e.total)
+        largest = max(best.terms, key=best.terms.get)
+        hint = "widen the tolerance or shorten the span"
+        if largest == "free_wobble" and self.wobble is not None:
+            followed = next(e for e in candidates if e.free_wobble and e.rung == best.rung and e.order == best.order)
+            hint = (f"following the free wobble does not help: its model is estimated good to only "
+                    f"{followed.terms['free_wobble_model'] / MAS:.6g} mas here (the rigid wobble drifts in phase "
+                    "from the observed one, or L moves far from its epoch direction); give a wobble epoch "
+                    "(free_wobble_epoch) nearer these epochs, or ask for axis=angular_momentum")
+        elif largest == "free_wobble":
+            hint = ("the figure axis wobbles about the angular momentum by the free wobble; give its phase "
+                    "(free_wobble_phase_deg) to follow it, or ask for axis=angular_momentum")
         raise NotApplicableError(self.body.name, (
             f"no model meets the tolerance of {tolerance / MAS:.6g} mas over these epochs: the best, "
-            f"'{best.rung}', is estimated good to {best.total / MAS:.6g} mas (largest term: "
-            f"{max(best.terms, key=best.terms.get)}); widen the tolerance or shorten the span"))
+            f"'{best.rung}', is estimated good to {best.total / MAS:.6g} mas (largest term: {largest}); {hint}"))
 
-    def track(self, rung: str, jd_tdb, order: int | None = None) -> Track:
-        """The pole track of one rung at the epochs (JD TDB)."""
+    def track(self, rung: str, jd_tdb, order: int | None = None, free_wobble: bool = False) -> Track:
+        """The pole track of one rung at the epochs (JD TDB); with ``free_wobble``, the figure axis with the
+        ladder's wobble added."""
+        t = np.asarray(jd_tdb, dtype=float)
+        track = self._rung_track(rung, t, order)
+        return self.add_wobble(track) if free_wobble else track
+
+    def add_wobble(self, track: Track) -> Track:
+        """A rung's track with the free wobble of the figure axis added (needs the ladder's ``wobble``)."""
+        if self.wobble is None:
+            raise InvalidInputError("free_wobble_phase_deg", "adding the free wobble needs its phase",
+                                    self.body.name)
+        figure = add_free_wobble(self.body, self.wobble, track.jd_tdb, pole_vectors(track),
+                                 self._pole_at_wobble_epoch())
+        return with_free_wobble(self.model, track, figure)
+
+    def _pole_at_wobble_epoch(self) -> np.ndarray:
+        # where the phase is counted; it sets only the north/east directions there, so rung 3 serves
+        return pole_vectors(self.model.track([self.wobble.epoch_jd_tdb]))[0]
+
+    def _rung_track(self, rung: str, t: np.ndarray, order: int | None) -> Track:
         from .numerical import integrate_spin_axis  # scipy.integrate: 0.35 s to import, only for these rungs
 
-        t = np.asarray(jd_tdb, dtype=float)
         m = self.model
         if rung == "secular":
             return secular_track(m, t)

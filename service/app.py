@@ -57,6 +57,11 @@ class Rung(str, Enum):
     real_orbit = "real_orbit"
 
 
+class Axis(str, Enum):
+    figure = "figure"
+    angular_momentum = "angular_momentum"
+
+
 class FreeMethod(str, Enum):
     auto = "auto"
     exact = "exact"
@@ -163,9 +168,21 @@ def create_app(settings: Settings | None = None) -> FastAPI:
               tolerance_mas: ToleranceQuery = None,
               model: Annotated[Optional[Rung], Query(description="a rung of the fidelity ladder (not with "
                                                                  "tolerance_mas); default hansen")] = None,
+              axis: Annotated[Axis, Query(description="the pole to follow: the figure axis (the body's axis of "
+                                                      "largest inertia, which circles the angular momentum by the "
+                                                      "free wobble) or the angular momentum")] = Axis.figure,
+              free_wobble_phase_deg: Annotated[Optional[float], Query(
+                  description="the figure axis's position angle about the angular momentum at free_wobble_epoch, "
+                              "from the ICRF north through east, deg: lets the track add the free wobble when the "
+                              "tolerance needs it (always, with a named model)")] = None,
+              free_wobble_J_arcsec: Annotated[Optional[float], Query(
+                  ge=0, le=3600, description="the wobble's amplitude (default: the published one)")] = None,
+              free_wobble_epoch: Annotated[Optional[str], Query(
+                  description="epoch of the phase, ISO 8601 or JD TDB (default: the pole epoch)")] = None,
               format: Annotated[TrackFormat, Query(description="json or csv (streamed)")] = TrackFormat.json):
         arrays = api.track_arrays(body, start, stop, step_days, dataset.value, order,
-                                  settings.max_track_samples, tolerance_mas, None if model is None else model.value)
+                                  settings.max_track_samples, tolerance_mas, None if model is None else model.value,
+                                  axis.value, free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch)
         if format is TrackFormat.csv:
             return StreamingResponse(_csv_rows(arrays), media_type="text/csv; charset=utf-8")
         return finite_json(arrays)
@@ -208,7 +225,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             tr = user.track
             answer["track"] = api.track_arrays(b, tr.start, tr.stop, tr.step_days, order=user.order,
                                                max_samples=settings.max_track_samples,
-                                               tolerance_mas=tr.tolerance_mas, model=tr.model)
+                                               tolerance_mas=tr.tolerance_mas, model=tr.model, axis=tr.axis,
+                                               free_wobble_phase_deg=tr.free_wobble_phase_deg,
+                                               free_wobble_J_arcsec=tr.free_wobble_J_arcsec,
+                                               free_wobble_epoch=tr.free_wobble_epoch)
         return finite_json(answer)
 
     return app

@@ -7,6 +7,15 @@ from pydantic import BaseModel, ConfigDict, Field
 
 Finite = ConfigDict(allow_inf_nan=False, extra="forbid")
 RungName = Literal["secular", "series", "hansen", "second_order", "numerical", "real_orbit"]
+AxisName = Literal["figure", "angular_momentum"]
+
+
+class FreeWobbleInfo(BaseModel):
+    J_arcsec: float = Field(description="the wobble's amplitude: the angle between the figure axis and the angular "
+                                        "momentum at its epoch, arcsec")
+    phase_deg: float = Field(description="the figure axis's position angle about the angular momentum at the epoch, "
+                                         "from the ICRF north through east, deg")
+    epoch_jd_tdb: float
 
 
 class ModelInfo(BaseModel):
@@ -27,6 +36,10 @@ class ModelInfo(BaseModel):
     error_terms_mas: Optional[dict[str, float]] = Field(description="the estimate by named term, mas")
     tolerance_mas: Optional[float] = Field(description="the tolerance that chose the rung, if one was given")
     cost_ms: float = Field(description="wall time of the computation, ms")
+    axis: Optional[AxisName] = Field(None, description="tracks: the pole followed, the figure axis (default) or the "
+                                                       "angular momentum")
+    free_wobble: Optional[FreeWobbleInfo] = Field(None, description="tracks: the free wobble added to the figure "
+                                                                    "axis, or null when it is left out")
 
 
 class BodySummary(BaseModel):
@@ -146,6 +159,14 @@ class TrackIn(BaseModel):
     tolerance_mas: Optional[float] = Field(None, gt=0, description="pick the cheapest model whose pole is estimated "
                                                                    "within this many mas of the truth")
     model: Optional[RungName] = Field(None, description="use this rung of the ladder (not with tolerance_mas)")
+    axis: AxisName = Field("figure", description="the pole to follow: the figure axis or the angular momentum")
+    free_wobble_phase_deg: Optional[float] = Field(None, description="the figure axis's position angle about the "
+                                                   "angular momentum at free_wobble_epoch (north through east), deg: "
+                                                   "lets the track add the free wobble")
+    free_wobble_J_arcsec: Optional[float] = Field(None, ge=0, le=3600, description="the wobble's amplitude, arcsec "
+                                                  "(a body of your own has no published one)")
+    free_wobble_epoch: Optional[Union[float, str]] = Field(None, description="epoch of the phase (default: the "
+                                                           "pole epoch), ISO 8601 or JD TDB")
 
 
 class UserBody(BaseModel):
