@@ -180,6 +180,38 @@ def free_motion(name: str = typer.Argument(..., metavar="BODY"),
     _emit(ans, fmt, rows or [dict.fromkeys(api.FREE_MOTION_KEYS, "")])
 
 
+@app.command()
+def tables(names: Optional[list[str]] = typer.Argument(None, metavar="[BODY]...",
+                                                      help="Bodies (default: the whole catalogue)."),
+           dataset: str = DatasetOpt,
+           formats: list[str] = typer.Option(["csv", "markdown", "latex", "json"], "--format",
+                                             help="csv, markdown, latex or json; repeat for several."),
+           layouts: list[str] = typer.Option(["sin-cos", "amp-period"], "--layout",
+                                             help="sin-cos (Petit et al. Tables 5-8) or amp-period (Tables 9-10)."),
+           order: Optional[int] = OrderOpt,
+           out: Path = typer.Option(Path("tables"), "--out", help="Directory for the files.")):
+    """Nutation tables in the paper's layouts for BODY... or the whole catalogue: one file per body, layout
+    and format (<body>_<dataset>_<layout>.csv|md|tex|json). Bodies the theory does not apply to (the Moon)
+    are skipped with the reason."""
+    from .tables import write_tables
+
+    try:
+        bodies = names or [b["name"] for b in api.list_bodies(dataset)]
+        answers, skipped = [], []
+        with typer.progressbar(bodies, label="tables", item_show_func=lambda b: b or "") as bar:
+            for name in bar:
+                try:
+                    answers.append(api.nutation(name, dataset, order))
+                except NotApplicableError as exc:
+                    skipped.append(str(exc))
+        written = write_tables(answers, out, formats, layouts)
+    except EphemError as exc:
+        _fail(exc)
+    for why in skipped:
+        typer.echo(f"skipped: {why}", err=True)
+    typer.echo(f"wrote {len(written)} files for {len(answers)} bodies to {out}/")
+
+
 def _run_charts(jobs, out: Path, doc: str) -> None:
     with typer.progressbar(jobs, label="charts", item_show_func=lambda job: job[0] if job else "") as bar:
         for _, job in bar:

@@ -1,72 +1,204 @@
-"""Nutation tables in the layout of Petit et al. (2014) Tables 5-8: Sin, Cos, Amp, Period, Arg.
+"""Nutation tables in the layouts of Petit, Souchay & Lhotka (2014), as CSV, Markdown, LaTeX or JSON.
 
-One table for the longitude, one for the obliquity. As in the paper, the longitude's Amp is
-sqrt(Sin² + Cos²) · sin ε (the pole's displacement on the sky) and the obliquity's is
-sqrt(Sin² + Cos²); periods in years; Arg the multiple of the mean anomaly M. Input: the answer of
-:func:`ephem.api.nutation`. Output: CSV, Markdown or LaTeX (booktabs) text.
+Two layouts, each a pair of tables (longitude, obliquity):
+
+* ``sin-cos`` (the paper's Tables 5-8): Sin, Cos, Amp (arcsec), Period (years), Arg. As in the
+  paper the longitude's Amp is sqrt(Sin² + Cos²) · sin ε (the pole's displacement on the sky) and
+  the obliquity's is sqrt(Sin² + Cos²).
+* ``amp-period`` (Tables 9-10): Amp (mas) and Period (days), the same amplitudes.
+
+Arg is the multiple of the body's mean anomaly M. Input: the answer of :func:`ephem.api.nutation`
+(with ``*_uncertainty`` keys on its terms when the catalogue's uncertainties were propagated: they
+become ± columns). :func:`render_nutation` gives the text; :func:`write_tables` writes a set of
+bodies at once. Every format is rendered from the same rows (:func:`table_rows`), so they carry
+the same numbers (tests/test_tables.py parses each back).
 """
 from __future__ import annotations
 
 import csv
 import io
+import json
 import math
+from pathlib import Path
+from typing import Callable, Iterable
 
 FORMATS = {"csv": "text/csv; charset=utf-8", "markdown": "text/markdown; charset=utf-8",
-           "latex": "application/x-latex; charset=utf-8"}
+           "latex": "application/x-latex; charset=utf-8", "json": "application/json"}
+EXTENSIONS = {"csv": "csv", "markdown": "md", "latex": "tex", "json": "json"}
+LAYOUTS = ("sin-cos", "amp-period")
+COMPONENTS = ("longitude", "obliquity")
+
+#: (key, header, LaTeX header, unit) of each layout's numeric columns, then the argument
+_COLUMNS = {
+    "sin-cos": [("sin_arcsec", "Sin (\")", r"Sin ($''$)"), ("cos_arcsec", "Cos (\")", r"Cos ($''$)"),
+                ("amp_arcsec", "Amp (\")", r"Amp ($''$)"), ("period_years", "Period (year)", "Period (year)")],
+    "amp-period": [("amp_mas", "Amp (mas)", "Amp (mas)"), ("period_days", "Per (days)", "Per (days)")],
+}
+_PAPER_TABLES = {"sin-cos": "Tables 5-8", "amp-period": "Tables 9-10"}
+#: digits after the decimal point, as printed in the paper
+_DIGITS = {"sin-cos": 4, "amp-period": {"amp_mas": 2, "period_days": 4}}
 
 
-def nutation_rows(answer: dict) -> list[dict]:
-    """Rows (component, Sin, Cos, Amp, Period, Arg) of both tables, arcsec and years."""
-    sin_eps = math.sin(math.radians(answer["obliquity_deg"]))
+def _check(layout: str, fmt: str | None = None) -> None:
+    from .errors import InvalidInputError
+
+    if layout not in LAYOUTS:
+        raise InvalidInputError("layout", f"must be one of {', '.join(LAYOUTS)}, got {layout!r}")
+    if fmt is not None and fmt not in FORMATS:
+        raise InvalidInputError("format", f"must be one of {', '.join(FORMATS)}, got {fmt!r}")
+
+
+def _arg(k: int) -> str:
+    return "M" if k == 1 else f"{k}M"
+
+
+def table_rows(answer: dict, layout: str = "sin-cos") -> list[dict]:
+    """Rows of both tables of a layout: ``component``, ``multiple``, ``arg``, the layout's columns and, where
+    the answer carries them, their 1-σ uncertainties (``<column>_uncertainty``)."""
+    _check(layout)
+    eps = math.radians(answer["obliquity_deg"])
+    sin_eps = math.sin(eps)
     rows = []
-    for comp, key in (("longitude", "longitude"), ("obliquity", "obliquity")):
+    for comp in COMPONENTS:
         for t in answer["terms"]:
-            s, c = t[f"{key}_sin_arcsec"], t[f"{key}_cos_arcsec"]
-            amp = math.hypot(s, c) * (sin_eps if comp == "longitude" else 1.0)
-            k = t["multiple"]
-            rows.append({"component": comp, "sin_arcsec": s, "cos_arcsec": c, "amp_arcsec": amp,
-                         "period_years": t["period_years"], "arg": "M" if k == 1 else f"{k}M"})
+            s, c = t[f"{comp}_sin_arcsec"], t[f"{comp}_cos_arcsec"]
+            scale = abs(sin_eps) if comp == "longitude" else 1.0
+            amp = math.hypot(s, c) * scale
+            row = {"component": comp, "multiple": int(t["multiple"]), "arg": _arg(int(t["multiple"]))}
+            sig_amp = t.get(f"{comp}_amplitude_arcsec_uncertainty")
+            if layout == "sin-cos":
+                row.update(sin_arcsec=s, cos_arcsec=c, amp_arcsec=amp, period_years=t["period_years"])
+                for key in ("sin", "cos"):
+                    sig = t.get(f"{comp}_{key}_arcsec_uncertainty")
+                    if sig is not None:
+                        row[f"{key}_arcsec_uncertainty"] = sig
+                if sig_amp is not None:
+                    row["amp_arcsec_uncertainty"] = sig_amp
+            else:
+                row.update(amp_mas=amp * 1e3, period_days=t["period_days"])
+                if sig_amp is not None:
+                    row["amp_mas_uncertainty"] = sig_amp * 1e3
+            rows.append(row)
     return rows
 
 
-def _caption(answer: dict, comp: str) -> str:
+def caption(answer: dict, comp: str, layout: str = "sin-cos") -> str:
+    """The table's caption: what, which body and dataset, ε, how Amp is formed."""
     what = "longitude" if comp == "longitude" else "obliquity"
-    amp = "Amp = (Sin² + Cos²)^½ sin ε" if comp == "longitude" else "Amp = (Sin² + Cos²)^½"
-    return (f"Nutation in {what} for {answer['body']} ({answer['dataset']} dataset, ε = "
-            f"{answer['obliquity_deg']:.4f}°; {amp}; argument: multiples of the mean anomaly M)")
+    if layout == "sin-cos":
+        amp = "Amp = (Sin² + Cos²)^½ sin ε" if comp == "longitude" else "Amp = (Sin² + Cos²)^½"
+        lead = f"Nutation in {what}"
+    else:
+        amp = "periods in days"
+        lead = "Amplitude of the nutation in longitude Δψ sin ε" if comp == "longitude" else \
+            "Amplitude of the nutation in obliquity Δε"
+    return (f"{lead} for {answer['body']} ({answer['dataset']} dataset, ε = {answer['obliquity_deg']:.4f}°; "
+            f"{amp}; argument: multiples of the mean anomaly M; layout of Petit et al. 2014 "
+            f"{_PAPER_TABLES[layout]})")
 
 
-def render_nutation(answer: dict, fmt: str, digits: int = 4) -> str:
-    """The nutation answer as ``csv``, ``markdown`` or ``latex`` text."""
-    rows = nutation_rows(answer)
+def _digits(layout: str, key: str, digits: int | None) -> int:
+    if digits is not None:
+        return digits
+    d = _DIGITS[layout]
+    return d if isinstance(d, int) else d[key]
+
+
+def _has_sigma(rows: list[dict], key: str) -> bool:
+    return any(f"{key}_uncertainty" in r for r in rows)
+
+
+def _cell(row: dict, key: str, places: int, latex: bool = False) -> str:
+    value = f"{row[key]:.{places}f}"
+    sigma = row.get(f"{key}_uncertainty")
+    if sigma is None:
+        return value
+    pm = r" $\pm$ " if latex else " ± "
+    return value + pm + f"{sigma:.{places}f}"
+
+
+_LATEX_SPECIAL = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
+                  "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
+
+
+def latex_escape(text: str) -> str:
+    """Text with LaTeX's special characters escaped (body names are user input)."""
+    return "".join(_LATEX_SPECIAL.get(ch, ch) for ch in text)
+
+
+def _latex_caption(answer: dict, comp: str, layout: str) -> str:
+    text = latex_escape(caption(answer, comp, layout))
+    for plain, tex in (("ε", r"$\varepsilon$"), ("°", r"$^\circ$"), ("Δψ", r"$\Delta\psi$"), ("Δε", r"$\Delta\varepsilon$"),
+                       ("(Sin² + Cos²)\\textasciicircum{}½", r"$(\mathrm{Sin}^2 + \mathrm{Cos}^2)^{1/2}$")):
+        text = text.replace(plain, tex)
+    return text
+
+
+def render_nutation(answer: dict, fmt: str, digits: int | None = None, layout: str = "sin-cos") -> str:
+    """The nutation answer as ``csv``, ``markdown``, ``latex`` (booktabs, two ``table`` floats ready for
+    ``\\input``) or ``json`` text in the given layout. ``digits``: places after the point (default as
+    printed in the paper); CSV and JSON carry full precision."""
+    _check(layout, fmt)
+    rows = table_rows(answer, layout)
+    columns = _COLUMNS[layout]
     if fmt == "csv":
+        keys = ["component", "multiple", "arg"]
+        for key, *_ in columns:
+            keys.append(key)
+            if _has_sigma(rows, key):
+                keys.append(f"{key}_uncertainty")
         buf = io.StringIO()
-        w = csv.DictWriter(buf, fieldnames=list(rows[0]) if rows else
-                           ["component", "sin_arcsec", "cos_arcsec", "amp_arcsec", "period_years", "arg"],
-                           lineterminator="\n")
-        w.writeheader()
-        w.writerows(rows)
+        writer = csv.DictWriter(buf, fieldnames=keys, lineterminator="\n", extrasaction="ignore")
+        writer.writeheader()
+        writer.writerows(rows)
         return buf.getvalue()
-    f = f"{{:.{digits}f}}"
+    if fmt == "json":
+        tables = []
+        for comp in COMPONENTS:
+            part = [{k: v for k, v in r.items() if k != "component"} for r in rows if r["component"] == comp]
+            tables.append({"component": comp, "caption": caption(answer, comp, layout), "rows": part})
+        return json.dumps({"body": answer["body"], "dataset": answer["dataset"], "layout": layout,
+                           "obliquity_deg": answer["obliquity_deg"], "tables": tables}, indent=1) + "\n"
     blocks = []
-    for comp in ("longitude", "obliquity"):
+    for comp in COMPONENTS:
         part = [r for r in rows if r["component"] == comp]
-        cells = [[f.format(r["sin_arcsec"]), f.format(r["cos_arcsec"]), f.format(r["amp_arcsec"]),
-                  f.format(r["period_years"]), r["arg"]] for r in part]
+        latex = fmt == "latex"
+        cells = [[_cell(r, key, _digits(layout, key, digits), latex) for key, *_ in columns] for r in part]
         if fmt == "markdown":
-            lines = [f"**{_caption(answer, comp)}**", "",
-                     "| Sin (\") | Cos (\") | Amp (\") | Period (year) | Arg |", "|---:|---:|---:|---:|:---|"]
-            lines += ["| " + " | ".join(c) + " |" for c in cells]
-            blocks.append("\n".join(lines))
-        elif fmt == "latex":
-            caption = _caption(answer, comp).replace("ε", r"$\varepsilon$").replace("°", r"$^\circ$") \
-                .replace("(Sin² + Cos²)^½", r"$(\mathrm{Sin}^2 + \mathrm{Cos}^2)^{1/2}$")
-            lines = [r"\begin{table}", r"\centering", rf"\caption{{{caption}}}",
-                     r"\begin{tabular}{rrrrl}", r"\toprule",
-                     r"Sin ($''$) & Cos ($''$) & Amp ($''$) & Period (year) & Arg \\", r"\midrule"]
-            lines += [" & ".join(c[:4] + [c[4].replace("M", r"$M$")]) + r" \\" for c in cells]
-            lines += [r"\bottomrule", r"\end{tabular}", r"\end{table}"]
-            blocks.append("\n".join(lines))
+            head = [label for _, label, _ in columns] + ["Arg"]
+            lines = [f"**{caption(answer, comp, layout)}**", "", "| " + " | ".join(head) + " |",
+                     "|" + "---:|" * len(columns) + ":---|"]
+            lines += ["| " + " | ".join(c + [r["arg"]]) + " |" for c, r in zip(cells, part)]
         else:
-            raise ValueError(f"unknown table format {fmt!r}; choose from {', '.join(FORMATS)}")
+            head = [tex for _, _, tex in columns] + ["Arg"]
+            lines = [r"\begin{table}", r"\centering", rf"\caption{{{_latex_caption(answer, comp, layout)}}}",
+                     r"\begin{tabular}{" + "r" * len(columns) + "l}", r"\toprule", " & ".join(head) + r" \\",
+                     r"\midrule"]
+            lines += [" & ".join(c + [r["arg"].replace("M", r"$M$")]) + r" \\" for c, r in zip(cells, part)]
+            lines += [r"\bottomrule", r"\end{tabular}", r"\end{table}"]
+        blocks.append("\n".join(lines))
     return "\n\n".join(blocks) + "\n"
+
+
+def write_tables(answers: Iterable[dict], out_dir: Path, formats: Iterable[str] = ("csv", "markdown", "latex", "json"),
+                 layouts: Iterable[str] = LAYOUTS, progress: Callable[[str], None] | None = None) -> list[Path]:
+    """Write every (answer, layout, format) table into ``out_dir`` as ``<body>_<dataset>_<layout>.<ext>``;
+    returns the paths. ``progress`` is called with each file name as it is written."""
+    formats, layouts = list(formats), list(layouts)
+    for layout in layouts:
+        _check(layout)
+    for fmt in formats:
+        _check(LAYOUTS[0], fmt)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    written = []
+    for answer in answers:
+        stem = f"{answer['body'].lower().replace(' ', '_')}_{answer['dataset']}"
+        for layout in layouts:
+            for fmt in formats:
+                path = out / f"{stem}_{layout}.{EXTENSIONS[fmt]}"
+                path.write_text(render_nutation(answer, fmt, layout=layout), encoding="utf-8")
+                written.append(path)
+                if progress is not None:
+                    progress(path.name)
+    return written

@@ -32,6 +32,7 @@ class TableFormat(str, Enum):
     csv = "csv"
     markdown = "markdown"
     latex = "latex"
+    table_json = "table-json"
 
 
 class TrackFormat(str, Enum):
@@ -55,6 +56,11 @@ class Rung(str, Enum):
     second_order = "second_order"
     numerical = "numerical"
     real_orbit = "real_orbit"
+
+
+class TableLayout(str, Enum):
+    sin_cos = "sin-cos"
+    amp_period = "amp-period"
 
 
 class Axis(str, Enum):
@@ -136,17 +142,24 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             "application/json": {"example": {"terms": [{
                 "multiple": 2, "period_days": 662.69, "period_years": 1.8143, "longitude_sin_arcsec": -2.6118,
                 "longitude_cos_arcsec": -2.6478, "obliquity_sin_arcsec": -1.3763, "obliquity_cos_arcsec": 1.4318}]}},
-            "text/csv": {"example": "component,sin_arcsec,cos_arcsec,amp_arcsec,period_years,arg\n"
-                                    "longitude,2.3784,0.2431,1.1025,3.6287,M\n"},
+            "text/csv": {"example": "component,multiple,arg,sin_arcsec,cos_arcsec,amp_arcsec,period_years\n"
+                                    "longitude,1,M,2.3784,0.2431,1.1025,3.6287\n"},
             "text/markdown": {"example": "| Sin (\") | Cos (\") | Amp (\") | Period (year) | Arg |\n"},
             "application/x-latex": {"example": "\\begin{tabular}{rrrrl}\n\\toprule\n"}}}})
     def nutation(body: BodyPath, dataset: DatasetQuery = Dataset.current, order: OrderQuery = None,
-                 tolerance_mas: ToleranceQuery = None, format: Annotated[TableFormat, Query(description="json, or the paper's table layout as "
-                                                                  "csv, markdown or latex")] = TableFormat.json):
+                 tolerance_mas: ToleranceQuery = None,
+                 format: Annotated[TableFormat, Query(description="json (this answer), or the paper's table "
+                                                                  "layout as csv, markdown, latex (booktabs) or "
+                                                                  "table-json")] = TableFormat.json,
+                 layout: Annotated[TableLayout, Query(description="table layout: sin-cos (Petit et al. Tables "
+                                                                  "5-8: Sin, Cos, Amp in arcsec, Period in years) "
+                                                                  "or amp-period (Tables 9-10: Amp in mas, Period "
+                                                                  "in days)")] = TableLayout.sin_cos):
         ans = api.nutation(body, dataset.value, order, tolerance_mas)
         if format is TableFormat.json:
             return ans
-        return PlainTextResponse(render_nutation(ans, format.value), media_type=FORMATS[format.value])
+        fmt = "json" if format is TableFormat.table_json else format.value
+        return PlainTextResponse(render_nutation(ans, fmt, layout=layout.value), media_type=FORMATS[fmt])
 
     @app.get("/v1/bodies/{body}/track", response_model=schemas.Track, tags=["theory"], responses={
         **ERRORS, 200: {"content": {"application/json": {"example": {
