@@ -19,6 +19,7 @@ from .hansen import LAPLACE_LIMIT
 from .ladder import AXES, RUNGS, Ladder, cached_model, truncation_bound
 from .model import MIN_SPIN_ORBIT_RATIO, PrecessionNutation
 from .timeparse import to_jd_tdb
+from .units import in_unit, with_units
 
 #: Highest e-power order served: the exact-rational series costs ~0.7 s to build at 30 and grows
 #: steeply beyond (a request could tie up a worker); exact Hansen coefficients have no such limit.
@@ -88,6 +89,7 @@ def _semi_amplitudes(body: Body, order: int | None) -> tuple[float, float]:
 
 
 def _tolerance(tolerance_mas) -> float | None:
+    tolerance_mas = in_unit(tolerance_mas, "mas", "tolerance_mas")
     if tolerance_mas is None:
         return None
     if isinstance(tolerance_mas, bool) or not isinstance(tolerance_mas, (int, float)) \
@@ -178,7 +180,7 @@ def body_record(body: str | int, dataset: str = DEFAULT_DATASET) -> dict:
 
 
 def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None,
-               tolerance_mas: float | None = None) -> dict:
+               tolerance_mas: float | None = None, quantities: bool = False) -> dict:
     """Obliquity, H_d, K and the precession rate ψ̇ (Petit et al. Table 4 columns).
 
     ``tolerance_mas`` picks the lowest e-order whose truncated nutation stays within it
@@ -199,7 +201,7 @@ def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: in
         "model": model_info(m, b),
     }
     ans["model"].update(_series_selection(b, order, tol, start))
-    return ans
+    return with_units(ans) if quantities else ans
 
 
 def _series_selection(b: Body, order: int | None, tol: float | None, start: float) -> dict:
@@ -209,7 +211,7 @@ def _series_selection(b: Body, order: int | None, tol: float | None, start: floa
 
 
 def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None,
-             tolerance_mas: float | None = None) -> dict:
+             tolerance_mas: float | None = None, quantities: bool = False) -> dict:
     """Nutation terms: Δψ = Σ S sin kM + C cos kM (likewise Δε), arcsec.
 
     ``tolerance_mas`` picks the lowest e-order whose terms move the pole by no more than
@@ -240,7 +242,7 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
         "model": model_info(m, b),
     }
     ans["model"].update(_series_selection(b, order, tol, start))
-    return ans
+    return with_units(ans) if quantities else ans
 
 
 def epoch_grid(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPLES) -> tuple[float, float, int]:
@@ -250,6 +252,7 @@ def epoch_grid(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPL
     """
     t0 = to_jd_tdb(start, "start")
     t1 = to_jd_tdb(stop, "stop")
+    step_days = in_unit(step_days, "d", "step_days")
     if isinstance(step_days, bool) or not isinstance(step_days, (int, float)) or not math.isfinite(step_days):
         raise InvalidInputError("step_days", f"must be a finite number, got {step_days!r}")
     if step_days <= 0:
@@ -311,7 +314,8 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     if order is not None and rung != "series":
         raise InvalidInputError("order", f"an e-order applies to the 'series' model, not to {rung!r}")
     m = model_for(b, dataset, order)
-    wobble = _wobble_request(b, axis, free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch)
+    wobble = _wobble_request(b, axis, in_unit(free_wobble_phase_deg, "deg", "free_wobble_phase_deg"),
+                             in_unit(free_wobble_J_arcsec, "arcsec", "free_wobble_J_arcsec"), free_wobble_epoch)
     ladder = Ladder(b, axis, wobble)
     t = t0 + step * np.arange(count)
     if tol is not None:
@@ -361,7 +365,7 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
 def track(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,
           order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES, tolerance_mas: float | None = None,
           model: str | None = None, axis: str = "figure", free_wobble_phase_deg: float | None = None,
-          free_wobble_J_arcsec: float | None = None, free_wobble_epoch=None) -> dict:
+          free_wobble_J_arcsec: float | None = None, free_wobble_epoch=None, quantities: bool = False) -> dict:
     """Spin-axis track: ψ, Δψ, Δε (arcsec), obliquity and pole RA/Dec (deg) at each epoch.
 
     ``tolerance_mas`` lets the fidelity ladder (:mod:`ephem.ladder`) pick the cheapest model
@@ -375,9 +379,14 @@ def track(body: str | int | Body, start, stop, step_days: float, dataset: str = 
     epoch, from the ICRF north through east, with the angular momentum in the body's b2-b3 plane
     then) lets the track add the free wobble when the tolerance needs it (or always, with a named
     model); ``free_wobble_J_arcsec`` overrides the published amplitude.
+
+    Times may be astropy ``Time``, unit-named arguments ``Quantity`` (:mod:`ephem.units`);
+    ``quantities=True`` returns Quantity arrays and a TDB ``Time`` for ``jd_tdb``.
     """
     ans = track_arrays(body, start, stop, step_days, dataset, order, max_samples, tolerance_mas, model, axis,
                        free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch)
+    if quantities:
+        return with_units(ans)
     for key in TRACK_KEYS:
         ans[key] = ans[key].tolist()
     return ans
@@ -397,13 +406,15 @@ def free_motion_arrays(body: str | int | Body, start, stop, step_days: float, J_
 
     b = resolve_body(body, dataset)
     t0, step, count = epoch_grid(start, stop, step_days, max_samples)
-    return free_motion(b, t0 + step * np.arange(count), J_arcsec, method)
+    return free_motion(b, t0 + step * np.arange(count), in_unit(J_arcsec, "arcsec", "J_arcsec"), method)
 
 
 def free_motion_answer(body: str | int | Body, start, stop, step_days: float, J_arcsec: float | None = None,
-                       method: str = "auto", dataset: str = DEFAULT_DATASET) -> dict:
-    """As :func:`free_motion_arrays`, with lists."""
+                       method: str = "auto", dataset: str = DEFAULT_DATASET, quantities: bool = False) -> dict:
+    """As :func:`free_motion_arrays`, with lists (or, with ``quantities=True``, Quantity arrays)."""
     ans = free_motion_arrays(body, start, stop, step_days, J_arcsec, method, dataset)
+    if quantities:
+        return with_units(ans)
     for key in FREE_MOTION_KEYS:
         ans[key] = np.asarray(ans[key]).tolist()
     return ans

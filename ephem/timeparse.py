@@ -3,7 +3,8 @@
 Accepted forms (astropy ``Time`` parses them):
 - a number or ``"2451545.0"`` or ``"JD2451545.0"``: a Julian date in TDB;
 - ``"2020-01-01"``, ``"2020-01-01T12:00:00"``: ISO 8601 in UTC;
-- ``"2020-01-01T12:00:00 TDB"`` (or TT, TAI, UTC): ISO 8601 in the named scale.
+- ``"2020-01-01T12:00:00 TDB"`` (or TT, TAI, UTC): ISO 8601 in the named scale;
+- an astropy ``Time`` (any scale: its TDB Julian date).
 """
 from __future__ import annotations
 
@@ -18,7 +19,18 @@ def to_jd_tdb(value, field: str = "time") -> float:
     """Julian date (TDB) of a boundary time; raises InvalidInputError naming ``field``."""
     if isinstance(value, bool):
         raise InvalidInputError(field, f"expected a time, got {value!r}")
-    if isinstance(value, (int, float)):
+    if hasattr(value, "tdb") and hasattr(value, "jd1"):        # an astropy Time
+        if not value.isscalar:
+            raise InvalidInputError(field, "expected one time, got an array of them")
+        import warnings
+
+        from erfa import ErfaWarning
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ErfaWarning)  # "dubious year": UTC beyond the leap-second table
+            tdb = value.tdb
+        jd = float(tdb.jd1 + tdb.jd2)
+    elif isinstance(value, (int, float)):
         jd = float(value)
     else:
         text = str(value).strip()
