@@ -113,6 +113,20 @@ def _series(moments):
     return SamSeriesSolution(moments, SERIES_ORDER)
 
 
+def _wobble_angle(body: Body, J_arcsec, field: str, largest: float, why: str) -> float:
+    """J in arcsec: the published J0 when None, else checked to lie in [0, largest]."""
+    if J_arcsec is None:
+        J_arcsec = default_wobble_arcsec(body)
+        if J_arcsec is None:
+            raise InvalidInputError(field, "give the wobble amplitude J (the angle between the angular momentum "
+                                    "and the C axis); this body has no published one", body.name)
+    if isinstance(J_arcsec, bool) or not isinstance(J_arcsec, (int, float)) or not math.isfinite(J_arcsec) \
+            or not 0.0 <= J_arcsec <= largest:
+        raise InvalidInputError(field, f"must be a finite angle in [0, {largest:g}] arcsec {why}, got {J_arcsec!r}",
+                                body.name)
+    return float(J_arcsec)
+
+
 def choose_method(method: str, mode: str, J: float, body: str = "free motion") -> str:
     """The method to run: ``auto`` is the exact solution; the series is refused outside its domain."""
     if method not in METHODS:
@@ -136,15 +150,7 @@ def free_motion(body: Body, jd_tdb: np.ndarray, J_arcsec: float | None = None, m
 
     start = time.perf_counter()
     moments = _moments(body)
-    if J_arcsec is None:
-        J_arcsec = default_wobble_arcsec(body)
-        if J_arcsec is None:
-            raise InvalidInputError("J_arcsec", "give the wobble amplitude J (the angle between the angular "
-                                    "momentum and the C axis); this body has no published one", body.name)
-    if isinstance(J_arcsec, bool) or not isinstance(J_arcsec, (int, float)) or not math.isfinite(J_arcsec) \
-            or not 0.0 <= J_arcsec <= 648000.0:
-        raise InvalidInputError("J_arcsec", f"must be a finite angle in [0, 648000] arcsec (0-180 deg), "
-                                f"got {J_arcsec!r}", body.name)
+    J_arcsec = _wobble_angle(body, J_arcsec, "J_arcsec", 648000.0, "(0-180 deg)")
     t = np.asarray(jd_tdb, dtype=float)
     omega = 2.0 * math.pi / (body.rotation_period_hours / 24.0)   # rad/day about C: M = C ω with C = 1
     M, J = omega, float(J_arcsec) * ARCSEC
@@ -224,15 +230,8 @@ def make_wobble(body: Body, phase_deg, J_arcsec=None, epoch_jd_tdb: float | None
     if isinstance(phase_deg, bool) or not isinstance(phase_deg, (int, float)) or not math.isfinite(phase_deg):
         raise InvalidInputError("free_wobble_phase_deg", f"must be a finite angle in degrees, got {phase_deg!r}",
                                 body.name)
-    if J_arcsec is None:
-        J_arcsec = default_wobble_arcsec(body)
-        if J_arcsec is None:
-            raise InvalidInputError("free_wobble_J_arcsec", "this body has no published free-wobble amplitude; "
-                                    "give one", body.name)
-    if isinstance(J_arcsec, bool) or not isinstance(J_arcsec, (int, float)) or not math.isfinite(J_arcsec) \
-            or not 0.0 <= J_arcsec <= 3600.0:
-        raise InvalidInputError("free_wobble_J_arcsec", f"must be a finite angle in [0, 3600] arcsec: the wobble "
-                                f"is added to the forced track as a small offset, got {J_arcsec!r}", body.name)
+    J_arcsec = _wobble_angle(body, J_arcsec, "free_wobble_J_arcsec", 3600.0,
+                             "(the wobble is added to the forced track as a small offset)")
     return Wobble(float(J_arcsec), float(phase_deg), float(epoch_jd_tdb))
 
 
