@@ -198,10 +198,37 @@ def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: in
         "dynamical_ellipticity": m.hd,
         "scaling_factor_arcsec_per_year": m.scaling_factor * per_year,
         "precession_rate_arcsec_per_year": m.precession_rate * per_year,
-        "model": model_info(m, b),
     }
+    unc = _propagated(b, order)
+    for key in ("obliquity_deg", "dynamical_ellipticity", "scaling_factor_arcsec_per_year",
+                "precession_rate_arcsec_per_year"):
+        ans[f"{key}_uncertainty"] = unc[f"{key}_uncertainty"]
+    ans["uncertainty"] = _uncertainty_summary(unc)
+    ans["model"] = model_info(m, b)
     ans["model"].update(_series_selection(b, order, tol, start))
     return with_units(ans) if quantities else ans
+
+
+@lru_cache(maxsize=256)
+def _propagated(b: Body, order: int | None) -> dict:
+    """The 1-σ uncertainties of :func:`ephem.uncertainty.propagate`, with 0 (no input of known σ moves the
+    value: its σ is unknown, not zero) replaced by None."""
+    from .uncertainty import propagate
+
+    def unknown_as_none(d: dict) -> dict:
+        return {k: (None if k.endswith("_uncertainty") and v == 0.0 else v) for k, v in d.items()}
+
+    u = unknown_as_none(propagate(b, b.dataset, order))
+    u["terms"] = [unknown_as_none(t) for t in u["terms"]]
+    return u
+
+
+def _uncertainty_summary(u: dict) -> dict:
+    return {"method": "linear propagation of the catalogue's 1-sigma uncertainties (ephem.uncertainty); they "
+                      "cover only the inputs with a published sigma, and null means no such input moves the "
+                      "value (its uncertainty is unknown, not zero)",
+            "dominant_input": u["dominant_input"], "unpropagated_inputs": list(u["unpropagated_inputs"]),
+            "assumptions": list(u["assumptions"])}
 
 
 def _series_selection(b: Body, order: int | None, tol: float | None, start: float) -> dict:
@@ -229,6 +256,19 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
         "longitude_sin_arcsec": float(a / ARCSEC), "longitude_cos_arcsec": float(c / ARCSEC),
         "obliquity_sin_arcsec": float(d / ARCSEC), "obliquity_cos_arcsec": float(f / ARCSEC),
     } for k, p, a, c, d, f in zip(s.multiple, periods, s.lon_sin, s.lon_cos, s.obl_sin, s.obl_cos)]
+    unc = _propagated(b, order)
+    sin_eps = abs(math.sin(m.obliquity))
+    for term, sigma in zip(terms, unc["terms"]):
+        if sigma["multiple"] != term["multiple"]:  # pragma: no cover - both come from the same series
+            raise RuntimeError("uncertainty terms out of step with the nutation terms")
+        term["period_days_uncertainty"] = sigma["period_days_uncertainty"]
+        for comp in ("longitude", "obliquity"):
+            for part in ("sin", "cos"):
+                term[f"{comp}_{part}_arcsec_uncertainty"] = sigma[f"{comp}_{part}_arcsec_uncertainty"]
+            # the paper's Amp: (Sin² + Cos²)^½, times sin ε in longitude
+            amp = math.hypot(term[f"{comp}_sin_arcsec"], term[f"{comp}_cos_arcsec"])
+            term[f"{comp}_amplitude_arcsec"] = amp * (sin_eps if comp == "longitude" else 1.0)
+            term[f"{comp}_amplitude_arcsec_uncertainty"] = sigma[f"amplitude_{comp}_arcsec_uncertainty"]
     half_psi, half_eps = _semi_amplitudes(b, m.order)
     ans = {
         "body": b.name, "dataset": b.dataset, "argument": "mean anomaly M",
@@ -239,6 +279,9 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
         "terms": terms,
         "delta_psi_half_peak_to_peak_arcsec": half_psi / ARCSEC,
         "delta_epsilon_half_peak_to_peak_arcsec": half_eps / ARCSEC,
+        "delta_psi_half_peak_to_peak_arcsec_uncertainty": unc["delta_psi_half_peak_to_peak_arcsec_uncertainty"],
+        "delta_epsilon_half_peak_to_peak_arcsec_uncertainty": unc["delta_epsilon_half_peak_to_peak_arcsec_uncertainty"],
+        "uncertainty": _uncertainty_summary(unc),
         "model": model_info(m, b),
     }
     ans["model"].update(_series_selection(b, order, tol, start))

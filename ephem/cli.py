@@ -51,7 +51,7 @@ def _rows_to_csv(rows: list[dict]) -> str:
 
 def _rows_to_table(rows: list[dict]) -> str:
     def cell(v):
-        return f"{v:.10g}" if isinstance(v, float) else str(v)
+        return f"{v:.10g}" if isinstance(v, float) else "" if v is None else str(v)
     cols = list(rows[0])
     cells = [[cell(r[c]) for c in cols] for r in rows]
     widths = [max(len(c), *(len(r[i]) for r in cells)) for i, c in enumerate(cols)]

@@ -69,20 +69,19 @@ def table_rows(answer: dict, layout: str = "sin-cos") -> list[dict]:
             if layout == "sin-cos":
                 row.update(sin_arcsec=s, cos_arcsec=c, amp_arcsec=amp, period_years=t["period_years"])
                 for key in ("sin", "cos"):
-                    sig = t.get(f"{comp}_{key}_arcsec_uncertainty")
-                    if sig is not None:
-                        row[f"{key}_arcsec_uncertainty"] = sig
-                if sig_amp is not None:
+                    if f"{comp}_{key}_arcsec_uncertainty" in t:
+                        row[f"{key}_arcsec_uncertainty"] = t[f"{comp}_{key}_arcsec_uncertainty"]
+                if f"{comp}_amplitude_arcsec_uncertainty" in t:
                     row["amp_arcsec_uncertainty"] = sig_amp
             else:
                 row.update(amp_mas=amp * 1e3, period_days=t["period_days"])
-                if sig_amp is not None:
-                    row["amp_mas_uncertainty"] = sig_amp * 1e3
+                if f"{comp}_amplitude_arcsec_uncertainty" in t:
+                    row["amp_mas_uncertainty"] = None if sig_amp is None else sig_amp * 1e3
             rows.append(row)
     return rows
 
 
-def caption(answer: dict, comp: str, layout: str = "sin-cos") -> str:
+def caption(answer: dict, comp: str, layout: str = "sin-cos", sigma: bool = False) -> str:
     """The table's caption: what, which body and dataset, ε, how Amp is formed."""
     what = "longitude" if comp == "longitude" else "obliquity"
     if layout == "sin-cos":
@@ -93,8 +92,9 @@ def caption(answer: dict, comp: str, layout: str = "sin-cos") -> str:
         lead = "Amplitude of the nutation in longitude Δψ sin ε" if comp == "longitude" else \
             "Amplitude of the nutation in obliquity Δε"
     return (f"{lead} for {answer['body']} ({answer['dataset']} dataset, ε = {answer['obliquity_deg']:.4f}°; "
-            f"{amp}; argument: multiples of the mean anomaly M; layout of Petit et al. 2014 "
-            f"{_PAPER_TABLES[layout]})")
+            f"{amp}; argument: multiples of the mean anomaly M; "
+            + ("± 1σ from the catalogue's uncertainties, where it gives them; " if sigma else "")
+            + f"layout of Petit et al. 2014 {_PAPER_TABLES[layout]})")
 
 
 def _digits(layout: str, key: str, digits: int | None) -> int:
@@ -111,7 +111,7 @@ def _has_sigma(rows: list[dict], key: str) -> bool:
 def _cell(row: dict, key: str, places: int, latex: bool = False) -> str:
     value = f"{row[key]:.{places}f}"
     sigma = row.get(f"{key}_uncertainty")
-    if sigma is None:
+    if sigma is None:           # unknown (no input with a published σ moves it)
         return value
     pm = r" $\pm$ " if latex else " ± "
     return value + pm + f"{sigma:.{places}f}"
@@ -126,8 +126,8 @@ def latex_escape(text: str) -> str:
     return "".join(_LATEX_SPECIAL.get(ch, ch) for ch in text)
 
 
-def _latex_caption(answer: dict, comp: str, layout: str) -> str:
-    text = latex_escape(caption(answer, comp, layout))
+def _latex_caption(answer: dict, comp: str, layout: str, sigma: bool) -> str:
+    text = latex_escape(caption(answer, comp, layout, sigma)).replace("±", r"$\pm$").replace("σ", r"$\sigma$")
     for plain, tex in (("ε", r"$\varepsilon$"), ("°", r"$^\circ$"), ("Δψ", r"$\Delta\psi$"), ("Δε", r"$\Delta\varepsilon$"),
                        ("(Sin² + Cos²)\\textasciicircum{}½", r"$(\mathrm{Sin}^2 + \mathrm{Cos}^2)^{1/2}$")):
         text = text.replace(plain, tex)
@@ -141,6 +141,7 @@ def render_nutation(answer: dict, fmt: str, digits: int | None = None, layout: s
     _check(layout, fmt)
     rows = table_rows(answer, layout)
     columns = _COLUMNS[layout]
+    sigma = any(v is not None for r in rows for k, v in r.items() if k.endswith("_uncertainty"))
     if fmt == "csv":
         keys = ["component", "multiple", "arg"]
         for key, *_ in columns:
@@ -156,7 +157,7 @@ def render_nutation(answer: dict, fmt: str, digits: int | None = None, layout: s
         tables = []
         for comp in COMPONENTS:
             part = [{k: v for k, v in r.items() if k != "component"} for r in rows if r["component"] == comp]
-            tables.append({"component": comp, "caption": caption(answer, comp, layout), "rows": part})
+            tables.append({"component": comp, "caption": caption(answer, comp, layout, sigma), "rows": part})
         return json.dumps({"body": answer["body"], "dataset": answer["dataset"], "layout": layout,
                            "obliquity_deg": answer["obliquity_deg"], "tables": tables}, indent=1) + "\n"
     blocks = []
@@ -166,12 +167,12 @@ def render_nutation(answer: dict, fmt: str, digits: int | None = None, layout: s
         cells = [[_cell(r, key, _digits(layout, key, digits), latex) for key, *_ in columns] for r in part]
         if fmt == "markdown":
             head = [label for _, label, _ in columns] + ["Arg"]
-            lines = [f"**{caption(answer, comp, layout)}**", "", "| " + " | ".join(head) + " |",
+            lines = [f"**{caption(answer, comp, layout, sigma)}**", "", "| " + " | ".join(head) + " |",
                      "|" + "---:|" * len(columns) + ":---|"]
             lines += ["| " + " | ".join(c + [r["arg"]]) + " |" for c, r in zip(cells, part)]
         else:
             head = [tex for _, _, tex in columns] + ["Arg"]
-            lines = [r"\begin{table}", r"\centering", rf"\caption{{{_latex_caption(answer, comp, layout)}}}",
+            lines = [r"\begin{table}", r"\centering", rf"\caption{{{_latex_caption(answer, comp, layout, sigma)}}}",
                      r"\begin{tabular}{" + "r" * len(columns) + "l}", r"\toprule", " & ".join(head) + r" \\",
                      r"\midrule"]
             lines += [" & ".join(c + [r["arg"].replace("M", r"$M$")]) + r" \\" for c, r in zip(cells, part)]

@@ -76,6 +76,17 @@ class BodyRecord(BaseModel):
     values: dict[str, MeasuredValue]
 
 
+class UncertaintyInfo(BaseModel):
+    method: str
+    dominant_input: dict[str, Optional[str]] = Field(description="the input whose uncertainty moves each value most")
+    unpropagated_inputs: list[str] = Field(description="inputs without a published uncertainty (unknown, not zero)")
+    assumptions: list[str]
+
+
+Sigma = Field(None, description="1-sigma uncertainty from the catalogue's, same unit; null when no input with a "
+                                "published uncertainty moves the value")
+
+
 class Precession(BaseModel):
     body: str
     dataset: str
@@ -83,6 +94,11 @@ class Precession(BaseModel):
     dynamical_ellipticity: float
     scaling_factor_arcsec_per_year: float
     precession_rate_arcsec_per_year: float
+    obliquity_deg_uncertainty: Optional[float] = Sigma
+    dynamical_ellipticity_uncertainty: Optional[float] = Sigma
+    scaling_factor_arcsec_per_year_uncertainty: Optional[float] = Sigma
+    precession_rate_arcsec_per_year_uncertainty: Optional[float] = Sigma
+    uncertainty: UncertaintyInfo
     model: ModelInfo
 
 
@@ -94,6 +110,15 @@ class NutationTerm(BaseModel):
     longitude_cos_arcsec: float
     obliquity_sin_arcsec: float
     obliquity_cos_arcsec: float
+    period_days_uncertainty: Optional[float] = Sigma
+    longitude_sin_arcsec_uncertainty: Optional[float] = Sigma
+    longitude_cos_arcsec_uncertainty: Optional[float] = Sigma
+    longitude_amplitude_arcsec: float = Field(description="the paper's Amp: (Sin² + Cos²)^½ sin ε")
+    longitude_amplitude_arcsec_uncertainty: Optional[float] = Sigma
+    obliquity_sin_arcsec_uncertainty: Optional[float] = Sigma
+    obliquity_cos_arcsec_uncertainty: Optional[float] = Sigma
+    obliquity_amplitude_arcsec: float = Field(description="the paper's Amp: (Sin² + Cos²)^½")
+    obliquity_amplitude_arcsec_uncertainty: Optional[float] = Sigma
 
 
 class Nutation(BaseModel):
@@ -107,6 +132,9 @@ class Nutation(BaseModel):
     terms: list[NutationTerm]
     delta_psi_half_peak_to_peak_arcsec: float
     delta_epsilon_half_peak_to_peak_arcsec: float
+    delta_psi_half_peak_to_peak_arcsec_uncertainty: Optional[float] = Sigma
+    delta_epsilon_half_peak_to_peak_arcsec_uncertainty: Optional[float] = Sigma
+    uncertainty: UncertaintyInfo
     model: ModelInfo
 
 

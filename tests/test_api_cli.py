@@ -14,7 +14,9 @@ from ephem.errors import InvalidInputError, NotApplicableError
 
 runner = CliRunner()
 TERM_KEYS = {"multiple", "period_days", "period_years", "longitude_sin_arcsec", "longitude_cos_arcsec",
-             "obliquity_sin_arcsec", "obliquity_cos_arcsec"}
+             "obliquity_sin_arcsec", "obliquity_cos_arcsec", "longitude_amplitude_arcsec", "obliquity_amplitude_arcsec",
+             "period_days_uncertainty", "longitude_amplitude_arcsec_uncertainty", "obliquity_amplitude_arcsec_uncertainty"}
+TERM_KEYS |= {f"{c}_{p}_arcsec_uncertainty" for c in ("longitude", "obliquity") for p in ("sin", "cos")}
 TRACK_KEYS = ["jd_tdb", "psi_arcsec", "delta_psi_arcsec", "delta_epsilon_arcsec", "obliquity_deg",
               "pole_ra_deg", "pole_dec_deg"]
 

@@ -372,3 +372,14 @@ def test_every_erratum_has_its_test():
     names = set(globals())
     missing = [e["id"] for e in ERRATA if "test_erratum_" + e["id"].replace("-", "_") not in names]
     assert not missing
+
+
+def test_erratum_itokawa_precession_uncertainty():
+    from ephem.uncertainty import propagate
+
+    r = propagate("Itokawa", "petit2014", order=4)
+    ours = r["precession_rate_arcsec_per_year_uncertainty"]
+    assert ours == pytest.approx(13.0, abs=0.1)           # the pole's 3.9° as 1σ
+    slope = abs(-461.5208 * math.tan(math.radians(157.30)))  # Table 4: |ψ̇ tan ε|, arcsec/yr per radian
+    assert round(slope * math.radians(3.9 / 2), 2) == 6.57   # the printed σ: half the margin
+    assert ours / 6.57 == pytest.approx(2.0, abs=0.04)

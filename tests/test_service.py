@@ -17,9 +17,9 @@ from ephem import api
 from service.app import app, create_app
 from service.settings import Settings
 
+from tests.test_api_cli import TERM_KEYS  # the same contract
+
 PROBLEM = "application/problem+json"
-TERM_KEYS = {"multiple", "period_days", "period_years", "longitude_sin_arcsec", "longitude_cos_arcsec",
-             "obliquity_sin_arcsec", "obliquity_cos_arcsec"}
 USER = {"name": "my-asteroid",
         "orbit": {"a_au": 2.36, "e": 0.089, "i_deg": 7.14, "node_deg": 103.7, "peri_deg": 151.7,
                   "mean_anomaly_deg": 169.2, "epoch_jd_tdb": 2460200.5},

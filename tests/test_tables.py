@@ -102,11 +102,12 @@ def parse(text: str, fmt: str, layout: str) -> dict:
             else:
                 sep = "|" if fmt == "markdown" else "&"
                 cells = [c.strip() for c in line.strip().strip("|").replace(r"\\", "").split(sep)]
-                if len(cells) != len(keys) + 1 or not re.fullmatch(r"-?\d+\.\d+", cells[0]):
+                if len(cells) != len(keys) + 1 or not re.match(r"-?\d+\.\d+", cells[0]):
                     continue
                 arg = cells[-1].replace("$", "")
                 multiple = 1 if arg == "M" else int(arg[:-1])
-                out[(comp, multiple)] = {k: float(c) for k, c in zip(keys, cells)}
+                out[(comp, multiple)] = {k: float(c.replace("$", "").split("±")[0].split(r"\pm")[0])
+                                         for k, c in zip(keys, cells)}
     return out
 
 
