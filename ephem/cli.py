@@ -212,6 +212,37 @@ def tables(names: Optional[list[str]] = typer.Argument(None, metavar="[BODY]..."
     typer.echo(f"wrote {len(written)} files for {len(answers)} bodies to {out}/")
 
 
+@app.command()
+def plot(name: str = typer.Argument(..., metavar="BODY"),
+         kind: str = typer.Option("precession", "--kind", help="precession (Petit et al. Fig. 4), nutation-loop "
+                                  "(Fig. 5), obliquity or free-wobble."),
+         start: str = typer.Option(..., "--start", help="ISO 8601 (UTC unless a scale follows) or JD TDB."),
+         stop: str = typer.Option(..., "--stop", help="ISO 8601 or JD TDB."),
+         out: Path = typer.Option(..., "--out", help="The figure: FILE.png or FILE.svg."),
+         step_days: Optional[float] = typer.Option(None, "--step-days", help="Sampling step (default: chosen "
+                                                   "for the kind and span)."),
+         dataset: str = DatasetOpt, order: Optional[int] = OrderOpt, tolerance_mas: Optional[float] = ToleranceOpt,
+         model: Optional[str] = typer.Option(None, "--model", help="A rung of the fidelity ladder."),
+         j_arcsec: Optional[float] = typer.Option(None, "--J-arcsec", help="Free-wobble amplitude (free-wobble)."),
+         dpi: float = typer.Option(150, "--dpi", help="PNG resolution.")):
+    """A figure of BODY's track (or free wobble) as PNG or SVG, axes in units, title with body and dataset."""
+    from . import plots
+
+    fmt = out.suffix.lower().lstrip(".")
+    try:
+        if fmt not in plots.CONTENT_TYPES:
+            from .errors import InvalidInputError
+
+            raise InvalidInputError("out", f"the file must end in .png or .svg, got {out.name!r}")
+        image = plots.render(kind, name, start, stop, step_days, fmt, dataset, dpi=dpi, tolerance_mas=tolerance_mas,
+                             model=model, order=order, J_arcsec=j_arcsec)
+    except EphemError as exc:
+        _fail(exc)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_bytes(image)
+    typer.echo(f"wrote {out} ({len(image)} bytes)")
+
+
 def _run_charts(jobs, out: Path, doc: str) -> None:
     with typer.progressbar(jobs, label="charts", item_show_func=lambda job: job[0] if job else "") as bar:
         for _, job in bar:

@@ -58,6 +58,13 @@ class Rung(str, Enum):
     real_orbit = "real_orbit"
 
 
+class PlotKind(str, Enum):
+    precession = "precession"
+    nutation_loop = "nutation-loop"
+    obliquity = "obliquity"
+    free_wobble = "free-wobble"
+
+
 class TableLayout(str, Enum):
     sin_cos = "sin-cos"
     amp_period = "amp-period"
@@ -199,6 +206,37 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         if format is TrackFormat.csv:
             return StreamingResponse(_csv_rows(arrays), media_type="text/csv; charset=utf-8")
         return finite_json(arrays)
+
+    def plot_route(ext: str):
+        def plot(body: BodyPath,
+                 start: Annotated[str, Query(description="ISO 8601 (UTC unless a scale follows) or JD TDB",
+                                             examples=["2020-01-01"])],
+                 stop: Annotated[str, Query(description="ISO 8601 or JD TDB", examples=["2030-01-01"])],
+                 kind: Annotated[PlotKind, Query(description="precession (psi and its nutation against time, Petit "
+                                                             "et al. Fig. 4), nutation-loop (Fig. 5), obliquity, "
+                                                             "or free-wobble")] = PlotKind.precession,
+                 step_days: Annotated[Optional[float], Query(gt=0, description="sampling step, days (default: "
+                                                                               "chosen for the kind and span)")] = None,
+                 dataset: DatasetQuery = Dataset.current, order: OrderQuery = None,
+                 tolerance_mas: ToleranceQuery = None,
+                 model: Annotated[Optional[Rung], Query(description="a rung of the fidelity ladder")] = None,
+                 J_arcsec: Annotated[Optional[float], Query(ge=0, le=648000, description="free-wobble amplitude "
+                                                                                          "(free-wobble kind)")] = None,
+                 dpi: Annotated[float, Query(ge=30, le=300, description="PNG resolution")] = 100):
+            from ephem import plots
+
+            image = plots.render(kind.value, body, start, stop, step_days, ext, dataset.value, dpi=dpi,
+                                 tolerance_mas=tolerance_mas, model=None if model is None else model.value,
+                                 order=order, J_arcsec=J_arcsec)
+            return Response(image, media_type=plots.CONTENT_TYPES[ext])
+        plot.__name__ = f"track_{ext}"
+        plot.__doc__ = f"The track (or the free wobble) as a {ext.upper()} figure, axes in units (ephem.plots)."
+        return plot
+
+    for ext in ("png", "svg"):
+        media = "image/png" if ext == "png" else "image/svg+xml"
+        app.get(f"/v1/bodies/{{body}}/track.{ext}", tags=["figures"], response_class=Response,
+                responses={**ERRORS, 200: {"content": {media: {}}}})(plot_route(ext))
 
     @app.get("/v1/bodies/{body}/free-motion", tags=["theory"], responses={**ERRORS, 200: {"content": {
         "application/json": {"example": {

@@ -47,13 +47,15 @@ def run(command: str) -> tuple[int, str]:
         res = CliRunner().invoke(cli, argv[1:])
         return res.exit_code, res.stderr + res.stdout      # the docs show the notes on stderr first
     assert argv[0] == "curl", command
-    method, data, headers, url = "GET", None, {}, None
+    method, data, headers, url, output = "GET", None, {}, None, None
     it = iter(argv[1:])
     for arg in it:
         if arg == "-X":
             method = next(it)
         elif arg == "-d":
             data = next(it)
+        elif arg == "-o":
+            output = next(it)
         elif arg == "-H":
             name, value = next(it).split(":", 1)
             headers[name.strip()] = value.strip()
@@ -61,6 +63,9 @@ def run(command: str) -> tuple[int, str]:
             url = arg
     path = re.sub(r"^https?://[^/]+", "", url)
     r = TestClient(web).request(method, path, content=data, headers=headers)
+    if output is not None:                        # -o FILE: the body goes to the file, nothing is printed
+        Path(output).write_bytes(r.content)
+        return (0 if r.status_code < 400 else 22), ""
     return (0 if r.status_code < 400 else 22), r.text
 
 
