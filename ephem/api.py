@@ -302,7 +302,11 @@ def epoch_grid(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPL
         raise InvalidInputError("step_days", f"must be positive, got {step_days}")
     if t1 < t0:
         raise InvalidInputError("stop", f"stop (JD {t1}) is before start (JD {t0})")
-    count = int(math.floor((t1 - t0) / step_days + 1e-9)) + 1
+    steps = (t1 - t0) / step_days      # inf for a subnormal step: compared before it becomes an int
+    if steps + 1 > max_samples:
+        raise InvalidInputError("step_days", f"{steps + 1:.3g} samples exceed the cap of {max_samples}; "
+                                "use a larger step or a shorter span")
+    count = int(math.floor(steps + 1e-9)) + 1
     if count > max_samples:
         raise InvalidInputError("step_days", f"{count} samples exceed the cap of {max_samples}; "
                                 "use a larger step or a shorter span")

@@ -236,7 +236,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     for ext in ("png", "svg"):
         media = "image/png" if ext == "png" else "image/svg+xml"
         app.get(f"/v1/bodies/{{body}}/track.{ext}", tags=["figures"], response_class=Response,
-                responses={**ERRORS, 200: {"content": {media: {}}}})(plot_route(ext))
+                responses={**ERRORS, 200: {"content": {media: {"example": "(PNG bytes)" if ext == "png" else
+                                                          "<?xml version=\"1.0\" encoding=\"utf-8\"?><svg …"}}}})(
+            plot_route(ext))
 
     @app.get("/v1/bodies/{body}/free-motion", tags=["theory"], responses={**ERRORS, 200: {"content": {
         "application/json": {"example": {

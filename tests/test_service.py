@@ -132,6 +132,8 @@ def test_not_applicable_is_422_with_the_reason(client):
     ("/v1/bodies/vesta/track?start=2020-01-01&stop=2019-01-01&step_days=1", "stop"),
     ("/v1/bodies/vesta/track?start=not-a-date&stop=2021-01-01&step_days=1", "start"),
     ("/v1/bodies/vesta/track?start=2020-01-01&stop=2021-01-01&step_days=-1", "step_days"),
+    ("/v1/bodies/vesta/track?start=2020-01-01&stop=2030-01-01&step_days=5e-324", "step_days"),  # found by schemathesis
+    ("/v1/bodies/vesta/track.png?start=2020-01-01&stop=2030-01-01&step_days=5e-324", "step_days"),
     ("/v1/bodies/vesta/track?start=2020-01-01&stop=2021-01-01&step_days=nan", "step_days"),
     ("/v1/bodies/vesta/track?start=2020-01-01&stop=2021-01-01", "step_days"),
     ("/v1/bodies/vesta/precession?order=-2", "order"),
