@@ -243,6 +243,28 @@ def plot(name: str = typer.Argument(..., metavar="BODY"),
     typer.echo(f"wrote {out} ({len(image)} bytes)")
 
 
+@app.command()
+def pck(names: list[str] = typer.Argument(..., metavar="BODY..."),
+        start: str = typer.Option(..., "--start", help="ISO 8601 (UTC unless a scale follows) or JD TDB."),
+        stop: str = typer.Option(..., "--stop", help="ISO 8601 or JD TDB."),
+        out: Path = typer.Option(..., "--out", help="The kernel, FILE.tpc."),
+        dataset: str = DatasetOpt, tolerance_mas: Optional[float] = ToleranceOpt,
+        model: Optional[str] = typer.Option(None, "--model", help="A rung of the fidelity ladder.")):
+    """A NAIF text PCK (KPL/PCK) whose pole reproduces BODY...'s track over the span, with a comment block
+    stating the model, dataset, validity span and fitting error (docs/pck.md)."""
+    from .naif_pck import write_pck_file
+
+    try:
+        fits = write_pck_file(out, names, start, stop, dataset=dataset, tolerance_mas=tolerance_mas, model=model)
+    except EphemError as exc:
+        _fail(exc)
+    for f in fits:
+        est = f.model.get("estimated_error_mas")
+        typer.echo(f"{f.body}: fitting error {f.fit_error_mas:.4g} mas (model {f.model['name']}"
+                   + (f", estimated {est:.4g} mas" if est is not None else "") + ")")
+    typer.echo(f"wrote {out}")
+
+
 def _run_charts(jobs, out: Path, doc: str) -> None:
     with typer.progressbar(jobs, label="charts", item_show_func=lambda job: job[0] if job else "") as bar:
         for _, job in bar:
