@@ -403,6 +403,8 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
         "delta_psi_arcsec": tr.delta_psi / ARCSEC,
         "delta_epsilon_arcsec": tr.delta_epsilon / ARCSEC,
         "obliquity_deg": np.degrees(tr.obliquity),
+        # the mean obliquity's 1σ from the catalogue's uncertainties (null: unknown), as in precession()
+        "obliquity_deg_uncertainty": _propagated(b, order)["obliquity_deg_uncertainty"],
         "pole_ra_deg": np.degrees(tr.pole_ra),
         "pole_dec_deg": np.degrees(tr.pole_dec),
         "model": info,

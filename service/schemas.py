@@ -146,6 +146,7 @@ class Track(BaseModel):
     delta_psi_arcsec: list[float]
     delta_epsilon_arcsec: list[float]
     obliquity_deg: list[float]
+    obliquity_deg_uncertainty: Optional[float] = Sigma
     pole_ra_deg: list[float]
     pole_dec_deg: list[float]
     model: ModelInfo

@@ -60,3 +60,9 @@ def test_unit_names():
     assert unit_of("precession_rate_arcsec_per_year") == "arcsec / yr"
     assert unit_of("amp_mas_uncertainty") == "mas" and unit_of("dynamical_ellipticity") is None
     assert with_units({"e": 0.1, "name": "x", "a_au": 2.0})["a_au"] == 2.0 * u.AU
+
+
+def test_a_track_reports_the_obliquity_uncertainty():
+    eros = api.track("eros", "2030-01-01", "2030-03-01", 30.0)
+    assert eros["obliquity_deg_uncertainty"] == api.precession("eros")["obliquity_deg_uncertainty"] > 0.0
+    assert api.track("vesta", "2030-01-01", "2030-03-01", 30.0)["obliquity_deg_uncertainty"] is None  # unknown
