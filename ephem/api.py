@@ -12,9 +12,9 @@ from functools import lru_cache
 
 import numpy as np
 
-from .catalogue import DEFAULT_DATASET, Body, get_body, load_catalogue, load_references
+from .catalogue import DEFAULT_DATASET, Body, get_body, load_catalogue, load_references, resolve_perturbers
 from .constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
-from .errors import InvalidInputError
+from .errors import InvalidInputError, NotApplicableError
 from .hansen import LAPLACE_LIMIT
 from .ladder import AXES, RUNGS, Ladder, cached_model, truncation_bound
 from .model import MIN_SPIN_ORBIT_RATIO, PrecessionNutation
@@ -56,7 +56,11 @@ RUNG_DESCRIPTIONS = {
                     "second-order mean rates",
     "numerical": "rotation-averaged torque integrated numerically along the fixed Keplerian orbit",
     "real_orbit": "rotation-averaged torque integrated along the real orbit (DE421 and planetary perturbations)",
+    "lunisolar": "Kinoshita's first-order rigid-Earth theory under the Moon and the Sun (ephem.lunisolar): "
+                 "precession rate and nutation in the Delaunay arguments, amplitude cut 0.1 mas (ephem.earth)",
 }
+#: The track models: the single-perturber ladder's rungs, and the Earth's lunisolar theory.
+MODELS = RUNGS + ("lunisolar",)
 
 
 def _order(order: int | None) -> int | None:
@@ -102,9 +106,44 @@ def _tolerance(tolerance_mas) -> float | None:
 def _rung(name) -> str | None:
     if name is None:
         return None
-    if name not in RUNGS:
-        raise InvalidInputError("model", f"unknown model {name!r}; one of {', '.join(RUNGS)}")
+    if name not in MODELS:
+        raise InvalidInputError("model", f"unknown model {name!r}; one of {', '.join(MODELS)}")
     return name
+
+
+def _perturbers(b: Body, perturbers) -> tuple[str, ...]:
+    """The perturbers of a request: the catalogue's (None), or validated names (a list, or a comma-separated
+    string such as "moon,sun"). A body the theory does not apply to (the Moon) is refused for that first."""
+    if perturbers is None:
+        return b.perturbers
+    try:
+        return resolve_perturbers(perturbers, b)
+    except NotApplicableError:
+        cached_model(b)     # the Moon: "synchronous" is the reason that matters
+        raise
+
+
+def _moon_left_out(b: Body, per: tuple[str, ...]) -> list[str]:
+    """The warning a single-perturber answer carries when the catalogue gives the body the Moon too."""
+    if "Moon" not in b.perturbers or "Moon" in per:
+        return []
+    return [f"perturbers={','.join(per)} leaves out the Moon, which the catalogue lists for {b.name}: this is the "
+            f"Sun's part of the motion only (about a third of the Earth's precession), and its error estimate is "
+            f"against a Sun-only {b.name}, not the real one"]
+
+
+def _tag_perturbers(ans: dict, b: Body, per: tuple[str, ...]) -> dict:
+    ans["perturbers"] = list(per)
+    ans["model"]["perturbers"] = list(per)
+    ans["model"]["warnings"].extend(_moon_left_out(b, per))
+    return ans
+
+
+def _no_order_for_lunisolar(b: Body, order) -> None:
+    if order is not None:
+        raise NotApplicableError(b.name, f"an e-order (order={order!r}) truncates the single-perturber theory's "
+                                 "Hansen coefficients; the lunisolar series is cut by amplitude instead (cut_mas, or "
+                                 "tolerance_mas). Pass perturbers=sun for the Sun-only theory")
 
 
 def _order_for_tolerance(b: Body, tolerance: float | None, order: int | None) -> int | None:
@@ -131,7 +170,8 @@ def _selection_info(name: str, order: int | None, estimate: float | None, cost_m
             "estimated_error_mas": None if estimate is None else estimate / MAS,
             "error_terms_mas": None if terms is None else {k: v / MAS for k, v in terms.items()},
             "tolerance_mas": None if tolerance is None else float(f"{tolerance / MAS:.12g}"), "cost_ms": cost_ms,
-            "axis": None, "free_wobble": None}   # tracks only
+            "axis": None, "free_wobble": None,   # tracks only
+            "cut_mas": None}                     # the lunisolar series only
 
 
 def model_info(m: PrecessionNutation, b: Body) -> dict:
@@ -141,8 +181,11 @@ def model_info(m: PrecessionNutation, b: Body) -> dict:
                         "dominated by the obliquity's uncertainty")
     if b.hd_from == "dynamical_ellipticity" and b.hd_from_moments is not None \
             and abs(b.hd - b.hd_from_moments) > 1e-4 * b.hd:
+        given = b.values.get("inertia.dynamical_ellipticity")
+        why = "see data/errata.toml" if given is None or given.source.startswith("petit2014") \
+            else f"source {given.source}: {given.note}" if given.note else f"source {given.source}"
         warnings.append(f"dynamical ellipticity {b.hd:.6g} given explicitly; the catalogue moments imply "
-                        f"{b.hd_from_moments:.6g} (see data/errata.toml)")
+                        f"{b.hd_from_moments:.6g} ({why})")
     return {
         "theory": THEORY,
         "eccentricity_order": "exact" if m.order is None else m.order,
@@ -176,18 +219,26 @@ def body_record(body: str | int, dataset: str = DEFAULT_DATASET) -> dict:
                        "source": m.source, "reference": refs.get(m.source), "note": m.note}
     return {"name": b.name, "naif_id": b.naif_id, "kind": b.kind, "dataset": b.dataset,
             "orbit_center": b.orbit.center, "dynamical_ellipticity": b.hd,
-            "dynamical_ellipticity_from": b.hd_from, "values": values}
+            "dynamical_ellipticity_from": b.hd_from, "perturbers": list(b.perturbers), "values": values}
 
 
 def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None,
-               tolerance_mas: float | None = None, quantities: bool = False) -> dict:
+               tolerance_mas: float | None = None, quantities: bool = False, perturbers=None) -> dict:
     """Obliquity, H_d, K and the precession rate ψ̇ (Petit et al. Table 4 columns).
 
     ``tolerance_mas`` picks the lowest e-order whose truncated nutation stays within it
     (the rate is then the truncated one); ``model`` reports what was used.
+
+    ``perturbers``: None for the catalogue's (the Earth: the Moon and the Sun), or names ("sun",
+    ["Sun"], "moon,sun"). With the Moon the Earth's rate is the lunisolar theory's
+    (:mod:`ephem.earth`); the Sun alone reproduces the single-perturber answer.
     """
     start = time.perf_counter()
     b = resolve_body(body, dataset)
+    per = _perturbers(b, perturbers)
+    if "Moon" in per:
+        ans = _lunisolar_precession(b, per, dataset, order, tolerance_mas, start)
+        return with_units(ans) if quantities else ans
     tol = _tolerance(tolerance_mas)
     order = _order_for_tolerance(b, tol, _order(order))
     m = model_for(b, dataset, order)
@@ -206,6 +257,7 @@ def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: in
     ans["uncertainty"] = _uncertainty_summary(unc)
     ans["model"] = model_info(m, b)
     ans["model"].update(_series_selection(b, order, tol, start))
+    _tag_perturbers(ans, b, per)
     return with_units(ans) if quantities else ans
 
 
@@ -238,14 +290,28 @@ def _series_selection(b: Body, order: int | None, tol: float | None, start: floa
 
 
 def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None,
-             tolerance_mas: float | None = None, quantities: bool = False) -> dict:
+             tolerance_mas: float | None = None, quantities: bool = False, perturbers=None,
+             cut_mas: float | None = None) -> dict:
     """Nutation terms: Δψ = Σ S sin kM + C cos kM (likewise Δε), arcsec.
 
     ``tolerance_mas`` picks the lowest e-order whose terms move the pole by no more than
     that from the exact-coefficient series (the bound in ``model.estimated_error_mas``).
+
+    ``perturbers`` as :func:`precession`. With the Moon (the Earth) the terms are the lunisolar
+    series' in the Delaunay arguments: each carries ``delaunay_multipliers`` [l, l′, F, D, Ω] (and
+    ``multiple`` null), signed periods (negative where the argument decreases) and its Poisson rates;
+    ``cut_mas`` (default 0.1) or ``tolerance_mas`` (the largest cut whose omitted terms move the pole by
+    no more than that in all) chooses the amplitude cut.
     """
     start = time.perf_counter()
     b = resolve_body(body, dataset)
+    per = _perturbers(b, perturbers)
+    if "Moon" in per:
+        ans = _lunisolar_nutation(b, per, dataset, order, tolerance_mas, cut_mas, start)
+        return with_units(ans) if quantities else ans
+    if cut_mas is not None:
+        raise InvalidInputError("cut_mas", "an amplitude cut applies to the lunisolar series (the Earth with the "
+                                "Moon); this series is truncated by e-order (order, tolerance_mas)", b.name)
     tol = _tolerance(tolerance_mas)
     order = _order_for_tolerance(b, tol, _order(order))
     m = model_for(b, dataset, order)
@@ -285,6 +351,7 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
         "model": model_info(m, b),
     }
     ans["model"].update(_series_selection(b, order, tol, start))
+    _tag_perturbers(ans, b, per)
     return with_units(ans) if quantities else ans
 
 
@@ -344,7 +411,7 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
                  order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES,
                  tolerance_mas: float | None = None, model: str | None = None, axis: str = "figure",
                  free_wobble_phase_deg: float | None = None, free_wobble_J_arcsec: float | None = None,
-                 free_wobble_epoch=None) -> dict:
+                 free_wobble_epoch=None, perturbers=None) -> dict:
     """As :func:`track`, with numpy arrays instead of lists (for streaming and numerical use)."""
     begin = time.perf_counter()
     b = resolve_body(body, dataset)
@@ -354,6 +421,14 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
         raise InvalidInputError("axis", f"must be one of {', '.join(AXES)}, got {axis!r}", b.name)
     if tol is not None and (order is not None or rung is not None):
         raise InvalidInputError("tolerance_mas", "give a tolerance, or a model and order, not both")
+    per = _perturbers(b, perturbers)
+    if "Moon" in per:
+        return _lunisolar_track(b, per, dataset, t0, step, count, order, tol, rung, axis, free_wobble_phase_deg,
+                                free_wobble_J_arcsec, free_wobble_epoch, begin)
+    if rung == "lunisolar":
+        raise NotApplicableError(b.name, "the 'lunisolar' model is the Earth's under the Moon and the Sun; these "
+                                 f"perturbers ({', '.join(per)}) are served by the single-perturber ladder "
+                                 f"({', '.join(RUNGS)})")
     if rung is None:
         rung = "hansen" if order is None else "series"
     if rung == "series" and order is None:
@@ -396,7 +471,7 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     info["axis"] = axis
     info["free_wobble"] = None if not with_wobble else {
         "J_arcsec": wobble.J_arcsec, "phase_deg": wobble.phase_deg, "epoch_jd_tdb": wobble.epoch_jd_tdb}
-    return {
+    ans = {
         "body": b.name, "dataset": b.dataset,
         "jd_tdb": tr.jd_tdb,
         "psi_arcsec": tr.psi / ARCSEC,
@@ -409,12 +484,14 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
         "pole_dec_deg": np.degrees(tr.pole_dec),
         "model": info,
     }
+    return _tag_perturbers(ans, b, per)
 
 
 def track(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,
           order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES, tolerance_mas: float | None = None,
           model: str | None = None, axis: str = "figure", free_wobble_phase_deg: float | None = None,
-          free_wobble_J_arcsec: float | None = None, free_wobble_epoch=None, quantities: bool = False) -> dict:
+          free_wobble_J_arcsec: float | None = None, free_wobble_epoch=None, quantities: bool = False,
+          perturbers=None) -> dict:
     """Spin-axis track: ψ, Δψ, Δε (arcsec), obliquity and pole RA/Dec (deg) at each epoch.
 
     ``tolerance_mas`` lets the fidelity ladder (:mod:`ephem.ladder`) pick the cheapest model
@@ -429,11 +506,15 @@ def track(body: str | int | Body, start, stop, step_days: float, dataset: str = 
     then) lets the track add the free wobble when the tolerance needs it (or always, with a named
     model); ``free_wobble_J_arcsec`` overrides the published amplitude.
 
+    ``perturbers`` as :func:`precession`. The Earth with the Moon (its default) is served by the
+    ``lunisolar`` model (:mod:`ephem.earth`), whose estimate holds against IAU 2006/2000A over
+    1900-2100 (outside, not applicable); ``perturbers="sun"`` gives the single-perturber ladder.
+
     Times may be astropy ``Time``, unit-named arguments ``Quantity`` (:mod:`ephem.units`);
     ``quantities=True`` returns Quantity arrays and a TDB ``Time`` for ``jd_tdb``.
     """
     ans = track_arrays(body, start, stop, step_days, dataset, order, max_samples, tolerance_mas, model, axis,
-                       free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch)
+                       free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch, perturbers)
     if quantities:
         return with_units(ans)
     for key in TRACK_KEYS:
@@ -467,3 +548,199 @@ def free_motion_answer(body: str | int | Body, start, stop, step_days: float, J_
     for key in FREE_MOTION_KEYS:
         ans[key] = np.asarray(ans[key]).tolist()
     return ans
+
+
+# ----------------------------------------------------------------------------- the Earth under the Moon and the Sun
+
+def _lunisolar_model_info(b: Body, per: tuple[str, ...], lm) -> dict:
+    """``model`` of a lunisolar answer: model_info's keys (the spin-orbit ratio and epochs are the Earth's
+    about the Sun) with the lunisolar theory, its assumptions and the H_d it used, and why."""
+    from . import earth
+    from .lunisolar import lunisolar_data
+
+    info = model_info(cached_model(b), b)
+    rate = lm.precession_rate * JULIAN_YEAR_DAYS / ARCSEC
+    iau = lunisolar_data()["precession_reference"]["psi_a_rate_arcsec_per_century"] / 100.0
+    geodesic = lunisolar_data()["precession_reference"]["geodesic_arcsec_per_century"] / 100.0
+    given = b.values.get("inertia.dynamical_ellipticity")
+    if b.hd_from == "dynamical_ellipticity":
+        src = f"the catalogue's explicit dynamical ellipticity (source {given.source})" if given is not None \
+            else "the body's explicit dynamical ellipticity"
+    else:
+        src = "the catalogue's moments of inertia"
+    info["theory"] = earth.THEORY
+    info["eccentricity_order"] = None
+    info["assumptions"] = list(earth.ASSUMPTIONS) + [
+        f"H_d = {lm.hd:.10g} from {src}",
+        f"precession rate {rate:.6f}″/yr against IAU 2006's ψ_A rate {iau:.6f}″/yr ({rate - iau:+.4f}″/yr): the "
+        f"geodesic precession ({geodesic:+.4f}″/yr) and P03's second-order and planetary contributions are in "
+        "IAU 2006 and not in a first-order Newtonian theory (docs/earth.md)"]
+    info["perturbers"] = list(per)
+    return info
+
+
+def _lunisolar_uncertainty(b: Body) -> dict:
+    from .uncertainty import SCALAR_KEYS
+
+    inputs = sorted(k for k in b.values if k.split(".")[0] in ("orbit", "pole", "rotation", "inertia"))
+    return {"method": "not propagated: ephem.uncertainty replicates the single-perturber (Sun) theory only, so the "
+                      "lunisolar answer's 1-sigma uncertainties are unknown (null), not zero; its error against the "
+                      "real Earth is the track's estimate (model.estimated_error_mas) and docs/earth.md",
+            "dominant_input": {k: None for k in SCALAR_KEYS}, "unpropagated_inputs": inputs,
+            "assumptions": ["the lunisolar theory's inputs (the Moon's and the Sun's orbits, GMs) are published "
+                            "series without a stated 1-sigma (data/lunisolar.toml)"]}
+
+
+def _lunisolar_precession(b: Body, per: tuple[str, ...], dataset: str, order, tolerance_mas, start: float) -> dict:
+    from . import earth
+
+    tol = _tolerance(tolerance_mas)
+    model_for(b, dataset)                              # applicability (the Moon)
+    _no_order_for_lunisolar(b, _order(order))
+    lm = earth.lunisolar_earth(b, "figure", earth.TRACK_CUT_MAS, per)
+    per_year = JULIAN_YEAR_DAYS / ARCSEC
+    ans = {
+        "body": b.name, "dataset": b.dataset,
+        "obliquity_deg": math.degrees(lm.obliquity),
+        "dynamical_ellipticity": lm.hd,
+        "scaling_factor_arcsec_per_year": lm.scaling_factor * per_year,
+        "precession_rate_arcsec_per_year": lm.precession_rate * per_year,
+    }
+    for key in ("obliquity_deg", "dynamical_ellipticity", "scaling_factor_arcsec_per_year",
+                "precession_rate_arcsec_per_year"):
+        ans[f"{key}_uncertainty"] = None
+    ans["uncertainty"] = _lunisolar_uncertainty(b)
+    ans["perturbers"] = list(per)
+    ans["model"] = _lunisolar_model_info(b, per, lm)
+    ans["model"]["assumptions"].append("scaling_factor_arcsec_per_year: with several perturbers, 2ψ̇/cos ε̄ (the K "
+                                       "of one perturber on a circular orbit in the ecliptic giving the same rate)")
+    # the rate does not depend on the nutation's amplitude cut: nothing truncated
+    ans["model"].update(_selection_info("lunisolar", None, 0.0, 1e3 * (time.perf_counter() - start), tol))
+    return ans
+
+
+@lru_cache(maxsize=32)
+def _lunisolar_half_peak_to_peak(lm) -> tuple[float, float]:
+    """Half the peak-to-peak Δψ, Δε (radians) of a lunisolar series over 1900-2100, sampled every 0.5 d."""
+    from .earth import window
+
+    lo, hi = window()
+    dpsi, deps = lm.series.nutation_at(np.arange(lo, hi + 0.25, 0.5))
+    return 0.5 * float(np.ptp(dpsi)), 0.5 * float(np.ptp(deps))
+
+
+def _lunisolar_nutation(b: Body, per: tuple[str, ...], dataset: str, order, tolerance_mas, cut_mas,
+                        start: float) -> dict:
+    from . import earth
+    from .lunisolar import delaunay_arguments, delaunay_rates
+
+    tol = _tolerance(tolerance_mas)
+    model_for(b, dataset)
+    _no_order_for_lunisolar(b, _order(order))
+    if tol is not None and cut_mas is not None:
+        raise InvalidInputError("cut_mas", "give either cut_mas or tolerance_mas, not both", b.name)
+    if cut_mas is not None:
+        cut = earth.check_cut(in_unit(cut_mas, "mas", "cut_mas"))
+    elif tol is not None:
+        cut = earth.cut_for_tolerance(b, tol, "figure", per)
+    else:
+        cut = earth.TRACK_CUT_MAS
+    lm = earth.lunisolar_earth(b, "figure", cut, per)
+    eps = earth.lunisolar_earth(b, "figure", earth.TRACK_CUT_MAS, per).obliquity   # the track's, any cut
+    sin_eps = abs(math.sin(eps))
+    terms = []
+    for t in lm.series.terms:
+        term = {"multiple": None, "delaunay_multipliers": list(t["delaunay_multipliers"]),
+                "period_days": t["period_days"], "period_years": t["period_days"] / JULIAN_YEAR_DAYS}
+        for comp in ("longitude", "obliquity"):
+            for part in ("sin", "cos"):
+                term[f"{comp}_{part}_arcsec"] = t[f"{comp}_{part}_mas"] / 1e3
+        term["period_days_uncertainty"] = None
+        for comp in ("longitude", "obliquity"):
+            for part in ("sin", "cos"):
+                term[f"{comp}_{part}_arcsec_uncertainty"] = None
+                term[f"{comp}_{part}_rate_arcsec_per_century"] = t[f"{comp}_{part}_rate_mas_per_century"] / 1e3
+            amp = math.hypot(term[f"{comp}_sin_arcsec"], term[f"{comp}_cos_arcsec"])
+            term[f"{comp}_amplitude_arcsec"] = amp * (sin_eps if comp == "longitude" else 1.0)
+            term[f"{comp}_amplitude_arcsec_uncertainty"] = None
+        terms.append(term)
+    half_psi, half_eps = _lunisolar_half_peak_to_peak(lm)
+    orbit_epoch = b.orbit.epoch_jd_tdb
+    omitted = earth.omitted_bound(b, cut, "figure", per)
+    info = _lunisolar_model_info(b, per, lm)
+    info.update(_selection_info("lunisolar", None, omitted, 1e3 * (time.perf_counter() - start), tol,
+                                {"truncation": omitted}))
+    info["cut_mas"] = cut
+    info["assumptions"].append("terms: Δψ = Σ (S + Ṡ T) sin φ + (C + Ċ T) cos φ (likewise Δε), φ = the multipliers "
+                               "· (l, l′, F, D, Ω), T Julian centuries TDB from J2000; `multiple` is null (no single "
+                               "mean anomaly), periods are signed (negative: the argument decreases); "
+                               "half peak-to-peak over 1900-2100")
+    return {
+        "body": b.name, "dataset": b.dataset, "argument": earth.ARGUMENT,
+        # the Earth's orbital mean anomaly is l′ (the Sun's mean anomaly seen from the Earth)
+        "mean_anomaly_at_epoch_deg": math.degrees(float(delaunay_arguments(orbit_epoch)[1])) % 360.0,
+        "orbit_epoch_jd_tdb": orbit_epoch,
+        "mean_motion_deg_per_day": math.degrees(float(delaunay_rates((orbit_epoch - 2451545.0) / 36525.0)[1])),
+        "obliquity_deg": math.degrees(eps),
+        "terms": terms,
+        "delta_psi_half_peak_to_peak_arcsec": half_psi / ARCSEC,
+        "delta_epsilon_half_peak_to_peak_arcsec": half_eps / ARCSEC,
+        "delta_psi_half_peak_to_peak_arcsec_uncertainty": None,
+        "delta_epsilon_half_peak_to_peak_arcsec_uncertainty": None,
+        "uncertainty": _lunisolar_uncertainty(b),
+        "perturbers": list(per),
+        "model": info,
+    }
+
+
+def _lunisolar_track(b: Body, per: tuple[str, ...], dataset: str, t0: float, step: float, count: int, order, tol,
+                     rung, axis: str, phase_deg, J_arcsec, wobble_epoch, begin: float) -> dict:
+    from . import earth
+
+    model_for(b, dataset)
+    _no_order_for_lunisolar(b, order)
+    if rung not in (None, "lunisolar"):
+        raise NotApplicableError(b.name, f"'{rung}' is a rung of the single-perturber (Sun) ladder; {b.name} with the "
+                                 "Moon is served by the 'lunisolar' model (omit the model), or pass perturbers=sun "
+                                 "for the Sun-only ladder")
+    wobble = _wobble_request(b, axis, in_unit(phase_deg, "deg", "free_wobble_phase_deg"),
+                             in_unit(J_arcsec, "arcsec", "free_wobble_J_arcsec"), wobble_epoch)
+    lm = earth.lunisolar_earth(b, axis, earth.TRACK_CUT_MAS, per)
+    t = t0 + step * np.arange(count)
+    candidates = earth.estimates(lm, t, wobble)
+    if tol is not None:
+        est = earth.choose(lm, candidates, tol, wobble)
+    else:   # a named (or the default) model follows the wobble whenever its phase is given
+        est = candidates[-1] if wobble is not None else candidates[0]
+    tr = lm.track(t)
+    with_wobble = est.free_wobble
+    if with_wobble:
+        tr = earth.add_wobble(lm, tr, wobble)
+    info = _lunisolar_model_info(b, per, lm)
+    info["assumptions"] = [earth.AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else axis]] + info["assumptions"]
+    if "free_wobble" in est.unestimated:
+        info["warnings"].append("no free-wobble amplitude is published for this body: the estimate takes its "
+                                "figure axis to coincide with the angular momentum (a relaxed rotator)")
+    if "rotation_averaging" in est.unestimated:
+        info["warnings"].append("without moments of inertia the rotation-averaging error is not estimated")
+    if with_wobble:
+        info["warnings"].append("the free wobble added is a rigid body's; its amplitude and phase are yours, "
+                                "and the estimate does not include their uncertainty")
+    info.update(_selection_info("lunisolar", None, est.total, 1e3 * (time.perf_counter() - begin), tol, est.terms))
+    info["axis"] = axis
+    info["free_wobble"] = None if not with_wobble else {
+        "J_arcsec": wobble.J_arcsec, "phase_deg": wobble.phase_deg, "epoch_jd_tdb": wobble.epoch_jd_tdb}
+    info["cut_mas"] = earth.TRACK_CUT_MAS
+    return {
+        "body": b.name, "dataset": b.dataset,
+        "jd_tdb": tr.jd_tdb,
+        "psi_arcsec": tr.psi / ARCSEC,
+        "delta_psi_arcsec": tr.delta_psi / ARCSEC,
+        "delta_epsilon_arcsec": tr.delta_epsilon / ARCSEC,
+        "obliquity_deg": np.degrees(tr.obliquity),
+        "obliquity_deg_uncertainty": None,     # not propagated for the lunisolar theory (see precession())
+        "pole_ra_deg": np.degrees(tr.pole_ra),
+        "pole_dec_deg": np.degrees(tr.pole_dec),
+        "perturbers": list(per),
+        "model": info,
+    }

@@ -20,9 +20,12 @@ from functools import lru_cache
 from pathlib import Path
 
 from .constants import GM_CENTER, J2000_JD
-from .errors import InvalidInputError, UnknownBodyError
+from .errors import InvalidInputError, NotApplicableError, UnknownBodyError
 
 DEFAULT_DATASET = "current"
+#: Bodies that may torque a body (the ``perturbers`` of a record): an orbit's centre, or the Moon
+#: (for the Earth only: :mod:`ephem.lunisolar`).
+KNOWN_PERTURBERS = ("Sun", "Earth", "Moon")
 
 
 def data_dir() -> Path:
@@ -125,11 +128,15 @@ class Body:
     dataset: str = "user"
     mean_radius_km: float | None = None
     values: dict = field(default_factory=dict, compare=False, repr=False)
+    #: The bodies whose torque moves the spin axis (canonical names, :data:`KNOWN_PERTURBERS`);
+    #: None: the orbit's centre alone. Only the Earth may add the Moon.
+    perturbers: tuple[str, ...] | None = None
 
     def __post_init__(self):
         from .kinoshita import dynamical_ellipticity
 
         n = self.name
+        object.__setattr__(self, "perturbers", resolve_perturbers(self.perturbers, self))
         _check_finite(n, "rotation_period_hours", self.rotation_period_hours)
         if self.rotation_period_hours <= 0:
             raise InvalidInputError("rotation_period_hours",
@@ -169,6 +176,55 @@ class Body:
     def hd_from_moments(self) -> float | None:
         """H_d implied by the moments, whether or not an explicit value overrides it."""
         return self._hd_moments
+
+
+def is_earth(body: Body) -> bool:
+    """The Earth (by name or NAIF id 399): the one body whose perturbers may include the Moon."""
+    return body.naif_id == 399 or body.name.strip().lower() == "earth"
+
+
+def resolve_perturbers(value, body: Body) -> tuple[str, ...]:
+    """Validated perturbers of ``body``: None (the orbit's centre), a name, a comma-separated string
+    ("moon,sun") or a list of names, any case. Canonical names, in the order given.
+
+    Unknown or repeated names raise :class:`InvalidInputError` (field ``perturbers``); a known body
+    the theory cannot take as a perturber of this one raises :class:`NotApplicableError`: the
+    single-perturber theory is torqued by the orbit's centre, and only the Earth has a second
+    perturber, the Moon (:mod:`ephem.lunisolar`).
+    """
+    centre = body.orbit.center
+    if value is None:
+        return (centre,)
+    if isinstance(value, str):
+        names = [v.strip() for v in value.split(",")]
+    elif isinstance(value, (list, tuple)):
+        names = list(value)
+    else:
+        raise InvalidInputError("perturbers", f"expected a name, a comma-separated list or a list of names, "
+                                f"got {value!r}", body.name)
+    canonical = {p.lower(): p for p in KNOWN_PERTURBERS}
+    out = []
+    for name in names:
+        if not isinstance(name, str) or name.strip().lower() not in canonical:
+            raise InvalidInputError("perturbers", f"unknown perturber {name!r}; known: {', '.join(KNOWN_PERTURBERS)}",
+                                    body.name)
+        p = canonical[name.strip().lower()]
+        if p in out:
+            raise InvalidInputError("perturbers", f"{p} is listed twice", body.name)
+        out.append(p)
+    if not out:
+        raise InvalidInputError("perturbers", "give at least one perturber", body.name)
+    for p in out:
+        if p == "Moon":
+            if not is_earth(body) or centre != "Sun":
+                raise NotApplicableError(body.name, "the Moon as a perturber is modelled for the Earth only "
+                                         "(ephem.lunisolar: Kinoshita's lunisolar theory of the Earth); the "
+                                         f"single-perturber theory takes its torque from the orbit's centre, the {centre}")
+        elif p != centre:
+            raise NotApplicableError(body.name, f"{p} is not the orbit's centre ({centre}): the single-perturber "
+                                     "theory takes its torque from the orbit's centre, and only the Earth has a "
+                                     "second perturber (the Moon)")
+    return tuple(out)
 
 
 # --------------------------------------------------------------------------- loading
@@ -252,9 +308,13 @@ def _body_from_record(rec: dict, dataset: str) -> Body:
     hd = get("inertia", "dynamical_ellipticity", "", required=False)
     radius = get("", "mean_radius", "km", required=False)
     naif = rec.get("naif_id")
+    perturbers = rec.get("perturbers")
+    if perturbers is not None and not isinstance(perturbers, list):
+        raise InvalidInputError("perturbers", f"expected a list of names, got {perturbers!r}", name)
     return Body(name=name, orbit=orbit, pole=pole, rotation_period_hours=period_h, moments=moments,
                 dynamical_ellipticity=hd, naif_id=None if naif is None else int(naif),
-                kind=rec.get("kind", "asteroid"), dataset=dataset, mean_radius_km=radius, values=values)
+                kind=rec.get("kind", "asteroid"), dataset=dataset, mean_radius_km=radius, values=values,
+                perturbers=None if perturbers is None else tuple(perturbers))
 
 
 @dataclass(frozen=True)

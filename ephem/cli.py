@@ -93,10 +93,13 @@ def body(name: str, dataset: str = DatasetOpt):
 @app.command()
 def precession(name: str = typer.Argument(..., metavar="BODY"), dataset: str = DatasetOpt,
                fmt: Format = FormatOpt, order: Optional[int] = OrderOpt,
-               tolerance_mas: Optional[float] = ToleranceOpt):
+               tolerance_mas: Optional[float] = ToleranceOpt,
+               perturbers: Optional[str] = typer.Option(None, "--perturbers", help="The torquing bodies, comma-separated: default the "
+                                          "catalogue's (the Earth: moon,sun, the lunisolar theory); sun for the "
+                                          "single-perturber answer.")):
     """Obliquity, dynamical ellipticity, scaling factor K and precession rate of BODY."""
     try:
-        ans = api.precession(name, dataset, order, tolerance_mas)
+        ans = api.precession(name, dataset, order, tolerance_mas, perturbers=perturbers)
     except EphemError as exc:
         _fail(exc)
     _emit(ans, fmt, [_flat(ans)])
@@ -105,13 +108,28 @@ def precession(name: str = typer.Argument(..., metavar="BODY"), dataset: str = D
 @app.command()
 def nutation(name: str = typer.Argument(..., metavar="BODY"), dataset: str = DatasetOpt,
              fmt: Format = FormatOpt, order: Optional[int] = OrderOpt,
-             tolerance_mas: Optional[float] = ToleranceOpt):
-    """Nutation series of BODY in longitude and obliquity (harmonics of the mean anomaly)."""
+             tolerance_mas: Optional[float] = ToleranceOpt,
+             perturbers: Optional[str] = typer.Option(None, "--perturbers", help="The torquing bodies, comma-separated: default the "
+                                          "catalogue's (the Earth: moon,sun, the lunisolar theory); sun for the "
+                                          "single-perturber answer."),
+             cut_mas: Optional[float] = typer.Option(None, "--cut-mas", help="The lunisolar series (the Earth "
+                                                     "with the Moon): keep the terms whose amplitude reaches this "
+                                                     "many mas (default 0.1).")):
+    """Nutation series of BODY in longitude and obliquity (harmonics of the mean anomaly; for the Earth with
+    the Moon, integer combinations of the Delaunay arguments l, l', F, D, Omega)."""
+    from .tables import DELAUNAY_COLUMNS
+
     try:
-        ans = api.nutation(name, dataset, order, tolerance_mas)
+        ans = api.nutation(name, dataset, order, tolerance_mas, perturbers=perturbers, cut_mas=cut_mas)
     except EphemError as exc:
         _fail(exc)
-    _emit(ans, fmt, ans["terms"])
+    rows = []
+    for term in ans["terms"]:       # the Delaunay multipliers as five columns in CSV and tables
+        row = {k: v for k, v in term.items() if k != "delaunay_multipliers"}
+        if term.get("delaunay_multipliers") is not None:
+            row = {"multiple": None, **dict(zip(DELAUNAY_COLUMNS, term["delaunay_multipliers"])), **row}
+        rows.append(row)
+    _emit(ans, fmt, rows)
 
 
 @app.command()
@@ -122,7 +140,8 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
           dataset: str = DatasetOpt, fmt: Format = FormatOpt, order: Optional[int] = OrderOpt,
           tolerance_mas: Optional[float] = ToleranceOpt,
           model: Optional[str] = typer.Option(None, "--model", help="A rung of the fidelity ladder: "
-                                              "secular, series, hansen, second_order, numerical, real_orbit."),
+                                              "secular, series, hansen, second_order, numerical, real_orbit; "
+                                              "lunisolar for the Earth with the Moon (its default)."),
           axis: str = typer.Option("figure", "--axis", help="The pole to follow: figure (the axis of largest "
                                    "inertia, which circles the angular momentum by the free wobble) or "
                                    "angular_momentum."),
@@ -133,7 +152,10 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
           wobble_j: Optional[float] = typer.Option(None, "--free-wobble-J-arcsec", help="The wobble's amplitude "
                                                    "(default: the published one)."),
           wobble_epoch: Optional[str] = typer.Option(None, "--free-wobble-epoch", help="Epoch of the phase "
-                                                     "(default: the pole epoch).")):
+                                                     "(default: the pole epoch)."),
+          perturbers: Optional[str] = typer.Option(None, "--perturbers", help="The torquing bodies, comma-separated: default the "
+                                          "catalogue's (the Earth: moon,sun, the lunisolar theory); sun for the "
+                                          "single-perturber answer.")):
     """Spin-axis track of BODY: ψ, Δψ, Δε, obliquity and pole RA/Dec over time.
 
     The model used (rung, order, estimated error, cost) goes to stderr with --format csv or table.
@@ -141,7 +163,7 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
     try:
         ans = api.track(name, start, stop, step_days, dataset, order, tolerance_mas=tolerance_mas, model=model,
                         axis=axis, free_wobble_phase_deg=wobble_phase, free_wobble_J_arcsec=wobble_j,
-                        free_wobble_epoch=wobble_epoch)
+                        free_wobble_epoch=wobble_epoch, perturbers=perturbers)
     except EphemError as exc:
         _fail(exc)
     if fmt is not Format.json:
@@ -249,19 +271,22 @@ def pck(names: list[str] = typer.Argument(..., metavar="BODY..."),
         stop: str = typer.Option(..., "--stop", help="ISO 8601 or JD TDB."),
         out: Path = typer.Option(..., "--out", help="The kernel, FILE.tpc."),
         dataset: str = DatasetOpt, tolerance_mas: Optional[float] = ToleranceOpt,
-        model: Optional[str] = typer.Option(None, "--model", help="A rung of the fidelity ladder.")):
+        model: Optional[str] = typer.Option(None, "--model", help="A rung of the fidelity ladder."),
+        max_angles: int = typer.Option(100, "--max-angles", help="Most nutation angles per body (the fit adds "
+                                       "them until it is under 0.1 mas).")):
     """A NAIF text PCK (KPL/PCK) whose pole reproduces BODY...'s track over the span, with a comment block
     stating the model, dataset, validity span and fitting error (docs/pck.md)."""
-    from .naif_pck import write_pck_file
+    from .pck import write_pck_file
 
     try:
-        fits = write_pck_file(out, names, start, stop, dataset=dataset, tolerance_mas=tolerance_mas, model=model)
+        result = write_pck_file(out, names, start, stop, dataset=dataset, tolerance_mas=tolerance_mas, model=model,
+                                max_angles=max_angles)
     except EphemError as exc:
         _fail(exc)
-    for f in fits:
+    for f in result.bodies:
         est = f.model.get("estimated_error_mas")
-        typer.echo(f"{f.body}: fitting error {f.fit_error_mas:.4g} mas (model {f.model['name']}"
-                   + (f", estimated {est:.4g} mas" if est is not None else "") + ")")
+        typer.echo(f"{f.name}: fitting error {f.fit_error_mas:.4g} mas with {len(f.angles)} angles (model "
+                   f"{f.model['name']}" + (f", estimated {est:.4g} mas" if est is not None else "") + ")")
     typer.echo(f"wrote {out}")
 
 

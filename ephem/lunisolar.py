@@ -321,12 +321,10 @@ class LunisolarSeries:
         t = np.asarray(t_centuries, dtype=float)
         phase = a @ self.multipliers.T.astype(float)            # (..., n)
         s, c = np.sin(phase), np.cos(phase)
-        coef = self.coefficients[None, :, :] + t.reshape(-1, 1, 1) * self.rates[None, :, :] \
-            if t.ndim else self.coefficients + float(t) * self.rates
-        if t.ndim:
-            coef = coef.reshape(t.shape + coef.shape[1:])
-        dpsi = np.sum(coef[..., 0] * s + coef[..., 1] * c, axis=-1)
-        deps = np.sum(coef[..., 2] * s + coef[..., 3] * c, axis=-1)
+        # Σ (S + Ṡ T) sin φ + (C + Ċ T) cos φ as matrix-vector products (no (..., n, 4) temporaries)
+        k, r = self.coefficients, self.rates
+        dpsi = s @ k[:, 0] + c @ k[:, 1] + t * (s @ r[:, 0] + c @ r[:, 1])
+        deps = s @ k[:, 2] + c @ k[:, 3] + t * (s @ r[:, 2] + c @ r[:, 3])
         return dpsi * MAS, deps * MAS
 
     def nutation_at(self, jd_tdb) -> tuple[np.ndarray, np.ndarray]:
@@ -384,14 +382,15 @@ def earth_spin_rate() -> float:
 
 
 def earth_lunisolar(cut_mas: float = 0.1, perturbers=PERTURBERS, hd=None, axis: str = "figure",
-                    grid: tuple = DEFAULT_GRID) -> LunisolarSeries:
+                    grid: tuple = DEFAULT_GRID, spin_rate: float | None = None) -> LunisolarSeries:
     """The Earth's rigid-body lunisolar precession rate and nutation series.
 
-    ``hd``: None or "catalogue" for the catalogue's H_d (Lara 2014 ratios, 0.0032789), "iers2010"
-    for IERS 2010 Table 1.1 (0.0032737949), or a number. ``axis``: "figure" (comparable with
+    ``hd``: None or "catalogue" for the catalogue's H_d (the current catalogue gives IERS 2010
+    Table 1.1's 0.0032737949 explicitly; its Lara 2014 moments imply 0.0032789), "iers2010" for
+    IERS 2010 Table 1.1 (0.0032737949), or a number. ``axis``: "figure" (comparable with
     IAU 2000A and REN-2000) or "angular_momentum" (what the torque equations move, and what
     ephem.kinoshita / ephem.model give). Terms whose Δψ or Δε amplitude reaches ``cut_mas`` are
-    kept.
+    kept. ``spin_rate`` ω (rad/day): default the catalogue Earth's (:func:`earth_spin_rate`).
     """
     perturbers = tuple(perturbers) if not isinstance(perturbers, str) else (perturbers,)
     if not perturbers or any(p not in PERTURBERS for p in perturbers) or len(set(perturbers)) != len(perturbers):
@@ -401,12 +400,16 @@ def earth_lunisolar(cut_mas: float = 0.1, perturbers=PERTURBERS, hd=None, axis: 
     cut = float(cut_mas)
     if not math.isfinite(cut) or cut < 0.0:
         raise InvalidInputError("cut_mas", f"must be a finite non-negative number, got {cut_mas!r}")
-    return _build(cut, tuple(sorted(perturbers, key=PERTURBERS.index)), _resolve_hd(hd), axis, tuple(grid))
+    if spin_rate is None:
+        spin_rate = earth_spin_rate()
+    elif not (isinstance(spin_rate, (int, float)) and math.isfinite(spin_rate) and spin_rate > 0.0):
+        raise InvalidInputError("spin_rate", f"must be a positive finite number (rad/day), got {spin_rate!r}")
+    return _build(cut, tuple(sorted(perturbers, key=PERTURBERS.index)), _resolve_hd(hd), axis, tuple(grid),
+                  float(spin_rate))
 
 
 @lru_cache(maxsize=16)
-def _build(cut: float, perturbers: tuple, hd: float, axis: str, grid: tuple) -> LunisolarSeries:
-    omega = earth_spin_rate()
+def _build(cut: float, perturbers: tuple, hd: float, axis: str, grid: tuple, omega: float) -> LunisolarSeries:
     eps0 = obliquity_arcsec(0.0) * ARCSEC
     spec0 = orbital_spectrum(perturbers, 0.0, grid)
     nu0 = spec0.multipliers @ delaunay_rates(0.0)

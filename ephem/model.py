@@ -170,12 +170,15 @@ def check_applicable(body: Body, spin_rate: float, mean_motion: float) -> None:
     """Refuse bodies whose rotation is too slow to average the torque over (the Moon)."""
     ratio = spin_rate / mean_motion
     if ratio < MIN_SPIN_ORBIT_RATIO:
-        what = "synchronous with its orbit" if abs(ratio - 1.0) < 0.01 else "slow compared with its orbital motion"
+        synchronous = abs(ratio - 1.0) < 0.01
+        what = "synchronous with its orbit" if synchronous else "slow compared with its orbital motion"
         raise NotApplicableError(
             body.name,
             f"the rotation is {what} (spin rate / orbital mean motion ω/n = {ratio:.4g}); Kinoshita's theory "
             f"averages the torque over the rotation and needs ω/n >= {MIN_SPIN_ORBIT_RATIO:g} (below, its pole "
-            f"departs from the full rigid body's by more than 10% of the forced motion)",
+            f"departs from the full rigid body's by more than 10% of the forced motion)"
+            + ("; a synchronous rotator's pole follows its physical librations about a Cassini state, which are "
+               "another theory, not modelled here" if synchronous else ""),
             ratio=ratio, threshold=MIN_SPIN_ORBIT_RATIO)
 
 

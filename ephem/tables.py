@@ -7,7 +7,10 @@ Two layouts, each a pair of tables (longitude, obliquity):
   the obliquity's is sqrt(Sin² + Cos²).
 * ``amp-period`` (Tables 9-10): Amp (mas) and Period (days), the same amplitudes.
 
-Arg is the multiple of the body's mean anomaly M. Input: the answer of :func:`ephem.api.nutation`
+Arg is the multiple of the body's mean anomaly M; for the Earth's lunisolar series (terms with
+``delaunay_multipliers``) it is their integer combination of the Delaunay arguments, written "2F−2D+2Ω"
+in Markdown and LaTeX and given as the five columns l, l', F, D, Omega (in that order: IERS 2010
+eq. 5.43) in CSV and JSON, which then have no ``multiple`` column. Input: the answer of :func:`ephem.api.nutation`
 (with ``*_uncertainty`` keys on its terms when the catalogue's uncertainties were propagated: they
 become ± columns). :func:`render_nutation` gives the text; :func:`write_tables` writes a set of
 bodies at once. Every format is rendered from the same rows (:func:`table_rows`), so they carry
@@ -52,6 +55,30 @@ def _arg(k: int) -> str:
     return "M" if k == 1 else f"{k}M"
 
 
+#: Column names of the Delaunay multipliers (CSV, JSON), and their symbols in Markdown and LaTeX.
+DELAUNAY_COLUMNS = ("l", "l'", "F", "D", "Omega")
+_DELAUNAY_SYMBOLS = ("l", "l′", "F", "D", "Ω")
+_DELAUNAY_LATEX = ("l", "l'", "F", "D", r"\Omega")
+
+
+def delaunay_arg(multipliers, latex: bool = False) -> str:
+    """The argument k·(l, l′, F, D, Ω) as text: [0, 0, 2, -2, 2] -> "2F−2D+2Ω" (LaTeX: "$2F-2D+2\\Omega$")."""
+    symbols, minus = (_DELAUNAY_LATEX, "-") if latex else (_DELAUNAY_SYMBOLS, "−")
+    parts = []
+    for k, name in zip(multipliers, symbols):
+        k = int(k)
+        if k == 0:
+            continue
+        sign = minus if k < 0 else ("+" if parts else "")
+        parts.append(f"{sign}{'' if abs(k) == 1 else abs(k)}{name}")
+    text = "".join(parts) or "0"
+    return f"${text}$" if latex else text
+
+
+def _is_delaunay(answer: dict) -> bool:
+    return any(t.get("delaunay_multipliers") is not None for t in answer["terms"])
+
+
 def table_rows(answer: dict, layout: str = "sin-cos") -> list[dict]:
     """Rows of both tables of a layout: ``component``, ``multiple``, ``arg``, the layout's columns and, where
     the answer carries them, their 1-σ uncertainties (``<column>_uncertainty``)."""
@@ -64,7 +91,11 @@ def table_rows(answer: dict, layout: str = "sin-cos") -> list[dict]:
             s, c = t[f"{comp}_sin_arcsec"], t[f"{comp}_cos_arcsec"]
             scale = abs(sin_eps) if comp == "longitude" else 1.0
             amp = math.hypot(s, c) * scale
-            row = {"component": comp, "multiple": int(t["multiple"]), "arg": _arg(int(t["multiple"]))}
+            if t.get("delaunay_multipliers") is not None:
+                k = [int(v) for v in t["delaunay_multipliers"]]
+                row = {"component": comp, "arg": delaunay_arg(k), **dict(zip(DELAUNAY_COLUMNS, k))}
+            else:
+                row = {"component": comp, "multiple": int(t["multiple"]), "arg": _arg(int(t["multiple"]))}
             sig_amp = t.get(f"{comp}_amplitude_arcsec_uncertainty")
             if layout == "sin-cos":
                 row.update(sin_arcsec=s, cos_arcsec=c, amp_arcsec=amp, period_years=t["period_years"])
@@ -92,7 +123,9 @@ def caption(answer: dict, comp: str, layout: str = "sin-cos", sigma: bool = Fals
         lead = "Amplitude of the nutation in longitude Δψ sin ε" if comp == "longitude" else \
             "Amplitude of the nutation in obliquity Δε"
     return (f"{lead} for {answer['body']} ({answer['dataset']} dataset, ε = {answer['obliquity_deg']:.4f}°; "
-            f"{amp}; argument: multiples of the mean anomaly M; "
+            f"{amp}; argument: "
+            + ("integer combinations of the Delaunay arguments l, l′, F, D, Ω (IERS 2010 eq. 5.43); "
+               if _is_delaunay(answer) else "multiples of the mean anomaly M; ")
             + ("± 1σ from the catalogue's uncertainties, where it gives them; " if sigma else "")
             + f"layout of Petit et al. 2014 {_PAPER_TABLES[layout]})")
 
@@ -128,7 +161,7 @@ def latex_escape(text: str) -> str:
 
 def _latex_caption(answer: dict, comp: str, layout: str, sigma: bool) -> str:
     text = latex_escape(caption(answer, comp, layout, sigma)).replace("±", r"$\pm$").replace("σ", r"$\sigma$")
-    for plain, tex in (("ε", r"$\varepsilon$"), ("°", r"$^\circ$"), ("Δψ", r"$\Delta\psi$"), ("Δε", r"$\Delta\varepsilon$"),
+    for plain, tex in (("ε", r"$\varepsilon$"), ("°", r"$^\circ$"), ("l′", r"$l'$"), ("Ω", r"$\Omega$"), ("Δψ", r"$\Delta\psi$"), ("Δε", r"$\Delta\varepsilon$"),
                        ("(Sin² + Cos²)\\textasciicircum{}½", r"$(\mathrm{Sin}^2 + \mathrm{Cos}^2)^{1/2}$")):
         text = text.replace(plain, tex)
     return text
@@ -143,7 +176,7 @@ def render_nutation(answer: dict, fmt: str, digits: int | None = None, layout: s
     columns = _COLUMNS[layout]
     sigma = any(v is not None for r in rows for k, v in r.items() if k.endswith("_uncertainty"))
     if fmt == "csv":
-        keys = ["component", "multiple", "arg"]
+        keys = ["component", "arg", *DELAUNAY_COLUMNS] if _is_delaunay(answer) else ["component", "multiple", "arg"]
         for key, *_ in columns:
             keys.append(key)
             if _has_sigma(rows, key):
@@ -175,7 +208,8 @@ def render_nutation(answer: dict, fmt: str, digits: int | None = None, layout: s
             lines = [r"\begin{table}", r"\centering", rf"\caption{{{_latex_caption(answer, comp, layout, sigma)}}}",
                      r"\begin{tabular}{" + "r" * len(columns) + "l}", r"\toprule", " & ".join(head) + r" \\",
                      r"\midrule"]
-            lines += [" & ".join(c + [r["arg"].replace("M", r"$M$")]) + r" \\" for c, r in zip(cells, part)]
+            lines += [" & ".join(c + [delaunay_arg([r[k] for k in DELAUNAY_COLUMNS], latex=True) if "l" in r
+                                      else r["arg"].replace("M", r"$M$")]) + r" \\" for c, r in zip(cells, part)]
             lines += [r"\bottomrule", r"\end{tabular}", r"\end{table}"]
         blocks.append("\n".join(lines))
     return "\n\n".join(blocks) + "\n"

@@ -56,6 +56,7 @@ class Rung(str, Enum):
     second_order = "second_order"
     numerical = "numerical"
     real_orbit = "real_orbit"
+    lunisolar = "lunisolar"
 
 
 class PlotKind(str, Enum):
@@ -141,10 +142,15 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                       "estimated_error_mas": 0.0, "error_terms_mas": None, "tolerance_mas": None,
                       "cost_ms": 0.05}}}}}})
     def precession(body: BodyPath, dataset: DatasetQuery = Dataset.current, order: OrderQuery = None,
-                   tolerance_mas: ToleranceQuery = None):
-        return api.precession(body, dataset.value, order, tolerance_mas)
+                   tolerance_mas: ToleranceQuery = None,
+                   perturbers: Annotated[Optional[str], Query(
+                       description="the torquing bodies: default the catalogue's (the Earth: the Moon and the Sun, "
+                                   "the lunisolar theory); sun alone for the single-perturber answer",
+                       examples=["sun", "moon,sun"], max_length=100)] = None):
+        return api.precession(body, dataset.value, order, tolerance_mas, perturbers=perturbers)
 
-    @app.get("/v1/bodies/{body}/nutation", response_model=schemas.Nutation, tags=["theory"], responses={
+    @app.get("/v1/bodies/{body}/nutation", response_model=schemas.Nutation, tags=["theory"],
+             response_model_exclude_unset=True, responses={    # a term carries the keys of its theory only
         **ERRORS, 200: {"content": {
             "application/json": {"example": {"terms": [{
                 "multiple": 2, "period_days": 662.69, "period_years": 1.8143, "longitude_sin_arcsec": -2.6118,
@@ -155,6 +161,14 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             "application/x-latex": {"example": "\\begin{tabular}{rrrrl}\n\\toprule\n"}}}})
     def nutation(body: BodyPath, dataset: DatasetQuery = Dataset.current, order: OrderQuery = None,
                  tolerance_mas: ToleranceQuery = None,
+                 perturbers: Annotated[Optional[str], Query(
+                       description="the torquing bodies: default the catalogue's (the Earth: the Moon and the Sun, "
+                                   "the lunisolar theory); sun alone for the single-perturber answer",
+                       examples=["sun", "moon,sun"], max_length=100)] = None,
+                 cut_mas: Annotated[Optional[float], Query(
+                     ge=0.001, description="the lunisolar series (the Earth with the Moon): keep the terms whose "
+                                           "amplitude reaches this many mas (default 0.1; not with tolerance_mas)",
+                     examples=[0.1])] = None,
                  format: Annotated[TableFormat, Query(description="json (this answer), or the paper's table "
                                                                   "layout as csv, markdown, latex (booktabs) or "
                                                                   "table-json")] = TableFormat.json,
@@ -162,7 +176,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                                                   "5-8: Sin, Cos, Amp in arcsec, Period in years) "
                                                                   "or amp-period (Tables 9-10: Amp in mas, Period "
                                                                   "in days)")] = TableLayout.sin_cos):
-        ans = api.nutation(body, dataset.value, order, tolerance_mas)
+        ans = api.nutation(body, dataset.value, order, tolerance_mas, perturbers=perturbers, cut_mas=cut_mas)
         if format is TableFormat.json:
             return ans
         fmt = "json" if format is TableFormat.table_json else format.value
@@ -187,7 +201,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
               dataset: DatasetQuery = Dataset.current, order: OrderQuery = None,
               tolerance_mas: ToleranceQuery = None,
               model: Annotated[Optional[Rung], Query(description="a rung of the fidelity ladder (not with "
-                                                                 "tolerance_mas); default hansen")] = None,
+                                                                 "tolerance_mas); default hansen, and for the Earth "
+                                                                 "with the Moon its lunisolar model")] = None,
               axis: Annotated[Axis, Query(description="the pole to follow: the figure axis (the body's axis of "
                                                       "largest inertia, which circles the angular momentum by the "
                                                       "free wobble) or the angular momentum")] = Axis.figure,
@@ -199,10 +214,15 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                   ge=0, le=3600, description="the wobble's amplitude (default: the published one)")] = None,
               free_wobble_epoch: Annotated[Optional[str], Query(
                   description="epoch of the phase, ISO 8601 or JD TDB (default: the pole epoch)")] = None,
-              format: Annotated[TrackFormat, Query(description="json or csv (streamed)")] = TrackFormat.json):
+              format: Annotated[TrackFormat, Query(description="json or csv (streamed)")] = TrackFormat.json,
+              perturbers: Annotated[Optional[str], Query(
+                       description="the torquing bodies: default the catalogue's (the Earth: the Moon and the Sun, "
+                                   "the lunisolar theory); sun alone for the single-perturber answer",
+                       examples=["sun", "moon,sun"], max_length=100)] = None):
         arrays = api.track_arrays(body, start, stop, step_days, dataset.value, order,
                                   settings.max_track_samples, tolerance_mas, None if model is None else model.value,
-                                  axis.value, free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch)
+                                  axis.value, free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch,
+                                  perturbers=perturbers)
         if format is TrackFormat.csv:
             return StreamingResponse(_csv_rows(arrays), media_type="text/csv; charset=utf-8")
         return finite_json(arrays)

@@ -6,7 +6,9 @@ from typing import Literal, Optional, Union
 from pydantic import BaseModel, ConfigDict, Field
 
 Finite = ConfigDict(allow_inf_nan=False, extra="forbid")
-RungName = Literal["secular", "series", "hansen", "second_order", "numerical", "real_orbit"]
+RungName = Literal["secular", "series", "hansen", "second_order", "numerical", "real_orbit", "lunisolar"]
+Perturbers = Field(None, description="the bodies whose torque the answer includes: the orbit's centre (the Sun), "
+                                     "and for the Earth by default the Moon too (the lunisolar theory)")
 AxisName = Literal["figure", "angular_momentum"]
 
 
@@ -20,7 +22,9 @@ class FreeWobbleInfo(BaseModel):
 
 class ModelInfo(BaseModel):
     theory: str
-    eccentricity_order: Union[int, Literal["exact"]]
+    eccentricity_order: Optional[Union[int, Literal["exact"]]] = Field(
+        description="e-power order of the Hansen coefficients, \"exact\", or null for the lunisolar theory (the "
+                    "Earth with the Moon: its series are cut by amplitude, cut_mas)")
     assumptions: list[str]
     warnings: list[str]
     spin_orbit_ratio: float
@@ -40,6 +44,9 @@ class ModelInfo(BaseModel):
                                                        "angular momentum")
     free_wobble: Optional[FreeWobbleInfo] = Field(None, description="tracks: the free wobble added to the figure "
                                                                     "axis, or null when it is left out")
+    perturbers: Optional[list[str]] = Perturbers
+    cut_mas: Optional[float] = Field(None, description="the lunisolar theory (name \"lunisolar\"): the amplitude cut "
+                                                       "of its nutation series, mas")
 
 
 class BodySummary(BaseModel):
@@ -73,6 +80,7 @@ class BodyRecord(BaseModel):
     orbit_center: str
     dynamical_ellipticity: float
     dynamical_ellipticity_from: str
+    perturbers: Optional[list[str]] = Perturbers
     values: dict[str, MeasuredValue]
 
 
@@ -99,11 +107,17 @@ class Precession(BaseModel):
     scaling_factor_arcsec_per_year_uncertainty: Optional[float] = Sigma
     precession_rate_arcsec_per_year_uncertainty: Optional[float] = Sigma
     uncertainty: UncertaintyInfo
+    perturbers: Optional[list[str]] = Perturbers
     model: ModelInfo
 
 
 class NutationTerm(BaseModel):
-    multiple: int
+    multiple: Optional[int] = Field(description="the harmonic of the mean anomaly M; null for the lunisolar theory's "
+                                                "terms, whose argument is delaunay_multipliers")
+    delaunay_multipliers: Optional[list[int]] = Field(
+        None, description="the lunisolar theory (the Earth with the Moon): the argument's integer multipliers of the "
+                          "Delaunay arguments [l, l′, F, D, Ω] (IERS 2010 eq. 5.43), as in the IAU 2000A tables",
+        min_length=5, max_length=5)
     period_days: float
     period_years: float
     longitude_sin_arcsec: float
@@ -119,6 +133,11 @@ class NutationTerm(BaseModel):
     obliquity_cos_arcsec_uncertainty: Optional[float] = Sigma
     obliquity_amplitude_arcsec: float = Field(description="the paper's Amp: (Sin² + Cos²)^½")
     obliquity_amplitude_arcsec_uncertainty: Optional[float] = Sigma
+    longitude_sin_rate_arcsec_per_century: Optional[float] = Field(
+        None, description="lunisolar terms: the coefficient's rate (Poisson term), arcsec per Julian century")
+    longitude_cos_rate_arcsec_per_century: Optional[float] = None
+    obliquity_sin_rate_arcsec_per_century: Optional[float] = None
+    obliquity_cos_rate_arcsec_per_century: Optional[float] = None
 
 
 class Nutation(BaseModel):
@@ -135,6 +154,7 @@ class Nutation(BaseModel):
     delta_psi_half_peak_to_peak_arcsec_uncertainty: Optional[float] = Sigma
     delta_epsilon_half_peak_to_peak_arcsec_uncertainty: Optional[float] = Sigma
     uncertainty: UncertaintyInfo
+    perturbers: Optional[list[str]] = Perturbers
     model: ModelInfo
 
 
@@ -149,6 +169,7 @@ class Track(BaseModel):
     obliquity_deg_uncertainty: Optional[float] = Sigma
     pole_ra_deg: list[float]
     pole_dec_deg: list[float]
+    perturbers: Optional[list[str]] = Perturbers
     model: ModelInfo
 
 

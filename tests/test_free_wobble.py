@@ -114,16 +114,23 @@ def test_the_earths_rigid_wobble_loses_phase_against_the_chandler_wobble():
     # the rigid Earth wobbles in 303 d, the real one in ~433 d: the added wobble is good only near its epoch
     earth = get_body("earth")
     assert observed_wobble_period_days(earth) == 433.0
-    near = api.track(earth, "2020-01-25", "2020-02-05", 0.5, model="hansen", free_wobble_phase_deg=0.0,
+    # the Earth's default model is the lunisolar one (the Moon and the Sun); the Sun-only ladder alike
+    near = api.track(earth, "2020-01-25", "2020-02-05", 0.5, model="lunisolar", free_wobble_phase_deg=0.0,
                      free_wobble_epoch="2020-01-30")["model"]["error_terms_mas"]["free_wobble_model"]
-    far = api.track(earth, "2020-01-25", "2022-01-25", 5.0, model="hansen", free_wobble_phase_deg=0.0,
+    far = api.track(earth, "2020-01-25", "2022-01-25", 5.0, model="lunisolar", free_wobble_phase_deg=0.0,
                     free_wobble_epoch="2020-01-30")["model"]["error_terms_mas"]["free_wobble_model"]
+    near_sun = api.track(earth, "2020-01-25", "2020-02-05", 0.5, model="hansen", free_wobble_phase_deg=0.0,
+                         free_wobble_epoch="2020-01-30", perturbers="sun")["model"]["error_terms_mas"]
+    # the phase loss is the same; only the transport term (2 J times the pole's motion in 6 days) differs
+    assert near_sun["free_wobble_model"] == pytest.approx(near, abs=0.01)
     # 2 J sin(π Δf Δt): Δf = 1/303.15 - 1/433 per day
     df = 1 / free_motion(earth, np.array([J2000]))["wobble_period_days"] - 1 / 433.0
     assert near == pytest.approx(2000.0 * math.sin(math.pi * df * 6.0), rel=0.02)
     assert 2000.0 <= far <= 2000.5      # 726 days: the phase is lost (Δφ > π); plus the transport term
-    with pytest.raises(NotApplicableError, match="following the free wobble does not help"):
-        api.track(earth, "2000-01-01", "2020-01-01", 30.0, tolerance_mas=100, free_wobble_phase_deg=0.0)
+    for perturbers in (None, "sun"):
+        with pytest.raises(NotApplicableError, match="following the free wobble does not help"):
+            api.track(earth, "2000-01-01", "2020-01-01", 30.0, tolerance_mas=100, free_wobble_phase_deg=0.0,
+                      perturbers=perturbers)
 
 
 def test_a_body_without_a_published_amplitude_says_so():

@@ -12,7 +12,7 @@ from ephem import api
 from ephem.cli import app
 from ephem.constants import MAS
 from ephem.errors import InvalidInputError
-from ephem.tables import FORMATS, LAYOUTS, _COLUMNS, latex_escape, render_nutation, table_rows
+from ephem.tables import DELAUNAY_COLUMNS, FORMATS, LAYOUTS, _COLUMNS, latex_escape, render_nutation, table_rows
 
 FORMAT_NAMES = tuple(FORMATS)
 
@@ -180,3 +180,71 @@ def test_route_serves_both_layouts(client_factory=None):
     tex = c.get("/v1/bodies/vesta/nutation?format=latex&layout=amp-period").text
     assert latex_problems(tex) == [] and "Amp (mas)" in tex
     assert c.get("/v1/bodies/vesta/nutation?format=latex&layout=wide").status_code == 422
+
+
+# ----------------------------------------------------------------------------- the Earth's lunisolar series
+
+@pytest.fixture(scope="module")
+def earth():
+    return api.nutation("earth")          # the Moon and the Sun: terms in the Delaunay arguments
+
+
+def parse_earth(text: str, fmt: str, layout: str) -> dict:
+    """(component, arg) -> {column: value} read back from an Earth table."""
+    keys = {"sin-cos": ["sin_arcsec", "cos_arcsec", "amp_arcsec", "period_years"],
+            "amp-period": ["amp_mas", "period_days"]}[layout]
+    out = {}
+    if fmt == "csv":
+        rows = list(csv.DictReader(io.StringIO(text)))
+        assert "multiple" not in rows[0] and list(rows[0])[:7] == ["component", "arg", *DELAUNAY_COLUMNS]
+        for r in rows:
+            out[(r["component"], r["arg"])] = {k: float(r[k]) for k in keys}
+            out[(r["component"], r["arg"])]["k"] = [int(r[c]) for c in DELAUNAY_COLUMNS]
+    elif fmt == "json":
+        for table in json.loads(text)["tables"]:
+            for r in table["rows"]:
+                out[(table["component"], r["arg"])] = {k: r[k] for k in keys}
+                out[(table["component"], r["arg"])]["k"] = [r[c] for c in DELAUNAY_COLUMNS]
+    else:
+        comp = None
+        for line in text.splitlines():
+            if line.startswith("**") or r"\caption" in line:
+                comp = "longitude" if "in longitude" in line else "obliquity"
+                continue
+            sep = "|" if fmt == "markdown" else "&"
+            cells = [c.strip() for c in line.strip().strip("|").replace(r"\\", "").split(sep)]
+            if len(cells) != len(keys) + 1 or not re.match(r"-?\d+\.\d+", cells[0]):
+                continue
+            arg = cells[-1]
+            if fmt == "latex":   # $2F-2D+2\Omega$ -> 2F−2D+2Ω
+                arg = arg.strip("$").replace("-", "−").replace(r"\Omega", "Ω").replace("l'", "l′")
+            out[(comp, arg)] = {k: float(c) for k, c in zip(keys, cells)}
+    return out
+
+
+@pytest.mark.parametrize("layout", LAYOUTS)
+def test_earth_tables_carry_the_arguments_in_every_format(earth, layout):
+    rows = {(r["component"], r["arg"]): r for r in table_rows(earth, layout)}
+    assert len(rows) == 2 * len(earth["terms"])               # every argument written once per component
+    assert rows[("longitude", "2F−2D+2Ω")]["D"] == -2 and rows[("obliquity", "Ω")]["Omega"] == 1
+    for fmt in ("csv", "json", "markdown", "latex"):
+        text = render_nutation(earth, fmt, layout=layout)
+        got = parse_earth(text, fmt, layout)
+        assert set(got) == set(rows), fmt
+        for key, values in got.items():
+            if "k" in values:
+                assert values.pop("k") == [rows[key][c] for c in DELAUNAY_COLUMNS]
+            for column, value in values.items():
+                places = {"amp_mas": 2, "period_days": 4}.get(column, 4)
+                exact = fmt in ("csv", "json")
+                assert value == pytest.approx(rows[key][column], abs=0 if exact else 0.51 * 10.0**-places)
+        if fmt == "latex":
+            assert latex_problems(text) == []
+            assert r"$2F-2D+2\Omega$" in text and r"$l'$" in text
+    assert "Delaunay arguments l, l′, F, D, Ω" in render_nutation(earth, "markdown", layout=layout)
+
+
+def test_asteroid_tables_keep_their_columns():
+    vesta = api.nutation("vesta", "petit2014", order=4)
+    assert render_nutation(vesta, "csv").splitlines()[0].startswith("component,multiple,arg,")
+    assert "Delaunay" not in render_nutation(vesta, "markdown")

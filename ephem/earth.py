@@ -1,0 +1,403 @@
+"""The Earth under the Moon and the Sun, as the library serves it: :mod:`ephem.lunisolar` wired to the
+catalogue's pole and orbit, a pole track with an error estimate against the real Earth.
+
+The series (precession rate and nutation in the Delaunay arguments l, l′, F, D, Ω) are
+:func:`ephem.lunisolar.earth_lunisolar` with the body's H_d and spin rate. The track follows
+:mod:`ephem.model`'s definition in the frame of the catalogue's orbit and the mean equinox at the pole
+epoch t0:
+
+    ψ(t) = ψ̇ (t − t0) + Δψ(t),    ε(t) = ε̄ + Δε(t),
+
+with the catalogue pole the instantaneous axis at t0: ε̄ and the mean equinox are the catalogue's
+obliquity and equinox with the series' own Δε(t0), Δψ(t0) removed (exactly, not by iteration: the
+lunisolar series depend on time only). ``axis="figure"`` serves the figure-axis series (the Oppolzer
+terms included: the analogue of the IAU's CIP), ``axis="angular_momentum"`` the angular-momentum one.
+
+The error estimate (:func:`estimate_terms`) is an upper bound on the angle between the served pole and
+the real Earth's, taking IAU 2006/2000A (ERFA) as the real Earth to within its published accuracy:
+
+* ``nutation_residual``: our series minus ``erfa.nut00a`` moves the pole by at most E (the
+  envelope of sin ε|Δψ| + |Δε| measured over 1900–2100, ``data/lunisolar.toml [served_track]``)
+  at t, plus what it moves it at t0 (computed exactly: the mean pole inherits it);
+* ``hd_scaling``: an H_d other than the one E was measured with scales every term;
+* ``precession``: our linear ψ̇ (t − t0) at fixed ε̄ against IAU 2006's ψ_A and ω_A (the geodesic,
+  planetary and second-order parts of ψ_A that a first-order Newtonian theory lacks, the ecliptic's
+  motion), plus the catalogue orbit normal's tilt from the J2000 ecliptic times the angle precessed;
+* ``ecliptic_motion``: IAU 2000A applies the nutation on the ecliptic of date, we on the fixed one;
+* ``iau_reference``: IAU 2006/2000A against the observed pole;
+* ``axis_relation`` (angular-momentum axis only): IAU 2000A gives the CIP, the figure axis's forced
+  motion; the real angular momentum differs from it by the Earth's own Oppolzer offsets, taken no
+  larger than 1.5 times the rigid ones, to which ours are added (2.5 times the rigid sum);
+* ``rotation_averaging``: the 2ω circle and second-order drift of :func:`ephem.rigid.averaging_error_terms`
+  for the Sun, scaled by the lunisolar-to-solar torque (the Oppolzer offsets it also bounds are in the
+  figure series or in ``axis_relation``);
+* ``free_wobble`` / ``free_wobble_model`` (figure axis) as the ladder's; ``rounding``.
+
+Outside 1900–2100 (where the residual was measured) the track is refused as not applicable.
+Radians and days unless a name says otherwise.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+
+from .catalogue import Body, is_earth
+from .constants import ARCSEC, J2000_JD, MAS
+from .errors import InvalidInputError, NotApplicableError
+from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
+from .model import Track
+
+DAYS_PER_CENTURY = 36525.0
+#: Amplitude cut of the served track's series (mas): the cut the residual envelope was measured with.
+TRACK_CUT_MAS = 0.1
+#: Smallest cut the nutation answer accepts (mas): far below the first-order theory's own error (the
+#: second-order terms are of order 1 mas), and the answer stays a few thousand terms long.
+MIN_CUT_MAS = 0.001
+#: The series are built at IAU 2006's ε_A; a pole whose mean obliquity departs by more is refused.
+MAX_OBLIQUITY_MISMATCH = 60.0 * ARCSEC
+ARGUMENT = "Delaunay arguments l, l′, F, D, Ω (IERS 2010 eq. 5.43)"
+THEORY = ("Kinoshita (1977) lunisolar precession-nutation, first order, rigid Earth (ephem.lunisolar): the Moon "
+          "(Meeus 1998 / ELP-2000/82) and the Sun (Simon et al. 1994) on their moving mean orbits, nutation "
+          "in the Delaunay arguments l, l′, F, D, Ω")
+DESCRIPTION = ("Kinoshita's first-order rigid-Earth theory under the Moon and the Sun: ψ = ψ̇ (t − t0) + Δψ, "
+               "ε = ε̄ + Δε with the lunisolar series (amplitude cut 0.1 mas)")
+ASSUMPTIONS = [
+    "rigid Earth: IAU 2000A (non-rigid, MHB2000) differs term by term by up to 77 mas (18.6-yr term in "
+    "longitude) and 40 mas (semi-annual); see docs/earth.md",
+    "first order in the torque; rotation-averaged degree-2 potential; no planetary, relativistic (geodesic) "
+    "or second-order contributions to the precession",
+    "the Moon's orbit from Meeus (1998) ch. 47 (ELP-2000/82 truncated), the Sun on the Earth-Moon barycentre's "
+    "mean Kepler ellipse (Simon et al. 1994); GM of both from DE421",
+    "the track turns about the catalogue orbit's normal at fixed mean obliquity (the ecliptic's own motion "
+    "is in the error estimate, not in the track)",
+]
+AXIS_ASSUMPTIONS = {
+    "figure": "the pole served is the figure axis's forced motion (Oppolzer terms included: the analogue of "
+              "the IAU's CIP); the free wobble is left out and counted in the estimate (free_wobble)",
+    "figure+wobble": "the pole served is the figure axis: the forced motion (Oppolzer terms included) plus the "
+                     "torque-free rigid-body wobble (given J and phase)",
+    "angular_momentum": "the pole served is the angular momentum (the series without the Oppolzer terms), "
+                        "which the free wobble does not move",
+}
+
+
+def _data() -> dict:
+    from .lunisolar import lunisolar_data
+
+    return lunisolar_data()
+
+
+def _lower(perturbers) -> tuple[str, ...]:
+    return tuple(p.lower() for p in perturbers)
+
+
+@dataclass(frozen=True, eq=False)
+class LunisolarEarth:
+    """The Earth's lunisolar precession-nutation from the catalogue's pole and orbit (radians, days)."""
+
+    body: Body
+    series: object                       # ephem.lunisolar.LunisolarSeries
+    axis: str
+    perturbers: tuple[str, ...]          # canonical names ("Moon", "Sun")
+    obliquity: float                     # ε̄: mean obliquity on the catalogue orbit at t0
+    pole_epoch: float                    # t0
+    nutation_at_pole_epoch: tuple[float, float]
+    icrf_from_orbit: np.ndarray = field(repr=False)   # columns: mean equinox at t0, W × it, W (ICRF)
+    orbit_tilt: float = 0.0              # the catalogue orbit normal from the J2000 ecliptic pole
+
+    @property
+    def precession_rate(self) -> float:
+        return float(self.series.precession_rate)
+
+    @property
+    def hd(self) -> float:
+        return self.series.hd
+
+    @property
+    def spin_rate(self) -> float:
+        return self.series.spin_rate
+
+    @property
+    def scaling_factor(self) -> float:
+        """2 ψ̇ / cos ε̄: the K of one perturber on a circular orbit in the ecliptic giving the same rate."""
+        return 2.0 * self.precession_rate / math.cos(self.obliquity)
+
+    def angles(self, jd_tdb):
+        """ψ, Δψ, Δε, ε (radians) at JD TDB."""
+        t = np.asarray(jd_tdb, dtype=float)
+        dpsi, deps = self.series.nutation_at(t)
+        return self.precession_rate * (t - self.pole_epoch) + dpsi, dpsi, deps, self.obliquity + deps
+
+    def track(self, jd_tdb) -> Track:
+        t = np.asarray(jd_tdb, dtype=float)
+        psi, dpsi, deps, eps = self.angles(t)
+        se = np.sin(eps)
+        v = np.stack([se * np.sin(psi), se * np.cos(psi), np.cos(eps)], axis=-1) @ self.icrf_from_orbit.T
+        ra = np.remainder(np.arctan2(v[..., 1], v[..., 0]), 2.0 * math.pi)
+        dec = np.arctan2(v[..., 2], np.hypot(v[..., 0], v[..., 1]))
+        return Track(t, psi, dpsi, deps, eps, ra, dec)
+
+
+def check_earth(body: Body) -> None:
+    if not is_earth(body) or body.orbit.center != "Sun":
+        raise NotApplicableError(body.name, "the lunisolar theory (the Moon as a perturber) is modelled for the "
+                                 "Earth only")
+
+
+@lru_cache(maxsize=64)
+def lunisolar_earth(body: Body, axis: str = "figure", cut_mas: float = TRACK_CUT_MAS,
+                    perturbers: tuple[str, ...] = ("Moon", "Sun")) -> LunisolarEarth:
+    """The lunisolar model of the Earth ``body`` (its H_d, spin rate, pole and orbit)."""
+    from .lunisolar import earth_lunisolar, obliquity_arcsec
+
+    check_earth(body)
+    series = earth_lunisolar(cut_mas=cut_mas, perturbers=_lower(perturbers), hd=float(body.hd), axis=axis,
+                             spin_rate=2.0 * math.pi / (body.rotation_period_hours / 24.0))
+    ecl_from_icrf = icrf_to_ecliptic_matrix()
+    s_ecl = ecl_from_icrf @ unit_vector(math.radians(body.pole.ra_deg), math.radians(body.pole.dec_deg))
+    o = body.orbit
+    geo = spin_geometry(s_ecl, *(math.radians(x) for x in (o.i_deg, o.node_deg, o.peri_deg)), body.name)
+    t0 = body.pole.epoch_jd_tdb
+    dpsi0, deps0 = (float(x) for x in series.nutation_at(np.array(t0)))
+    eps_mean = geo.obliquity - deps0
+    eps_a = obliquity_arcsec((t0 - J2000_JD) / DAYS_PER_CENTURY) * ARCSEC
+    if abs(eps_mean - eps_a) > MAX_OBLIQUITY_MISMATCH:
+        raise NotApplicableError(body.name, (
+            f"the pole gives a mean obliquity of {math.degrees(eps_mean):.6f} deg on the orbit, "
+            f"{abs(eps_mean - eps_a) / ARCSEC:.1f} arcsec from IAU 2006's {math.degrees(eps_a):.6f} deg at its "
+            f"epoch; the lunisolar series are built at the latter (accepted within "
+            f"{MAX_OBLIQUITY_MISMATCH / ARCSEC:g} arcsec)"))
+    gamma, y_true, w = geo.orbit_frame
+    x_mean = math.cos(dpsi0) * gamma + math.sin(dpsi0) * y_true
+    icrf_from_orbit = ecl_from_icrf.T @ np.vstack([x_mean, np.cross(w, x_mean), w]).T
+    tilt = math.atan2(float(np.linalg.norm(w[:2])), float(w[2]))
+    return LunisolarEarth(body, series, axis, tuple(perturbers), eps_mean, t0, (dpsi0, deps0), icrf_from_orbit, tilt)
+
+
+# ----------------------------------------------------------------------------- the error estimate
+
+def _poly(coef, T):
+    T = np.asarray(T, dtype=float)
+    out = np.zeros_like(T)
+    for c in reversed(coef):
+        out = out * T + c
+    return out * ARCSEC
+
+
+def displacement_sum(series, obliquity: float) -> float:
+    """Σ_k sin ε |Δψ_k| + |Δε_k| of a lunisolar series (radians): the most its nutation moves the pole."""
+    c = series.coefficients
+    return float(np.sum(abs(math.sin(obliquity)) * np.hypot(c[:, 0], c[:, 1]) + np.hypot(c[:, 2], c[:, 3]))) * MAS
+
+
+@lru_cache(maxsize=64)
+def _residual_at_pole_epoch(model: LunisolarEarth) -> float:
+    """sin ε|Δψ| + |Δε| of the served series minus ``erfa.nut00a`` at the pole epoch (radians): the mean
+    pole is the catalogue pole with our nutation removed, so it inherits this."""
+    import erfa
+
+    t0 = np.array([model.pole_epoch])
+    dpsi, deps = model.series.nutation_at(t0)
+    ref_psi, ref_eps = erfa.nut00a(t0, 0.0)
+    return float(abs(math.sin(model.obliquity)) * abs(dpsi[0] - ref_psi[0]) + abs(deps[0] - ref_eps[0]))
+
+
+@lru_cache(maxsize=64)
+def _oppolzer_sum(model: LunisolarEarth) -> float:
+    """Σ_k of the pole displacement between the figure-axis and angular-momentum series (radians)."""
+    from .lunisolar import earth_lunisolar
+
+    kw = dict(cut_mas=model.series.cut_mas, perturbers=model.series.perturbers, hd=model.hd,
+              spin_rate=model.spin_rate)
+    fig, mom = earth_lunisolar(axis="figure", **kw), earth_lunisolar(axis="angular_momentum", **kw)
+    lookup = {tuple(k): i for i, k in enumerate(mom.multipliers)}
+    se = abs(math.sin(model.obliquity))
+    total = 0.0
+    for k, c in zip(fig.multipliers, fig.coefficients):
+        i = lookup.get(tuple(k))
+        d = c - (mom.coefficients[i] if i is not None else 0.0)
+        total += se * math.hypot(d[0], d[1]) + math.hypot(d[2], d[3])
+    for k, c in zip(mom.multipliers, mom.coefficients):   # terms above the cut on one axis only
+        if not any(np.array_equal(k, f) for f in fig.multipliers):
+            total += se * math.hypot(c[0], c[1]) + math.hypot(c[2], c[3])
+    return total * MAS
+
+
+def window() -> tuple[float, float]:
+    d = _data()["served_track"]
+    return float(d["window_start_jd_tdb"]), float(d["window_stop_jd_tdb"])
+
+
+def unavailable(model: LunisolarEarth, jd_tdb: np.ndarray) -> str | None:
+    """Why the track cannot be served with an estimate at these epochs, or None."""
+    from .ephemeris import _date
+
+    lo, hi = window()
+    t = np.asarray(jd_tdb, dtype=float)
+    need = [model.pole_epoch] + ([float(t.min()), float(t.max())] if t.size else [])
+    if min(need) < lo or max(need) > hi:
+        return (f"the lunisolar track's error was measured against IAU 2006/2000A from {_date(lo)} to {_date(hi)} "
+                f"only; these epochs (with the pole epoch) need JD {min(need):.1f} to {max(need):.1f}. The Sun-only "
+                "theory (perturbers=sun) serves any epoch, but leaves out the Moon's two thirds of the Earth's "
+                "precession")
+    if set(model.perturbers) != {"Moon", "Sun"}:
+        return ("the lunisolar track's error was measured with both the Moon and the Sun; a track under "
+                f"{' and '.join(model.perturbers)} alone is no model of the real Earth")
+    return None
+
+
+def estimate_terms(model: LunisolarEarth, jd_tdb) -> dict:
+    """The named error terms (radians) of the track at the epochs: see the module docstring. Raises
+    :class:`NotApplicableError` outside the window the residual was measured over."""
+    from .ladder import ROUNDING, cached_model
+    from .rigid import averaging_error_terms, normalised_moments
+
+    t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+    why = unavailable(model, t)
+    if why is not None:
+        raise NotApplicableError(model.body.name, why)
+    d, prec = _data()["served_track"], _data()["iau2006_precession"]
+    t0, eps = model.pole_epoch, model.obliquity
+    se = abs(math.sin(eps))
+    disp = displacement_sum(model.series, eps)
+    envelope = d["residual_envelope_mas"] * MAS
+    terms = {"nutation_residual": envelope + _residual_at_pole_epoch(model)}
+    if model.hd != d["hd"]:
+        terms["hd_scaling"] = abs(model.hd / d["hd"] - 1.0) * disp
+    # the mean pole's drift against IAU 2006, on a grid spanning the epochs (a smooth function of t)
+    lo, hi = float(t.min()), float(t.max())
+    grid = np.unique(np.concatenate([np.linspace(lo, hi, 65), [t0]])) if hi > lo else np.array([lo])
+    T, T0 = (grid - J2000_JD) / DAYS_PER_CENTURY, (t0 - J2000_JD) / DAYS_PER_CENTURY
+    precessed = model.precession_rate * (grid - t0)
+    dpsi = precessed - (_poly(prec["psi_a"], T) - _poly(prec["psi_a"], T0))
+    domega = _poly(prec["omega_a"], T) - _poly(prec["omega_a"], T0)
+    terms["precession"] = float(np.max(se * np.abs(dpsi) + np.abs(domega) + model.orbit_tilt * np.abs(precessed)))
+    pi_t, pi_0 = np.abs(_poly(prec["pi_a"], T)), abs(float(_poly(prec["pi_a"], T0)))
+    terms["ecliptic_motion"] = float(disp * np.max(2.0 * model.orbit_tilt + pi_t + pi_0) / se)
+    terms["iau_reference"] = (d["reference_nutation_mas"]
+                              + d["reference_precession_mas_per_century2"] * float(np.max(T * T))) * MAS
+    if model.axis == "angular_momentum":
+        terms["axis_relation"] = 2.5 * _oppolzer_sum(model)
+    sun = cached_model(model.body)
+    span = float(np.max(np.abs(grid - t0)))
+    moments = normalised_moments(model.body.moments) if model.body.moments is not None else None
+    if moments is not None:
+        ratio = abs(model.precession_rate / sun.precession_rate)
+        av = max(sum(v for k, v in averaging_error_terms(sun, s, moments).items() if k != "wobble")
+                 for s in (span, -span))
+        terms["rotation_averaging"] = float(ratio * av)
+    terms["rounding"] = ROUNDING
+    return terms
+
+
+def estimates(model: LunisolarEarth, jd_tdb, wobble=None) -> list:
+    """The lunisolar rung's estimates (:class:`ephem.ladder.Estimate`): without the free wobble and, for the
+    figure axis with a wobble phase, with it."""
+    from .free_motion import free_wobble_bound, wobble_model_bound
+    from .ladder import ROUNDING, Estimate, pole_vectors
+
+    t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+    terms = estimate_terms(model, t)
+    unestimated = () if model.body.moments is not None else ("rotation_averaging",)
+    if model.axis != "figure":
+        return [Estimate("lunisolar", None, terms, unestimated=unestimated)]
+    left_out = free_wobble_bound(model.body) if wobble is None else wobble.J_arcsec * ARCSEC
+    out = [Estimate("lunisolar", None, terms if left_out is None else {**terms, "free_wobble": left_out},
+                    unestimated=unestimated + (("free_wobble",) if left_out is None else ()))]
+    if wobble is not None:
+        modelled = wobble_model_bound(model.body, wobble, t, pole_vectors(model.track(t)),
+                                      pole_at(model, wobble.epoch_jd_tdb)) + ROUNDING
+        out.append(Estimate("lunisolar", None, {**terms, "free_wobble_model": modelled}, unestimated=unestimated,
+                            free_wobble=True))
+    return out
+
+
+def pole_at(model: LunisolarEarth, jd_tdb: float) -> np.ndarray:
+    from .ladder import pole_vectors
+
+    return pole_vectors(model.track(np.array([float(jd_tdb)])))[0]
+
+
+def choose(model: LunisolarEarth, candidates: list, tolerance: float, wobble=None):
+    """The cheapest candidate within ``tolerance`` (radians), else :class:`NotApplicableError` naming the best."""
+    for est in candidates:
+        if est.total <= tolerance:
+            return est
+    best = min(candidates, key=lambda e: e.total)
+    largest = max(best.terms, key=best.terms.get)
+    hint = "widen the tolerance or shorten the span"
+    if largest == "free_wobble" and wobble is not None:
+        followed = next(e for e in candidates if e.free_wobble)
+        hint = (f"following the free wobble does not help: its model is estimated good to only "
+                f"{followed.terms['free_wobble_model'] / MAS:.6g} mas here (the rigid wobble drifts in phase from "
+                "the observed one); give a wobble epoch (free_wobble_epoch) nearer these epochs, or ask for "
+                "axis=angular_momentum")
+    elif largest == "free_wobble":
+        hint = ("the figure axis wobbles about the angular momentum by the free wobble; give its phase "
+                "(free_wobble_phase_deg) to follow it, or ask for axis=angular_momentum")
+    elif largest in ("nutation_residual", "precession", "axis_relation"):
+        hint = ("the first-order rigid-Earth theory is this far from the real (non-rigid) Earth: no lunisolar "
+                "model here does better (IAU 2006/2000A, e.g. ERFA, does)")
+    raise NotApplicableError(model.body.name, (
+        f"no model meets the tolerance of {tolerance / MAS:.6g} mas over these epochs: the best, 'lunisolar', "
+        f"is estimated good to {best.total / MAS:.6g} mas (largest term: {largest}); {hint}"))
+
+
+def add_wobble(model: LunisolarEarth, track: Track, wobble) -> Track:
+    """The figure axis: the forced track with the free wobble added about it (:mod:`ephem.free_motion`)."""
+    from .free_motion import add_free_wobble
+    from .ladder import pole_vectors, with_free_wobble
+
+    figure = add_free_wobble(model.body, wobble, track.jd_tdb, pole_vectors(track), pole_at(model, wobble.epoch_jd_tdb))
+    return with_free_wobble(model, track, figure)
+
+
+# ----------------------------------------------------------------------------- the nutation answer's cut
+
+@lru_cache(maxsize=32)
+def _all_terms(body: Body, axis: str, perturbers: tuple[str, ...]):
+    return lunisolar_earth(body, axis, 0.0, perturbers).series
+
+
+def omitted_bound(body: Body, cut_mas: float, axis: str = "figure", perturbers=("Moon", "Sun")) -> float:
+    """Σ of the pole displacements (radians) of the terms the cut leaves out (against the cut-free series)."""
+    full = _all_terms(body, axis, tuple(perturbers))
+    c = full.coefficients
+    amp = np.maximum(np.hypot(c[:, 0], c[:, 1]), np.hypot(c[:, 2], c[:, 3]))
+    dropped = amp < cut_mas
+    eps = lunisolar_earth(body, axis, TRACK_CUT_MAS, tuple(perturbers)).obliquity
+    return float(np.sum(abs(math.sin(eps)) * np.hypot(c[dropped, 0], c[dropped, 1])
+                        + np.hypot(c[dropped, 2], c[dropped, 3]))) * MAS
+
+
+def cut_for_tolerance(body: Body, tolerance: float, axis: str = "figure", perturbers=("Moon", "Sun")) -> float:
+    """The largest amplitude cut (mas, at least :data:`MIN_CUT_MAS`) whose omitted terms move the pole by no
+    more than ``tolerance`` (radians) in all; :class:`NotApplicableError` when even the smallest cut does not."""
+    full = _all_terms(body, axis, tuple(perturbers))
+    c = full.coefficients
+    amp = np.maximum(np.hypot(c[:, 0], c[:, 1]), np.hypot(c[:, 2], c[:, 3]))
+    eps = lunisolar_earth(body, axis, TRACK_CUT_MAS, tuple(perturbers)).obliquity
+    disp = (abs(math.sin(eps)) * np.hypot(c[:, 0], c[:, 1]) + np.hypot(c[:, 2], c[:, 3])) * MAS
+    order = np.argsort(amp)                       # drop the smallest terms first
+    dropped = np.cumsum(disp[order])
+    n = int(np.searchsorted(dropped, tolerance, side="right"))   # the n smallest may go
+    cut = float(amp[order[n]]) if n < amp.size else float(amp.max()) * 2.0
+    if cut < MIN_CUT_MAS:
+        if omitted_bound(body, MIN_CUT_MAS, axis, perturbers) > tolerance:
+            raise NotApplicableError(body.name, (
+                f"no amplitude cut meets the tolerance of {tolerance / MAS:.6g} mas: the smallest served "
+                f"({MIN_CUT_MAS:g} mas) leaves out terms moving the pole by "
+                f"{omitted_bound(body, MIN_CUT_MAS, axis, perturbers) / MAS:.6g} mas in all"))
+        cut = MIN_CUT_MAS
+    return cut
+
+
+def check_cut(cut_mas) -> float:
+    if isinstance(cut_mas, bool) or not isinstance(cut_mas, (int, float)) or not math.isfinite(cut_mas) \
+            or cut_mas < MIN_CUT_MAS:
+        raise InvalidInputError("cut_mas", f"must be a finite number of milliarcseconds >= {MIN_CUT_MAS:g}, "
+                                f"got {cut_mas!r}")
+    return float(cut_mas)
