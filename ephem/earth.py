@@ -322,28 +322,11 @@ def pole_at(model: LunisolarEarth, jd_tdb: float) -> np.ndarray:
 
 
 def choose(model: LunisolarEarth, candidates: list, tolerance: float, wobble=None):
-    """The cheapest candidate within ``tolerance`` (radians), else :class:`NotApplicableError` naming the best."""
-    for est in candidates:
-        if est.total <= tolerance:
-            return est
-    best = min(candidates, key=lambda e: e.total)
-    largest = max(best.terms, key=best.terms.get)
-    hint = "widen the tolerance or shorten the span"
-    if largest == "free_wobble" and wobble is not None:
-        followed = next(e for e in candidates if e.free_wobble)
-        hint = (f"following the free wobble does not help: its model is estimated good to only "
-                f"{followed.terms['free_wobble_model'] / MAS:.6g} mas here (the rigid wobble drifts in phase from "
-                "the observed one); give a wobble epoch (free_wobble_epoch) nearer these epochs, or ask for "
-                "axis=angular_momentum")
-    elif largest == "free_wobble":
-        hint = ("the figure axis wobbles about the angular momentum by the free wobble; give its phase "
-                "(free_wobble_phase_deg) to follow it, or ask for axis=angular_momentum")
-    elif largest in ("nutation_residual", "precession", "axis_relation"):
-        hint = ("the first-order rigid-Earth theory is this far from the real (non-rigid) Earth: no lunisolar "
-                "model here does better (IAU 2006/2000A, e.g. ERFA, does)")
-    raise NotApplicableError(model.body.name, (
-        f"no model meets the tolerance of {tolerance / MAS:.6g} mas over these epochs: the best, 'lunisolar', "
-        f"is estimated good to {best.total / MAS:.6g} mas (largest term: {largest}); {hint}"))
+    """The cheapest candidate within ``tolerance`` (radians), else :class:`NotApplicableError` naming the best
+    (:func:`ephem.ladder.cheapest_within`)."""
+    from .ladder import cheapest_within
+
+    return cheapest_within(candidates, tolerance, model.body.name, wobble is not None)
 
 
 def add_wobble(model: LunisolarEarth, track: Track, wobble) -> Track:

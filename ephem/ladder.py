@@ -279,6 +279,37 @@ def numerical_unavailable(model: PrecessionNutation, t: np.ndarray) -> str | Non
             f"{MAX_NUMERICAL_ORBITS} orbits per request; these epochs need {orbits:.0f}")
 
 
+#: What to tell a user when the largest term of the best estimate is one no rung removes.
+THEORY_LIMIT_HINTS = {
+    "nutation_residual": "the first-order rigid-Earth theory is this far from the real (non-rigid) Earth: no "
+                         "lunisolar model here does better (IAU 2006/2000A, e.g. ERFA, does)",
+}
+THEORY_LIMIT_HINTS["precession"] = THEORY_LIMIT_HINTS["axis_relation"] = THEORY_LIMIT_HINTS["nutation_residual"]
+
+
+def cheapest_within(candidates: list, tolerance: float, body: str, wobble_given: bool) -> Estimate:
+    """The first (cheapest) estimate within ``tolerance`` (radians); else :class:`NotApplicableError` naming
+    the best estimate, its largest term and what would help."""
+    for est in candidates:
+        if est.total <= tolerance:
+            return est
+    best = min(candidates, key=lambda e: e.total)
+    largest = max(best.terms, key=best.terms.get)
+    hint = THEORY_LIMIT_HINTS.get(largest, "widen the tolerance or shorten the span")
+    if largest == "free_wobble" and wobble_given:
+        followed = next(e for e in candidates if e.free_wobble and e.rung == best.rung and e.order == best.order)
+        hint = (f"following the free wobble does not help: its model is estimated good to only "
+                f"{followed.terms['free_wobble_model'] / MAS:.6g} mas here (the rigid wobble drifts in phase "
+                "from the observed one, or L moves far from its epoch direction); give a wobble epoch "
+                "(free_wobble_epoch) nearer these epochs, or ask for axis=angular_momentum")
+    elif largest == "free_wobble":
+        hint = ("the figure axis wobbles about the angular momentum by the free wobble; give its phase "
+                "(free_wobble_phase_deg) to follow it, or ask for axis=angular_momentum")
+    raise NotApplicableError(body, (
+        f"no model meets the tolerance of {tolerance / MAS:.6g} mas over these epochs: the best, "
+        f"'{best.rung}', is estimated good to {best.total / MAS:.6g} mas (largest term: {largest}); {hint}"))
+
+
 def with_free_wobble(model: PrecessionNutation, track: Track, figure_icrf: np.ndarray) -> Track:
     """The track of the figure axis: ``track`` (of the angular momentum) moved to the vectors ``figure_icrf``;
     the wobble's share of ψ and ε goes into Δψ and Δε."""
@@ -400,25 +431,8 @@ class Ladder:
                 or tolerance <= 0.0:
             raise InvalidInputError("tolerance_mas", f"must be a positive finite number, got {tolerance!r}",
                                     self.body.name)
-        candidates = [e for e in self.estimates(jd_tdb) if e.available]
-        for est in candidates:
-            if est.total <= tolerance:
-                return est
-        best = min(candidates, key=lambda e: e.total)
-        largest = max(best.terms, key=best.terms.get)
-        hint = "widen the tolerance or shorten the span"
-        if largest == "free_wobble" and self.wobble is not None:
-            followed = next(e for e in candidates if e.free_wobble and e.rung == best.rung and e.order == best.order)
-            hint = (f"following the free wobble does not help: its model is estimated good to only "
-                    f"{followed.terms['free_wobble_model'] / MAS:.6g} mas here (the rigid wobble drifts in phase "
-                    "from the observed one, or L moves far from its epoch direction); give a wobble epoch "
-                    "(free_wobble_epoch) nearer these epochs, or ask for axis=angular_momentum")
-        elif largest == "free_wobble":
-            hint = ("the figure axis wobbles about the angular momentum by the free wobble; give its phase "
-                    "(free_wobble_phase_deg) to follow it, or ask for axis=angular_momentum")
-        raise NotApplicableError(self.body.name, (
-            f"no model meets the tolerance of {tolerance / MAS:.6g} mas over these epochs: the best, "
-            f"'{best.rung}', is estimated good to {best.total / MAS:.6g} mas (largest term: {largest}); {hint}"))
+        return cheapest_within([e for e in self.estimates(jd_tdb) if e.available], tolerance, self.body.name,
+                               self.wobble is not None)
 
     def track(self, rung: str, jd_tdb, order: int | None = None, free_wobble: bool = False) -> Track:
         """The pole track of one rung at the epochs (JD TDB); with ``free_wobble``, the figure axis with the
