@@ -242,18 +242,8 @@ def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: in
     tol = _tolerance(tolerance_mas)
     order = _order_for_tolerance(b, tol, _order(order))
     m = model_for(b, dataset, order)
-    per_year = JULIAN_YEAR_DAYS / ARCSEC
-    ans = {
-        "body": b.name, "dataset": b.dataset,
-        "obliquity_deg": math.degrees(m.obliquity),
-        "dynamical_ellipticity": m.hd,
-        "scaling_factor_arcsec_per_year": m.scaling_factor * per_year,
-        "precession_rate_arcsec_per_year": m.precession_rate * per_year,
-    }
     unc = _propagated(b, order)
-    for key in ("obliquity_deg", "dynamical_ellipticity", "scaling_factor_arcsec_per_year",
-                "precession_rate_arcsec_per_year"):
-        ans[f"{key}_uncertainty"] = unc[f"{key}_uncertainty"]
+    ans = _rates(b, m, unc)
     ans["uncertainty"] = _uncertainty_summary(unc)
     ans["model"] = model_info(m, b)
     ans["model"].update(_series_selection(b, order, tol, start))
@@ -591,6 +581,22 @@ def _lunisolar_uncertainty(b: Body) -> dict:
                             "series without a stated 1-sigma (data/lunisolar.toml)"]}
 
 
+RATE_KEYS = ("obliquity_deg", "dynamical_ellipticity", "scaling_factor_arcsec_per_year",
+             "precession_rate_arcsec_per_year")
+
+
+def _rates(b: Body, m, unc: dict | None) -> dict:
+    """The precession answer's values (Petit et al. Table 4 columns) from a model with obliquity, hd,
+    scaling_factor and precession_rate (either theory), and their 1σ from ``unc`` (None: not propagated)."""
+    per_year = JULIAN_YEAR_DAYS / ARCSEC
+    ans = {"body": b.name, "dataset": b.dataset, "obliquity_deg": math.degrees(m.obliquity),
+           "dynamical_ellipticity": m.hd, "scaling_factor_arcsec_per_year": m.scaling_factor * per_year,
+           "precession_rate_arcsec_per_year": m.precession_rate * per_year}
+    for key in RATE_KEYS:
+        ans[f"{key}_uncertainty"] = None if unc is None else unc[f"{key}_uncertainty"]
+    return ans
+
+
 def _lunisolar_precession(b: Body, per: tuple[str, ...], dataset: str, order, tolerance_mas, start: float) -> dict:
     from . import earth
 
@@ -598,17 +604,7 @@ def _lunisolar_precession(b: Body, per: tuple[str, ...], dataset: str, order, to
     model_for(b, dataset)                              # applicability (the Moon)
     _no_order_for_lunisolar(b, _order(order))
     lm = earth.lunisolar_earth(b, "figure", earth.TRACK_CUT_MAS, per)
-    per_year = JULIAN_YEAR_DAYS / ARCSEC
-    ans = {
-        "body": b.name, "dataset": b.dataset,
-        "obliquity_deg": math.degrees(lm.obliquity),
-        "dynamical_ellipticity": lm.hd,
-        "scaling_factor_arcsec_per_year": lm.scaling_factor * per_year,
-        "precession_rate_arcsec_per_year": lm.precession_rate * per_year,
-    }
-    for key in ("obliquity_deg", "dynamical_ellipticity", "scaling_factor_arcsec_per_year",
-                "precession_rate_arcsec_per_year"):
-        ans[f"{key}_uncertainty"] = None
+    ans = _rates(b, lm, None)
     ans["uncertainty"] = _lunisolar_uncertainty(b)
     ans["perturbers"] = list(per)
     ans["model"] = _lunisolar_model_info(b, per, lm)
