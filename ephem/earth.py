@@ -66,7 +66,9 @@ DESCRIPTION = ("Kinoshita's first-order rigid-Earth theory under the Moon and th
                "ε = ε̄ + Δε with the lunisolar series (amplitude cut 0.1 mas)")
 ASSUMPTIONS = [
     "rigid Earth: IAU 2000A (non-rigid, MHB2000) differs term by term by up to 77 mas (18.6-yr term in "
-    "longitude) and 40 mas (semi-annual); see docs/earth.md",
+    "longitude) and 40 mas (semi-annual): the published non-rigid correction of each term (IERS 1996 "
+    "transfer function, ephem.nonrigid) accounts for it to 0.12 mas on terms of a year or shorter and 2.6 mas "
+    "on the 18.6-yr term; see docs/earth.md",
     "first order in the torque; rotation-averaged degree-2 potential; no planetary, relativistic (geodesic) "
     "or second-order contributions to the precession",
     "the Moon's orbit from Meeus (1998) ch. 47 (ELP-2000/82 truncated), the Sun on the Earth-Moon barycentre's "
