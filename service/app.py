@@ -96,6 +96,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         for ds in available_datasets():  # read (and validate) the catalogue once, at start-up
             load_catalogue(ds)
         icrf_to_ecliptic_matrix()
+        if settings.warm_up:
+            api.warm_up()   # the Earth's lunisolar series: ~2 s here instead of in the first request
         yield
 
     app = FastAPI(title="ephem: asteroid precession-nutation ephemeris", version=ephem.__version__,

@@ -192,6 +192,32 @@ def test_settings_from_environment(monkeypatch):
         Settings.from_env()
 
 
+def test_warm_up_setting(monkeypatch):
+    monkeypatch.setenv("EPHEM_WARM_UP", "off")
+    assert Settings.from_env().warm_up is False
+    monkeypatch.setenv("EPHEM_WARM_UP", "1")
+    assert Settings.from_env().warm_up is True
+    monkeypatch.setenv("EPHEM_WARM_UP", "perhaps")
+    with pytest.raises(SystemExit, match="EPHEM_WARM_UP"):
+        Settings.from_env()
+
+
+def test_start_up_builds_the_earths_series():
+    # the first Earth request must not build the lunisolar series (1.5 s): start-up does
+    from ephem import earth, lunisolar
+
+    lunisolar._build.cache_clear()
+    earth.lunisolar_earth.cache_clear()
+    with TestClient(create_app(Settings(warm_up=False))):
+        assert earth.lunisolar_earth.cache_info().currsize == 0
+    with TestClient(create_app(Settings())) as c:
+        assert earth.lunisolar_earth.cache_info().currsize >= 1 and lunisolar._build.cache_info().currsize >= 1
+        built = lunisolar._build.cache_info().misses
+        assert c.get("/v1/bodies/earth/nutation").status_code == 200
+        assert c.get("/v1/bodies/earth/track?start=2020-01-01&stop=2021-01-01&step_days=10").status_code == 200
+        assert lunisolar._build.cache_info().misses == built      # nothing rebuilt for the requests
+
+
 def test_openapi_has_an_example_for_every_route(client):
     spec = client.get("/openapi.json").json()
     for path, ops in spec["paths"].items():
