@@ -170,6 +170,13 @@ def _residual(num, series, extra=0.0):
     return out
 
 
+def _coupling_at(jd, series):
+    """Δψ (radians) of the precession-nutation coupling term at JD TDB."""
+    coupling = L.precession_nutation_coupling(series)
+    phases = L.delaunay_arguments(jd) @ series.multipliers.T.astype(float)
+    return (np.sin(phases) @ coupling[:, 0] + np.cos(phases) @ coupling[:, 1]) * MAS
+
+
 def test_series_against_de421_integration(de421_run, rigid_l):
     (cpsi, rpsi), (_ceps, reps) = _residual(de421_run, rigid_l)
     rate_num = cpsi[1] / 1000.0                                   # "/cy
@@ -184,10 +191,7 @@ def test_de421_residual_is_the_precession_nutation_coupling(de421_run, rigid_l):
     # Second order: dpsi/dt of the precession depends on cos(eps), so the 18.6-yr Delta-eps
     # feeds -tan(eps) psi_dot Delta-eps into dpsi/dt (2.9 mas on the 18.6-yr term). Adding it
     # must halve the longitude residual: evidence that what is left is second order.
-    args = L.delaunay_arguments(de421_run.jd_tdb)
-    coupling = L.precession_nutation_coupling(rigid_l)
-    phases = args @ rigid_l.multipliers.T.astype(float)
-    corr = (np.sin(phases) @ coupling[:, 0] + np.cos(phases) @ coupling[:, 1]) * MAS
+    corr = _coupling_at(de421_run.jd_tdb, rigid_l)
     assert np.abs(corr).max() / MAS == pytest.approx(2.9, abs=0.2)
     (_, before), _ = _residual(de421_run, rigid_l)
     (_, after), _ = _residual(de421_run, rigid_l, corr)
@@ -203,9 +207,7 @@ def test_de421_contains_the_9_3_year_difference_from_iau2000a(de421_run, rigid_l
     from ephem import nonrigid as N
 
     args = L.delaunay_arguments(de421_run.jd_tdb)
-    coupling = L.precession_nutation_coupling(rigid_l)
-    phases = args @ rigid_l.multipliers.T.astype(float)
-    corr = (np.sin(phases) @ coupling[:, 0] + np.cos(phases) @ coupling[:, 1]) * MAS
+    corr = _coupling_at(de421_run.jd_tdb, rigid_l)
     dpsi, deps = rigid_l.nutation_at(de421_run.jd_tdb)
     t = (de421_run.jd_tdb - J2000) / CY
     om = args[:, 4]
