@@ -466,14 +466,26 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     if est is not None and "free_wobble" in est.unestimated:
         info["warnings"].append("no free-wobble amplitude is published for this body: the estimate takes its "
                                 "figure axis to coincide with the angular momentum (a relaxed rotator)")
-    if with_wobble:
+    selection = _selection_info(rung, order, estimate, 1e3 * (time.perf_counter() - begin), tol,
+                                None if est is None else est.terms)
+    # the mean obliquity's 1σ from the catalogue's uncertainties (null: unknown), as in precession()
+    ans = _track_answer(b, tr, info, selection, axis, wobble if with_wobble else None,
+                        _propagated(b, order)["obliquity_deg_uncertainty"])
+    return _tag_perturbers(ans, b, per)
+
+
+def _track_answer(b: Body, tr, info: dict, selection: dict, axis: str, wobble, obliquity_sigma,
+                  extra_model: dict | None = None, perturbers: tuple[str, ...] | None = None) -> dict:
+    """The track answer shared by every theory: the arrays of ``tr`` and the ``model`` object ``info``
+    completed with the selection, the axis and the free wobble added (``wobble`` or None)."""
+    if wobble is not None:
         info["warnings"].append("the free wobble added is a rigid body's; its amplitude and phase are yours, "
                                 "and the estimate does not include their uncertainty")
-    info.update(_selection_info(rung, order, estimate, 1e3 * (time.perf_counter() - begin), tol,
-                                None if est is None else est.terms))
+    info.update(selection)
     info["axis"] = axis
-    info["free_wobble"] = None if not with_wobble else {
+    info["free_wobble"] = None if wobble is None else {
         "J_arcsec": wobble.J_arcsec, "phase_deg": wobble.phase_deg, "epoch_jd_tdb": wobble.epoch_jd_tdb}
+    info.update(extra_model or {})
     ans = {
         "body": b.name, "dataset": b.dataset,
         "jd_tdb": tr.jd_tdb,
@@ -481,13 +493,14 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
         "delta_psi_arcsec": tr.delta_psi / ARCSEC,
         "delta_epsilon_arcsec": tr.delta_epsilon / ARCSEC,
         "obliquity_deg": np.degrees(tr.obliquity),
-        # the mean obliquity's 1σ from the catalogue's uncertainties (null: unknown), as in precession()
-        "obliquity_deg_uncertainty": _propagated(b, order)["obliquity_deg_uncertainty"],
+        "obliquity_deg_uncertainty": obliquity_sigma,
         "pole_ra_deg": np.degrees(tr.pole_ra),
         "pole_dec_deg": np.degrees(tr.pole_dec),
-        "model": info,
     }
-    return _tag_perturbers(ans, b, per)
+    if perturbers is not None:
+        ans["perturbers"] = list(perturbers)
+    ans["model"] = info
+    return ans
 
 
 def track(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,
@@ -732,24 +745,7 @@ def _lunisolar_track(b: Body, per: tuple[str, ...], dataset: str, t0: float, ste
                                 "figure axis to coincide with the angular momentum (a relaxed rotator)")
     if "rotation_averaging" in est.unestimated:
         info["warnings"].append("without moments of inertia the rotation-averaging error is not estimated")
-    if with_wobble:
-        info["warnings"].append("the free wobble added is a rigid body's; its amplitude and phase are yours, "
-                                "and the estimate does not include their uncertainty")
-    info.update(_selection_info("lunisolar", None, est.total, 1e3 * (time.perf_counter() - begin), tol, est.terms))
-    info["axis"] = axis
-    info["free_wobble"] = None if not with_wobble else {
-        "J_arcsec": wobble.J_arcsec, "phase_deg": wobble.phase_deg, "epoch_jd_tdb": wobble.epoch_jd_tdb}
-    info["cut_mas"] = earth.TRACK_CUT_MAS
-    return {
-        "body": b.name, "dataset": b.dataset,
-        "jd_tdb": tr.jd_tdb,
-        "psi_arcsec": tr.psi / ARCSEC,
-        "delta_psi_arcsec": tr.delta_psi / ARCSEC,
-        "delta_epsilon_arcsec": tr.delta_epsilon / ARCSEC,
-        "obliquity_deg": np.degrees(tr.obliquity),
-        "obliquity_deg_uncertainty": None,     # not propagated for the lunisolar theory (see precession())
-        "pole_ra_deg": np.degrees(tr.pole_ra),
-        "pole_dec_deg": np.degrees(tr.pole_dec),
-        "perturbers": list(per),
-        "model": info,
-    }
+    selection = _selection_info("lunisolar", None, est.total, 1e3 * (time.perf_counter() - begin), tol, est.terms)
+    # obliquity σ not propagated for the lunisolar theory (see precession())
+    return _track_answer(b, tr, info, selection, axis, wobble if with_wobble else None, None,
+                         extra_model={"cut_mas": earth.TRACK_CUT_MAS}, perturbers=per)
