@@ -1,15 +1,18 @@
 """Petit, Souchay & Lhotka (2014) in CI: Tables 3-10 reproduced, and every erratum asserted as recorded.
 
 The printed tables live verbatim in data/petit2014/; the errata in data/errata.toml. Tolerances
-come from the printed precision: half a unit of the last printed digit, plus the effect of the
+come from the printed precision: half a unit of the last printed digit (the paper rounds; only
+Table 4's obliquity column is truncated, erratum eros-precession-rate), plus the effect of the
 4-digit H_d of Table 4 (±0.00005, i.e. 3e-4 relative for Vesta, which the dataset takes from its
-Table 3 moments) where K enters.
+Table 3 moments) where K enters. Each tolerance states its budget where it is used.
 """
 import csv
+import functools
 import importlib.util
 import math
 import sys
 import tomllib
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +30,14 @@ from ephem.model import build_model
 TABLES = data_dir() / "petit2014"
 ERRATA = tomllib.loads((data_dir() / "errata.toml").read_text())["erratum"]
 ROOT = Path(__file__).resolve().parent.parent
-HD_ROUNDING = 3e-4  # Table 4's 4-digit H_d, relative
+HD_ROUNDING = 3e-4  # Table 4's 4-digit H_d, relative: ±0.00005 / 0.1692 (Vesta; measured 1.5e-4 in K)
+#: Vesta and Ceres carry Table 4's printed obliquity, which is truncated (erratum eros-precession-rate):
+#: the values behind it reach 27.46345 and 3.91466 deg, which scale sin ε by up to cot ε δε = 1.2e-4
+#: and 1.2e-3 (cos ε by less): the relative budget of the nutation cells for it
+OBLIQUITY_TRUNCATION = {"Vesta": 1.2e-4, "Ceres": 1.2e-3}
+#: The two cells no fit meets (ODD_CELLS in tools/derive_petit2014.py), their extra budget (arcsec):
+#: Vesta's Table 6 cos M, which its own row contradicts (measured 2.5e-4), Ceres' Table 7 6M Cos (9.1e-5)
+ODD_CELL_BUDGET = {("Vesta", "obliquity", 1, "cos"): 2.5e-4, ("Ceres", "longitude", 6, "cos"): 5e-5}
 
 
 def _derive_module():
@@ -36,6 +46,12 @@ def _derive_module():
     sys.modules.setdefault("derive_petit2014", mod)
     spec.loader.exec_module(mod)
     return mod
+
+
+@functools.cache
+def _obliquity_evidence():
+    # the intervals of erratum eros-precession-rate (tools/derive_petit2014.py; ~3 s, computed once)
+    return _derive_module().obliquity_evidence()
 
 
 def _csv(name):
@@ -57,32 +73,51 @@ def _series(body):
 
 @pytest.mark.parametrize("body", ["Vesta", "Ceres"])
 def test_scaling_factor_from_the_printed_orbital_period(body):
-    # K = 3 n² H_d / ω with n from the period the paper prints (Tables 5-10); independent of Table 4's K
+    # K = 3 n² H_d / ω with n from the period the paper prints (Tables 5-10); independent of Table 4's K.
+    # Budget: Table 4's 4-digit H_d (Vesta's dataset H_d is Table 3's 0.169167; K implies 0.169191)
     p = api.precession(body, "petit2014", order=4)
     assert p["scaling_factor_arcsec_per_year"] == pytest.approx(TABLE4[body]["scaling_factor_arcsec_per_year"],
                                                                 rel=HD_ROUNDING)
 
 
 @pytest.mark.parametrize("body", ["Eros", "Steins", "Itokawa"])
+def test_scaling_factor_table4_where_it_fixes_a(body):
+    # a is derived from Table 4's K with the dataset's H_d: K comes back to half a unit of its 4th decimal
+    p = api.precession(body, "petit2014", order=4)
+    assert p["scaling_factor_arcsec_per_year"] == pytest.approx(TABLE4[body]["scaling_factor_arcsec_per_year"],
+                                                                abs=5e-5)
+
+
+@pytest.mark.parametrize("body", ["Eros", "Steins", "Itokawa"])
 def test_semi_major_axis_implied_by_k_is_a_real_orbit(body):
     # for these the dataset's a is derived from Table 4's K (the paper's epoch is unknown):
     # it must lie within 1e-3 of today's osculating a, or the K/H_d/period triple is not physical
+    # (budget: a plausibility bound, not a printing one; measured 7e-5 Eros, 5.8e-4 Steins, 5.6e-4 Itokawa)
     eff = load_catalogue("petit2014").get(body).orbit.a_au
     cur = load_catalogue("current").get(body).orbit.a_au
     assert abs(eff / cur - 1) < 1e-3
 
 
-@pytest.mark.parametrize("body", ["Steins", "Itokawa", "Vesta", "Ceres"])
+@pytest.mark.parametrize("body", ["Eros", "Steins", "Itokawa", "Vesta", "Ceres"])
 def test_precession_rate_table4(body):
-    # eq. 25 at order 4; tolerance: 4-digit H_d (Vesta, Ceres) or 1e-3 for the unknown orbit epoch's e
-    # (Eros: see erratum eros-precession-rate)
-    tol = HD_ROUNDING if body in ("Vesta", "Ceres") else 1e-3
+    # eq. 25 at order 4. Budgets:
+    # - Eros: half a unit of the printed 4th decimal (ψ̇ is rounded; the dataset's obliquity is the one
+    #   that gives it, which Table 4 prints truncated: erratum eros-precession-rate); measured 7e-7
+    # - Vesta, Ceres: the 4-digit H_d (HD_ROUNDING); measured 1.1e-4 and 2e-6 relative
+    # - Steins, Itokawa: 1e-3 relative for the orbit's e: the dataset's elements (2015, 2020) have
+    #   e = 0.145433 and 0.280117 where Table 4 implies 0.1470 and 0.2805 (obliquity_evidence), i.e.
+    #   7e-4 and 3.4e-4 in ψ̇ (measured)
     p = api.precession(body, "petit2014", order=4)
-    assert p["precession_rate_arcsec_per_year"] == pytest.approx(TABLE4[body]["precession_rate_arcsec_per_year"],
-                                                                 rel=tol)
+    printed = TABLE4[body]["precession_rate_arcsec_per_year"]
+    if body == "Eros":
+        assert p["precession_rate_arcsec_per_year"] == pytest.approx(printed, abs=5e-5)
+    else:
+        tol = HD_ROUNDING if body in ("Vesta", "Ceres") else 1e-3
+        assert p["precession_rate_arcsec_per_year"] == pytest.approx(printed, rel=tol)
 
 
 def test_vesta_precession_rate_is_13_67():
+    # the default (exact-e) model, 13.6713, against Table 4's 13.6728 at 2 decimals: budget half a unit, ±0.005
     p = api.precession("vesta", "petit2014")
     assert round(p["precession_rate_arcsec_per_year"], 2) == 13.67
 
@@ -91,16 +126,19 @@ def test_vesta_precession_rate_is_13_67():
 def test_dynamical_ellipticity_from_table3_where_consistent(body):
     row = next(r for r in _csv("table3_physical.csv") if r["body"] == body)
     hd = dynamical_ellipticity(*(float(row[f"moment_{x}"]) for x in "ABC"))
-    assert hd == pytest.approx(TABLE4[body]["dynamical_ellipticity"], abs=5e-5)
+    assert hd == pytest.approx(TABLE4[body]["dynamical_ellipticity"], abs=5e-5)  # half a unit of the 4th decimal
 
 
 @pytest.mark.parametrize("body", ["Vesta", "Ceres"])
 def test_nutation_semi_amplitudes_table4(body):
+    # budget: half a unit of the 4th decimal, the 4-digit H_d and the truncated obliquity the dataset
+    # carries (measured: Vesta 1.1e-4 and 2.4e-4 relative, Ceres 2e-5)
     n = api.nutation(body, "petit2014", order=4)
     expected = {"Vesta": (5.1460, 2.2122), "Ceres": (3.1834, None)}[body]
-    assert n["delta_psi_half_peak_to_peak_arcsec"] == pytest.approx(expected[0], rel=HD_ROUNDING, abs=5e-5)
+    rel = HD_ROUNDING + OBLIQUITY_TRUNCATION[body]
+    assert n["delta_psi_half_peak_to_peak_arcsec"] == pytest.approx(expected[0], rel=rel, abs=5e-5)
     if expected[1] is not None:  # Ceres' Δε: erratum ceres-table4-delta-epsilon
-        assert n["delta_epsilon_half_peak_to_peak_arcsec"] == pytest.approx(expected[1], rel=HD_ROUNDING, abs=5e-5)
+        assert n["delta_epsilon_half_peak_to_peak_arcsec"] == pytest.approx(expected[1], rel=rel, abs=5e-5)
 
 
 # ----------------------------------------------------------------------------- Tables 5-10
@@ -117,10 +155,13 @@ def test_nutation_coefficients_tables_5_to_8(row):
         if (body, comp, k, part) in TYPOS:
             continue
         printed = float(row[f"{part}_arcsec"])
-        # the order-4 theory with the fitted (e, θ) meets every printed cell to 0.00023" (measured;
-        # printing precision 0.00005"), plus the 4-digit H_d's share
-        assert value / ARCSEC == pytest.approx(printed, abs=3e-4 + HD_ROUNDING * abs(printed)), part
-    assert s.period_days[k - 1] / JULIAN_YEAR_DAYS == pytest.approx(float(row["period_years"]), abs=5e-5 * k)
+        # budget: half a unit (5e-5"), ODD_CELL_BUDGET for the two cells no fit meets, and in proportion
+        # the 4-digit H_d and the truncated obliquity the dataset carries (measured at most 4.3e-4", Vesta 2M)
+        odd = ODD_CELL_BUDGET.get((body, comp, k, part), 0.0)
+        rel = HD_ROUNDING + OBLIQUITY_TRUNCATION[body]
+        assert value / ARCSEC == pytest.approx(printed, abs=5e-5 + odd + rel * abs(printed)), part
+    # budget: half a unit of the printed period, plus our period's own share (Ceres': the printed 4.6010 yr, /k)
+    assert s.period_days[k - 1] / JULIAN_YEAR_DAYS == pytest.approx(float(row["period_years"]), abs=5e-5 + 5e-5 / k)
 
 
 @pytest.mark.parametrize("row", NUTATION, ids=lambda r: f"T{r['table']}-{r['body']}-{r['component']}-{r['multiple']}M")
@@ -133,7 +174,10 @@ def test_amp_columns_tables_5_to_8(row):
     else:
         amp = math.hypot(s.obl_sin[k - 1], s.obl_cos[k - 1])
     printed = float(row["amp_arcsec"])
-    assert amp / ARCSEC == pytest.approx(printed, abs=1.5e-4 + HD_ROUNDING * printed)
+    # budget: half a unit, plus in proportion the 4-digit H_d and the truncated obliquity the dataset
+    # carries (measured at most 4.8e-4", Vesta 2M Δε; Ceres' 1.5e-4" are the obliquity's 1e-3)
+    rel = HD_ROUNDING + OBLIQUITY_TRUNCATION[body]
+    assert amp / ARCSEC == pytest.approx(printed, abs=5e-5 + rel * printed)
 
 
 @pytest.mark.parametrize("row", RAMBAUX, ids=lambda r: f"T{r['table']}-{r['multiple']}M")
@@ -145,16 +189,23 @@ def test_tables_9_10_our_model_and_rambaux(row):
         amp = math.hypot(s.lon_sin[k - 1], s.lon_cos[k - 1]) * math.sin(m.obliquity) / MAS
     else:
         amp = math.hypot(s.obl_sin[k - 1], s.obl_cos[k - 1]) / MAS
-    assert amp == pytest.approx(float(row["petit_amp_mas"]), abs=0.05 + HD_ROUNDING * amp)
+    # budget: half a unit of Tables 5-6 (0.05 mas; Tables 9-10 print 0.01 mas of the same series), plus
+    # in proportion the 4-digit H_d and the truncated obliquity (measured at most 0.52 mas, 2M Δε)
+    rel = HD_ROUNDING + OBLIQUITY_TRUNCATION["Vesta"]
+    assert amp == pytest.approx(float(row["petit_amp_mas"]), abs=0.05 + rel * amp)
+    # budget: half a unit of the printed 4th decimal, plus as much for ours from the printed 1325.3803 d
     assert s.period_days[k - 1] == pytest.approx(float(row["petit_period_days"]), abs=1e-4)
     # Rambaux (2013), an Eulerian model with other inputs: within 1.5% for the leading terms
-    # (measured 0.05-1.4%), 5% for the small 5M term (measured 4.6%)
+    # (measured 0.05-1.4%), 5% for the small 5M term (measured 4.6%); periods: his orbit's, 3e-4
+    # (measured 2.1e-4 to 2.8e-4)
     assert amp == pytest.approx(float(row["rambaux_amp_mas"]), rel=0.015 if k < 5 else 0.05)
     assert s.period_days[k - 1] == pytest.approx(float(row["rambaux_period_days"]), rel=3e-4)
 
 
 def test_effective_inputs_are_reproduced_by_the_derivation_tool():
-    # no hand-tuned number in the petit2014 dataset: tools/derive_petit2014.py re-derives them
+    # no hand-tuned number in the petit2014 dataset: tools/derive_petit2014.py re-derives them.
+    # Budget: half a unit of the digits the toml carries (a 8-9 decimals, e 7, angles 6), with margin
+    # for the fits' convergence: rel 1e-8 (a), 1e-7 (e), 1e-6 deg (angles; measured below 4e-7)
     derived = _derive_module().derive()
     cat = load_catalogue("petit2014")
     for name, vals in derived.items():
@@ -162,9 +213,9 @@ def test_effective_inputs_are_reproduced_by_the_derivation_tool():
         assert b.orbit.a_au == pytest.approx(vals["a_au"], rel=1e-8)
         if "e" in vals:
             assert b.orbit.e == pytest.approx(vals["e"], abs=1e-7)
-            assert b.orbit.peri_deg == pytest.approx(vals["peri_deg"], abs=1e-5)
-        assert b.pole.ra_deg == pytest.approx(vals["pole_ra_deg"], abs=1e-5)
-        assert b.pole.dec_deg == pytest.approx(vals["pole_dec_deg"], abs=1e-5)
+            assert b.orbit.peri_deg == pytest.approx(vals["peri_deg"], abs=1e-6)
+        assert b.pole.ra_deg == pytest.approx(vals["pole_ra_deg"], abs=1e-6)
+        assert b.pole.dec_deg == pytest.approx(vals["pole_dec_deg"], abs=1e-6)
 
 
 # ----------------------------------------------------------------------------- errata, one test each
@@ -184,6 +235,7 @@ def test_erratum_eq26_orbit_normal():
     i, node = math.radians(7.14), math.radians(103.7)
     nodes = np.array([math.cos(node), math.sin(node), 0.0])
     printed = np.array([math.sin(i) * math.sin(node), math.cos(node) * math.sin(i), math.cos(i)])
+    # budget: floating point (an identity)
     assert abs(printed @ nodes) == pytest.approx(abs(math.sin(i) * math.sin(2 * node)), rel=1e-12)
     assert abs(orbit_normal(i, node) @ nodes) < 1e-15
 
@@ -195,9 +247,10 @@ def test_erratum_eq27_pole_vector():
     mirrored = s * np.array([1, -1, 1])
     z = orbit_normal(i, node)
     z26 = z * np.array([1, -1, 1])
-    assert math.degrees(math.acos(z @ s)) == pytest.approx(27.44, abs=0.01)
-    assert math.degrees(math.acos(z @ mirrored)) == pytest.approx(25.46, abs=0.01)  # one slip alone
-    assert math.degrees(math.acos(z26 @ mirrored)) == pytest.approx(27.44, abs=0.01)  # both: they cancel
+    # budget: half a unit of the erratum's 2 decimals
+    assert math.degrees(math.acos(z @ s)) == pytest.approx(27.44, abs=5e-3)
+    assert math.degrees(math.acos(z @ mirrored)) == pytest.approx(25.46, abs=5e-3)  # one slip alone
+    assert math.degrees(math.acos(z26 @ mirrored)) == pytest.approx(27.44, abs=5e-3)  # both: they cancel
 
 
 def test_erratum_eq29_unsigned_angle():
@@ -207,17 +260,21 @@ def test_erratum_eq29_unsigned_angle():
     geo = spin_geometry(icrf_to_ecliptic(math.radians(b.pole.ra_deg), math.radians(b.pole.dec_deg)),
                         *(math.radians(x) for x in (o.i_deg, o.node_deg, o.peri_deg)))
     theta = geo.equinox_to_pericentre
-    assert math.acos(math.cos(theta)) == pytest.approx(abs(theta))
+    assert math.acos(math.cos(theta)) == pytest.approx(abs(theta))  # budget: floating point (default rel 1e-6)
     # θ and -θ give different nutation phases: 2θ enters through C' = cos 2θ, S' = sin 2θ
     s1 = nutation_series(1e-4, 0.017, 0.5, 0.09, theta)
     s2 = nutation_series(1e-4, 0.017, 0.5, 0.09, -theta)
+    # budget: floating point for the antisymmetry; 1e-6 rad sets the term well apart from zero
     assert abs(s1.lon_cos[1] + s2.lon_cos[1]) < 1e-18 and abs(s1.lon_cos[1]) > 1e-6
 
 
 def test_erratum_eq23_k2_divisor():
     # Table 5's 2M terms follow /(2n): the coefficients test passes with it; with /n they would double
+    # budget: half a unit, plus in proportion the 4-digit H_d and the truncated obliquity (measured 3e-4);
+    # the /n reading misses by 2.6", far beyond 0.5
     s = _series("Vesta").nutation
-    assert s.lon_cos[1] / ARCSEC == pytest.approx(-2.6481, abs=2e-3)
+    rel = HD_ROUNDING + OBLIQUITY_TRUNCATION["Vesta"]
+    assert s.lon_cos[1] / ARCSEC == pytest.approx(-2.6481, abs=5e-5 + rel * 2.6481)
     assert 2 * s.lon_cos[1] / ARCSEC != pytest.approx(-2.6481, abs=0.5)
 
 
@@ -237,12 +294,16 @@ def test_erratum_eq23_spurious_terms():
 def test_erratum_eq24_missing_k1_term():
     s = _series("Vesta").nutation
     # Table 6's sin M coefficient (paper's sign): only the S' C2_1 term produces it
-    assert -s.obl_sin[0] / ARCSEC == pytest.approx(-0.1263, abs=2e-4)
+    # (budget: half a unit, plus in proportion the 4-digit H_d and the truncated obliquity; measured 4.7e-5)
+    rel = HD_ROUNDING + OBLIQUITY_TRUNCATION["Vesta"]
+    assert -s.obl_sin[0] / ARCSEC == pytest.approx(-0.1263, abs=5e-5 + rel * 0.1263)
 
 
 def test_erratum_eq24_repeated_terms():
     s = _series("Vesta").nutation
-    assert (-s.obl_sin[3] / ARCSEC, -s.obl_cos[3] / ARCSEC) == pytest.approx((0.0475, -0.0494), abs=1.5e-4)
+    # budget: half a unit, plus in proportion the 4-digit H_d and the truncated obliquity; measured 1.6e-5
+    rel = HD_ROUNDING + OBLIQUITY_TRUNCATION["Vesta"]
+    assert (-s.obl_sin[3] / ARCSEC, -s.obl_cos[3] / ARCSEC) == pytest.approx((0.0475, -0.0494), abs=5e-5 + rel * 0.05)
 
 
 def test_erratum_delta_epsilon_sign():
@@ -263,41 +324,48 @@ def test_erratum_delta_epsilon_sign():
     def best(sign):
         return min((least_squares(resid, [0.09, th], args=(sign,)) for th in np.linspace(0, math.pi, 12)),
                    key=lambda r: r.cost)
+    # budget 3e-4: half a unit elsewhere, 2.3e-4 at Table 6's cos M, which its own row contradicts
+    # (ODD_CELLS in tools/derive_petit2014.py); the unflipped sign misses by arcseconds
     assert np.abs(best(-1).fun).max() < 3e-4    # the paper's tables = our theory with Δε flipped
     assert np.abs(best(+1).fun).max() > 2.0     # as printed, no phase and e fit
     assert fit.fit_nutation_table("Vesta", 1325.3803)["max_residual_arcsec"] < 3e-4
 
 
 def test_erratum_table4_nutation_columns():
-    assert _half_ptp(_table("longitude", "Vesta")) == pytest.approx(5.1460, abs=1e-4)
-    assert _half_ptp(_table("obliquity", "Vesta")) == pytest.approx(2.2122, abs=1e-4)
+    # budget: half a unit of Table 4's 4th decimal (measured 3.4e-5 and 2.6e-5); the alternatives miss by > 0.1
+    assert _half_ptp(_table("longitude", "Vesta")) == pytest.approx(5.1460, abs=5e-5)
+    assert _half_ptp(_table("obliquity", "Vesta")) == pytest.approx(2.2122, abs=5e-5)
     amps = [math.hypot(*sc) for sc in _table("longitude", "Vesta")]
     assert sum(amps) != pytest.approx(5.1460, abs=0.1) and max(amps) != pytest.approx(5.1460, abs=0.1)
 
 
 def test_erratum_table5_amp_column():
+    # with the obliquity behind Table 4's truncated 27.46 (27.4633, erratum eros-precession-rate; with
+    # 27.46 itself: 1.10260). Budget: half a unit, plus the printed Sin and Cos's share (2.5e-5)
     s, c = _table("longitude", "Vesta")[0]
-    assert math.hypot(s, c) * math.sin(math.radians(27.46)) == pytest.approx(1.1027, abs=1e-4)
+    assert math.hypot(s, c) * math.sin(math.radians(27.4633)) == pytest.approx(1.1027, abs=7.5e-5)
 
 
 def test_erratum_ceres_table7_6M():
+    # budget: half a unit of the 4th decimal (measured 2e-6, 3.4e-5, 4.6e-5)
     rows = _table("longitude", "Ceres")
-    assert _half_ptp(rows) == pytest.approx(3.1841, abs=1e-4)              # as printed
+    assert _half_ptp(rows) == pytest.approx(3.1841, abs=5e-5)              # as printed
     fixed = rows[:5] + [(-0.0008, rows[5][1])]
-    assert _half_ptp(fixed) == pytest.approx(3.1834, abs=1e-4)             # = Table 4
-    assert _series("Ceres").nutation.lon_sin[5] / ARCSEC == pytest.approx(-0.0008, abs=1e-4)
+    assert _half_ptp(fixed) == pytest.approx(3.1834, abs=5e-5)             # = Table 4
+    assert _series("Ceres").nutation.lon_sin[5] / ARCSEC == pytest.approx(-0.0008, abs=5e-5)
 
 
 def test_erratum_ceres_table8_5M():
-    assert -_series("Ceres").nutation.obl_cos[4] / ARCSEC == pytest.approx(-0.0005, abs=1e-4)
+    assert -_series("Ceres").nutation.obl_cos[4] / ARCSEC == pytest.approx(-0.0005, abs=5e-5)  # half a unit
 
 
 def test_erratum_ceres_table4_delta_epsilon():
     rows = _table("obliquity", "Ceres")
     fixed = rows[:4] + [(rows[4][0], -0.0005)] + rows[5:]
-    assert _half_ptp(fixed) == pytest.approx(0.1830, abs=1e-4)
+    # budget: half a unit of the erratum's 4 decimals; the printed 0.1813 is 32 half-units away
+    assert _half_ptp(fixed) == pytest.approx(0.1830, abs=5e-5)
     ours = api.nutation("ceres", "petit2014", order=4)["delta_epsilon_half_peak_to_peak_arcsec"]
-    assert ours == pytest.approx(0.1829, abs=2e-4)
+    assert ours == pytest.approx(0.1829, abs=5e-5)
     assert abs(ours - 0.1813) > 1e-3
 
 
@@ -309,20 +377,21 @@ def _hd_from_table3(body):
 
 
 def test_erratum_table4_hd_steins():
-    assert _hd_from_table3("Steins") == pytest.approx(0.2532, abs=1e-4)
+    assert _hd_from_table3("Steins") == pytest.approx(0.2532, abs=5e-5)  # half a unit of the erratum's digits
     assert load_catalogue("petit2014").get("Steins").hd == 0.2717
 
 
 def test_erratum_table4_hd_itokawa():
-    assert _hd_from_table3("Itokawa") == pytest.approx(0.4211, abs=1e-4)
+    # budget: half a unit of the erratum's digits
+    assert _hd_from_table3("Itokawa") == pytest.approx(0.4211, abs=5e-5)
     assert dynamical_ellipticity(0.298**2 + 0.244**2, 0.535**2 + 0.244**2, 0.535**2 + 0.298**2) == \
-        pytest.approx(0.3413, abs=1e-4)
+        pytest.approx(0.34125, abs=5e-6)
     assert dynamical_ellipticity(0.294**2 + 0.209**2, 0.535**2 + 0.209**2, 0.535**2 + 0.294**2) == \
         pytest.approx(0.3828, abs=5e-5)
 
 
 def test_erratum_table4_hd_ceres():
-    assert _hd_from_table3("Ceres") == pytest.approx(0.0632, abs=1e-4)
+    assert _hd_from_table3("Ceres") == pytest.approx(0.0632, abs=5e-5)  # half a unit of the erratum's digits
     assert load_catalogue("petit2014").get("Ceres").hd == 0.071652
 
 
@@ -335,37 +404,99 @@ def _geometric_obliquity(name, ra, dec, ecliptic=False):
 
 
 def test_erratum_itokawa_pole_frame():
+    # budget: half a unit of the erratum's 1 decimal; 156.22 is erratum table4-obliquity's mean obliquity
+    # (2 decimals), which the geometric one here differs from by Δε at J2000 (0.004°): 0.01
     assert _geometric_obliquity("Itokawa", 128.5, -89.66, ecliptic=True) == pytest.approx(178.7, abs=0.05)
-    assert _geometric_obliquity("Itokawa", 128.5, -89.66) == pytest.approx(156.22, abs=0.05)
+    assert _geometric_obliquity("Itokawa", 128.5, -89.66) == pytest.approx(156.22, abs=0.01)
 
 
 @pytest.mark.parametrize("body, ra, dec, ours", [("Eros", 11.3692, 17.2273, 89.02), ("Steins", 99, -59, 176.13),
                                                   ("Itokawa", 128.5, -89.66, 156.22), ("Vesta", 309.031, 42.2264, 27.44),
                                                   ("Ceres", 288, 66, 3.94)])
 def test_erratum_table4_obliquity(body, ra, dec, ours):
-    got = _geometric_obliquity(body, ra, dec)
-    assert got == pytest.approx(ours, abs=0.006)
-    assert abs(got - TABLE4[body]["obliquity_deg"]) > 0.01
+    # the mean obliquity at J2000 (the pole's epoch) of Table 3's pole on the current orbit, as the
+    # erratum records it (budget: half a unit of its 2 decimals); the geometric one differs by Δε (Eros 0.0065°)
+    b = load_catalogue("current").get(body)
+    table3 = replace(b, pole=replace(b.pole, ra_deg=ra, dec_deg=dec))
+    got = math.degrees(build_model(table3, order=4).obliquity)
+    assert got == pytest.approx(ours, abs=5e-3)
+    # outside what the printed obliquity stands for, rounded or truncated: [x - 0.005, x + 0.01)
+    printed = TABLE4[body]["obliquity_deg"]
+    assert not printed - 0.005 <= got < printed + 0.01
+
+
+#: The intervals of the obliquity behind Table 4's column that erratum eros-precession-rate records (deg):
+#: every printed value that depends on it met to its printed digits, read as rounded
+OBLIQUITY_INTERVALS = {"Eros": (89.00613, 89.00624), "Steins": (161.83479, 161.84100),
+                       "Itokawa": (157.29769, 157.30442), "Vesta": (27.46321, 27.46345), "Ceres": (3.91318, 3.91466)}
 
 
 def test_erratum_eros_precession_rate():
-    t4 = TABLE4["Eros"]
+    ev = _obliquity_evidence()["Eros"]
+    # ψ̇ alone (eq. 25), ψ̇ and K read as rounded, e = 0.222836 ± 0.001: 89.00555-89.00697, inside the
+    # truncated cell of the printed 89.00 and clear of the rounded one (budget: the erratum's 5 decimals)
+    lo, hi = ev["rate_rounded"]
+    assert (lo, hi) == pytest.approx((89.00555, 89.00697), abs=5e-6)
+    assert 89.0 <= lo and hi < 89.01 and lo > 89.005
+    # the dataset carries the obliquity that gives the printed ψ̇ (half a unit of its 4th decimal,
+    # ψ̇ being rounded) with the printed K (half a unit); Table 4's 89.00 would give 2.8635
+    p = api.precession("eros", "petit2014", order=4)
+    assert p["precession_rate_arcsec_per_year"] == pytest.approx(2.8456, abs=5e-5)
+    assert p["scaling_factor_arcsec_per_year"] == pytest.approx(304.0953, abs=5e-5)
+    assert p["obliquity_deg"] == pytest.approx(89.006257, abs=5e-7)  # the toml's 6 decimals
+    derive = _derive_module()
     e = load_catalogue("petit2014").get("Eros").orbit.e
-    f4 = 1 + 1.5 * e**2 + 15 / 8 * e**4
-    implied = math.degrees(math.acos(t4["precession_rate_arcsec_per_year"] / (t4["scaling_factor_arcsec_per_year"] / 2 * f4)))
-    assert implied == pytest.approx(89.006, abs=1e-3)
-    ours = api.precession("eros", "petit2014", order=4)["precession_rate_arcsec_per_year"]
-    assert ours == pytest.approx(2.864, abs=2e-3)
+    at_printed = 0.5 * 304.0953 * math.cos(math.radians(89.0)) * (1 + 1.5 * e**2 + 15 / 8 * e**4)
+    assert at_printed == pytest.approx(2.8635, abs=5e-5)  # the erratum's 4 decimals
+    assert derive.obliquity_from_rate(2.8456, 304.0953, e) == pytest.approx(89.006257, abs=5e-7)
+
+
+@pytest.mark.parametrize("body", OBLIQUITY_INTERVALS)
+def test_table4_obliquity_column_is_truncated(body):
+    # erratum eros-precession-rate: the interval of ε that the other printed values allow meets the
+    # truncated reading of the printed obliquity for every body; only Eros' misses the rounded one
+    ev = _obliquity_evidence()[body]
+    joint = ev["joint_rounded"]
+    assert joint["minimax"] <= 1.0  # one point meets every printed value to its printed digits
+    assert joint["miss_at_ends"] <= 1.0 + 1e-6  # and so do the ends (budget: the search's linearisation)
+    lo, hi = joint["interval"]
+    assert (lo, hi) == pytest.approx(OBLIQUITY_INTERVALS[body], abs=5e-6)  # the erratum's 5 decimals
+    t_lo, t_hi = ev["cells"]["truncated"]
+    r_lo, r_hi = ev["cells"]["rounded"]
+    assert lo < t_hi and hi >= t_lo
+    assert (lo < r_hi and hi >= r_lo) == (body != "Eros")
+    # read as truncated, the other printed values move the intervals by 0.0033 deg at most, or admit none
+    other = ev["joint_truncated"]["interval"]
+    if other is not None:
+        assert abs(other[0] - lo) < 0.0034 and abs(other[1] - hi) < 0.0034
+        assert (other[0] < r_hi and other[1] >= r_lo) == (body != "Eros") and other[0] < t_hi and other[1] >= t_lo
+
+
+def test_table4_other_columns_are_rounded():
+    # erratum eros-precession-rate: Tables 5-8 are met cell by cell when read as rounded, not as truncated
+    # (in half-units of the last digit; budget: the erratum's 2 decimals)
+    ev = _obliquity_evidence()
+    for body, rounded, truncated in (("Vesta", 0.98, 1.97), ("Ceres", 0.93, 1.84)):
+        assert ev[body]["joint_rounded"]["minimax"] == pytest.approx(rounded, abs=0.005)
+        assert ev[body]["joint_truncated"]["interval"] is None
+        assert ev[body]["joint_truncated"]["minimax"] == pytest.approx(truncated, abs=0.005)
+    # Vesta's K with the printed periods: H_d 0.1691895-0.1691933, which prints 0.1692 only if rounded
+    derive = _derive_module()
+    assert derive.vesta_hd_interval("rounded") == pytest.approx((0.1691895, 0.1691933), abs=5e-8)
+    lo, hi = derive.vesta_hd_interval("truncated")
+    assert 0.16915 <= lo and hi < 0.16925 and hi < 0.1692
 
 
 def test_erratum_nutation_phase_ceres():
     fit = _derive_module().fit_nutation_table("Ceres", 4.6010 * JULIAN_YEAR_DAYS)
-    assert fit["theta_deg"] == pytest.approx(162.14, abs=0.01)
-    assert fit["max_residual_arcsec"] < 2e-4
+    assert fit["theta_deg"] == pytest.approx(162.14, abs=5e-3)  # half a unit of the erratum's 2 decimals
+    # budget: half a unit, plus the fit's fixed, truncated obliquity (3.91 for 3.914: 1.2e-3 of the
+    # largest Δε cell, 0.1361", i.e. 1.6e-4); measured 1.6e-4
+    assert fit["max_residual_arcsec"] < 5e-5 + OBLIQUITY_TRUNCATION["Ceres"] * 0.1361
     # Ceres' osculating orbit of 2013 Nov 4.0 TT (MPCORB, MPO286777): i, Ω, ω
     geo = spin_geometry(icrf_to_ecliptic(math.radians(288), math.radians(66)),
                         *(math.radians(x) for x in (10.59398, 80.32762, 72.29213)))
-    assert math.degrees(geo.equinox_to_pericentre) % 180 == pytest.approx(97.72, abs=0.01)
+    assert math.degrees(geo.equinox_to_pericentre) % 180 == pytest.approx(97.72, abs=5e-3)  # 2 decimals
 
 
 def test_every_erratum_has_its_test():
@@ -379,7 +510,9 @@ def test_erratum_itokawa_precession_uncertainty():
 
     r = propagate("Itokawa", "petit2014", order=4)
     ours = r["precession_rate_arcsec_per_year_uncertainty"]
-    assert ours == pytest.approx(13.0, abs=0.1)           # the pole's 3.9° as 1σ
+    assert ours == pytest.approx(13.0, abs=0.05)          # the pole's 3.9° as 1σ; half a unit of 1 decimal
     slope = abs(-461.5208 * math.tan(math.radians(157.30)))  # Table 4: |ψ̇ tan ε|, arcsec/yr per radian
     assert round(slope * math.radians(3.9 / 2), 2) == 6.57   # the printed σ: half the margin
-    assert ours / 6.57 == pytest.approx(2.0, abs=0.04)
+    # twice, but for σ_ε = 3.86° (not 3.9°): 2 × 3.86/3.9 = 1.98; budget: half a unit of the 2 decimals
+    # plus 6.57's own rounding (0.0015)
+    assert ours / 6.57 == pytest.approx(1.98, abs=0.0065)

@@ -1,0 +1,124 @@
+"""A request's budget: predicted costs charged before the work, and a deadline while it runs.
+
+The service opens one :func:`budget` per request. Each entry point of :mod:`ephem.api` states
+its cost (:mod:`ephem.cost`) and calls :func:`charge` before doing the work: a cost that would
+take the request over its CPU or memory budget raises :class:`OverBudgetError` naming the
+parameter that drives it and the estimate, before anything is computed. The long loops
+(integrations, harmonic sums) call :func:`check_deadline`, the backstop for an estimate that
+was wrong: past the deadline they raise :class:`DeadlineExceededError`.
+
+Outside a budget (the library, the CLI) charging and the deadline are no-ops: a scientist's own
+script may run for an hour.
+"""
+from __future__ import annotations
+
+import time
+from contextlib import contextmanager
+from contextvars import ContextVar
+from dataclasses import dataclass, field
+
+from .cost import Cost
+from .errors import EphemError
+
+
+class OverBudgetError(EphemError):
+    """The predicted cost of a request exceeds its budget; raised before any work."""
+
+    def __init__(self, cost: Cost, limit: "Budget", spent_cpu_s: float, body: str | None = None,
+                 prefix: str = ""):
+        self.cost = cost
+        self.limit = limit
+        self.spent_cpu_s = spent_cpu_s
+        self.body = body
+        self.cpu_s_budget = limit.cpu_s
+        self.memory_mb_budget = limit.memory_mb
+        over_memory = cost.memory_mb > limit.memory_mb
+        part = cost.largest("memory_mb" if over_memory else "cpu_s")
+        self.field = prefix + (part.parameter if part is not None else "request")
+        what = (f"{cost.memory_mb:.3g} MB of memory, over the budget of {limit.memory_mb:.3g} MB" if over_memory
+                else f"{spent_cpu_s + cost.cpu_s:.3g} s of one core, over the budget of {limit.cpu_s:.3g} s")
+        self.reason = (f"this request is estimated to need {what} (estimate: {cost.describe()}); "
+                       f"change {self.field} to ask for less")
+        where = f"{body}: " if body else ""
+        super().__init__(f"{where}{self.field}: {self.reason}")
+
+    def within(self, prefix: str) -> "OverBudgetError":
+        """The same refusal with the parameter named by its full path (``track.step_days``)."""
+        return OverBudgetError(self.cost, self.limit, self.spent_cpu_s, self.body, prefix)
+
+
+class DeadlineExceededError(EphemError):
+    """A request ran past its deadline (its cost was underestimated); raised from inside the work."""
+
+    def __init__(self, deadline_s: float, predicted_cpu_s: float):
+        self.deadline_s = deadline_s
+        self.predicted_cpu_s = predicted_cpu_s
+        super().__init__(f"the request ran past its deadline of {deadline_s:.3g} s (its cost was estimated at "
+                         f"{predicted_cpu_s:.3g} s) and was stopped; ask for fewer epochs or a shorter span")
+
+
+@dataclass
+class Budget:
+    """Limits of one request: predicted CPU seconds (summed over its parts), memory (per part) and
+    a wall-clock deadline (None: no deadline)."""
+
+    cpu_s: float
+    memory_mb: float
+    deadline_s: float | None = None
+    spent_cpu_s: float = 0.0
+    started: float = field(default_factory=time.monotonic)
+    prepaid: int = 0
+
+    @property
+    def deadline_at(self) -> float | None:
+        return None if self.deadline_s is None else self.started + self.deadline_s
+
+
+_current: ContextVar[Budget | None] = ContextVar("ephem_budget", default=None)
+
+
+@contextmanager
+def budget(cpu_s: float, memory_mb: float, deadline_s: float | None = None):
+    """Run the block under a budget (the service: one per request)."""
+    token = _current.set(Budget(cpu_s, memory_mb, deadline_s))
+    try:
+        yield _current.get()
+    finally:
+        _current.reset(token)
+
+
+def current() -> Budget | None:
+    return _current.get()
+
+
+def charge(cost: Cost, body: str | None = None) -> None:
+    """Count ``cost`` against the current budget, or raise :class:`OverBudgetError` before the work."""
+    b = _current.get()
+    if b is None or b.prepaid:
+        return
+    if b.spent_cpu_s + cost.cpu_s > b.cpu_s or cost.memory_mb > b.memory_mb:
+        raise OverBudgetError(cost, b, b.spent_cpu_s, body)
+    b.spent_cpu_s += cost.cpu_s
+
+
+@contextmanager
+def prepaid():
+    """Inside the block charges are not counted again: an answer made of several whose total was charged
+    at once (the POST's precession, nutation and track)."""
+    b = _current.get()
+    if b is not None:
+        b.prepaid += 1
+    try:
+        yield
+    finally:
+        if b is not None:
+            b.prepaid -= 1
+
+
+def check_deadline() -> None:
+    """Raise :class:`DeadlineExceededError` past the current request's deadline (cheap: call it in loops)."""
+    b = _current.get()
+    if b is None or b.deadline_s is None:
+        return
+    if time.monotonic() > b.started + b.deadline_s:
+        raise DeadlineExceededError(b.deadline_s, b.spent_cpu_s)

@@ -1,0 +1,212 @@
+"""What a request will cost, known before it runs: CPU seconds of one core and peak memory.
+
+Every model states its cost from the request's parameters alone (epochs, harmonics, orbits,
+integration span), before any work: :class:`Cost` is a sum of named :class:`Part` s, each
+tied to the request parameter that drives it, so a refusal can say which parameter to change.
+:mod:`ephem.budget` charges these costs against a request's budget.
+
+The unit costs in ``data/cost_model.toml`` were measured on the project's reference machine
+(2 cores, CPython 3.11, numpy 2.4) by ``benchmarks/bench_cost.py``, which also prints each
+prediction against the measured time and memory; they are upper estimates (a factor 1-3 above
+the measured cost on that machine), not promises: the deadline of :mod:`ephem.budget` is the
+backstop when a machine or an input is slower than predicted.
+"""
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass
+from functools import lru_cache
+
+MB = 1024.0 * 1024.0
+
+
+@dataclass(frozen=True)
+class Part:
+    """One piece of work: ``what`` it is, the request ``parameter`` that drives it, its cost."""
+
+    parameter: str
+    what: str
+    cpu_s: float
+    memory_mb: float
+
+
+@dataclass(frozen=True)
+class Cost:
+    """The predicted cost of a request: the sum of its parts (CPU) and their largest (memory)."""
+
+    parts: tuple[Part, ...] = ()
+
+    @property
+    def cpu_s(self) -> float:
+        return float(sum(p.cpu_s for p in self.parts))
+
+    @property
+    def memory_mb(self) -> float:
+        # parts run one after another and free their work arrays; the largest sets the peak
+        return float(max((p.memory_mb for p in self.parts), default=0.0))
+
+    def __add__(self, other: "Cost") -> "Cost":
+        return Cost(self.parts + other.parts)
+
+    def largest(self, by: str = "cpu_s") -> Part | None:
+        return max(self.parts, key=lambda p: getattr(p, by), default=None)
+
+    def describe(self) -> str:
+        cpu, mem = self.largest("cpu_s"), self.largest("memory_mb")
+        text = f"{self.cpu_s:.3g} s of one core and {self.memory_mb:.3g} MB"
+        if cpu is not None:
+            text += f" (largest: {cpu.what}, set by {cpu.parameter}"
+            if mem is not None and mem is not cpu and mem.memory_mb > 0.5 * self.memory_mb:
+                text += f"; most memory: {mem.what}, set by {mem.parameter}"
+            text += ")"
+        return text
+
+    def as_dict(self) -> dict:
+        return {"cpu_s": self.cpu_s, "memory_mb": self.memory_mb,
+                "parts": [{"parameter": p.parameter, "what": p.what, "cpu_s": p.cpu_s, "memory_mb": p.memory_mb}
+                          for p in self.parts]}
+
+
+FREE = Cost()
+
+
+@lru_cache(maxsize=1)
+def unit_costs() -> dict:
+    """The measured unit costs (``data/cost_model.toml``)."""
+    from .catalogue import data_dir
+
+    with open(data_dir() / "cost_model.toml", "rb") as fh:
+        return tomllib.load(fh)["unit"]
+
+
+def _u(key: str) -> float:
+    return float(unit_costs()[key])
+
+
+# --- the pieces every model is made of ------------------------------------------------------------
+
+def harmonics(e: float, order: int | None, relative_floor: float = 1e-16) -> tuple[int, int]:
+    """(FFT samples N, harmonics K) of the nutation series at eccentricity ``e``.
+
+    ``order`` None: the exact coefficients of :func:`ephem.hansen.hansen_exact`, whose harmonics
+    decay like k^(3/2) exp(-σk) (σ of :func:`ephem.hansen._decay_rate`, ~(1-e²)^(3/2)/3 as e -> 1):
+    K solves σK - 1.5 ln K = ln(1/relative_floor), the last harmonic above that fraction of the
+    largest (1e-16: the Hansen coefficients themselves; the nutation series cuts at an absolute
+    amplitude, a larger fraction, see :func:`nutation_harmonics`). An e-power series to e^order has
+    order + 2.
+    """
+    from .hansen import _decay_rate, _fft_length
+
+    if order is not None:
+        return 0, order + 2
+    n = _fft_length(e, None)
+    sigma = _decay_rate(e)
+    if math.isinf(sigma):
+        return n, 2
+    target = math.log(1.0 / relative_floor)
+    k = target / sigma
+    while sigma * k - 1.5 * math.log(k) < target:
+        k *= 1.05
+    return n, max(2, min(n // 2, math.ceil(k)))
+
+
+def nutation_harmonics(e: float, order: int | None, torque_over_motion: float) -> int:
+    """Harmonics kept in the nutation series: :func:`ephem.kinoshita.nutation_series` drops those below
+    1e-14 rad, and its amplitudes scale with K/n (``torque_over_motion``)."""
+    floor = min(1e-2, max(1e-16, 1e-14 / max(0.5 * torque_over_motion, 1e-300)))
+    return harmonics(e, order, floor)[1]
+
+
+def hansen_build(e: float, order: int | None) -> Part:
+    """The Hansen coefficients: an N-point FFT (exact) or the rational series (order)."""
+    n, k = harmonics(e, order)
+    if order is not None:
+        return Part("order", f"the e^{order} Hansen series", _u("series_s") * (1 + order) ** 2, 1.0)
+    return Part("orbit.e", f"exact Hansen coefficients (a {n}-point FFT, e = {e:.4g})",
+                _u("base_s") + _u("fft_s_per_n_log_n") * n * math.log2(n), _u("fft_bytes_per_sample") * n / MB)
+
+
+def half_peak_to_peak(e: float, order: int | None, k: int | None = None) -> Part:
+    """Half the peak-to-peak nutation (Petit Table 4's Δψ, Δε): a grid of 64 points per harmonic
+    (``k`` harmonics; default all the Hansen coefficients')."""
+    k = harmonics(e, order)[1] if k is None else k
+    return Part("orbit.e", f"the nutation's extremes over one orbit ({k} harmonics on a {64 * k}-point grid)",
+                _u("harmonic_s") * 64.0 * k * k, 0.5)
+
+
+def harmonic_sum(epochs: int, k: int, parameter: str, what: str) -> Part:
+    """A nutation series of ``k`` harmonics summed at ``epochs`` epochs (Chebyshev blocks)."""
+    return Part(parameter, f"{what}: {epochs} epochs x {k} harmonics",
+                epochs * (_u("epoch_s") + _u("harmonic_s") * k), epochs * _u("track_bytes_per_epoch") / MB)
+
+
+def second_order(epochs: int, k: int) -> Part:
+    return Part("step_days", f"the second-order theory at {epochs} epochs x {k} harmonics",
+                _u("base_s") + epochs * (_u("second_order_epoch_s") + _u("second_order_harmonic_s") * k),
+                epochs * _u("track_bytes_per_epoch") / MB)
+
+
+def spin_integration(orbits: float, e: float, epochs: int) -> Part:
+    """DOP853 through every orbit from the pole epoch (:mod:`ephem.numerical`): the steps per
+    orbit grow toward pericentre, measured as (1 - e)^(-1/2)."""
+    per_orbit = _u("spin_orbit_s") / math.sqrt(1.0 - e)
+    return Part("stop", f"the spin axis integrated through {orbits:.4g} orbits",
+                _u("base_s") + orbits * per_orbit + epochs * _u("dense_output_s"),
+                epochs * _u("track_bytes_per_epoch") / MB + orbits * _u("spin_bytes_per_orbit") / MB)
+
+
+def orbit_integration(span_days: float) -> Part:
+    """The real orbit (:mod:`ephem.ephemeris`): the body integrated under the DE421 planets."""
+    years = span_days / 365.25
+    return Part("start", f"the real orbit integrated over {years:.4g} years",
+                _u("path_base_s") + years * _u("path_s_per_year"), _u("path_mb_per_year") * years + 5.0)
+
+
+def free_rotation(method: str, epochs: int, rotations: float) -> Part:
+    """The torque-free motion (:mod:`ephem.free_motion`): closed form, Lie series or DOP853."""
+    if method == "numeric":
+        return Part("stop", f"Euler's equations integrated through {rotations:.4g} rotations",
+                    _u("base_s") + rotations * _u("rigid_s_per_rotation") + epochs * _u("dense_output_s"),
+                    epochs * _u("track_bytes_per_epoch") / MB)
+    if method == "series":
+        fixed, per = _u("free_series_build_s"), _u("free_series_epoch_s")
+    else:
+        fixed, per = _u("base_s"), _u("free_exact_epoch_s")
+    return Part("step_days", f"the free motion ({method}) at {epochs} epochs", fixed + epochs * per,
+                epochs * _u("track_bytes_per_epoch") / MB)
+
+
+def lunisolar_sum(epochs: int) -> Part:
+    return Part("step_days", f"the lunisolar series at {epochs} epochs", epochs * _u("lunisolar_epoch_s"),
+                epochs * _u("track_bytes_per_epoch") / MB)
+
+
+def serialised(epochs: int, columns: int) -> Part:
+    """An answer of ``epochs`` rows of ``columns`` floats, serialised (JSON, CSV or a figure)."""
+    return Part("step_days", f"{epochs} epochs serialised", epochs * columns * _u("serialise_s_per_value"),
+                epochs * columns * _u("serialised_bytes_per_value") / MB)
+
+
+def truncation_bounds(e: float) -> Part:
+    """The truncation bound of each e-order the choice by tolerance tries (:func:`ephem.ladder.truncation_bound`):
+    the coefficient differences of up to 20 orders, each a small rational series evaluated once."""
+    _, k = harmonics(e, None)
+    return Part("tolerance_mas", "the truncation bounds of the e-orders", _u("base_s") + 20 * _u("harmonic_s") * k * 40,
+                1.0)
+
+
+def lunisolar_answer() -> Part:
+    """The Earth under the Moon and the Sun: the lunisolar series are built once per process (at the
+    service's start-up, ``EPHEM_WARM_UP``); an answer reads them."""
+    return Part("perturbers", "the lunisolar series (built at start-up)", _u("lunisolar_answer_s"), 5.0)
+
+
+def body_harmonics(body, order: int | None = None) -> int:
+    """:func:`nutation_harmonics` of a :class:`~ephem.catalogue.Body`, from its parameters alone
+    (K/n = 3 n H_d / ω, Petit et al. eq. 10)."""
+    from .kepler import mean_motion_rad_per_day
+
+    n = mean_motion_rad_per_day(body.orbit.a_au, body.orbit.center)
+    omega = 2.0 * math.pi / (body.rotation_period_hours / 24.0)
+    return nutation_harmonics(body.orbit.e, order, 3.0 * n * body.hd / omega)

@@ -1,0 +1,129 @@
+"""Bounded work per request: the budget every request runs under, and what answers when it is broken.
+
+- Before the work: each request runs inside :func:`ephem.budget.budget` with the service's limits, so
+  every entry point of :mod:`ephem.api` charges its predicted cost first and a request over budget
+  gets a 422 naming the parameter and the estimate (``over-budget``).
+- During the work: the deadline (:func:`ephem.budget.check_deadline` in the long loops) stops a request
+  whose estimate was wrong with a 503 (``deadline``); a ``MemoryError`` under the worker's memory
+  ceiling (``service/gunicorn_conf.py``) is a 503 (``memory``) too, and the worker recycles itself.
+- Beyond that, the watchdog: a request still running ``hard_kill_after_s`` past its deadline (stuck
+  in compiled code that never reaches a check) ends the worker process, which the supervisor
+  (gunicorn) replaces. It is armed only under a supervisor (``EPHEM_SUPERVISED``), never in a bare
+  uvicorn or the tests' client, where it would take the service down.
+"""
+from __future__ import annotations
+
+import logging
+import os
+import signal
+import threading
+import time
+
+from fastapi import FastAPI, Request
+
+from ephem.budget import DeadlineExceededError, OverBudgetError, budget
+
+from .problems import problem
+from .settings import Settings
+
+log = logging.getLogger("ephem.service")
+
+
+class RequestBudget:
+    """ASGI middleware: every HTTP request runs under the service's budget (a context variable, which
+    the thread pool running the routes inherits), and is known to the watchdog while it runs."""
+
+    def __init__(self, app, settings: Settings, watchdog: "Watchdog | None" = None):
+        self.app = app
+        self.settings = settings
+        self.watchdog = watchdog
+
+    async def __call__(self, scope, receive, send):
+        if scope["type"] != "http":
+            return await self.app(scope, receive, send)
+        s = self.settings
+        token = self.watchdog.enter(scope) if self.watchdog is not None else None
+        try:
+            with budget(s.max_request_cpu_s, s.max_request_memory_mb, s.request_deadline_s):
+                await self.app(scope, receive, send)
+        finally:
+            if token is not None:
+                self.watchdog.leave(token)
+
+
+class Watchdog:
+    """Ends this worker process when a request overstays its deadline by ``grace_s`` (the supervisor starts
+    another), and asks for a graceful restart when the worker's resident memory stays above its ceiling
+    after a request (numpy's freed arenas are not always returned to the system)."""
+
+    def __init__(self, deadline_s: float, grace_s: float, rss_limit_mb: float | None, interval_s: float = 0.5):
+        self.deadline_s = deadline_s
+        self.grace_s = grace_s
+        self.rss_limit_mb = rss_limit_mb
+        self.interval_s = interval_s
+        self._running: dict[int, tuple[float, str]] = {}
+        self._lock = threading.Lock()
+        self._next = 0
+        self._thread = threading.Thread(target=self._watch, name="ephem-watchdog", daemon=True)
+        self._thread.start()
+
+    def enter(self, scope) -> int:
+        with self._lock:
+            self._next += 1
+            self._running[self._next] = (time.monotonic(), f"{scope.get('method')} {scope.get('path')}")
+            return self._next
+
+    def leave(self, token: int) -> None:
+        with self._lock:
+            self._running.pop(token, None)
+            idle = not self._running
+        if idle and self.rss_limit_mb is not None and resident_mb() > self.rss_limit_mb:
+            log.warning("worker %d holds %.0f MB after its requests (limit %.0f MB): restarting it", os.getpid(),
+                        resident_mb(), self.rss_limit_mb)
+            os.kill(os.getpid(), signal.SIGTERM)     # graceful: the supervisor starts a fresh worker
+
+    def _watch(self) -> None:
+        while True:
+            time.sleep(self.interval_s)
+            now = time.monotonic()
+            with self._lock:
+                stuck = [(now - t0, what) for t0, what in self._running.values()
+                         if now - t0 > self.deadline_s + self.grace_s]
+            if stuck:
+                age, what = max(stuck)
+                log.error("worker %d: %s has run %.1f s, past its deadline of %.1f s: ending the worker", os.getpid(),
+                          what, age, self.deadline_s)
+                os.kill(os.getpid(), signal.SIGKILL)
+
+
+def resident_mb() -> float:
+    """This process's resident memory, MB (Linux /proc; 0 where unavailable)."""
+    try:
+        with open("/proc/self/statm") as fh:
+            return int(fh.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+    except (OSError, ValueError, IndexError):
+        return 0.0
+
+
+def install(app: FastAPI, settings: Settings) -> None:
+    watchdog = None
+    if settings.supervised:
+        watchdog = Watchdog(settings.request_deadline_s, settings.hard_kill_after_s, settings.worker_memory_mb * 0.8)
+    app.add_middleware(RequestBudget, settings=settings, watchdog=watchdog)
+
+    @app.exception_handler(OverBudgetError)
+    async def over_budget(request: Request, exc: OverBudgetError):
+        c = exc.cost
+        return problem(422, "over-budget", "Over budget", str(exc), errors=[{"field": exc.field, "reason": exc.reason}],
+                       estimated_cpu_s=c.cpu_s, estimated_memory_mb=c.memory_mb, budget_cpu_s=exc.cpu_s_budget,
+                       budget_memory_mb=exc.memory_mb_budget, estimate=c.as_dict())
+
+    @app.exception_handler(DeadlineExceededError)
+    async def deadline(request: Request, exc: DeadlineExceededError):
+        return problem(503, "deadline", "Deadline exceeded", str(exc), deadline_s=exc.deadline_s)
+
+    @app.exception_handler(MemoryError)
+    async def out_of_memory(request: Request, exc: MemoryError):
+        detail = (f"the request needed more memory than this worker's ceiling ({settings.worker_memory_mb:g} MB) "
+                  "and was stopped; ask for fewer epochs or a shorter span")
+        return problem(503, "memory", "Memory ceiling", detail)

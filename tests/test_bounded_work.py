@@ -1,0 +1,271 @@
+"""Bounded work per request: each hostile case of the trust issue, refused before the work or stopped by
+the backstop (the budget of ephem.budget, the deadline, the memory handler, the supervisor)."""
+from __future__ import annotations
+
+import copy
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fastapi.testclient import TestClient
+
+from ephem import api, budget, cost, kinoshita
+from ephem.budget import DeadlineExceededError, OverBudgetError
+from ephem.catalogue import Body, Orbit, Pole
+from service.app import create_app
+from service.settings import Settings
+
+ROOT = Path(__file__).resolve().parents[1]
+USER = {"name": "my-asteroid",
+        "orbit": {"a_au": 2.36, "e": 0.089, "i_deg": 7.14, "node_deg": 103.7, "peri_deg": 151.7,
+                  "mean_anomaly_deg": 169.2, "epoch_jd_tdb": 2460200.5},
+        "pole": {"ra_deg": 309.03, "dec_deg": 42.23, "epoch_jd_tdb": 2451545.0},
+        "rotation_period_hours": 5.342, "moments": {"A": 0.3433, "B": 0.3546, "C": 0.42}}
+
+
+@pytest.fixture(scope="module")
+def client():
+    with TestClient(create_app(Settings(warm_up=False)), raise_server_exceptions=False) as c:
+        yield c
+
+
+def _user(**patch) -> dict:
+    body = copy.deepcopy(USER)
+    for path, value in patch.items():
+        where = body
+        *parents, leaf = path.split("__")
+        for p in parents:
+            where = where.setdefault(p, {})
+        where[leaf] = value
+    return body
+
+
+def _problem(r, status: int, kind: str) -> dict:
+    assert r.status_code == status, r.text
+    assert r.headers["content-type"].startswith("application/problem+json")
+    body = r.json()
+    assert body["type"].endswith("/" + kind), body
+    return body
+
+
+@pytest.mark.parametrize("a_au", [1e-300, 1e300])
+def test_absurd_semi_major_axes_are_422_naming_orbit_a_au(client, a_au):
+    body = _problem(client.post("/v1/precession-nutation", json=_user(orbit__a_au=a_au)), 422, "invalid-input")
+    assert body["errors"][0]["field"] == "orbit.a_au"
+
+
+def test_a_pericentre_inside_the_sun_is_refused():
+    with pytest.raises(Exception) as info:
+        Orbit(0.004, 0.0, 0.0, 0.0, 0.0, 0.0, 2451545.0)
+    assert "inside the Sun" in str(info.value)
+
+
+def test_e_099_is_over_budget_before_any_model_is_built(client, monkeypatch):
+    import ephem.ladder
+
+    def no_build(*args, **kwargs):       # the refusal must come from the estimate, not from the work
+        raise AssertionError("a model was built before the cost was checked")
+
+    monkeypatch.setattr(ephem.ladder, "build_model", no_build)
+    ephem.ladder.cached_model.cache_clear()
+    try:
+        body = _problem(client.post("/v1/precession-nutation", json=_user(orbit__e=0.99)), 422, "over-budget")
+    finally:
+        ephem.ladder.cached_model.cache_clear()
+    assert body["errors"][0]["field"] == "orbit.e"
+    assert body["estimated_cpu_s"] > body["budget_cpu_s"] == Settings().max_request_cpu_s
+
+
+def test_e_too_close_to_one_is_not_applicable_with_the_reason():
+    b = Body("x", Orbit(30.0, 0.9995, 7.0, 0.0, 0.0, 0.0, 2451545.0), Pole(10.0, 20.0), 5.0, dynamical_ellipticity=0.1)
+    with pytest.raises(api.NotApplicableError) as info:
+        api.precession(b)
+    assert "too close to 1" in str(info.value)
+
+
+def test_the_harmonic_work_table_is_bounded_whatever_the_harmonics():
+    # e = 0.99 keeps ~4e4 harmonics: an 8192-epoch block of them would be 5.5 GB
+    k = np.arange(1, 42_001)
+    _, _, work, block = kinoshita._prepare(k, np.zeros((k.size, 2)), np.zeros((k.size, 2)), 10_000)
+    assert work.nbytes <= kinoshita._BLOCK_BYTES and block >= 1
+
+
+def test_the_nutation_extremes_need_no_dense_table():
+    # one formula (kinoshita.series_extrema) for the answers and the uncertainties; checked against a
+    # dense grid on a two-term series whose extremes are known in closed form: sin M + 0.5 sin 2M has its
+    # maximum 1.299038... (= 3√3/4) at M = π/3; half peak-to-peak the same by symmetry
+    half, x_max, x_min = kinoshita.series_extrema(np.array([1.0, 0.5]), np.array([0.0, 0.0]))
+    assert half == pytest.approx(3.0 * np.sqrt(3.0) / 4.0, rel=1e-14)   # Newton-polished: rounding only
+    assert x_max == pytest.approx(np.pi / 3.0, abs=1e-7)                 # a flat maximum: sqrt(eps) in M
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e300])
+def test_moments_enter_through_their_ratios_only(client, scale):
+    """A, B, C in any normalisation: scaled by 1e-300 or 1e300 they give the normalised answer
+    (the theory uses A/C and B/C: one division each, so rounding of a few ulp)."""
+    ref = client.post("/v1/precession-nutation", json=USER).json()
+    moments = {k: v * scale for k, v in USER["moments"].items()}
+    got = client.post("/v1/precession-nutation", json=_user(moments=moments))
+    assert got.status_code == 200, got.text
+    got = got.json()
+    for key in ("dynamical_ellipticity", "precession_rate_arcsec_per_year", "obliquity_deg"):
+        assert got["precession"][key] == pytest.approx(ref["precession"][key], rel=1e-13)
+
+
+def test_long_numeric_free_motion_is_over_budget_naming_stop(client):
+    r = client.get("/v1/bodies/eros/free-motion?start=2451545&stop=2461545&step_days=10000&method=numeric")
+    body = _problem(r, 422, "over-budget")
+    assert body["errors"][0]["field"] == "stop"
+    assert "rotations" in body["detail"]
+
+
+def test_real_orbit_over_150_years_is_over_budget(client):
+    r = client.get("/v1/bodies/itokawa/track?start=1900-01-01&stop=2050-01-01&step_days=100&model=real_orbit")
+    body = _problem(r, 422, "over-budget")
+    assert body["estimated_cpu_s"] > body["budget_cpu_s"]
+    post = client.post("/v1/precession-nutation", json=_user(track={"start": "1900-01-01", "stop": "2050-01-01",
+                                                                     "step_days": 10, "model": "real_orbit"}))
+    body = _problem(post, 422, "over-budget")
+    assert body["errors"][0]["field"].startswith("track.")
+
+
+def test_a_larger_budget_lets_the_same_request_through():
+    settings = Settings(warm_up=False, max_request_cpu_s=60.0)
+    with TestClient(create_app(settings), raise_server_exceptions=False) as c:
+        r = c.get("/v1/bodies/vesta/track?start=2000-01-01&stop=2001-01-01&step_days=30&model=real_orbit")
+    assert r.status_code == 200, r.text
+
+
+def test_a_track_whose_estimate_is_meaningless_is_refused(client):
+    r = client.get("/v1/bodies/vesta/track?start=9999999&stop=9999999.9&step_days=1")
+    body = _problem(r, 422, "not-applicable")
+    assert "error estimate" in body["detail"]
+
+
+@pytest.mark.parametrize("path", ["orbit__e", "orbit__a_au", "rotation_period_hours", "moments__A"])
+def test_json_true_is_not_a_number(client, path):
+    body = _problem(client.post("/v1/precession-nutation", json=_user(**{path: True})), 422, "invalid-input")
+    assert body["errors"][0]["field"].startswith(path.replace("__", "."))
+
+
+def test_the_post_accepts_no_epoch_the_get_routes_refuse(client):
+    for path in ("pole__epoch_jd_tdb", "orbit__epoch_jd_tdb"):
+        body = _problem(client.post("/v1/precession-nutation", json=_user(**{path: 2e7})), 422, "invalid-input")
+        assert body["errors"][0]["field"] == path.replace("__", ".")
+    r = client.get("/v1/bodies/vesta/track?start=20000000&stop=20000001&step_days=1")
+    _problem(r, 422, "invalid-input")
+
+
+def test_track_errors_in_the_post_name_the_full_path(client):
+    r = client.post("/v1/precession-nutation", json=_user(track={"start": "2020-01-01", "stop": "2021-01-01",
+                                                                 "step_days": -1}))
+    body = _problem(r, 422, "invalid-input")
+    assert body["errors"][0]["field"] == "track.step_days"
+
+
+def test_the_budget_is_charged_before_the_work_and_sums_the_parts():
+    b = Body("x", Orbit(2.36, 0.5, 7.0, 0.0, 0.0, 0.0, 2451545.0), Pole(10.0, 20.0), 5.0, dynamical_ellipticity=0.1)
+    c = api.answer_cost(b, None, nutation=True)
+    assert c.cpu_s > 0 and c.memory_mb > 0
+    with budget.budget(cpu_s=c.cpu_s * 0.5, memory_mb=1e6):
+        with pytest.raises(OverBudgetError) as info:
+            api.nutation(b)
+    assert info.value.field == "orbit.e"
+    with budget.budget(cpu_s=c.cpu_s * 1.01, memory_mb=1e6) as spent:
+        api.nutation(b)
+        assert spent.spent_cpu_s == pytest.approx(c.cpu_s, rel=1e-12)   # the same sum, summed again
+    # outside a budget (the library, the CLI) nothing is refused
+    assert api.nutation(b)["terms"]
+
+
+def test_the_predicted_cost_grows_with_what_drives_it():
+    ladder = api.Ladder(Body("x", Orbit(2.36, 0.3, 7.0, 0.0, 0.0, 0.0, 2451545.0), Pole(10.0, 20.0), 5.0,
+                             dynamical_ellipticity=0.1))
+    t0 = 2451545.0
+    small = ladder.cost("hansen", t0, t0 + 3650, 100)
+    many = ladder.cost("hansen", t0, t0 + 3650, 100_000)
+    assert many.cpu_s > 10 * small.cpu_s and many.memory_mb > 10 * small.memory_mb
+    short = ladder.cost("numerical", t0, t0 + 365, 100)
+    long = ladder.cost("numerical", t0, t0 + 36500, 100)
+    assert long.cpu_s > 10 * short.cpu_s and long.largest().parameter == "stop"
+    assert cost.harmonics(0.9, None)[1] > cost.harmonics(0.5, None)[1] > cost.harmonics(0.1, None)[1]
+
+
+def test_the_deadline_stops_an_integration_in_its_loop():
+    b = Body("x", Orbit(2.36, 0.3, 7.0, 0.0, 0.0, 0.0, 2451545.0), Pole(10.0, 20.0), 5.0, dynamical_ellipticity=0.1)
+    with budget.budget(cpu_s=1e9, memory_mb=1e9, deadline_s=0.0):
+        with pytest.raises(DeadlineExceededError):
+            api.track(b, 2451545.0, 2451545.0 + 3650.0, 10.0, model="numerical")
+
+
+def test_the_service_answers_503_past_the_deadline():
+    with TestClient(create_app(Settings(warm_up=False, request_deadline_s=1e-9)),
+                    raise_server_exceptions=False) as c:
+        r = c.get("/v1/bodies/vesta/track?start=2000-01-01&stop=2001-01-01&step_days=10&model=numerical")
+    _problem(r, 503, "deadline")
+
+
+def test_a_memory_error_is_a_503_not_a_crash(monkeypatch):
+    def exhausted(*args, **kwargs):
+        raise MemoryError
+    monkeypatch.setattr(api, "precession", exhausted)
+    with TestClient(create_app(Settings(warm_up=False)), raise_server_exceptions=False) as c:
+        r = c.get("/v1/bodies/vesta/precession")
+        assert c.get("/healthz").status_code == 200
+    _problem(r, 503, "memory")
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _get(url: str, timeout: float = 5.0) -> int:
+    try:
+        with urllib.request.urlopen(url, timeout=timeout) as r:
+            return r.status
+    except OSError:
+        return 0
+
+
+def _children(pid: int) -> list[int]:
+    path = Path(f"/proc/{pid}/task/{pid}/children")
+    return [int(x) for x in path.read_text().split()] if path.exists() else []
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="needs Linux /proc to find the worker")
+def test_the_supervisor_restarts_a_killed_worker():
+    """One worker, killed with SIGKILL: the supervisor (gunicorn, as make serve runs it) starts another and
+    the service answers again."""
+    port = _free_port()
+    env = dict(os.environ, EPHEM_WARM_UP="0")
+    gunicorn = Path(sys.executable).with_name("gunicorn")
+    proc = subprocess.Popen([str(gunicorn), "--config", "service/gunicorn_conf.py", "--bind", f"127.0.0.1:{port}",
+                             "--workers", "1", "service.app:app"], cwd=ROOT, env=env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    url = f"http://127.0.0.1:{port}/healthz"
+    try:
+        deadline = time.monotonic() + 60
+        while _get(url) != 200:
+            assert time.monotonic() < deadline and proc.poll() is None, "the service did not start"
+            time.sleep(0.2)
+        (worker,) = _children(proc.pid)
+        os.kill(worker, signal.SIGKILL)
+        deadline = time.monotonic() + 60
+        while True:
+            new = _children(proc.pid)
+            if new and new != [worker] and _get(url) == 200:
+                break
+            assert time.monotonic() < deadline, "no worker came back"
+            time.sleep(0.2)
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)
