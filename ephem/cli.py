@@ -1,25 +1,263 @@
 """Command-line interface: ``ephem bodies | body | precession | nutation | track | free-motion | bench accuracy | demo``.
 
-Output is JSON (default), CSV or an aligned text table. Errors go to stderr
-with exit status 2 (bad input, unknown body) or 3 (theory not applicable).
+Output is JSON (default), CSV or an aligned text table. Errors go to stderr as ``error: FIELD: why``
+with exit status 2 (bad input, unknown body, and what the option parser refuses: a malformed
+number, an unknown option or command, a missing one) or 3 (theory not applicable).
+
+Start-up is kept short for one-body answers: :mod:`ephem.api` (numpy, the catalogue, the models)
+is imported by each command rather than here, so ``--help`` and usage errors never load it, and
+option values are parsed here rather than by typer's pydantic adapters (see :func:`_plain_values`).
 """
 from __future__ import annotations
 
 import csv
+import difflib
 import io
 import json
+import math
+import re
 import sys
+from contextlib import contextmanager
+from dataclasses import dataclass
 from enum import Enum
 from pathlib import Path
-from typing import Optional
+from typing import Any, Optional
 
 import typer
+from typer.core import TyperCommand, TyperGroup
 
-from . import api
 from .errors import EphemError, NotApplicableError
 
-app = typer.Typer(add_completion=False, no_args_is_help=True,
-                  help="Precession and nutation of the spin axes of asteroids, planets and moons.")
+try:  # typer >= 0.2x vendors click as typer._click
+    from typer._click import exceptions as _usage
+except ImportError:  # pragma: no cover - typer on click
+    from click import exceptions as _usage
+try:  # typer >= 0.2x coerces each value through a pydantic adapter built on first use (0.05-0.1 s)
+    from typer._coercion import RuntimeParam as _RuntimeParam
+except ImportError:  # pragma: no cover - typer on click: click's own types, no pydantic
+    _RuntimeParam = None
+
+
+# ------------------------------------------------------------------ usage errors read like the library's
+
+class _UsageFailure(_usage.UsageError):
+    """A usage error of ours, with the field it concerns (``error: FIELD: why``, status 2)."""
+
+    def __init__(self, field: str, reason: str, ctx=None):
+        super().__init__(f"{field}: {reason}", ctx)
+        self.field, self.reason = field, reason
+
+
+def _field(param) -> str:
+    """The name the API gives a parameter: ``--step-days`` -> step_days, ``--format`` -> format, BODY -> body."""
+    if param is None:
+        return "arguments"
+    if getattr(param, "param_type_name", "") == "argument":
+        return (param.metavar or param.name or "arguments").strip("[].").lower()
+    longs = [o for o in param.opts if o.startswith("--")] or list(param.opts)
+    return longs[0].lstrip("-").replace("-", "_")
+
+
+def _hint(param) -> str:
+    return param.opts[0] if getattr(param, "param_type_name", "") == "option" else (param.metavar or param.name)
+
+
+def _usage_message(exc) -> str:
+    """``FIELD: why`` for a usage error of the option parser (typer/click's classes) or of ours."""
+    if isinstance(exc, _UsageFailure):
+        return exc.message
+    ctx = getattr(exc, "ctx", None)
+    where = f"see '{ctx.command_path} --help'" if ctx is not None else "see --help"
+    if isinstance(exc, _usage.NoSuchOption):
+        close = sorted(exc.possibilities or ())
+        return f"{exc.option_name}: no such option" + (f"; did you mean {' or '.join(close)}?" if close else
+                                                         f"; {where}")
+    if isinstance(exc, _usage.MissingParameter):
+        return f"{_field(exc.param)}: missing; give {_hint(exc.param)}" if exc.param is not None else \
+            f"arguments: {exc.format_message()}"
+    if isinstance(exc, _usage.BadParameter):
+        return f"{_field(exc.param)}: {exc.message}" if exc.param is not None else f"arguments: {exc.message}"
+    if isinstance(exc, _usage.BadOptionUsage):
+        params = ctx.command.params if ctx is not None else []
+        param = next((p for p in params if exc.option_name in getattr(p, "opts", ())), None)
+        field = _field(param) if param is not None else exc.option_name
+        needs = re.fullmatch(r"Option '(.+)' (requires (an argument|\d+ arguments)|does not take a value)\.",
+                             exc.message)
+        return f"{field}: " + (exc.message if needs is None else f"{needs.group(1)} needs a value"
+                               if needs.group(2).startswith("requires") else f"{needs.group(1)} takes no value")
+    # the rest (extra arguments are ours, see _Command): "Missing command." and the like
+    field = "command" if ctx is not None and isinstance(ctx.command, TyperGroup) else "arguments"
+    return f"{field}: {exc.format_message().rstrip('.')}; {where}"
+
+
+@contextmanager
+def _usage_errors():
+    """Print a usage error as ``error: FIELD: why`` on stderr and exit 2 (no usage page, no rich box);
+    the help that a bare ``ephem`` or ``ephem bench`` prints is left alone."""
+    try:
+        yield
+    except _usage.UsageError as exc:
+        if isinstance(exc, getattr(_usage, "NoArgsIsHelpError", ())):
+            raise
+        typer.echo(f"error: {_usage_message(exc)}", err=True)
+        raise typer.Exit(2) from None
+
+
+# ------------------------------------------------------------------ option values parsed without pydantic
+
+def _number(text: str, kind: type, info) -> int | float:
+    try:
+        value = kind(text.strip())
+    except ValueError:
+        raise ValueError(f"must be {'an integer' if kind is int else 'a number'}, got {text!r}") from None
+    if kind is float and math.isnan(value):
+        raise ValueError(f"must be a number, got {text!r} (NaN is not a number)")
+    if kind is float and math.isinf(value):
+        raise ValueError(f"must be a finite number, got {text!r}")
+    if info.min is not None and value < info.min:
+        raise ValueError(f"must be >= {info.min}, got {text!r}")
+    if info.max is not None and value > info.max:
+        raise ValueError(f"must be <= {info.max}, got {text!r}")
+    return value
+
+
+def _plain_value(annotation, value, info):
+    """``value`` (the command line's text, or a default) as ``annotation``; ValueError says why not."""
+    if isinstance(annotation, type) and issubclass(annotation, Enum):
+        if isinstance(value, annotation):
+            return value
+        for choice in annotation:
+            if (choice.value == value) if info.case_sensitive else (str(choice.value).lower() == str(value).lower()):
+                return choice
+        raise ValueError(f"must be one of {', '.join(str(c.value) for c in annotation)}, got {value!r}")
+    if annotation is str:
+        return value if isinstance(value, str) else str(value)
+    if annotation is bool:  # a flag's value is already one; text from elsewhere (an envvar) is parsed
+        if isinstance(value, bool):
+            return value
+        word = str(value).strip().lower()
+        if word in _BOOL_WORDS:
+            return _BOOL_WORDS[word]
+        raise ValueError(f"must be true or false, got {value!r}")
+    if annotation in (int, float):
+        if isinstance(value, str):
+            return _number(value, annotation, info)
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ValueError(f"must be a number, got {value!r}")
+        return annotation(value)
+    raise TypeError(annotation)  # pragma: no cover - _plain_values only installs the types above
+
+
+_BOOL_WORDS = {**dict.fromkeys(("1", "true", "t", "yes", "y", "on"), True),
+               **dict.fromkeys(("0", "false", "f", "no", "n", "off", ""), False)}
+
+
+def _plain_type(annotation, info) -> bool:
+    if info.parser is not None or info.clamp:
+        return False
+    if getattr(annotation, "__origin__", None) is list:
+        return len(annotation.__args__) == 1 and _plain_type(annotation.__args__[0], info)
+    return annotation in (str, int, float, bool) or (isinstance(annotation, type) and issubclass(annotation, Enum))
+
+
+if _RuntimeParam is not None:
+    @dataclass(frozen=True)
+    class _PlainParam(_RuntimeParam):
+        """Typer's coercion contract (None and multiple values are handled by the base class), without pydantic."""
+
+        def _coerce_value(self, value: Any, param, ctx) -> Any:
+            ann, info = self.annotation, self.parameter_info
+            try:
+                if getattr(ann, "__origin__", None) is list:
+                    items = value if isinstance(value, (list, tuple)) else [value]
+                    return [_plain_value(ann.__args__[0], v, info) for v in items]
+                return _plain_value(ann, value, info)
+            except ValueError as exc:
+                raise _UsageFailure(_field(param), str(exc), ctx) from None
+
+
+def _plain_param(param):
+    """Give a str, int, float, bool or Enum (or list of these) parameter the plain parser above instead of
+    typer's pydantic adapter: importing pydantic and building the adapters cost more than the answer to
+    ``ephem precession BODY``, and the messages are ours (``step_days: must be a number, got 'abc'``;
+    NaN and infinity are refused for every float). Other types (paths) keep typer's coercion."""
+    desc = getattr(param, "type_descriptor", None)
+    if (_RuntimeParam is not None and desc is not None and getattr(param, "_runtime_param", True) is None
+            and desc.file_annotation is None and _plain_type(desc.annotation, desc.parameter_info)):
+        param._runtime_param = _PlainParam(parameter_info=desc.parameter_info, annotation=desc.annotation)
+    return param
+
+
+def _plain_values(command) -> None:
+    """:func:`_plain_param` for every parameter of ``command`` and of its subcommands."""
+    for sub in getattr(command, "commands", {}).values():
+        _plain_values(sub)
+    for param in command.params:
+        _plain_param(param)
+
+
+class _Command(TyperCommand):
+    """A command whose extra arguments are a usage error naming them."""
+
+    def get_help_option(self, ctx):  # made on first use, after _plain_values
+        option = super().get_help_option(ctx)
+        return option if option is None else _plain_param(option)
+
+    def parse_args(self, ctx, args):
+        allow = ctx.allow_extra_args
+        ctx.allow_extra_args = True
+        try:
+            rest = super().parse_args(ctx, args)
+        except _usage.UsageError as exc:
+            exc.ctx = exc.ctx or ctx  # the parser raises some without it: the message needs the command
+            raise
+        finally:
+            ctx.allow_extra_args = allow
+        if rest and not allow and not ctx.resilient_parsing:
+            raise _UsageFailure("arguments", f"unexpected extra argument{'s' if len(rest) > 1 else ''} "
+                                f"{' '.join(map(repr, rest))}; see '{ctx.command_path} --help'", ctx)
+        return rest
+
+
+class _Group(TyperGroup):
+    """The command group: usage errors as ``error: FIELD: why`` with status 2, plain option parsing."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        _plain_values(self)
+
+    def get_help_option(self, ctx):  # made on first use, after _plain_values
+        option = super().get_help_option(ctx)
+        return option if option is None else _plain_param(option)
+
+    def make_context(self, info_name, args, parent=None, **extra):
+        with _usage_errors():
+            return super().make_context(info_name, args, parent=parent, **extra)
+
+    def invoke(self, ctx):
+        with _usage_errors():
+            return super().invoke(ctx)
+
+    def resolve_command(self, ctx, args):
+        name = args[0] if args else ""
+        if name and not name.startswith("-") and self.get_command(ctx, name) is None and not ctx.resilient_parsing:
+            known = [n for n, c in self.commands.items() if not c.hidden]
+            close = difflib.get_close_matches(name, known)
+            raise _UsageFailure("command", f"no such command {name!r}; "
+                                + (f"did you mean {' or '.join(close)}?" if close else f"one of {', '.join(known)}"),
+                                ctx)
+        return super().resolve_command(ctx, args)
+
+
+class _Typer(typer.Typer):
+    """typer.Typer whose commands are :class:`_Command` (the group class is given as ``cls``)."""
+
+    def command(self, name: str | None = None, *, cls=None, **kwargs):
+        return super().command(name, cls=cls or _Command, **kwargs)
+
+
+app = _Typer(cls=_Group, add_completion=False, no_args_is_help=True,
+             help="Precession and nutation of the spin axes of asteroids, planets and moons.")
 
 
 class Format(str, Enum):
@@ -32,7 +270,8 @@ DatasetOpt = typer.Option("current", "--dataset", "-d", help="Catalogue dataset:
 FormatOpt = typer.Option(Format.json, "--format", "-f", help="Output format.")
 OrderOpt = typer.Option(None, "--order", help="Truncate the Hansen coefficients at this power of e "
                         "(the paper: 4). Default: exact.")
-ToleranceOpt = typer.Option(None, "--tolerance-mas", min=0.0, help="Let the fidelity ladder pick the cheapest "
+# no min=0 here: ephem.api refuses a tolerance <= 0 (zero too) with the service's message
+ToleranceOpt = typer.Option(None, "--tolerance-mas", help="Let the fidelity ladder pick the cheapest "
                             "model estimated within this many milliarcseconds of the truth.")
 
 
@@ -74,6 +313,8 @@ def _flat(answer: dict) -> dict:
 @app.command()
 def bodies(dataset: str = DatasetOpt, fmt: Format = FormatOpt):
     """List the catalogue's bodies."""
+    from . import api
+
     try:
         rows = api.list_bodies(dataset)
     except EphemError as exc:
@@ -82,8 +323,10 @@ def bodies(dataset: str = DatasetOpt, fmt: Format = FormatOpt):
 
 
 @app.command()
-def body(name: str, dataset: str = DatasetOpt):
+def body(name: str = typer.Argument(..., metavar="BODY"), dataset: str = DatasetOpt):
     """Full catalogue record of BODY (name or NAIF id): values, units, uncertainties, sources."""
+    from . import api
+
     try:
         _emit(api.body_record(name, dataset), Format.json)
     except EphemError as exc:
@@ -98,6 +341,8 @@ def precession(name: str = typer.Argument(..., metavar="BODY"), dataset: str = D
                                           "catalogue's (the Earth: moon,sun, the lunisolar theory); sun for the "
                                           "single-perturber answer.")):
     """Obliquity, dynamical ellipticity, scaling factor K and precession rate of BODY."""
+    from . import api
+
     try:
         ans = api.precession(name, dataset, order, tolerance_mas, perturbers=perturbers)
     except EphemError as exc:
@@ -117,6 +362,7 @@ def nutation(name: str = typer.Argument(..., metavar="BODY"), dataset: str = Dat
                                                      "many mas (default 0.1).")):
     """Nutation series of BODY in longitude and obliquity (harmonics of the mean anomaly; for the Earth with
     the Moon, integer combinations of the Delaunay arguments l, l', F, D, Omega)."""
+    from . import api
     from .tables import DELAUNAY_COLUMNS
 
     try:
@@ -160,6 +406,8 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
 
     The model used (rung, order, estimated error, cost) goes to stderr with --format csv or table.
     """
+    from . import api
+
     try:
         ans = api.track(name, start, stop, step_days, dataset, order, tolerance_mas=tolerance_mas, model=model,
                         axis=axis, free_wobble_phase_deg=wobble_phase, free_wobble_J_arcsec=wobble_j,
@@ -191,6 +439,8 @@ def free_motion(name: str = typer.Argument(..., metavar="BODY"),
                 method: str = typer.Option("auto", "--method", help="auto, exact, series or numeric."),
                 dataset: str = DatasetOpt, fmt: Format = FormatOpt):
     """Torque-free wobble of BODY: the figure axis about the angular momentum, and its periods."""
+    from . import api
+
     try:
         ans = api.free_motion_answer(name, start, stop, step_days, j_arcsec, method, dataset)
     except EphemError as exc:
@@ -215,6 +465,7 @@ def tables(names: Optional[list[str]] = typer.Argument(None, metavar="[BODY]..."
     """Nutation tables in the paper's layouts for BODY... or the whole catalogue: one file per body, layout
     and format (<body>_<dataset>_<layout>.csv|md|tex|json). Bodies the theory does not apply to (the Moon)
     are skipped with the reason."""
+    from . import api
     from .tables import write_tables
 
     try:
@@ -297,7 +548,7 @@ def _run_charts(jobs, out: Path, doc: str) -> None:
     typer.echo(f"wrote {len(jobs)} charts to {out}/ (see {doc})")
 
 
-bench_app = typer.Typer(no_args_is_help=True, help="Benchmarks that regenerate the committed charts.")
+bench_app = _Typer(cls=_Group, no_args_is_help=True, help="Benchmarks that regenerate the committed charts.")
 app.add_typer(bench_app, name="bench")
 
 
@@ -323,6 +574,8 @@ def bench_free_motion(out: Path = typer.Option(Path("docs/charts"), "--out", hel
 @app.command()
 def demo(dataset: str = DatasetOpt):
     """A short tour: precession of every body the theory applies to, and Vesta's nutation."""
+    from . import api
+
     typer.echo(f"Precession rates ({dataset} dataset)")
     rows = []
     for b in api.list_bodies(dataset):

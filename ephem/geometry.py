@@ -7,8 +7,9 @@ angle. Here everything is done with vectors and signed angles (atan2).
 
 Frames: poles are given in the ICRF (RA, Dec); orbits in the ecliptic and
 equinox J2000. The ICRF -> ecliptic rotation is astropy's
-``BarycentricMeanEcliptic(equinox="J2000")`` (ERFA ``ecm06``: IAU 2006
-obliquity at J2000 and the ICRS frame bias); it is computed once and cached.
+``BarycentricMeanEcliptic(equinox="J2000")``, taken from ERFA ``ecm06`` as
+astropy does (IAU 2006 obliquity at J2000 and the ICRS frame bias); it is
+computed once and cached.
 """
 from __future__ import annotations
 
@@ -25,15 +26,11 @@ from .kepler import orbit_basis
 @lru_cache(maxsize=1)
 def icrf_to_ecliptic_matrix() -> np.ndarray:
     """3x3 rotation taking ICRF unit vectors to the mean ecliptic and equinox J2000."""
-    import astropy.units as u
-    from astropy.coordinates import ICRS, BarycentricMeanEcliptic
+    # erfa, not astropy.coordinates (0.1-0.2 s to import and build the frame graph): astropy's
+    # ICRS -> BarycentricMeanEcliptic(equinox="J2000") is this same call at J2000.0 TT (agree to 1e-16)
+    import erfa
 
-    basis = ICRS(ra=[0.0, 90.0, 0.0] * u.deg, dec=[0.0, 0.0, 90.0] * u.deg)
-    ecl = basis.transform_to(BarycentricMeanEcliptic(equinox="J2000"))
-    columns = ecl.cartesian.xyz.value  # column j = image of ICRF basis vector j
-    # re-orthonormalise away the round-off of the spherical round trip
-    u_, _, vt = np.linalg.svd(columns)
-    return u_ @ vt
+    return erfa.ecm06(2451545.0, 0.0)
 
 
 def unit_vector(lon, lat) -> np.ndarray:

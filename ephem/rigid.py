@@ -61,7 +61,6 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from .kepler import solve_kepler_scalar, true_anomaly
 from .model import PrecessionNutation
@@ -271,6 +270,8 @@ def integrate_states(moments, spin_rate: float, y0, t0: float, jd_tdb, sun: SunO
 
     DOP853; the quaternion is renormalised on output.
     """
+    from scipy.integrate import solve_ivp  # on first use: 0.2 s, and the ladder's estimates need none
+
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     tau = t - t0
     rhs = make_rhs(moments, spin_rate, sun, t0)

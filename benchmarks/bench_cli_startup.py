@@ -1,0 +1,98 @@
+"""Start-up cost of the CLI: wall and CPU time of a one-body answer in a fresh interpreter.
+
+    .venv/bin/python benchmarks/bench_cli_startup.py                    # ephem precession vesta, 11 runs
+    .venv/bin/python benchmarks/bench_cli_startup.py -n 7 -- nutation itokawa --order 4
+    .venv/bin/python benchmarks/bench_cli_startup.py --src /tmp/before --src .   # A/B, runs interleaved
+
+Each run is a new subprocess (``python -m ephem.cli ARGS``, the code the ``ephem`` script runs), so
+the time is almost all imports plus one catalogue read. Prints min and median wall and CPU time per
+source tree and the heavy modules the command imported (a second subprocess lists ``sys.modules``
+after running it). ``--src DIR`` runs the ``ephem`` package of another checkout (``git worktree`` or
+``git archive`` of a commit) with this interpreter; with several, the runs alternate between them so
+that the load of a shared machine falls on all alike. Results: benchmarks/RESULTS_cli.md.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+HEAVY = ("matplotlib", "scipy.integrate", "scipy", "fastapi", "starlette", "pydantic", "uvicorn",
+         "astropy.coordinates", "astropy", "skyfield", "rich")
+
+_PROBE = """
+import contextlib, io, sys
+from ephem.cli import app
+with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+    try:
+        app(args={args!r}, prog_name="ephem")
+    except BaseException:  # SystemExit, or a failure: the modules imported so far are still the answer
+        pass
+print(" ".join(sorted(sys.modules)))
+"""
+
+
+def _env(src: Path) -> dict:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(src) + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    return env
+
+
+def _children_cpu() -> float:
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def run_once(args: list[str], src: Path = ROOT) -> tuple[float, float]:
+    """(wall, CPU) seconds of one ``ephem ARGS`` in a fresh interpreter; CPU (user + system) is the
+    steadier of the two on a machine others share."""
+    cpu0, t0 = _children_cpu(), time.perf_counter()
+    proc = subprocess.run([sys.executable, "-m", "ephem.cli", *args], cwd=src, env=_env(src),
+                          capture_output=True, text=True)
+    wall, cpu = time.perf_counter() - t0, _children_cpu() - cpu0
+    if proc.returncode not in (0, 2, 3):  # 2, 3: a refusal is an answer too (a usage error is timed as one)
+        raise SystemExit(f"ephem {' '.join(args)} failed ({proc.returncode}) in {src}:\n{proc.stderr}")
+    return wall, cpu
+
+
+def heavy_modules(args: list[str], src: Path = ROOT) -> list[str]:
+    """The modules of HEAVY (or their submodules) that ``ephem ARGS`` imports."""
+    proc = subprocess.run([sys.executable, "-c", _PROBE.format(args=args)], cwd=src, env=_env(src),
+                          capture_output=True, text=True, check=True)
+    loaded = proc.stdout.strip().splitlines()[-1].split()
+    return [h for h in HEAVY if any(m == h or m.startswith(h + ".") for m in loaded)]
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("-n", type=int, default=11, help="runs per source tree (default 11)")
+    ap.add_argument("--src", type=Path, action="append", help="a checkout whose ephem package to run (repeatable; "
+                    "default: this one)")
+    ap.add_argument("args", nargs="*", help="the ephem command (default: precession vesta)")
+    opts = ap.parse_args()
+    args = opts.args or ["precession", "vesta"]
+    srcs = [s.resolve() for s in (opts.src or [ROOT])]
+    for src in srcs:
+        run_once(args, src)  # warm the OS file cache and write the .pyc files
+    times: dict[Path, list[tuple[float, float]]] = {src: [] for src in srcs}
+    for _ in range(opts.n):
+        for src in srcs:
+            times[src].append(run_once(args, src))
+    print(f"ephem {' '.join(args)}: {opts.n} runs each, load average {os.getloadavg()[0]:.1f} "
+          f"on {os.cpu_count()} CPUs")
+    print("| source | wall min (s) | wall median (s) | CPU min (s) | CPU median (s) | heavy modules imported |")
+    print("|---|---|---|---|---|---|")
+    for src in srcs:
+        wall, cpu = zip(*times[src])
+        print(f"| {src} | {min(wall):.3f} | {statistics.median(wall):.3f} | {min(cpu):.3f} | "
+              f"{statistics.median(cpu):.3f} | {', '.join(heavy_modules(args, src)) or '-'} |")
+
+
+if __name__ == "__main__":
+    main()
