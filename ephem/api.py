@@ -12,12 +12,14 @@ from functools import lru_cache
 
 import numpy as np
 
+from . import cost
+from .budget import OverBudgetError, charge, prepaid
 from .catalogue import DEFAULT_DATASET, Body, get_body, load_catalogue, load_references, resolve_perturbers
 from .constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from .errors import InvalidInputError, NotApplicableError
 from .hansen import LAPLACE_LIMIT
 from .ladder import AXES, RUNGS, Ladder, cached_model, truncation_bound
-from .model import MIN_SPIN_ORBIT_RATIO, PrecessionNutation
+from .model import MIN_SPIN_ORBIT_RATIO, PrecessionNutation, check_domain
 from .timeparse import to_jd_tdb
 from .units import in_unit, with_units
 
@@ -28,6 +30,12 @@ MAX_ORDER = 30
 MAX_TRACK_SAMPLES = 1_000_000
 #: Obliquity within this many degrees of 90: ψ̇ ∝ cos ε is small and poorly determined.
 NEAR_RIGHT_ANGLE_DEG = 2.0
+#: A track whose estimated error exceeds this (mas; 1°) carries a warning that its poles are uncertain by
+#: more than a degree.
+WARN_ESTIMATE_MAS = 3.6e6
+#: ... and beyond this (mas; 10°) it is refused: the pole could be anywhere within a cone wider than most
+#: asteroids' obliquity changes, so no number served would mean anything.
+REFUSE_ESTIMATE_MAS = 3.6e7
 
 THEORY = ("Kinoshita (1977) forced precession-nutation in the solar torque, as in Petit, Souchay & Lhotka (2014), "
           "on the fidelity ladder of ephem.ladder")
@@ -253,7 +261,9 @@ def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: in
         ans = _lunisolar_precession(b, per, dataset, order, tolerance_mas, start)
         return with_units(ans) if quantities else ans
     tol = _tolerance(tolerance_mas)
-    order = _order_for_tolerance(b, tol, _order(order))
+    order = _order(order)
+    charge(answer_cost(b, order, tolerance=tol is not None), b.name)
+    order = _order_for_tolerance(b, tol, order)
     m = model_for(b, dataset, order)
     unc = _propagated(b, order)
     ans = _rates(b, m, unc)
@@ -264,16 +274,52 @@ def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: in
     return with_units(ans) if quantities else ans
 
 
+def answer_cost(b: Body, order: int | None, nutation: bool = False, tolerance: bool = False) -> cost.Cost:
+    """What a precession (or, with ``nutation``, a nutation) answer will cost (:mod:`ephem.cost`): the
+    Hansen coefficients, the nutation's extremes, and the propagation of the inputs' σ (each input with
+    a σ re-evaluates the model twice). ``tolerance``: the e-order is chosen by the truncation bound."""
+    if "Moon" in b.perturbers:
+        return cost.Cost((cost.lunisolar_answer(),))
+    from .uncertainty import input_sigmas
+
+    check_domain(b, order)                   # not applicable (the Moon, e -> 1): refused before any cost
+    e = b.orbit.e
+    if order is not None and e > LAPLACE_LIMIT:
+        return cost.FREE      # refused by model_for before any work
+    build = cost.hansen_build(e, None)
+    parts = [build] if order is None else [build, cost.hansen_build(e, order)]
+    if nutation:
+        parts.append(cost.half_peak_to_peak(e, order, cost.body_harmonics(b, order)))
+    if tolerance:
+        parts.append(cost.truncation_bounds(e))
+    with_sigma = sum(1 for v in input_sigmas(b).values() if v is not None)
+    if with_sigma:
+        half = cost.half_peak_to_peak(e, order, cost.body_harmonics(b, order))
+        parts.append(cost.Part("the catalogue's uncertainties", f"propagating {with_sigma} input uncertainties",
+                               2 * with_sigma * parts[1 if order is not None else 0].cpu_s + 2 * half.cpu_s,
+                               build.memory_mb))
+    return cost.Cost(tuple(parts))
+
+
 @lru_cache(maxsize=256)
 def _propagated(b: Body, order: int | None) -> dict:
     """The 1-σ uncertainties of :func:`ephem.uncertainty.propagate`, with 0 (no input of known σ moves the
-    value: its σ is unknown, not zero) replaced by None."""
-    from .uncertainty import propagate
+    value: its σ is unknown, not zero) replaced by None. A body none of whose inputs has a σ (a user's
+    body) skips the propagation: every σ is None, at no cost."""
+    from .uncertainty import ASSUMPTIONS, SCALAR_KEYS, TERM_KEYS, input_sigmas, propagate
 
     def unknown_as_none(d: dict) -> dict:
         return {k: (None if k.endswith("_uncertainty") and v == 0.0 else v) for k, v in d.items()}
 
-    u = unknown_as_none(propagate(b, b.dataset, order))
+    sigmas = input_sigmas(b)
+    if all(s is None for s in sigmas.values()):
+        u = {f"{k}_uncertainty": None for k in SCALAR_KEYS}
+        u["terms"] = [{"multiple": int(k), **{f"{key}_uncertainty": None for key in TERM_KEYS}}
+                      for k in cached_model(b, order).nutation.multiple]
+        u.update(dominant_input={k: None for k in SCALAR_KEYS}, unpropagated_inputs=list(sigmas),
+                 assumptions=list(ASSUMPTIONS))
+        return u
+    u = unknown_as_none(propagate(b, b.dataset, order, sensitivities=False))
     u["terms"] = [unknown_as_none(t) for t in u["terms"]]
     return u
 
@@ -316,7 +362,9 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
         raise InvalidInputError("cut_mas", "an amplitude cut applies to the lunisolar series (the Earth with the "
                                 "Moon); this series is truncated by e-order (order, tolerance_mas)", b.name)
     tol = _tolerance(tolerance_mas)
-    order = _order_for_tolerance(b, tol, _order(order))
+    order = _order(order)
+    charge(answer_cost(b, order, nutation=True, tolerance=tol is not None), b.name)
+    order = _order_for_tolerance(b, tol, order)
     m = model_for(b, dataset, order)
     s = m.nutation
     periods = s.period_days
@@ -356,6 +404,34 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
     ans["model"].update(_series_selection(b, order, tol, start))
     _tag_perturbers(ans, b, per)
     return with_units(ans) if quantities else ans
+
+
+def precession_nutation(body: Body, order: int | None = None, track: dict | None = None,
+                        max_samples: int = MAX_TRACK_SAMPLES) -> dict:
+    """The POST answer for a body of the user's own: ``precession``, ``nutation`` and, with ``track``
+    (the keyword arguments of :func:`track_arrays`: start, stop, step_days, tolerance_mas, model, axis,
+    free_wobble_*), ``track`` (arrays).
+
+    Every part's cost is charged before any part is computed (the track's own check comes first, then
+    the two answers'); errors in the track's inputs name their full path (``track.step_days``).
+    """
+    charge(answer_cost(body, _order(order), nutation=True), body.name)
+    ans = {}
+    if track is not None:
+        try:
+            ans["track"] = track_arrays(body, order=order, max_samples=max_samples, **track)
+        except InvalidInputError as exc:
+            if exc.field.startswith(("orbit.", "pole.", "moments", "order", "rotation", "dynamical")):
+                raise
+            raise InvalidInputError(f"track.{exc.field}", exc.reason, exc.body) from None
+        except OverBudgetError as exc:
+            if exc.field.startswith("orbit."):
+                raise
+            raise exc.within("track.") from None
+    with prepaid():     # charged above
+        ans["precession"] = precession(body, order=order)
+        ans["nutation"] = nutation(body, order=order)
+    return {k: ans[k] for k in ("precession", "nutation", "track") if k in ans}
 
 
 def epoch_grid(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPLES) -> tuple[float, float, int]:
@@ -438,14 +514,23 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
         raise InvalidInputError("order", "the 'series' model needs an e-order")
     if order is not None and rung != "series":
         raise InvalidInputError("order", f"an e-order applies to the 'series' model, not to {rung!r}")
-    m = model_for(b, dataset, order)
+    if order is not None and b.orbit.e > LAPLACE_LIMIT:
+        model_for(b, dataset, order)     # refuses the diverging series, before any cost
     wobble = _wobble_request(b, axis, in_unit(free_wobble_phase_deg, "deg", "free_wobble_phase_deg"),
                              in_unit(free_wobble_J_arcsec, "arcsec", "free_wobble_J_arcsec"), free_wobble_epoch)
     ladder = Ladder(b, axis, wobble)
+    t_end = t0 + step * (count - 1)
+    output = cost.Cost((cost.serialised(count, len(TRACK_KEYS)),))
+    # the estimates of every rung, charged with the rung's own cost when it is named, before any is built
+    charge(ladder.cost(None, t0, t_end, count, free_wobble=wobble is not None)
+           + (cost.FREE if tol is not None else ladder.cost(rung, t0, t_end, count, order, wobble is not None)
+              + output), b.name)
+    m = model_for(b, dataset, order)
     t = t0 + step * np.arange(count)
     if tol is not None:
         est = ladder.choose(t, tol)
         rung, order = est.rung, est.order
+        charge(ladder.cost(rung, t0, t_end, count, order, est.free_wobble) + output, b.name)
     else:   # a named rung follows the wobble whenever its phase is given
         est = next((e for e in ladder.estimates(t) if e.rung == rung and e.order == order
                     and e.free_wobble == (wobble is not None)), None)
@@ -466,12 +551,27 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     if est is not None and "free_wobble" in est.unestimated:
         info["warnings"].append("no free-wobble amplitude is published for this body: the estimate takes its "
                                 "figure axis to coincide with the angular momentum (a relaxed rotator)")
+    _meaningful(b, estimate, info)
     selection = _selection_info(rung, order, estimate, 1e3 * (time.perf_counter() - begin), tol,
                                 None if est is None else est.terms)
     # the mean obliquity's 1σ from the catalogue's uncertainties (null: unknown), as in precession()
     ans = _track_answer(b, tr, info, selection, axis, wobble if with_wobble else None,
                         _propagated(b, order)["obliquity_deg_uncertainty"])
     return _tag_perturbers(ans, b, per)
+
+
+def _meaningful(b: Body, estimate: float | None, info: dict) -> None:
+    """Refuse a track whose own error estimate makes it meaningless; warn when it exceeds a degree."""
+    if estimate is None:
+        return
+    mas = estimate / MAS
+    if mas > REFUSE_ESTIMATE_MAS:
+        raise NotApplicableError(b.name, f"the model's own error estimate over these epochs is {mas / 3.6e6:.3g} deg "
+                                 f"(over {REFUSE_ESTIMATE_MAS / 3.6e6:g} deg): no pole served would mean anything; "
+                                 "bring the epochs nearer the pole epoch or shorten the span")
+    if mas > WARN_ESTIMATE_MAS:
+        info["warnings"].append(f"the estimated error is {mas / 3.6e6:.3g} deg: over {WARN_ESTIMATE_MAS / 3.6e6:g} "
+                                "deg, these poles are rough; bring the epochs nearer the pole epoch for better")
 
 
 def _track_answer(b: Body, tr, info: dict, selection: dict, axis: str, wobble, obliquity_sigma,
@@ -552,6 +652,9 @@ def free_motion_arrays(body: str | int | Body, start, stop, step_days: float, J_
 
     b = resolve_body(body, dataset)
     t0, step, count = epoch_grid(start, stop, step_days, max_samples)
+    rotations = step * (count - 1) * 24.0 / b.rotation_period_hours
+    charge(cost.Cost((cost.free_rotation(method, count, rotations), cost.serialised(count, len(FREE_MOTION_KEYS)))),
+           b.name)
     return free_motion(b, t0 + step * np.arange(count), in_unit(J_arcsec, "arcsec", "J_arcsec"), method)
 
 
@@ -629,6 +732,7 @@ def _lunisolar_precession(b: Body, per: tuple[str, ...], dataset: str, order, to
     tol = _tolerance(tolerance_mas)
     model_for(b, dataset)                              # applicability (the Moon)
     _no_order_for_lunisolar(b, _order(order))
+    charge(cost.Cost((cost.lunisolar_answer(),)), b.name)
     lm = earth.lunisolar_earth(b, "figure", earth.TRACK_CUT_MAS, per)
     ans = _rates(b, lm, None)
     ans["uncertainty"] = _lunisolar_uncertainty(b)
@@ -667,6 +771,7 @@ def _lunisolar_nutation(b: Body, per: tuple[str, ...], dataset: str, order, tole
         cut = earth.cut_for_tolerance(b, tol, "figure", per)
     else:
         cut = earth.TRACK_CUT_MAS
+    charge(cost.Cost((cost.lunisolar_answer(),)), b.name)
     lm = earth.lunisolar_earth(b, "figure", cut, per)
     eps = earth.lunisolar_earth(b, "figure", earth.TRACK_CUT_MAS, per).obliquity   # the track's, any cut
     sin_eps = abs(math.sin(eps))
@@ -727,6 +832,8 @@ def _lunisolar_track(b: Body, per: tuple[str, ...], dataset: str, t0: float, ste
                                  "for the Sun-only ladder")
     wobble = _wobble_request(b, axis, in_unit(phase_deg, "deg", "free_wobble_phase_deg"),
                              in_unit(J_arcsec, "arcsec", "free_wobble_J_arcsec"), wobble_epoch)
+    charge(cost.Cost((cost.lunisolar_answer(), cost.lunisolar_sum(count), cost.serialised(count, len(TRACK_KEYS)))
+                     + ((cost.free_rotation("exact", count, 0.0),) if wobble is not None else ())), b.name)
     lm = earth.lunisolar_earth(b, axis, earth.TRACK_CUT_MAS, per)
     t = t0 + step * np.arange(count)
     candidates = earth.estimates(lm, t, wobble)

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
-from .constants import GM_CENTER, J2000_JD
+from .constants import CENTER_HILL_AU, CENTER_RADIUS_AU, GM_CENTER, J2000_JD, JD_RANGE
 from .errors import InvalidInputError, NotApplicableError, UnknownBodyError
 
 DEFAULT_DATASET = "current"
@@ -60,6 +60,18 @@ def _check_finite(body: str | None, name: str, value: float) -> None:
         raise InvalidInputError(name, f"must be a finite number, got {value!r}", body)
 
 
+#: Shortest rotation period accepted, hours: ten times faster than the fastest known asteroid rotator
+#: (2020 HS7, 2.99 s), and far from the floats where 2π/P overflows.
+MIN_ROTATION_PERIOD_HOURS = 1e-4
+
+
+def _check_epoch(body: str | None, name: str, jd: float) -> None:
+    """The epochs the time parser accepts (:data:`ephem.constants.JD_RANGE`), for a record's epochs too."""
+    lo, hi = JD_RANGE
+    if not lo < jd < hi:
+        raise InvalidInputError(name, f"Julian date {jd} is outside the supported range ({lo:g}, {hi:g})", body)
+
+
 @dataclass(frozen=True)
 class Orbit:
     """Osculating Keplerian elements, ecliptic and equinox J2000, at ``epoch_jd_tdb``.
@@ -82,6 +94,7 @@ class Orbit:
         b = self.body
         for name in ("a_au", "e", "i_deg", "node_deg", "peri_deg", "mean_anomaly_deg", "epoch_jd_tdb"):
             _check_finite(b, f"orbit.{name}", getattr(self, name))
+        _check_epoch(b, "orbit.epoch_jd_tdb", self.epoch_jd_tdb)
         if self.a_au <= 0:
             raise InvalidInputError("orbit.a_au", f"semi-major axis must be positive, got {self.a_au}", b)
         if not 0.0 <= self.e < 1.0:
@@ -90,6 +103,13 @@ class Orbit:
             raise InvalidInputError("orbit.i_deg", f"inclination must lie in [0, 180] deg, got {self.i_deg}", b)
         if self.center not in GM_CENTER:
             raise InvalidInputError("orbit.center", f"unknown centre {self.center!r}; known: {sorted(GM_CENTER)}", b)
+        radius, hill = CENTER_RADIUS_AU[self.center], CENTER_HILL_AU[self.center]
+        if self.a_au * (1.0 - self.e) <= radius:
+            raise InvalidInputError("orbit.a_au", f"the pericentre a(1 - e) = {self.a_au * (1.0 - self.e):.6g} AU lies "
+                                    f"inside the {self.center} (radius {radius:.6g} AU): no orbit", b)
+        if self.a_au > hill:
+            raise InvalidInputError("orbit.a_au", f"a = {self.a_au:.6g} AU lies beyond the {self.center}'s Hill sphere "
+                                    f"(~{hill:.3g} AU): no orbit bound to it", b)
 
 
 @dataclass(frozen=True)
@@ -104,6 +124,7 @@ class Pole:
     def __post_init__(self):
         for name in ("ra_deg", "dec_deg", "epoch_jd_tdb"):
             _check_finite(self.body, f"pole.{name}", getattr(self, name))
+        _check_epoch(self.body, "pole.epoch_jd_tdb", self.epoch_jd_tdb)
         if abs(self.dec_deg) > 90.0:
             raise InvalidInputError("pole.dec_deg", f"declination must lie in [-90, 90] deg, got {self.dec_deg}", self.body)
 
@@ -138,9 +159,10 @@ class Body:
         n = self.name
         object.__setattr__(self, "perturbers", resolve_perturbers(self.perturbers, self))
         _check_finite(n, "rotation_period_hours", self.rotation_period_hours)
-        if self.rotation_period_hours <= 0:
+        if self.rotation_period_hours < MIN_ROTATION_PERIOD_HOURS:
             raise InvalidInputError("rotation_period_hours",
-                                    f"must be positive, got {self.rotation_period_hours}", n)
+                                    f"must be at least {MIN_ROTATION_PERIOD_HOURS:g} h (0.36 s; the fastest known "
+                                    f"rotator, 2020 HS7, turns in 2.99 s), got {self.rotation_period_hours}", n)
         if self.mean_radius_km is not None:
             _check_finite(n, "mean_radius_km", self.mean_radius_km)
             if self.mean_radius_km <= 0:

@@ -196,6 +196,17 @@ def _decay_rate(e: float) -> float:
     return math.log((1.0 + s) / e) - s
 
 
+def exact_unavailable(e: float) -> str | None:
+    """Why the exact coefficients cannot be had at ``e`` (None: they can). As e -> 1 the significant
+    harmonics grow like (1-e²)^(-3/2): past e ~ 0.999 they would need more than ``_MAX_SAMPLES``."""
+    try:
+        _fft_length(e, None)
+    except InvalidInputError as exc:
+        return (f"e = {e:.6g} is too close to 1 for the Fourier series of the solar torque in the mean anomaly: "
+                f"{exc.reason}; the pericentre passage is too brief for an averaged theory")
+    return None
+
+
 def _fft_length(e: float, kmax: int | None) -> int:
     """Power-of-two sample count making aliasing negligible (< 1e-16 relative).
 

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .budget import check_deadline
 from .errors import InvalidInputError
 from .hansen import hansen_exact, hansen_series
 
@@ -113,33 +114,45 @@ class NutationSeries:
     def semi_peak_to_peak(self) -> tuple[float, float]:
         """Half the peak-to-peak excursion of Δψ and of Δε over one orbit (radians).
 
-        This is what Petit et al. Table 4 lists as "Δψ" and "Δε". A grid of 64 points
-        per harmonic brackets each extremum; Newton's method on the derivative series
-        then polishes it to rounding.
+        This is what Petit et al. Table 4 lists as "Δψ" and "Δε" (:func:`series_extrema`).
         """
         if self.multiple.size == 0:  # every term below the amplitude cut
             return 0.0, 0.0
-        k = self.multiple.astype(float)
-        count = max(256, 64 * int(self.multiple.max()))
-        h = 2.0 * math.pi / count
-        grid = h * np.arange(count)
-        out = []
-        for values, sc, cc in zip(self.evaluate(grid), (self.lon_sin, self.obl_sin), (self.lon_cos, self.obl_cos)):
-            extremes = []
-            for idx in (int(np.argmax(values)), int(np.argmin(values))):
-                x0 = x = grid[idx]
-                for _ in range(20):
-                    sk, ck = np.sin(k * x), np.cos(k * x)
-                    d1 = float(np.sum(k * (sc * ck - cc * sk)))
-                    d2 = -float(np.sum(k * k * (sc * sk + cc * ck)))
-                    if d2 == 0.0:
-                        break
-                    x = min(max(x - d1 / d2, x0 - h), x0 + h)
-                    if abs(d1 / d2) < 1e-15:
-                        break
-                extremes.append(float(np.sum(sc * np.sin(k * x) + cc * np.cos(k * x))))
-            out.append(0.5 * (max(extremes[0], values.max()) - min(extremes[1], values.min())))
-        return out[0], out[1]
+        return (series_extrema(self.lon_sin, self.lon_cos)[0], series_extrema(self.obl_sin, self.obl_cos)[0])
+
+
+def series_extrema(sin_coef: np.ndarray, cos_coef: np.ndarray) -> tuple[float, float, float]:
+    """(max - min)/2 of Σ_k S_k sin kM + C_k cos kM (k = 1, 2, …, K) over one orbit, and the M of the
+    max and of the min.
+
+    A grid of 64 points per harmonic brackets each extremum; Newton's method on the derivative
+    series then polishes it to rounding. The grid is summed by :func:`evaluate_harmonics` in
+    blocks: memory stays O(K) whatever K (a dense 64K x K table would take 4.7 GB at e = 0.95).
+    """
+    sin_coef, cos_coef = np.asarray(sin_coef, dtype=float), np.asarray(cos_coef, dtype=float)
+    if sin_coef.size == 0:
+        return 0.0, 0.0, 0.0
+    k = np.arange(1.0, sin_coef.size + 1.0)
+    count = max(256, 64 * sin_coef.size)
+    h = 2.0 * math.pi / count
+    grid = h * np.arange(count)
+    (values,) = evaluate_harmonics(grid, k, sin_coef[:, None], cos_coef[:, None])
+    found = []
+    for idx, better in ((int(np.argmax(values)), max), (int(np.argmin(values)), min)):
+        x0 = x = grid[idx]
+        for _ in range(20):
+            sk, ck = np.sin(k * x), np.cos(k * x)
+            d1 = float(np.sum(k * (sin_coef * ck - cos_coef * sk)))
+            d2 = -float(np.sum(k * k * (sin_coef * sk + cos_coef * ck)))
+            if d2 == 0.0:
+                break
+            x = min(max(x - d1 / d2, x0 - h), x0 + h)
+            if abs(d1 / d2) < 1e-15:
+                break
+        polished = float(np.sum(sin_coef * np.sin(k * x) + cos_coef * np.cos(k * x)))
+        found.append((x, polished) if better(polished, float(values[idx])) == polished else (x0, float(values[idx])))
+    (x_max, v_max), (x_min, v_min) = found
+    return 0.5 * (v_max - v_min), x_max, x_min
 
 
 def nutation_series(K: float, n: float, obliquity: float, e: float, equinox_to_pericentre: float,
@@ -223,6 +236,10 @@ def nutation_components(K: float, n: float, e: float, order: int | None = None,
 
 #: Epochs per block in the evaluators: small enough to stay in cache.
 _BLOCK = 8192
+#: Largest work table of one block, bytes: with many harmonics (e -> 1: 10^4-10^5) a block holds fewer
+#: epochs, so memory stays bounded whatever the harmonics and the epochs (a full 8192-epoch block of
+#: 42 000 harmonics at e = 0.99 would be 5.5 GB).
+_BLOCK_BYTES = 32 * 2**20
 #: The power basis of cos x is used when it amplifies rounding by at most this factor over
 #: the Chebyshev (harmonic) coefficients: its coefficients grow like 2^k for slowly decaying
 #: series (random ones), not for nutation series, whose terms fall off like e^k.
@@ -289,7 +306,8 @@ def _sum_block(c: np.ndarray, s: np.ndarray, kmax: int, power_coef: np.ndarray |
     np.matmul(np.concatenate([cos_coef, sin_coef], axis=0).T, tab, out=out)
 
 
-def _prepare(multiple, sin_coef, cos_coef):
+def _prepare(multiple, sin_coef, cos_coef, count: int = _BLOCK):
+    """(kmax, the power basis or None, the work table, the epochs per block) for ``count`` epochs."""
     kmax = len(multiple)
     if kmax and not np.array_equal(multiple, np.arange(1, kmax + 1)):
         raise ValueError("multiple must be 1..kmax")
@@ -299,8 +317,9 @@ def _prepare(multiple, sin_coef, cos_coef):
         scale = np.abs(sin_coef).sum() + np.abs(cos_coef).sum()
         if np.abs(candidate).sum() <= _MAX_POWER_BASIS_GROWTH * scale:
             power = candidate
-    width = kmax + 1 if power is not None else 2 * kmax
-    return kmax, power, np.empty((max(width, 1), _BLOCK))
+    width = max(kmax + 1 if power is not None else 2 * kmax, 1)
+    block = max(1, min(_BLOCK, count, _BLOCK_BYTES // (8 * width)))
+    return kmax, power, np.empty((width, block)), block
 
 
 def evaluate_harmonics(angle, multiple: np.ndarray, sin_coef: np.ndarray, cos_coef: np.ndarray):
@@ -315,10 +334,11 @@ def evaluate_harmonics(angle, multiple: np.ndarray, sin_coef: np.ndarray, cos_co
     flat = x.ravel()
     ncol = sin_coef.shape[1]
     out = np.zeros((ncol, flat.size))
-    kmax, power, work = _prepare(multiple, sin_coef, cos_coef)
+    kmax, power, work, block = _prepare(multiple, sin_coef, cos_coef, flat.size)
     if kmax:
-        for start in range(0, flat.size, _BLOCK):
-            xb = flat[start:start + _BLOCK]
+        for start in range(0, flat.size, block):
+            check_deadline()
+            xb = flat[start:start + block]
             _sum_block(np.cos(xb), np.sin(xb), kmax, power, sin_coef, cos_coef, out[:, start:start + xb.size], work)
     return tuple(out[j].reshape(x.shape) for j in range(ncol))
 
@@ -365,8 +385,9 @@ def evaluate_harmonics_uniform(x_start: float, x_step: float, count: int, multip
     """
     ncol = sin_coef.shape[1]
     out = np.zeros((ncol, count))
-    kmax, power, work = _prepare(multiple, sin_coef, cos_coef)
+    kmax, power, work, block = _prepare(multiple, sin_coef, cos_coef, count)
     if kmax:
-        for start, c, s in uniform_cos_sin(x_start, x_step, count):
+        for start, c, s in uniform_cos_sin(x_start, x_step, count, block):
+            check_deadline()
             _sum_block(c, s, kmax, power, sin_coef, cos_coef, out[:, start:start + c.size], work)
     return tuple(out[j] for j in range(ncol))

@@ -57,12 +57,15 @@ from functools import lru_cache
 
 import numpy as np
 
+from . import cost
 from .catalogue import Body
+from .cost import Cost
 from .constants import ARCSEC, MAS
 from .errors import InvalidInputError, NotApplicableError
 from .hansen import LAPLACE_LIMIT, hansen_exact, hansen_series
+from .kepler import mean_motion_rad_per_day
 from .kinoshita import eccentricity_factor
-from .model import PrecessionNutation, Track, build_model
+from .model import PrecessionNutation, Track, build_model, check_domain
 from .free_motion import Wobble, add_free_wobble, free_wobble_bound, wobble_model_bound
 from .physics_errors import (ephemeris_bound, orbit_motion_bound, real_orbit_unavailable, rotation_averaging_bound,
                              sun_path_for)
@@ -421,6 +424,42 @@ class Ladder:
                 out.append(Estimate(e.rung, e.order, {**e.terms, "free_wobble_model": modelled},
                                     unestimated=e.unestimated, free_wobble=True))
         return out
+
+    def cost(self, rung: str | None, start: float, stop: float, count: int, order: int | None = None,
+             free_wobble: bool = False) -> Cost:
+        """What a track of ``count`` epochs from ``start`` to ``stop`` (JD TDB) will cost (:mod:`ephem.cost`),
+        from the body's parameters alone, before anything is built. ``rung`` None: the estimates that
+        choose a rung by tolerance (the chosen rung's own cost is charged once it is known)."""
+        b = self.body
+        check_domain(b)                       # not applicable: refused before any cost
+        e = b.orbit.e
+        n = mean_motion_rad_per_day(b.orbit.a_au, b.orbit.center)
+        span = max(abs(stop - b.pole.epoch_jd_tdb), abs(start - b.pole.epoch_jd_tdb))
+        orbits = span * n / (2.0 * math.pi)
+        k = cost.body_harmonics(b)
+        build = cost.hansen_build(e, None)
+        if rung is None:
+            parts = [build, cost.half_peak_to_peak(e, None, k),     # the second-order theory's components
+                     cost.harmonic_sum(count, min(k, MAX_LADDER_ORDER + 2), "step_days", "the truncation bounds")]
+            if free_wobble:
+                parts.append(cost.free_rotation("exact", count, 0.0))
+            return Cost(tuple(parts))
+        if rung == "secular":
+            parts = [build, cost.harmonic_sum(count, 0, "step_days", "the secular track")]
+        elif rung == "series":
+            parts = [build, cost.hansen_build(e, order), cost.harmonic_sum(count, order + 2, "step_days", "the track")]
+        elif rung == "hansen":
+            parts = [build, cost.harmonic_sum(count, k, "step_days", "the track")]
+        elif rung == "second_order":
+            parts = [build, cost.second_order(count, k)]
+        else:   # numerical, real_orbit: the second-order mean track is subtracted from the integrated pole
+            parts = [build, cost.second_order(count, k), cost.spin_integration(orbits, e, count)]
+            if rung == "real_orbit":
+                parts.append(cost.orbit_integration(abs(max(stop, b.pole.epoch_jd_tdb)
+                                                        - min(start, b.pole.epoch_jd_tdb))))
+        if free_wobble:
+            parts.append(cost.free_rotation("exact", count, 0.0))
+        return Cost(tuple(parts))
 
     def choose(self, jd_tdb, tolerance: float) -> Estimate:
         """The cheapest rung whose estimated error over the epochs is within ``tolerance`` (radians).

@@ -22,6 +22,7 @@ import numpy as np
 from .catalogue import Body
 from .errors import NotApplicableError
 from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
+from .hansen import exact_unavailable
 from .kepler import mean_motion_rad_per_day
 from .kinoshita import (MAX_SHIFT, NutationSeries, cos_sin_shifted, nutation_series, precession_rate,
                         scaling_factor, uniform_cos_sin)
@@ -182,6 +183,17 @@ def check_applicable(body: Body, spin_rate: float, mean_motion: float) -> None:
             ratio=ratio, threshold=MIN_SPIN_ORBIT_RATIO)
 
 
+def check_domain(body: Body, order: int | None = None) -> None:
+    """The theory's domain, checked before any work: a fast enough rotation (:func:`check_applicable`)
+    and, for exact coefficients, an eccentricity whose Fourier series can be summed."""
+    orb = body.orbit
+    check_applicable(body, 2.0 * math.pi / (body.rotation_period_hours / 24.0),
+                     mean_motion_rad_per_day(orb.a_au, orb.center))
+    why = exact_unavailable(orb.e) if order is None else None
+    if why is not None:
+        raise NotApplicableError(body.name, why)
+
+
 def build_model(body: Body, order: int | None = None) -> PrecessionNutation:
     """Precession-nutation model of ``body``.
 
@@ -191,7 +203,7 @@ def build_model(body: Body, order: int | None = None) -> PrecessionNutation:
     orb = body.orbit
     n = mean_motion_rad_per_day(orb.a_au, orb.center)
     omega = 2.0 * math.pi / (body.rotation_period_hours / 24.0)
-    check_applicable(body, omega, n)
+    check_domain(body, order)
     K = scaling_factor(n, omega, body.hd)
 
     ecl_from_icrf = icrf_to_ecliptic_matrix()

@@ -40,7 +40,7 @@ from .errors import InvalidInputError
 from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from .hansen import hansen_exact, hansen_series
 from .kepler import mean_motion_rad_per_day
-from .kinoshita import precession_rate, scaling_factor
+from .kinoshita import precession_rate, scaling_factor, series_extrema
 
 #: Central-difference step as a fraction of the input's σ. The linear σ is J·σ with J the
 #: derivative at the nominal point. Truncation error of the central difference, relative:
@@ -116,6 +116,11 @@ def _model_inputs(body: Body) -> list[tuple[str, float, str, str]]:
         for label, v in zip("ABC", body.moments):
             out.append((f"inertia.{label}", v, "", "relative"))
     return out
+
+
+def input_sigmas(body: Body) -> dict[str, float | None]:
+    """{input key: its catalogue 1-σ, or None where none is published} for the inputs the theory uses."""
+    return {i.key: i.sigma for i in _inputs(body, None)}
 
 
 def _inputs(body: Body, overrides: Mapping[str, float | None] | None) -> list[_Input]:
@@ -287,47 +292,10 @@ class _Replica:
         return np.concatenate([scalars, terms.ravel()])
 
 
-@lru_cache(maxsize=16)
-def _grid_tables(kmax: int):
-    """The grid of NutationSeries.semi_peak_to_peak and sin/cos kM on it (k = 1..kmax), read-only."""
-    count = max(256, 64 * kmax)
-    h = 2.0 * math.pi / count
-    grid = h * np.arange(count)
-    phase = np.outer(grid, np.arange(1.0, kmax + 1.0))
-    sin_table, cos_table = np.sin(phase), np.cos(phase)
-    for a in (grid, sin_table, cos_table):
-        a.setflags(write=False)
-    return h, grid, sin_table, cos_table
-
-
 def half_peak_to_peak(sin_coef: np.ndarray, cos_coef: np.ndarray) -> tuple[float, float, float]:
-    """(max − min)/2 of Σ_k S_k sin kM + C_k cos kM (k = 1, 2, …) over one orbit, and the M of the max
-    and of the min.
-
-    The algorithm of :meth:`ephem.kinoshita.NutationSeries.semi_peak_to_peak` (a grid of 64
-    points per harmonic, then Newton on the derivative), returning where the extrema lie.
-    """
-    if len(sin_coef) == 0:
-        return 0.0, 0.0, 0.0
-    k = np.arange(1.0, len(sin_coef) + 1.0)
-    h, grid, sin_table, cos_table = _grid_tables(len(sin_coef))
-    values = sin_table @ sin_coef + cos_table @ cos_coef
-    found = []
-    for idx, better in ((int(np.argmax(values)), max), (int(np.argmin(values)), min)):
-        x0 = x = grid[idx]
-        for _ in range(20):
-            sk, ck = np.sin(k * x), np.cos(k * x)
-            d1 = float(np.sum(k * (sin_coef * ck - cos_coef * sk)))
-            d2 = -float(np.sum(k * k * (sin_coef * sk + cos_coef * ck)))
-            if d2 == 0.0:
-                break
-            x = min(max(x - d1 / d2, x0 - h), x0 + h)
-            if abs(d1 / d2) < 1e-15:
-                break
-        polished = float(np.sum(sin_coef * np.sin(k * x) + cos_coef * np.cos(k * x)))
-        found.append((x, polished) if better(polished, values[idx]) == polished else (x0, float(values[idx])))
-    (x_max, v_max), (x_min, v_min) = found
-    return 0.5 * (v_max - v_min), x_max, x_min
+    """(max − min)/2 of the series over one orbit and the M of the max and of the min
+    (:func:`ephem.kinoshita.series_extrema`, the algorithm of the answers themselves)."""
+    return series_extrema(sin_coef, cos_coef)
 
 
 # --------------------------------------------------------------------------- the set-up shared by both methods
@@ -414,7 +382,7 @@ def _scalar_and_terms(vector: np.ndarray, kmax: int) -> tuple[np.ndarray, np.nda
 
 def propagate(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None, *,
               uncertainties: Mapping[str, float | None] | None = None,
-              correlations: Mapping[tuple[str, str], float] | None = None) -> dict:
+              correlations: Mapping[tuple[str, str], float] | None = None, sensitivities: bool = True) -> dict:
     """Linear 1-σ uncertainties of the precession-nutation outputs from the inputs' 1-σ.
 
     ``body``: a catalogue name / NAIF id (looked up in ``dataset``) or a :class:`Body`.
@@ -431,7 +399,9 @@ def propagate(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int
     ``contributions`` {output: {input: J_i σ_i}} (signed, output units; with independent inputs
     σ² = Σ of their squares); ``dominant_input`` {output: input or None};
     ``sensitivities`` {output: {input: ∂output/∂input per catalogue unit}} for every input,
-    with or without σ; ``inputs`` (the propagated ones: value, unit, uncertainty, source);
+    with or without σ (``sensitivities=False``: only for the inputs with a σ, whose derivatives the
+    uncertainties need, the rest reported as 0; the answers of :mod:`ephem.api` use this: each
+    derivative costs two model evaluations, seconds at high e); ``inputs`` (the propagated ones: value, unit, uncertainty, source);
     ``unpropagated_inputs`` (inputs with no σ: their contribution is unknown, not zero);
     ``assumptions``.
 
@@ -439,7 +409,9 @@ def propagate(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int
     """
     st = _setup(body, dataset, order, uncertainties, correlations)
     n_in = len(st.inputs)
-    J = _jacobian(st, list(range(n_in)))                              # per model unit
+    which = list(range(n_in)) if sensitivities else [j for j, i in enumerate(st.inputs) if i.sigma is not None]
+    J = np.zeros((st.y0.size, n_in))
+    J[:, which] = _jacobian(st, which)                                # per model unit
     factors = np.array([i.factor for i in st.inputs])
     sig = np.array([(i.sigma or 0.0) * i.factor for i in st.inputs])  # model units
     contrib = J * sig[None, :]                                        # (n_out, n_in), output units

@@ -5,7 +5,8 @@ from typing import Literal, Optional, Union
 
 from pydantic import BaseModel, ConfigDict, Field
 
-Finite = ConfigDict(allow_inf_nan=False, extra="forbid")
+# strict: JSON true is not a number, nor "2.36" (a string) one; JSON integers are still numbers
+Finite = ConfigDict(allow_inf_nan=False, extra="forbid", strict=True)
 RungName = Literal["secular", "series", "hansen", "second_order", "numerical", "real_orbit", "lunisolar"]
 Perturbers = Field(None, description="the bodies whose torque the answer includes: the orbit's centre (the Sun), "
                                      "and for the Earth by default the Moon too (the lunisolar theory)")
@@ -221,7 +222,7 @@ class TrackIn(BaseModel):
 
 class UserBody(BaseModel):
     """A body of the user's own; give ``moments`` or ``dynamical_ellipticity``."""
-    model_config = ConfigDict(allow_inf_nan=False, extra="forbid", json_schema_extra={"examples": [{
+    model_config = ConfigDict(allow_inf_nan=False, extra="forbid", strict=True, json_schema_extra={"examples": [{
         "name": "my-asteroid",
         "orbit": {"a_au": 2.36, "e": 0.089, "i_deg": 7.14, "node_deg": 103.7, "peri_deg": 151.7,
                   "mean_anomaly_deg": 169.2, "epoch_jd_tdb": 2460200.5},

@@ -1,6 +1,7 @@
 """Service limits, from environment variables (read once when the app is created)."""
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass
 
@@ -15,6 +16,19 @@ def _int_env(name: str, default: int) -> int:
         raise SystemExit(f"{name} must be an integer, got {raw!r}") from None
     if value <= 0:
         raise SystemExit(f"{name} must be positive, got {value}")
+    return value
+
+
+def _float_env(name: str, default: float) -> float:
+    raw = os.environ.get(name)
+    if raw is None or raw.strip() == "":
+        return default
+    try:
+        value = float(raw)
+    except ValueError:
+        raise SystemExit(f"{name} must be a number, got {raw!r}") from None
+    if not math.isfinite(value) or value <= 0:
+        raise SystemExit(f"{name} must be a positive finite number, got {raw!r}")
     return value
 
 
@@ -38,9 +52,27 @@ class Settings:
     max_body_bytes: int = 65_536
     #: build the Earth's lunisolar series at start-up (~2 s) rather than in the first Earth request
     warm_up: bool = True
+    #: a request's predicted CPU time, seconds of one core (422 beyond, before any work)
+    max_request_cpu_s: float = 5.0
+    #: a request's predicted peak memory above the worker's baseline, MB (422 beyond, before any work)
+    max_request_memory_mb: float = 500.0
+    #: wall-clock deadline of a request, seconds: the long loops stop past it (503)
+    request_deadline_s: float = 20.0
+    #: a request still running this long past its deadline ends its worker (under a supervisor only)
+    hard_kill_after_s: float = 10.0
+    #: each worker's address-space ceiling, MB (set by service/gunicorn_conf.py; MemoryError beyond: 503)
+    worker_memory_mb: float = 3072.0
+    #: running under a supervisor that restarts workers (gunicorn): arms the watchdog
+    supervised: bool = False
 
     @classmethod
     def from_env(cls) -> "Settings":
         return cls(max_track_samples=_int_env("EPHEM_MAX_TRACK_SAMPLES", cls.max_track_samples),
                    max_body_bytes=_int_env("EPHEM_MAX_BODY_BYTES", cls.max_body_bytes),
-                   warm_up=_bool_env("EPHEM_WARM_UP", cls.warm_up))
+                   warm_up=_bool_env("EPHEM_WARM_UP", cls.warm_up),
+                   max_request_cpu_s=_float_env("EPHEM_MAX_REQUEST_CPU_S", cls.max_request_cpu_s),
+                   max_request_memory_mb=_float_env("EPHEM_MAX_REQUEST_MEMORY_MB", cls.max_request_memory_mb),
+                   request_deadline_s=_float_env("EPHEM_REQUEST_DEADLINE_S", cls.request_deadline_s),
+                   hard_kill_after_s=_float_env("EPHEM_HARD_KILL_AFTER_S", cls.hard_kill_after_s),
+                   worker_memory_mb=_float_env("EPHEM_WORKER_MEMORY_MB", cls.worker_memory_mb),
+                   supervised=_bool_env("EPHEM_SUPERVISED", cls.supervised))

@@ -148,7 +148,7 @@ def test_bad_queries_are_422_naming_the_field(client, url, field):
 @pytest.mark.parametrize("patch, field", [
     ({"orbit": dict(USER["orbit"], e=1.2)}, "orbit.e"),
     ({"rotation_period_hours": -5.0}, "rotation_period_hours"),
-    ({"moments": {"A": 0.5, "B": 0.3546, "C": 0.42}}, "inertia"),
+    ({"moments": {"A": 0.5, "B": 0.3546, "C": 0.42}}, "moments"),   # the POST names its own path
     ({"pole": dict(USER["pole"], dec_deg=95.0)}, "pole.dec_deg"),
     ({"moments": None}, "moments"),
     ({"orbit": dict(USER["orbit"], a_au="far")}, "orbit.a_au"),
