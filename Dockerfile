@@ -1,19 +1,23 @@
 # ephem REST service: `docker build -t ephem .` then `docker run -p 8000:8000 ephem`
-# (`-e WORKERS=4` for more uvicorn worker processes; the limits below can be overridden likewise).
+# (`-e WORKERS=4` for more worker processes; the limits below can be overridden likewise).
 #
 # Stage 1 builds the project's wheel (hatchling; the wheel carries data/ as ephem/_data, so the
 # installed package needs no EPHEM_DATA_DIR). Stage 2 installs it, as `pip install .` would, and
-# keeps no source tree: the app is imported from site-packages.
+# keeps no source tree: the app is imported from site-packages. Both stages install with the
+# lock, constraints.txt: pip, the build backend and every dependency at the versions CI tests.
 
 FROM python:3.11-slim AS build
 ENV PIP_NO_CACHE_DIR=1 \
     PIP_DISABLE_PIP_VERSION_CHECK=1
 WORKDIR /src
+COPY constraints.txt ./
+# pip at the lock's version (not whatever is newest): --build-constraint needs pip >= 25.3
+RUN python -m pip install --constraint constraints.txt pip
 COPY pyproject.toml README.md ./
 COPY ephem ./ephem
 COPY service ./service
 COPY data ./data
-RUN python -m pip wheel --no-deps --wheel-dir /wheels .
+RUN python -m pip wheel --no-deps --build-constraint constraints.txt --wheel-dir /wheels .
 
 
 FROM python:3.11-slim
@@ -22,12 +26,14 @@ ENV PYTHONDONTWRITEBYTECODE=1 \
     PIP_NO_CACHE_DIR=1 \
     PIP_DISABLE_PIP_VERSION_CHECK=1
 
+COPY constraints.txt /tmp/constraints.txt
 COPY --from=build /wheels /wheels
-RUN python -m pip install /wheels/*.whl \
-    && rm -rf /wheels \
+RUN python -m pip install --constraint /tmp/constraints.txt pip \
+    && python -m pip install --constraint /tmp/constraints.txt /wheels/*.whl \
+    && rm -rf /wheels /tmp/constraints.txt \
     && useradd --create-home --uid 10001 --user-group --shell /usr/sbin/nologin ephem
 
-# Number of uvicorn worker processes (one per core is a good start).
+# Number of worker processes under gunicorn (one per core is a good start).
 ENV WORKERS=2
 # Largest number of epochs in one /track request (422 beyond). Each 10^4 epochs cost ~1.2 MB of
 # JSON and ~7 ms of one worker's CPU, so the default 10^6 allows ~120 MB / ~0.7 s per request.
@@ -42,5 +48,7 @@ EXPOSE 8000
 HEALTHCHECK --interval=30s --timeout=5s --start-period=30s --retries=3 \
     CMD ["python", "-c", "import sys, urllib.request; r = urllib.request.urlopen('http://127.0.0.1:8000/healthz', timeout=4); sys.exit(0 if r.status == 200 else 1)"]
 
-# exec: uvicorn becomes PID 1 and gets SIGTERM from `docker stop` (it then stops its workers).
-CMD ["sh", "-c", "exec uvicorn service.app:app --host 0.0.0.0 --port 8000 --workers \"${WORKERS:-2}\""]
+# gunicorn supervises uvicorn workers (service/gunicorn_conf.py: worker class, timeouts, memory
+# ceiling), restarting one that dies or hangs; the config is read from the installed package.
+# exec: gunicorn becomes PID 1 and gets SIGTERM from `docker stop` (it then stops its workers).
+CMD ["sh", "-c", "exec gunicorn --config python:service.gunicorn_conf --bind 0.0.0.0:8000 --workers \"${WORKERS:-2}\" service.app:app"]

@@ -3,65 +3,263 @@
 Accepted forms (astropy ``Time`` parses them):
 - a number or ``"2451545.0"`` or ``"JD2451545.0"``: a Julian date in TDB;
 - ``"2020-01-01"``, ``"2020-01-01T12:00:00"``: ISO 8601 in UTC;
-- ``"2020-01-01T12:00:00 TDB"`` (or TT, TAI, UTC): ISO 8601 in the named scale;
+- ``"2020-01-01T12:00:00 TDB"`` (or TT, TAI, TCB, TCG, UTC, UT1): ISO 8601 in the named scale;
 - an astropy ``Time`` (any scale: its TDB Julian date).
+
+Nothing here touches the network. UT1 needs UT1 - UTC, which comes from the IERS tables that ship
+with astropy (the ``astropy-iers-data`` package: IERS-B from 1962, IERS-A with its predictions to
+about a year after the package's release), never from astropy's auto-downloading ``IERS_Auto``;
+a UT1 time outside that span is refused, naming the span. The leap-second table is checked once,
+against the bundled files only (astropy would otherwise download a fresh one once its bundled
+copy nears expiry). Errors name the field, say what was wrong and list the accepted forms; they
+never carry astropy's or ERFA's text.
 """
 from __future__ import annotations
 
+import calendar
 import math
+import re
+import sys
+import threading
+import warnings
+from functools import lru_cache
 
+from .constants import JD_RANGE  # (0, 1e7), exclusive: the grammar's Julian dates below are written for it
 from .errors import InvalidInputError
 
 _SCALES = ("tdb", "tt", "tai", "utc", "tcb", "tcg", "ut1")
+
+ACCEPTED = ("accepted: an ISO 8601 date or date-time (2020-01-01, 2020-01-01T12:00, 2020-01-01T12:00:00.5, "
+            "2020-01-01T12:00Z), UTC unless followed by a space and a scale (TDB, TT, TAI, TCB, TCG, UTC, UT1), "
+            "e.g. '2020-01-01T12:00 TDB'; or a Julian date in TDB, digits with an optional decimal point, "
+            "in (0, 1e7) (2451545.0 or JD2451545.0)")
+
+
+def _anycase(word: str) -> str:
+    return "".join(f"[{c.upper()}{c.lower()}]" if c.isalpha() else c for c in word)
+
+
+# The grammar of a time given as text, written once for both sides of the contract: the service's OpenAPI
+# document states it as the `pattern` of every time field (ECMA 262 and Python read it alike: ASCII classes,
+# literal spaces), and to_jd_tdb refuses any text outside it. Within it, what the pattern cannot say is
+# checked and explained: a real calendar day (no 30 February), and UT1 inside the bundled IERS span.
+_DATE = "[0-9]{4}-(?:0?[1-9]|1[0-2])-(?:0?[1-9]|[12][0-9]|3[01])"
+_CLOCK = "(?:[01]?[0-9]|2[0-3]):[0-5]?[0-9](?::[0-5]?[0-9](?:[.][0-9]+)?)?"
+_SCALE = "|".join(_anycase(s) for s in _SCALES)
+_ISO_TEXT = f"(?P<iso>{_DATE}(?:[T ]{_CLOCK})?)(?:(?P<z>Z)| +(?P<scale>{_SCALE}))?"
+_JD_TEXT = f"(?:{_anycase('jd')} *)?(?P<jd>0*(?:[1-9][0-9]{{0,6}}(?:[.][0-9]*)?|[.][0-9]*[1-9][0-9]*))"
+TIME_PATTERN = f"^ *(?:{_JD_TEXT}|{_ISO_TEXT}) *$"
+#: TIME_PATTERN without the group names, for JSON Schema (ECMA 262 has no (?P<name>...))
+TIME_PATTERN_ECMA = re.sub(r"\(\?P<[a-z]+>", "(", TIME_PATTERN)
+_TIME = re.compile(TIME_PATTERN)
+
+# looser shapes, only to say what is wrong with a text outside the grammar
+_WORD = re.compile(r"[A-Za-z][A-Za-z0-9]*")
+_LOOSE_ISO = re.compile(r"(?P<Y>[0-9]{4})-(?P<m>[0-9]{1,2})-(?P<d>[0-9]{1,2})"
+                        r"(?:[T ](?P<H>[0-9]{1,2}):(?P<M>[0-9]{1,2})(?::(?P<S>[0-9]{1,2}(?:[.][0-9]*)?))?)?Z?")
 
 
 def to_jd_tdb(value, field: str = "time") -> float:
     """Julian date (TDB) of a boundary time; raises InvalidInputError naming ``field``."""
     if isinstance(value, bool):
-        raise InvalidInputError(field, f"expected a time, got {value!r}")
-    if hasattr(value, "tdb") and hasattr(value, "jd1"):        # an astropy Time
-        if not value.isscalar:
-            raise InvalidInputError(field, "expected one time, got an array of them")
-        import warnings
-
-        from erfa import ErfaWarning
-
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", ErfaWarning)  # "dubious year": UTC beyond the leap-second table
-            tdb = value.tdb
-        jd = float(tdb.jd1 + tdb.jd2)
+        raise InvalidInputError(field, f"expected a time, got {value!r}; {ACCEPTED}")
+    if _is_astropy_time(value):
+        jd = _time_jd_tdb(value, field)
     elif isinstance(value, (int, float)):
         jd = float(value)
     else:
-        text = str(value).strip()
-        if not text:
-            raise InvalidInputError(field, "empty time")
-        number = text[2:] if text.upper().startswith("JD") else text
-        try:
-            jd = float(number)
-        except ValueError:
-            jd = _parse_iso(text, field)
+        jd = _parse_text(str(value), field)
     if not math.isfinite(jd):
         raise InvalidInputError(field, f"time must be finite, got {value!r}")
-    if not 0.0 < jd < 1e7:
-        raise InvalidInputError(field, f"Julian date {jd} is outside the supported range (0, 1e7)")
+    if not JD_RANGE[0] < jd < JD_RANGE[1]:
+        raise InvalidInputError(field, f"Julian date {jd} is outside the supported range "
+                                       "(0, 1e7)")
     return jd
 
 
-def _parse_iso(text: str, field: str) -> float:
-    import warnings
+def _parse_text(text: str, field: str) -> float:
+    m = _TIME.fullmatch(text)
+    if m is None:
+        raise InvalidInputError(field, _what_is_wrong(text))
+    if m["jd"] is not None:
+        return float(m["jd"])
+    iso, scale = m["iso"], (m["scale"] or "utc").lower()
+    _check_calendar(iso, field)
+    return _iso_jd_tdb(iso + ("Z" if m["z"] else ""), scale, field)
 
+
+def _what_is_wrong(text: str) -> str:
+    """Why a text is not a time, for a text outside the grammar."""
+    stripped = text.strip()
+    if not stripped:
+        return f"empty time; {ACCEPTED}"
+    parts = stripped.rsplit(None, 1)
+    body, word = (parts[0], parts[1]) if len(parts) == 2 and _WORD.fullmatch(parts[1]) else (stripped, None)
+    if word is not None and word.lower() not in _SCALES:
+        return (f"unknown time scale {word!r} in {text!r}: the scales are "
+                f"{', '.join(s.upper() for s in _SCALES)}; {ACCEPTED}")
+    number = body[2:].strip() if body.upper().startswith("JD") else body
+    try:
+        jd = float(number)
+    except ValueError:
+        pass
+    else:
+        if word is not None:
+            return (f"a Julian date is always TDB: give {number} without a scale, or the time as ISO 8601 "
+                    f"with its scale; {ACCEPTED}")
+        if not math.isfinite(jd):
+            return f"time must be finite, got {text!r}"
+        if not JD_RANGE[0] < jd < JD_RANGE[1]:
+            return f"Julian date {jd} is outside the supported range (0, 1e7)"
+        return f"write the Julian date {text!r} as digits with an optional decimal point (no sign, exponent, " \
+               f"separator or other spacing); {ACCEPTED}"
+    loose = _LOOSE_ISO.fullmatch(body)
+    if loose is not None:
+        reason = _field_ranges(loose, body)
+        if reason:
+            return reason
+    return f"cannot parse {text!r} as a time; {ACCEPTED}"
+
+
+def _field_ranges(m: re.Match, text: str) -> str | None:
+    """Which part of a date-shaped text is out of range (month 13, February 30, hour 25), or None."""
+    year, month, day = int(m["Y"]), int(m["m"]), int(m["d"])
+    if not 1 <= month <= 12:
+        return f"{text!r}: month {month} is not 1 to 12; {ACCEPTED}"
+    last = calendar.monthrange(year, month)[1]
+    if not 1 <= day <= last:
+        return (f"{text!r}: day {day} is not 1 to {last} ({calendar.month_name[month]} {year} has {last} days); "
+                f"{ACCEPTED}")
+    if m["H"] is not None:
+        hour, minute = int(m["H"]), int(m["M"])
+        if not 0 <= hour <= 23:
+            return f"{text!r}: hour {hour} is not 0 to 23; {ACCEPTED}"
+        if not 0 <= minute <= 59:
+            return f"{text!r}: minute {minute} is not 0 to 59; {ACCEPTED}"
+        if m["S"] is not None and not 0 <= float(m["S"]) < 60:
+            return f"{text!r}: second {m['S']} is not 0 to 59.999...; {ACCEPTED}"
+    return None
+
+
+def _check_calendar(iso: str, field: str) -> None:
+    reason = _field_ranges(_LOOSE_ISO.fullmatch(iso), iso)
+    if reason:
+        raise InvalidInputError(field, reason)
+
+
+def _is_astropy_time(value) -> bool:
+    # not hasattr(value, "tdb"): that would convert (for UT1, through astropy's downloading IERS table)
+    module = sys.modules.get("astropy.time")
+    return module is not None and isinstance(value, module.Time)
+
+
+def _time_jd_tdb(value, field: str) -> float:
+    if not value.isscalar:
+        raise InvalidInputError(field, "expected one time, got an array of them")
+    _leap_seconds_offline()
+    from erfa import ErfaWarning
+
+    if value.scale == "ut1" and getattr(value, "_delta_ut1_utc", None) is None:
+        value = value.copy()      # UT1 - UTC from the bundled tables, never from IERS_Auto (the network)
+        value.delta_ut1_utc = _ut1_minus_utc(value.jd1, value.jd2, field, value.isot + " UT1")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ErfaWarning)  # "dubious year": UTC beyond the leap-second table
+            tdb = value.tdb
+        return float(tdb.jd1 + tdb.jd2)
+    except Exception:   # e.g. a scale astropy cannot take to TDB ('local')
+        raise InvalidInputError(field, f"cannot convert this astropy Time (scale {value.scale!r}) to TDB; "
+                                       f"give it in one of {', '.join(s.upper() for s in _SCALES)}") from None
+
+
+def _iso_jd_tdb(text: str, scale: str, field: str) -> float:
     from astropy.time import Time
     from erfa import ErfaWarning
 
-    scale = "utc"
-    parts = text.rsplit(None, 1)
-    if len(parts) == 2 and parts[1].lower() in _SCALES:
-        text, scale = parts[0], parts[1].lower()
+    _leap_seconds_offline()
+    shown = f"{text} {scale.upper()}"
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ErfaWarning)  # "dubious year" for far dates
             t = Time(text, format="isot" if "T" in text else "iso", scale=scale)
-            return float(t.tdb.jd1 + t.tdb.jd2)
-    except (ValueError, TypeError) as exc:
-        raise InvalidInputError(field, f"cannot parse {text!r} as ISO 8601 or a Julian date ({exc})") from None
+            if scale == "ut1":
+                t.delta_ut1_utc = _ut1_minus_utc(t.jd1, t.jd2, field, shown)
+            tdb = t.tdb
+            return float(tdb.jd1 + tdb.jd2)
+    except InvalidInputError:
+        raise
+    except Exception:      # astropy's and ERFA's messages name their internals, not the user's input
+        raise InvalidInputError(field, f"cannot parse {shown!r} as a time; {ACCEPTED}") from None
+
+
+# ---------------------------------------------------------------------------------------------- offline
+
+_LEAP_LOCK = threading.Lock()
+_leap_done = False
+
+
+def _leap_seconds_offline() -> None:
+    """Run astropy's once-per-process leap-second check with downloads off.
+
+    astropy checks the leap-second table on the first UTC conversion and, when no bundled file is
+    valid well into the future, downloads one (``iers.conf.auto_download``). We run that check
+    first, offline: it then picks the freshest bundled table (ERFA's, astropy-iers-data's, the
+    system's) and never runs again. The configuration is changed only for that one conversion.
+    """
+    global _leap_done
+    if _leap_done:
+        return
+    with _LEAP_LOCK:
+        if _leap_done:
+            return
+        from astropy.time import Time
+        from astropy.utils import iers
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")     # "leap-second file is expired": then the dates are dubious anyway
+            with iers.conf.set_temp("auto_download", False):
+                Time(51544.0, format="mjd", scale="utc").tai     # triggers (and completes) astropy's check
+        _leap_done = True
+
+
+@lru_cache(maxsize=1)
+def _iers_tables():
+    """The bundled IERS-B (definitive, from 1962) and IERS-A (to about a year past the package's release,
+    predictions included) tables, read from astropy-iers-data's files: no download, no cache."""
+    from astropy.utils import iers
+
+    b = iers.IERS_B.read(iers.IERS_B_FILE)
+    a = iers.IERS_A.read(iers.IERS_A_FILE)
+    return b, a
+
+
+def ut1_span() -> tuple[str, str]:
+    """First and last UTC dates (ISO) on which a UT1 time is accepted (all day): the bundled IERS tables' span."""
+    from astropy.time import Time
+
+    b, a = _iers_tables()
+    first, last = float(b["MJD"][0].value), float(a["MJD"][-1].value) - 1.0
+    return (Time(first, format="mjd", scale="utc").isot[:10], Time(last, format="mjd", scale="utc").isot[:10])
+
+
+def _ut1_minus_utc(jd1: float, jd2: float, field: str, shown: str) -> float:
+    """UT1 - UTC in seconds at the UT1 time jd1 + jd2, from the bundled tables; InvalidInputError outside them."""
+    import erfa
+
+    b, a = _iers_tables()
+    b_last, a_first = float(b["MJD"][-1].value), float(a["MJD"][0].value)
+    first, last = float(b["MJD"][0].value), float(a["MJD"][-1].value)
+    mjd = (jd1 - 2400000.5) + jd2
+    if not first <= mjd < last:
+        lo, hi = ut1_span()
+        raise InvalidInputError(field, f"{shown!r}: UT1 is supported from {lo} through {hi}, the span of the IERS "
+                                       "tables bundled with astropy (UT1 - UTC is measured, then predicted about "
+                                       "a year ahead; beyond, it is unknown); give the time in UTC or TDB instead")
+    table = b if mjd <= b_last or mjd < a_first else a
+    dut, _ = table.ut1_utc(jd1, jd2, return_status=True)     # statuses: the span is checked above
+    # the table is indexed by UTC: one refinement at the UTC time this gives (as astropy does)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", erfa.ErfaWarning)
+        u1, u2 = erfa.ut1utc(jd1, jd2, float(dut.to_value("s")))
+    dut, _ = table.ut1_utc(u1, u2, return_status=True)
+    return float(dut.to_value("s"))

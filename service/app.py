@@ -2,22 +2,29 @@
 from __future__ import annotations
 
 import math
+import pathlib
 from contextlib import asynccontextmanager
 from enum import Enum
 from typing import Annotated, Optional
 
 import numpy as np
 import orjson
-from fastapi import Body as BodyParam, FastAPI, Path, Query
-from fastapi.responses import PlainTextResponse, Response, StreamingResponse
+from fastapi import Body as BodyParam, FastAPI, Path, Query, Request
+from fastapi.openapi.docs import get_redoc_html, get_swagger_ui_html
+from fastapi.responses import JSONResponse, PlainTextResponse, Response, StreamingResponse
+from fastapi.staticfiles import StaticFiles
 
 import ephem
 from ephem import api
-from ephem.catalogue import Body, Orbit, Pole, available_datasets, load_catalogue
+from ephem.catalogue import MIN_ROTATION_PERIOD_HOURS, Body, Orbit, Pole, available_datasets, load_catalogue
+from ephem.free_motion import SERIES_MAX_DELTA
 from ephem.geometry import icrf_to_ecliptic_matrix
+from ephem.ladder import LAPLACE_LIMIT, MAX_NUMERICAL_ORBITS
+from ephem.plots import MAX_PLOT_POINTS
 from ephem.tables import FORMATS, render_nutation
+from ephem.timeparse import TIME_PATTERN_ECMA, ut1_span
 
-from . import problems, schemas
+from . import guards, problems, schemas
 from .limits import BodySizeLimit
 from .settings import Settings
 
@@ -43,7 +50,7 @@ class TrackFormat(str, Enum):
 BodyPath = Annotated[str, Path(description="case-insensitive name or NAIF id", examples=["vesta", "2000004"])]
 DatasetQuery = Annotated[Dataset, Query(description="catalogue dataset")]
 OrderQuery = Annotated[Optional[int], Query(ge=0, le=api.MAX_ORDER, description="truncate the Hansen coefficients at e^order "
-                                                                     "(the paper: 4); omit for exact", examples=[4])]
+                                                                     "(the paper: 4); omit for exact")]
 ToleranceQuery = Annotated[Optional[float], Query(gt=0, description="pick the cheapest model estimated within this "
                                                   "many milliarcseconds of the truth (see /docs/accuracy)",
                                                   examples=[10.0])]
@@ -86,6 +93,12 @@ class FreeMethod(str, Enum):
 ERRORS = {404: {"description": "unknown body (problem+json lists the known ones)"},
           422: {"description": "invalid input (the field is named) or not applicable (with the reason)"}}
 CSV_CHUNK = 20_000
+#: Swagger UI and ReDoc, vendored (service/static/README.md): the docs pages load nothing from the network
+STATIC_DIR = pathlib.Path(__file__).resolve().parent / "static"
+#: docs/accuracy.md, served at /docs/accuracy: the package's copy (service/static/accuracy.md, which ships in the
+#: wheel and the image; tests/test_http.py keeps it identical to docs/), else the repository's
+ACCURACY_DOC_CANDIDATES = (STATIC_DIR / "accuracy.md",
+                           pathlib.Path(__file__).resolve().parent.parent / "docs" / "accuracy.md")
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:
@@ -103,17 +116,31 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app = FastAPI(title="ephem: asteroid precession-nutation ephemeris", version=ephem.__version__,
                   description="Forced precession and nutation of the spin axes of asteroids, planets and moons "
                               "(Kinoshita's theory, Petit et al. 2014). Angles in degrees, precession and nutation "
-                              "in arcseconds, times as JD TDB or ISO 8601 (UTC unless a scale follows).",
-                  lifespan=lifespan)
+                              "in arcseconds, times as JD TDB or ISO 8601 (UTC unless a scale follows). "
+                              "Errors are RFC 9457 problems (application/problem+json); the accuracy of each "
+                              "model is documented at /docs/accuracy.",
+                  lifespan=lifespan, docs_url=None, redoc_url=None)
     app.state.settings = settings
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     problems.install(app)
+    guards.install(app, settings)
+    _install_docs(app)
+
+    def health_response() -> JSONResponse:
+        return JSONResponse({"status": "ok", "version": ephem.__version__, "datasets": available_datasets()})
 
     @app.get("/healthz", response_model=schemas.Health, tags=["service"],
              responses={200: {"content": {"application/json": {"example": {
                  "status": "ok", "version": ephem.__version__, "datasets": ["current", "petit2014"]}}}}})
     def healthz():
-        return {"status": "ok", "version": ephem.__version__, "datasets": available_datasets()}
+        """Liveness: the service answers and its catalogue is loaded. HEAD /healthz answers with the same status
+        and headers, without the body (for load balancers)."""
+        return health_response()
+
+    @app.head("/healthz", include_in_schema=False)    # stated in GET's description
+    def healthz_head():
+        """GET /healthz without the body, for load balancers."""
+        return Response(status_code=200, headers=dict(health_response().headers))
 
     @app.get("/v1/bodies", response_model=list[schemas.BodySummary], tags=["catalogue"],
              responses={200: {"content": {"application/json": {"example": [{
@@ -288,25 +315,215 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                                   settings.max_track_samples))
 
     @app.post("/v1/precession-nutation", response_model=schemas.PrecessionNutation, tags=["theory"],
-              responses=ERRORS)
+              responses={422: ERRORS[422]})        # no {body} to be unknown: no 404
     def precession_nutation(user: Annotated[schemas.UserBody, BodyParam()]):
         b = Body(name=user.name, orbit=Orbit(**user.orbit.model_dump(), body=user.name),
                  pole=Pole(**user.pole.model_dump(), body=user.name),
                  rotation_period_hours=user.rotation_period_hours,
                  moments=None if user.moments is None else (user.moments.A, user.moments.B, user.moments.C),
                  dynamical_ellipticity=user.dynamical_ellipticity)
-        answer = {"precession": api.precession(b, order=user.order), "nutation": api.nutation(b, order=user.order)}
-        if user.track is not None:
-            tr = user.track
-            answer["track"] = api.track_arrays(b, tr.start, tr.stop, tr.step_days, order=user.order,
-                                               max_samples=settings.max_track_samples,
-                                               tolerance_mas=tr.tolerance_mas, model=tr.model, axis=tr.axis,
-                                               free_wobble_phase_deg=tr.free_wobble_phase_deg,
-                                               free_wobble_J_arcsec=tr.free_wobble_J_arcsec,
-                                               free_wobble_epoch=tr.free_wobble_epoch)
-        return finite_json(answer)
+        track = None if user.track is None else user.track.model_dump()
+        return finite_json(api.precession_nutation(b, user.order, track, settings.max_track_samples))
 
     return app
+
+
+def _install_docs(app: FastAPI) -> None:
+    """/docs (Swagger UI), /redoc (ReDoc), their assets under /static, /docs/accuracy, and the OpenAPI
+    document with the problem+json error responses (problems.document)."""
+    app.mount("/static", StaticFiles(directory=STATIC_DIR), name="static")
+
+    base = app.openapi      # FastAPI's generator: builds the document once and caches it in app.openapi_schema
+
+    def openapi() -> dict:
+        if app.openapi_schema is None:
+            _document_rules(problems.document(base()), app.state.settings)
+        return app.openapi_schema
+
+    app.openapi = openapi
+
+    @app.get("/docs", include_in_schema=False)
+    def swagger_ui(request: Request):
+        root = request.scope.get("root_path", "").rstrip("/")
+        return get_swagger_ui_html(openapi_url=root + app.openapi_url, title=app.title + " - Swagger UI",
+                                   swagger_js_url=f"{root}/static/swagger-ui/swagger-ui-bundle.js",
+                                   swagger_css_url=f"{root}/static/swagger-ui/swagger-ui.css",
+                                   swagger_favicon_url=f"{root}/static/swagger-ui/favicon-32x32.png",
+                                   oauth2_redirect_url=None,
+                                   swagger_ui_parameters={"validatorUrl": None})  # no badge from validator.swagger.io
+
+    @app.get("/redoc", include_in_schema=False)
+    def redoc(request: Request):
+        root = request.scope.get("root_path", "").rstrip("/")
+        return get_redoc_html(openapi_url=root + app.openapi_url, title=app.title + " - ReDoc",
+                              redoc_js_url=f"{root}/static/redoc/redoc.standalone.js",
+                              redoc_favicon_url=f"{root}/static/swagger-ui/favicon-32x32.png",
+                              with_google_fonts=False)
+
+    @app.get("/docs/accuracy", include_in_schema=False)
+    def accuracy_doc():
+        """docs/accuracy.md: the fidelity ladder's error estimates and what they were measured against."""
+        for path in ACCURACY_DOC_CANDIDATES:
+            if path.is_file():
+                return Response(path.read_bytes(), media_type="text/markdown; charset=utf-8")
+        return problems.problem(404, "http", "Not found", "the accuracy documentation is not installed "
+                                                          "(docs/accuracy.md)")
+
+
+# ------------------------------------------------------------------------------------------------ the rules
+# What the service enforces beyond the parameter types, stated in the OpenAPI document: as schema constraints
+# where JSON Schema can say it (each enforced by ephem with a 422 naming the field, so the document and the
+# service agree), and in the operation descriptions where it cannot (rules across fields, or of the body's
+# physics). tests/test_schemathesis.py holds the service to exactly these: a schema-valid request is refused
+# only for a rule written here.
+
+_NAME = "|".join("".join(f"[{c.upper()}{c.lower()}]" for c in n) for n in ("sun", "earth", "moon"))
+PERTURBERS_PATTERN = rf"^\s*(?:{_NAME})\s*(?:,\s*(?:{_NAME})\s*)*$"
+_JD = {"exclusiveMinimum": 0, "exclusiveMaximum": 1e7}
+_POSITIVE = {"exclusiveMinimum": 0}
+#: constraints of query parameters, by name, in every operation that has them
+PARAMETER_RULES = {
+    "start": {"pattern": TIME_PATTERN_ECMA}, "stop": {"pattern": TIME_PATTERN_ECMA},
+    "free_wobble_epoch": {"pattern": TIME_PATTERN_ECMA}, "step_days": _POSITIVE,
+    "perturbers": {"pattern": PERTURBERS_PATTERN},
+}
+#: constraints of the POST body's fields: (component, field) -> constraints (on the number or string branch)
+BODY_RULES = {
+    ("OrbitIn", "a_au"): _POSITIVE, ("OrbitIn", "e"): {"minimum": 0, "exclusiveMaximum": 1},
+    ("OrbitIn", "i_deg"): {"minimum": 0, "maximum": 180}, ("PoleIn", "dec_deg"): {"minimum": -90, "maximum": 90},
+    ("OrbitIn", "epoch_jd_tdb"): _JD, ("PoleIn", "epoch_jd_tdb"): _JD,
+    ("MomentsIn", "A"): _POSITIVE, ("MomentsIn", "B"): _POSITIVE, ("MomentsIn", "C"): _POSITIVE,
+    ("UserBody", "rotation_period_hours"): {"minimum": MIN_ROTATION_PERIOD_HOURS},
+    ("UserBody", "dynamical_ellipticity"): {"exclusiveMinimum": 0, "maximum": 0.5},
+    ("TrackIn", "start"): {"pattern": TIME_PATTERN_ECMA, **_JD}, ("TrackIn", "stop"): {"pattern": TIME_PATTERN_ECMA, **_JD},
+    ("TrackIn", "free_wobble_epoch"): {"pattern": TIME_PATTERN_ECMA, **_JD}, ("TrackIn", "step_days"): _POSITIVE,
+}
+
+
+#: the POST's fields as the library names them -> as the request body nests them (problems.FIELD_PATHS)
+POST_FIELD_PATHS = {**{f: f"track.{f}" for f in ("start", "stop", "step_days", "tolerance_mas", "model", "axis",
+                                                 "free_wobble_phase_deg", "free_wobble_J_arcsec",
+                                                 "free_wobble_epoch")},
+                    "inertia": "moments"}
+problems.FIELD_PATHS[("POST", "/v1/precession-nutation")] = POST_FIELD_PATHS
+
+
+def _rule_texts(settings: Settings) -> dict[str, str]:
+    lo, hi = ut1_span()
+    na = ("422 not-applicable when the theory does not hold for the request, with the reason: a spin slower than "
+          "30 times the orbital mean motion (ω/n < 30: the Moon), no model within tolerance_mas over these "
+          f"epochs, a numerical rung over more than {MAX_NUMERICAL_ORBITS} orbits, the real orbit outside "
+          "DE421's span (1899-07-29 to 2053-10-09 TDB), or a perturber the theory does not take.")
+    texts = {
+        "times": "Times (start, stop, free_wobble_epoch) follow the pattern: an ISO 8601 date or date-time, UTC "
+                 "unless a space and a scale follow (TDB, TT, TAI, TCB, TCG, UTC, UT1), or a Julian date in TDB, "
+                 "digits in (0, 1e7) (2451545.0, JD2451545.0); the date must exist in the calendar (no 30 "
+                 f"February); UT1 is accepted from {lo} through {hi} only, the span of the IERS tables bundled "
+                 "with astropy (UT1 - UTC is not known beyond).",
+        "grid": f"stop must not be before start; step_days > 0, and the epochs start, start + step_days, ... up to "
+                f"stop number at most {settings.max_track_samples} (EPHEM_MAX_TRACK_SAMPLES).",
+        "tolerance": "tolerance_mas lets the fidelity ladder choose the model: give it or order, not both.",
+        "tolerance_model": "tolerance_mas lets the fidelity ladder choose the model: give it, or model and "
+                           "order, not both. order goes with model=series, which needs one (order alone means "
+                           "series); lunisolar is the Earth's model under the Moon and the Sun.",
+        "laplace": f"order needs e below the Laplace limit {LAPLACE_LIMIT:.4f} (beyond it the e-power series "
+                   "diverge: omit order for the exact coefficients).",
+        "perturbers": "perturbers: names among sun, earth, moon, comma-separated, each at most once; the Moon is "
+                      "a perturber of the Earth only, and any other must be the orbit's centre (else 422 "
+                      "not-applicable).",
+        "cut": "cut_mas applies to the lunisolar series (the Earth with the Moon) only, and not with tolerance_mas.",
+        "wobble": "free_wobble_J_arcsec and free_wobble_epoch need free_wobble_phase_deg, which needs axis=figure; "
+                  "a body without a published wobble amplitude (Earth, Moon, Mars and Eros have one) needs "
+                  "free_wobble_J_arcsec with the phase.",
+        "free_motion": "J_arcsec is needed for a body without a published wobble amplitude (Earth, Moon, Mars and "
+                       f"Eros have one); method=series only in the short-axis mode with δ = 2 sin²(J/2) <= "
+                       f"{SERIES_MAX_DELTA} (else 422 not-applicable); a body needs its three principal moments, "
+                       "not all equal.",
+        "plot": "stop must be after start; J_arcsec applies to kind free-wobble only, and tolerance_mas, model and "
+                "order to the other kinds; a figure draws at most "
+                f"{MAX_PLOT_POINTS} epochs: step_days (default: chosen for the span) must leave from 2 to that many "
+                "epochs in the span and, for the free wobble, sample its period; J_arcsec is needed for a body "
+                "without a published wobble amplitude (Earth, Moon, Mars and Eros have one).",
+        "user": "orbit: a_au > 0, 0 <= e < 1, 0 <= i_deg <= 180, and a bound orbit clear of the Sun: the "
+                "pericentre a(1 - e) outside the Sun's radius and a inside its Hill sphere; pole: -90 <= dec_deg <= "
+                f"90; rotation_period_hours >= {MIN_ROTATION_PERIOD_HOURS:g} (0.36 s); give moments (0 < A <= B "
+                "<= C <= A + B) or dynamical_ellipticity in (0, 0.5]; epochs are Julian dates in (0, 1e7); track "
+                "as GET /v1/bodies/{body}/track.",
+        "na": na,
+    }
+    if hasattr(settings, "max_request_cpu_s"):      # service/guards.py: the per-request budget
+        texts["budget"] = (f"a request estimated to need more than {settings.max_request_cpu_s:g} s of CPU "
+                           f"(EPHEM_MAX_REQUEST_CPU_S) or {settings.max_request_memory_mb:g} MB "
+                           "(EPHEM_MAX_REQUEST_MEMORY_MB) is refused before any work: 422 over-budget, naming the "
+                           "parameter to change; one still running after "
+                           f"{settings.request_deadline_s:g} s (EPHEM_REQUEST_DEADLINE_S) is stopped: 503.")
+    return texts
+
+
+#: operation -> the rules its description states, in this order
+OPERATION_RULES = {
+    ("/v1/bodies/{body}/precession", "get"): ("tolerance", "laplace", "perturbers", "na"),
+    ("/v1/bodies/{body}/nutation", "get"): ("tolerance", "laplace", "perturbers", "cut", "na"),
+    ("/v1/bodies/{body}/track", "get"): ("times", "grid", "tolerance_model", "laplace", "wobble", "perturbers", "na"),
+    ("/v1/bodies/{body}/track.png", "get"): ("times", "plot", "tolerance_model", "laplace", "na"),
+    ("/v1/bodies/{body}/track.svg", "get"): ("times", "plot", "tolerance_model", "laplace", "na"),
+    ("/v1/bodies/{body}/free-motion", "get"): ("times", "grid", "free_motion", "na"),
+    ("/v1/precession-nutation", "post"): ("user", "times", "grid", "tolerance_model", "laplace", "wobble", "na"),
+}
+
+
+NUTATION_TABLES_SCHEMA = {
+    "title": "NutationTables", "type": "object",
+    "description": "format=table-json: the paper's tables in the chosen layout, one per component (rows as in the "
+                   "csv, markdown and latex formats)",
+    "required": ["body", "dataset", "layout", "obliquity_deg", "tables"],
+    "properties": {
+        "body": {"type": "string"}, "dataset": {"type": "string"},
+        "layout": {"type": "string", "enum": ["sin-cos", "amp-period"]}, "obliquity_deg": {"type": "number"},
+        "tables": {"type": "array", "items": {
+            "type": "object", "required": ["component", "caption", "rows"],
+            "properties": {"component": {"type": "string", "enum": ["longitude", "obliquity"]},
+                           "caption": {"type": "string"},
+                           "rows": {"type": "array", "items": {
+                               "type": "object", "additionalProperties": {"type": ["number", "string", "null"]}}}}}},
+    },
+}
+
+
+def _constrain(schema: dict, rules: dict) -> None:
+    """Add ``rules`` to a property or parameter schema, on its string or number branch (anyOf with null)."""
+    branches = schema.get("anyOf", [schema])
+    for branch in branches:
+        kind = branch.get("type")
+        for key, value in rules.items():
+            if (key == "pattern") == (kind == "string") and kind in ("string", "number", "integer"):
+                branch[key] = value
+
+
+def _document_rules(schema: dict, settings: Settings) -> dict:
+    """State the service's rules in the OpenAPI document, in place (see PARAMETER_RULES, BODY_RULES,
+    OPERATION_RULES). A rule naming a parameter or field the document lacks is a KeyError: they move together."""
+    texts = _rule_texts(settings)
+    for (path, method), keys in OPERATION_RULES.items():
+        op = schema["paths"][path][method]
+        rules = "\n".join(f"- {texts[k]}" for k in keys + (("budget",) if "budget" in texts else ()))
+        op["description"] = (op.get("description", "").rstrip() + "\n\n**Rules** (422 invalid-input naming the "
+                             "field, unless said otherwise):\n" + rules).lstrip()
+        for param in op.get("parameters", []):
+            if param["name"] in PARAMETER_RULES:
+                _constrain(param["schema"], PARAMETER_RULES[param["name"]])
+    components = schema["components"]["schemas"]
+    for (component, field), rules in BODY_RULES.items():
+        _constrain(components[component]["properties"][field], rules)
+    # format=table-json answers the paper's tables, another JSON shape under the same media type
+    components["NutationTables"] = NUTATION_TABLES_SCHEMA
+    nutation_json = schema["paths"]["/v1/bodies/{body}/nutation"]["get"]["responses"]["200"]["content"][
+        "application/json"]
+    nutation_json["schema"] = {"anyOf": [nutation_json["schema"], {"$ref": "#/components/schemas/NutationTables"}]}
+    user = components["UserBody"]
+    user["anyOf"] = [{"required": ["moments"], "properties": {"moments": {"$ref": "#/components/schemas/MomentsIn"}}},
+                     {"required": ["dynamical_ellipticity"], "properties": {"dynamical_ellipticity": {"type": "number"}}}]
+    return schema
 
 
 def finite_json(content) -> Response:

@@ -2,11 +2,14 @@
 from __future__ import annotations
 
 import json
+from typing import Optional
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
+from pydantic import BaseModel, ConfigDict, Field
 from starlette.exceptions import HTTPException as StarletteHTTPException
+from starlette.routing import Match
 
 from ephem.errors import EphemError, InvalidInputError, NotApplicableError, UnknownBodyError
 
@@ -14,16 +17,143 @@ PROBLEM = "application/problem+json"
 TYPE_BASE = "https://ephem.invalid/problems/"  # stable identifiers, not fetched
 
 
-def problem(status: int, kind: str, title: str, detail: str, **extra) -> JSONResponse:
+class FieldError(BaseModel):
+    field: str = Field(description="the input's full path: a query or path parameter (step_days, body) or a "
+                                   "field of the JSON body (orbit.e, track.step_days, moments.A); 'request' for "
+                                   "the body as a whole")
+    reason: str = Field(description="what is wrong with it, and what is accepted")
+
+
+class Problem(BaseModel):
+    """An RFC 9457 problem: every error the service returns (4xx, and 500 should a bug ever show)."""
+    model_config = ConfigDict(extra="allow", json_schema_extra={"examples": [{
+        "type": TYPE_BASE + "invalid-input", "title": "Invalid input", "status": 422,
+        "detail": "user body: orbit.e: eccentricity must satisfy 0 <= e < 1 (bound orbit), got 1.2",
+        "errors": [{"field": "orbit.e", "reason": "eccentricity must satisfy 0 <= e < 1 (bound orbit), got 1.2"}]}]})
+    type: str = Field(description="the kind of problem, a stable identifier (not fetched): " + TYPE_BASE +
+                                  "invalid-input, not-applicable, unknown-body, over-budget, too-large, deadline, "
+                                  "memory, http or internal")
+    title: str = Field(description="short summary of the kind")
+    status: int = Field(ge=400, le=599, description="the HTTP status, repeated")
+    detail: str = Field(description="what was wrong with this request, naming the field")
+    errors: Optional[list[FieldError]] = Field(None, description="invalid-input: one entry per offending field")
+    known_bodies: Optional[list[str]] = Field(None, description="unknown-body: the catalogue's bodies")
+    body: Optional[str] = Field(None, description="not-applicable: the body")
+    reason: Optional[str] = Field(None, description="not-applicable: why the theory does not apply")
+    spin_orbit_ratio: Optional[float] = Field(None, description="not-applicable: spin rate over orbital mean "
+                                                                "motion, when that decided it")
+    min_spin_orbit_ratio: Optional[float] = Field(None, description="not-applicable: the ratio's lower limit")
+    estimated_cpu_s: Optional[float] = Field(None, description="over-budget: the request's estimated CPU time, s")
+    estimated_memory_mb: Optional[float] = Field(None, description="over-budget: its estimated memory, MB")
+    budget_cpu_s: Optional[float] = Field(None, description="over-budget: the CPU budget of a request, s")
+    budget_memory_mb: Optional[float] = Field(None, description="over-budget: the memory budget of a request, MB")
+    estimate: Optional[dict] = Field(None, description="over-budget: the estimate, part by part")
+    deadline_s: Optional[float] = Field(None, description="deadline: the wall-clock deadline of a request, s")
+
+
+def problem(status: int, kind: str, title: str, detail: str, headers: dict | None = None, **extra) -> JSONResponse:
     body = {"type": TYPE_BASE + kind, "title": title, "status": status, "detail": detail, **extra}
-    return JSONResponse(body, status_code=status, media_type=PROBLEM)
+    return JSONResponse(body, status_code=status, media_type=PROBLEM, headers=headers)
 
 
 def _field(loc: tuple) -> str:
-    parts = [str(p) for p in loc]
-    if parts and parts[0] in ("body", "query", "path"):
+    """The full dotted path of a pydantic error location: ('body', 'orbit', 'e') -> 'orbit.e',
+    ('body', 'moments', 'A') -> 'moments.A', ('query', 'step_days') -> 'step_days'. Union members
+    (pydantic adds the member's type: ('body', 'track', 'start', 'float')) and list indices stay out
+    of the way: 'track.start', 'errors[0]'."""
+    parts = [p for p in loc]
+    if parts and parts[0] in ("body", "query", "path", "header", "cookie"):
         parts = parts[1:]
-    return ".".join(parts) or "request"
+    out = ""
+    for p in parts:
+        if isinstance(p, int):
+            out += f"[{p}]"
+        elif isinstance(p, str) and _is_type_tag(p):
+            continue
+        else:
+            out += ("." if out else "") + str(p)
+    return out or "request"
+
+
+_TYPE_TAGS = {"float", "int", "str", "bool", "none", "list", "dict", "function-after", "function-before",
+              "function-wrap", "function-plain", "literal", "union", "tagged-union", "json-or-python"}
+
+
+def _is_type_tag(part: str) -> bool:
+    # pydantic names the union member it tried: 'float', 'str', "literal['a','b']", 'function-after[...]'
+    head = part.split("[", 1)[0]
+    return head in _TYPE_TAGS or head.startswith("lax-")
+
+
+_STANDARD = {
+    400: "the body is not JSON",
+    404: "unknown body: the problem lists the known ones (known_bodies)",
+    413: "request body too large (EPHEM_MAX_BODY_BYTES, default 65 536 bytes)",
+    422: "invalid input, naming each field in `errors` (type invalid-input), or not applicable, with the reason "
+         "(type not-applicable)",
+    500: "internal error: a bug, reported as a problem (never a bare 500, never NaN)",
+    503: "the request ran past its deadline or the worker's memory ceiling and was stopped (deadline, memory): "
+         "ask for less",
+}
+
+
+def document(schema: dict) -> dict:
+    """Describe the problem+json error responses in an OpenAPI document, in place.
+
+    Every operation gets 422 and 503 (when it takes input), 404 (when its path names a body), 400 and
+    413 (when it takes a JSON body) and 500, each ``application/problem+json`` with the ``Problem`` schema; a
+    description a route gave for the status is kept. FastAPI's own ``HTTPValidationError`` (a JSON
+    shape the service never sends: validation errors are problems too) is dropped.
+    """
+    components = schema.setdefault("components", {}).setdefault("schemas", {})
+    defs = Problem.model_json_schema(ref_template="#/components/schemas/{model}")
+    components.update(defs.pop("$defs", {}))
+    components["Problem"] = defs
+    content = {PROBLEM: {"schema": {"$ref": "#/components/schemas/Problem"}}}
+    for path, item in schema.get("paths", {}).items():
+        for method, op in item.items():
+            if method not in ("get", "put", "post", "delete", "patch", "head", "options"):
+                continue
+            responses = op.setdefault("responses", {})
+            codes = [500]
+            if op.get("parameters") or op.get("requestBody"):
+                codes += [422, 503]
+            if "{body}" in path:
+                codes.append(404)
+            if op.get("requestBody"):
+                codes += [400, 413]
+            codes += [int(c) for c in responses if c[0] in "45" and int(c) not in codes]   # a route's own
+            for code in sorted(codes):
+                given = responses.get(str(code), {})
+                responses[str(code)] = {"description": given.get("description") or _STANDARD.get(code, "an error"),
+                                        "content": content}
+    text = json.dumps(schema.get("paths", {}))
+    for name in ("HTTPValidationError", "ValidationError"):
+        if f"#/components/schemas/{name}" not in text:
+            components.pop(name, None)
+    return schema
+
+
+#: (method, route path) -> {the library's field name: the request's field path}, for routes whose input
+#: nests the library's arguments (the POST's track object): an error names the field as the client wrote it
+FIELD_PATHS: dict[tuple[str, str], dict[str, str]] = {}
+
+
+def _request_field(request: Request, field: str) -> str:
+    route = request.scope.get("route")
+    paths = FIELD_PATHS.get((request.method, getattr(route, "path", "")), {})
+    if field in paths:
+        return paths[field]
+    head, dot, rest = field.partition(".")
+    return paths[head] + dot + rest if dot and head in paths else field
+
+
+def _allowed_methods(request: Request) -> list[str]:
+    methods: set[str] = set()
+    for route in request.app.router.routes:
+        if getattr(route, "methods", None) and route.matches(request.scope)[0] is not Match.NONE:
+            methods |= set(route.methods)
+    return sorted(methods)
 
 
 def install(app: FastAPI) -> None:
@@ -38,8 +168,9 @@ def install(app: FastAPI) -> None:
 
     @app.exception_handler(InvalidInputError)
     async def invalid_input(request: Request, exc: InvalidInputError):
-        return problem(422, "invalid-input", "Invalid input", str(exc),
-                       errors=[{"field": exc.field, "reason": exc.reason}])
+        field = _request_field(request, exc.field)
+        detail = f"{exc.body}: {field}: {exc.reason}" if exc.body else f"{field}: {exc.reason}"
+        return problem(422, "invalid-input", "Invalid input", detail, errors=[{"field": field, "reason": exc.reason}])
 
     @app.exception_handler(EphemError)
     async def other_ephem(request: Request, exc: EphemError):
@@ -47,15 +178,30 @@ def install(app: FastAPI) -> None:
 
     @app.exception_handler(RequestValidationError)
     async def validation(request: Request, exc: RequestValidationError):
-        errors = [{"field": _field(tuple(e.get("loc", ()))), "reason": e.get("msg", "invalid")}
-                  for e in exc.errors()]
+        merged: dict[str, list[str]] = {}     # a union's members each report: one entry per field
+        for e in exc.errors():
+            field, reason = _field(tuple(e.get("loc", ()))), e.get("msg", "invalid")
+            if e.get("type") == "json_invalid":   # loc is ('body', character position)
+                field = "request"
+                reason = (f"the body is not valid JSON: {(e.get('ctx') or {}).get('error', 'decode error')} "
+                          f"(character {e.get('loc', ('', '?'))[-1]})")
+            reasons = merged.setdefault(field, [])
+            if reason not in reasons:
+                reasons.append(reason)
+        errors = [{"field": f, "reason": " or ".join(r)} for f, r in merged.items()]
         detail = "; ".join(f"{e['field']}: {e['reason']}" for e in errors)
         return problem(422, "invalid-input", "Invalid input", detail, errors=json.loads(json.dumps(errors, default=str)))
 
     @app.exception_handler(StarletteHTTPException)
     async def http_error(request: Request, exc: StarletteHTTPException):
-        titles = {404: "Not found", 405: "Method not allowed", 413: "Request body too large"}
-        return problem(exc.status_code, "http", titles.get(exc.status_code, "HTTP error"), str(exc.detail))
+        titles = {400: "Bad request", 404: "Not found", 405: "Method not allowed", 413: "Request body too large"}
+        headers = dict(exc.headers) if exc.headers else {}      # keep starlette's headers (Allow, ...)
+        if exc.status_code == 405:
+            # RFC 9110 15.5.6: Allow lists every method of the resource; starlette names only the first route
+            # matching the path (here GET /healthz and HEAD /healthz are two routes)
+            headers["Allow"] = ", ".join(_allowed_methods(request)) or headers.get("Allow", "")
+        return problem(exc.status_code, "http", titles.get(exc.status_code, "HTTP error"), str(exc.detail),
+                       headers=headers or None)
 
     @app.exception_handler(Exception)
     async def unexpected(request: Request, exc: Exception):  # pragma: no cover - a bug if it ever runs

@@ -1,6 +1,29 @@
-import pytest
+"""Settings every test process shares, and shared fixtures.
 
-from ephem.catalogue import Body, Orbit, Pole
+* One BLAS/OpenMP thread per process, set before numpy loads its BLAS. The suite runs under
+  ``pytest -n 2`` (one process per core): a multi-threaded BLAS in each worker oversubscribes the
+  cores, and on a many-core host given two CPUs (a container, a CI runner) OpenBLAS starts one
+  thread per *host* core in each worker. The large least-squares fits (tests/test_lunisolar.py)
+  then run 5-50 times slower. An explicit setting in the environment wins.
+* Hypothesis is derandomized (the same examples on every machine and every run), keeps no example
+  database (nothing written, nothing replayed from an earlier run) and has no deadline (timings
+  differ between machines; the tests that care measure their own cost). Tests set their own
+  ``max_examples``. ``HYPOTHESIS_PROFILE=explore`` draws fresh random examples for a local hunt.
+"""
+import os
+
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS",
+             "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import pytest  # noqa: E402
+from hypothesis import settings  # noqa: E402
+
+from ephem.catalogue import Body, Orbit, Pole  # noqa: E402
+
+settings.register_profile("ephem", derandomize=True, database=None, deadline=None)
+settings.register_profile("explore", derandomize=False, database=None, deadline=None)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ephem"))
 
 
 @pytest.fixture

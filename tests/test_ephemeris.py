@@ -25,6 +25,8 @@ def test_planet_path_is_skyfields_geometric_sun_vector(name, key):
     err = np.linalg.norm(path.position(jd) - ref, axis=1) / np.linalg.norm(ref, axis=1)
     assert err.max() < E.FIT_TOLERANCE
     scalar = np.array([path.position_scalar(t) for t in jd[:200]])
+    # the same fitted polynomials summed by the scalar and the vector code: a few ulp of |r| <= 1.7 au
+    # (ulp 2.2e-16); 1e-14 au = 45 ulp (measured 7e-16)
     assert np.abs(scalar - path.position(jd[:200])).max() < 1e-14
 
 

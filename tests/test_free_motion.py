@@ -23,6 +23,8 @@ def test_exact_and_numerical_solutions_agree(name, J_arcsec, days):
     numeric = free_motion(get_body(name), t, J_arcsec, "numeric")
     gap = np.max(np.linalg.norm(offsets(exact) - offsets(numeric), axis=1))
     assert gap < 1e-8 * exact["J_arcsec"] + 1e-9, gap
+    # at t0 the exact solution returns the J it was started with, through atan2 of rounded components: a few ε
+    # relative to J (the components scale with sin J), so 1e-12 even for a 1" wobble
     assert exact["wobble_angle_J_arcsec"][0] == pytest.approx(exact["J_arcsec"], rel=1e-12)
 
 
@@ -102,4 +104,6 @@ def test_from_andoyer_keeps_an_arcsecond_wobble_exact():
     J = 0.1 * math.pi / 648000.0
     rot = FreeRotation.from_andoyer((0.9942917, 0.9949813, 1.0), 6.1, J, 0.3, mu=0.2)
     f = rot.attitude(np.array([0.0]))[0][2]          # the C axis in inertial coordinates; L along +z
+    # f[0], f[1] = sin J (sin μ, cos μ)-like products in which the other terms are exact zeros (the
+    # invariable frame is the inertial one here), so J comes back to a few ε of itself: 1e-12 relative
     assert math.atan2(math.hypot(f[0], f[1]), f[2]) == pytest.approx(J, rel=1e-12)

@@ -34,6 +34,8 @@ def test_the_published_amplitude_is_the_largest_offset_over_a_wobble(name):
     first = free_motion(body, np.array([J2000]))
     t = J2000 + np.linspace(0.0, first["wobble_period_days"], 2001)
     opening = free_motion(body, t)["wobble_angle_J_arcsec"]
+    # the grid starts at ν = 0, where J = J0 (measured: 1-2 ε); elsewhere J is smaller. rel 1e-9 leaves room
+    # for a grid that would straddle the maximum (J is stationary there: (π/2000)² x its small variation)
     assert np.max(opening) == pytest.approx(free_wobble_bound(body) / ARCSEC, rel=1e-9)
     A, B, C = (x / body.moments[2] for x in body.moments)
     j0 = free_wobble_bound(body)
@@ -90,6 +92,7 @@ def test_the_phase_is_the_position_angle_from_north_through_east():
     L = SkyCoord(momentum["pole_ra_deg"][0], momentum["pole_dec_deg"][0], unit="deg")
     f = SkyCoord(ans["pole_ra_deg"][0], ans["pole_dec_deg"][0], unit="deg")
     assert L.position_angle(f).deg == pytest.approx(250.0, abs=1e-6)
+    # 55" from RA/Dec served in degrees (ulp 5.7e-14°, 2e-10") and astropy's separation: rel 1e-9 = 5.5e-8"
     assert L.separation(f).arcsec == pytest.approx(55.0, rel=1e-9)
 
 

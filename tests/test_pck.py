@@ -116,6 +116,8 @@ def test_kernel_text_and_pool_contents(furnish):
     assert len(_pool(2000004, "POLE_RA", 3)) == 3
     assert len(_pool(2000004, "POLE_DEC", 3)) == 3
     pm = _pool(2000004, "PM", 3)
+    # written with 17 significant digits and read back by SPICE's parser (1 ulp off at worst) after two
+    # roundings of our own: rel 1e-15 = 4.5 ε
     assert pm[1] == pytest.approx(360.0 / (api.resolve_body("Vesta").rotation_period_hours / 24.0), rel=1e-15)
     n_ra = len(_pool(2000004, "NUT_PREC_RA", 200))
     n_dec = len(_pool(2000004, "NUT_PREC_DEC", 200))
@@ -154,6 +156,8 @@ def test_earth_is_fitted_in_eclipj2000(furnish):
     f = r.bodies[0]
     assert f.frame == "ECLIPJ2000" and f.angles_owner == 3 and f.model["name"] == "hansen"
     assert spice.gipool("BODY3_CONSTANTS_REF_FRAME", 0, 1)[0] == spice.irfnum("ECLIPJ2000") == 17
+    # the same rotation by the IAU 1976 obliquity: cos and sin of it in SPICE and here, an ulp or two of
+    # entries <= 1 (measured: identical); 1e-15 = 4.5 ε
     assert np.allclose(spice.pxform("J2000", "ECLIPJ2000", 0.0), pck.FRAME_FROM_J2000["ECLIPJ2000"],
                        rtol=0.0, atol=1e-15)
     assert 0.0 < f.fit_error_mas <= 1.0

@@ -65,6 +65,8 @@ def test_replica_reproduces_the_public_answers(dataset, name, order):
     st = _setup(name, dataset, order, None, None)
     scalars, terms = _public_numbers(name, dataset, order)
     ours = st.y0[:len(SCALAR_KEYS)]
+    # the replica recomputes the model's formulas (measured: within 4.4e-4 of this bound, i.e. 2 ε); 1e-12
+    # covers ~10 roundings amplified by the outputs' condition number (≲ 400, as in tests/test_earth_api.py)
     np.testing.assert_allclose(ours, scalars, rtol=1e-12, atol=0)
     ours_terms = st.y0[len(SCALAR_KEYS):].reshape(-1, len(TERM_KEYS))
     assert ours_terms.shape[0] == terms.shape[0]
@@ -89,6 +91,9 @@ def test_replica_follows_the_model_for_perturbed_inputs(dataset, name):
         x[j] += deltas[inp.key]
         ours = st.replica.outputs(x, None)
         scalars, terms = _public_numbers(moved, dataset, None)
+        # the moved input reaches the two routes by different arithmetic (ε relative, times the outputs'
+        # sensitivity: 1e-10), and the half peak-to-peak values come from the replica's own search for the
+        # extrema: they differ by up to 3e-9 arcsec when e moves (measured; 1e-8 arcsec)
         np.testing.assert_allclose(ours[:len(SCALAR_KEYS)], scalars, rtol=1e-10, atol=1e-8, err_msg=inp.key)
         ours_terms = ours[len(SCALAR_KEYS):].reshape(-1, len(TERM_KEYS))[:, :5]
         common = min(len(ours_terms), len(terms))   # a moved e may add or drop a term below 1e-14 rad
@@ -221,6 +226,7 @@ def test_contributions_add_in_quadrature_and_name_the_dominant_input():
     r = propagate(body, uncertainties=SYNTHETIC)
     for key in SCALAR_KEYS:
         c = r["contributions"][key]
+        # the same sum of squares in another order: a few ε (12 inputs); 1e-12
         assert math.sqrt(sum(v * v for v in c.values())) == pytest.approx(r[f"{key}_uncertainty"], rel=1e-12)
         assert r["dominant_input"][key] == max(c, key=lambda k: abs(c[k]))
     # sensitivities are per catalogue unit: contribution = sensitivity × σ
@@ -239,9 +245,11 @@ def test_step_size_does_not_matter():
     sig = np.array([i.sigma * i.factor for i in st.inputs])
     c1, c2 = unc._jacobian(st, which) * sig, unc._jacobian(st, which, step_scale=2.0) * sig
     s1 = np.sqrt((c1**2).sum(axis=1))
-    # against each output's σ; the last harmonics (< 1e-9 arcsec) carry the FFT round-off of their
-    # Hansen coefficients, divided by the step in e: skip outputs whose σ is below 1e-9 arcsec
-    big = s1 > 1e-9
+    # against each output's σ. Every contribution also carries the FFT round-off of the Hansen coefficients
+    # divided by the step (σ/100): measured 4-5e-15 arcsec, the amount varying by 30% with the CPU's SIMD
+    # path, so that outputs with σ ~ 7e-9 arcsec (the last harmonics) reached 0.6-0.75 of the 1e-6 below.
+    # Keep the outputs whose σ exceeds 1e-7 arcsec, 2e7 times that noise (66 of Vesta's 90; measured 1e-8).
+    big = s1 > 1e-7
     assert big.sum() > 40
     assert np.max(np.abs(c1 - c2)[big] / s1[big, None]) < 1e-6
 
