@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from typing import Literal, Optional, Union
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 # strict: JSON true is not a number, nor "2.36" (a string) one; JSON integers are still numbers
 Finite = ConfigDict(allow_inf_nan=False, extra="forbid", strict=True)
@@ -236,8 +236,16 @@ class UserBody(BaseModel):
     rotation_period_hours: float
     moments: Optional[MomentsIn] = None
     dynamical_ellipticity: Optional[float] = None
-    order: Optional[int] = Field(None, ge=0, le=30, description="e-power order of the Hansen coefficients "
-                                                                 "(0 to 30); omit for exact")
+    # not strict: JSON Schema counts 22.0 as an integer; a boolean is still refused (below)
+    order: Optional[int] = Field(None, ge=0, le=30, strict=False, description="e-power order of the Hansen "
+                                 "coefficients (0 to 30); omit for exact")
+
+    @field_validator("order", mode="before")
+    @classmethod
+    def _order_is_no_boolean(cls, v):
+        if isinstance(v, bool):
+            raise ValueError("an integer is expected, not a boolean")
+        return v
     track: Optional[TrackIn] = None
 
 

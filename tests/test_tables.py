@@ -121,7 +121,7 @@ def test_every_format_carries_the_same_numbers(vesta, layout):
         for key, values in got.items():
             for column, value in values.items():
                 places = {"amp_mas": 2, "period_days": 4}.get(column, 4) if layout == "amp-period" else 4
-                exact = fmt in ("csv", "json")
+                exact = fmt in ("csv", "json")   # they print repr(), which reads back to the same double
                 assert value == pytest.approx(rows[key][column], abs=0 if exact else 0.51 * 10.0**-places), \
                     (fmt, key, column)
 
@@ -142,6 +142,7 @@ def test_amp_columns_agree_between_layouts(vesta):
     a = {(r["component"], r["multiple"]): r for r in table_rows(vesta, "sin-cos")}
     b = {(r["component"], r["multiple"]): r for r in table_rows(vesta, "amp-period")}
     for key in a:
+        # one scaling by 1000 or 365.25 and a product on each side: ≤ 4 roundings, rel 1e-15 = 4.5 ε
         assert b[key]["amp_mas"] * MAS == pytest.approx(a[key]["amp_arcsec"] * 1000 * MAS, rel=1e-15)
         assert b[key]["period_days"] / 365.25 == pytest.approx(a[key]["period_years"], rel=1e-15)
 
@@ -236,7 +237,7 @@ def test_earth_tables_carry_the_arguments_in_every_format(earth, layout):
                 assert values.pop("k") == [rows[key][c] for c in DELAUNAY_COLUMNS]
             for column, value in values.items():
                 places = {"amp_mas": 2, "period_days": 4}.get(column, 4)
-                exact = fmt in ("csv", "json")
+                exact = fmt in ("csv", "json")   # they print repr(), which reads back to the same double
                 assert value == pytest.approx(rows[key][column], abs=0 if exact else 0.51 * 10.0**-places)
         if fmt == "latex":
             assert latex_problems(text) == []
