@@ -1,9 +1,10 @@
 """Times at the boundary: ISO 8601 (UTC unless a scale is named) or Julian dates (TDB).
 
-Accepted forms (astropy ``Time`` parses them):
-- a number or ``"2451545.0"`` or ``"JD2451545.0"``: a Julian date in TDB;
-- ``"2020-01-01"``, ``"2020-01-01T12:00:00"``: ISO 8601 in UTC;
-- ``"2020-01-01T12:00:00 TDB"`` (or TT, TAI, TCB, TCG, UTC, UT1): ISO 8601 in the named scale;
+Accepted forms (text exactly as :data:`TIME_PATTERN` states, which the service's OpenAPI document
+publishes; astropy ``Time`` parses the ISO forms):
+- a number, or digits ``"2451545.0"``, ``"JD2451545.0"``: a Julian date in TDB, in (0, 1e7);
+- ``"2020-01-01"``, ``"2020-01-01T12:00:00"``, ``"2020-01-01 12:00"``, ``"2020-01-01T12:00Z"``: ISO 8601 in UTC;
+- ``"2020-01-01T12:00:00 TDB"`` (or TT, TAI, TCB, TCG, UTC, UT1, any case): ISO 8601 in the named scale;
 - an astropy ``Time`` (any scale: its TDB Julian date).
 
 Nothing here touches the network. UT1 needs UT1 - UTC, which comes from the IERS tables that ship

@@ -395,7 +395,8 @@ BODY_RULES = {
     ("MomentsIn", "A"): _POSITIVE, ("MomentsIn", "B"): _POSITIVE, ("MomentsIn", "C"): _POSITIVE,
     ("UserBody", "rotation_period_hours"): {"minimum": MIN_ROTATION_PERIOD_HOURS},
     ("UserBody", "dynamical_ellipticity"): {"exclusiveMinimum": 0, "maximum": 0.5},
-    ("TrackIn", "start"): {"pattern": TIME_PATTERN_ECMA, **_JD}, ("TrackIn", "stop"): {"pattern": TIME_PATTERN_ECMA, **_JD},
+    ("TrackIn", "start"): {"pattern": TIME_PATTERN_ECMA, **_JD},
+    ("TrackIn", "stop"): {"pattern": TIME_PATTERN_ECMA, **_JD},
     ("TrackIn", "free_wobble_epoch"): {"pattern": TIME_PATTERN_ECMA, **_JD}, ("TrackIn", "step_days"): _POSITIVE,
 }
 
@@ -521,8 +522,9 @@ def _document_rules(schema: dict, settings: Settings) -> dict:
         "application/json"]
     nutation_json["schema"] = {"anyOf": [nutation_json["schema"], {"$ref": "#/components/schemas/NutationTables"}]}
     user = components["UserBody"]
-    user["anyOf"] = [{"required": ["moments"], "properties": {"moments": {"$ref": "#/components/schemas/MomentsIn"}}},
-                     {"required": ["dynamical_ellipticity"], "properties": {"dynamical_ellipticity": {"type": "number"}}}]
+    user["anyOf"] = [    # moments or dynamical_ellipticity, not null
+        {"required": ["moments"], "properties": {"moments": {"$ref": "#/components/schemas/MomentsIn"}}},
+        {"required": ["dynamical_ellipticity"], "properties": {"dynamical_ellipticity": {"type": "number"}}}]
     return schema
 
 

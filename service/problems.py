@@ -190,7 +190,8 @@ def install(app: FastAPI) -> None:
                 reasons.append(reason)
         errors = [{"field": f, "reason": " or ".join(r)} for f, r in merged.items()]
         detail = "; ".join(f"{e['field']}: {e['reason']}" for e in errors)
-        return problem(422, "invalid-input", "Invalid input", detail, errors=json.loads(json.dumps(errors, default=str)))
+        return problem(422, "invalid-input", "Invalid input", detail,
+                       errors=json.loads(json.dumps(errors, default=str)))
 
     @app.exception_handler(StarletteHTTPException)
     async def http_error(request: Request, exc: StarletteHTTPException):

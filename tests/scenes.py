@@ -1,5 +1,8 @@
-"""Synthetic bodies for the tests: a pole at a chosen obliquity on a chosen orbit."""
+"""Shared helpers for the tests: synthetic bodies (a pole at a chosen obliquity on a chosen orbit), and a
+cap on the memory a property sweep may take."""
+import contextlib
 import math
+import os
 
 from ephem.catalogue import Body, Orbit, Pole
 from ephem.geometry import ecliptic_to_icrf
@@ -14,3 +17,30 @@ def synthetic_body(e=0.1, obliquity_deg=30.0, hd=0.1, period_hours=5.0, a_au=2.0
     dec = math.degrees(math.atan2(pole[2], math.hypot(pole[0], pole[1])))  # exact near the poles, unlike asin
     return Body(name, Orbit(a_au, e, 0.0, 0.0, peri_deg, mean_anomaly_deg, 2451545.0), Pole(ra, dec),
                 period_hours, dynamical_ellipticity=None if moments else hd, moments=moments)
+
+
+@contextlib.contextmanager
+def address_space_cap(extra: int):
+    """Cap this process's address space (Linux RLIMIT_AS) at its present size plus ``extra`` bytes.
+
+    For sweeps over the whole valid domain (Hypothesis): a runaway allocation then fails as a MemoryError
+    that names the example, instead of the OOM killer taking the worker (or the machine). Elsewhere, or
+    when a tighter cap is already set, it does nothing.
+    """
+    try:
+        import resource
+        with open("/proc/self/statm") as fh:
+            size = int(fh.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
+    except (ImportError, OSError, ValueError):
+        yield
+        return
+    soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+    cap = size + extra if hard == resource.RLIM_INFINITY else min(size + extra, hard)
+    if soft != resource.RLIM_INFINITY and soft <= cap:
+        yield
+        return
+    resource.setrlimit(resource.RLIMIT_AS, (cap, hard))
+    try:
+        yield
+    finally:
+        resource.setrlimit(resource.RLIMIT_AS, (soft, hard))

@@ -14,7 +14,7 @@ from ephem.rigid import RECOMMENDED_MIN_SPIN_ORBIT_RATIO, compare_with_averaged,
 from ephem.hansen import LAPLACE_LIMIT
 from ephem.ladder import RUNGS, Ladder, cached_model, pole_vectors, truncation_bound
 from ephem.numerical import angular_separation
-from scenes import synthetic_body
+from scenes import address_space_cap, synthetic_body
 
 YEAR = JULIAN_YEAR_DAYS
 
@@ -164,6 +164,8 @@ def test_a_sphere_feels_no_torque_and_its_pole_stays_put():
     assert body.hd == 0.0
     for rung in ("secular", "hansen", "second_order", "numerical"):
         tr = Ladder(body).track(rung, 2451545.0 + np.linspace(0.0, 50 * YEAR, 20))
+        # no torque: every epoch gets the same operations on the same numbers (a zero rate, zero terms,
+        # a zero derivative), so the pole is bit-identical by construction
         assert np.ptp(tr.pole_ra) == 0.0 and np.ptp(tr.pole_dec) == 0.0, rung
     ans = api.track(body, "2000-01-01", "2050-01-01", 365.25, tolerance_mas=1e-3)
     assert ans["model"]["estimated_error_mas"] < 1e-3
@@ -192,10 +194,12 @@ def test_extreme_orbits_and_spins_give_finite_answers_or_clear_errors(a_au, peri
 
 @st.composite
 def requests(draw):
-    body = synthetic_body(e=draw(st.floats(0.0, 0.95)), obliquity_deg=draw(st.floats(1e-4, 179.9999)),
-                          hd=draw(st.floats(1e-9, 0.5)), period_hours=draw(st.floats(0.01, 2000.0)),
-                          a_au=draw(st.floats(0.05, 100.0)), node_of_equator_deg=draw(st.floats(0, 360)),
-                          peri_deg=draw(st.floats(0, 360)), mean_anomaly_deg=draw(st.floats(0, 360)))
+    # the body's inputs, built in the test: a constructor's refusal (e.g. a pericentre inside the Sun at
+    # a = 0.05 au, e > 0.91) is a clear error too, not a failure of the strategy
+    body = dict(e=draw(st.floats(0.0, 0.95)), obliquity_deg=draw(st.floats(1e-4, 179.9999)),
+                hd=draw(st.floats(1e-9, 0.5)), period_hours=draw(st.floats(0.01, 2000.0)),
+                a_au=draw(st.floats(0.05, 100.0)), node_of_equator_deg=draw(st.floats(0, 360)),
+                peri_deg=draw(st.floats(0, 360)), mean_anomaly_deg=draw(st.floats(0, 360)))
     years = draw(st.floats(0.01, 300.0))
     choice = draw(st.one_of(st.floats(1e-6, 1e6).map(lambda x: ("tolerance", x)),
                             st.sampled_from([r for r in RUNGS if r not in ("series", "numerical", "real_orbit")])
@@ -205,10 +209,11 @@ def requests(draw):
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(requests())
-def test_no_nan_or_infinity_ever_reaches_an_output(request):
-    body, years, (kind, value) = request
+def _no_nan_or_infinity_ever_reaches_an_output(request):
+    inputs, years, (kind, value) = request
     kwargs = {"tolerance_mas": value} if kind == "tolerance" else {"model": value}
     try:
+        body = synthetic_body(**inputs)
         ans = api.track(body, 2451545.0, 2451545.0 + years * YEAR, years * YEAR / 50, **kwargs)
     except EphemError as exc:
         assert str(exc)
@@ -216,3 +221,9 @@ def test_no_nan_or_infinity_ever_reaches_an_output(request):
     for key in api.TRACK_KEYS:
         assert np.all(np.isfinite(ans[key])), key
     assert math.isfinite(ans["model"]["estimated_error_mas"]) and math.isfinite(ans["model"]["cost_ms"])
+
+
+def test_no_nan_or_infinity_ever_reaches_an_output():
+    # e up to 0.95: up to 4000 harmonics per body (tests/test_properties.py): capped, derandomized
+    with address_space_cap(2 << 30):
+        _no_nan_or_infinity_ever_reaches_an_output()

@@ -1,8 +1,6 @@
 """Property sweep over the valid domain: an answer is finite numbers or a clear error, never NaN."""
-import contextlib
 import json
 import math
-import os
 
 import pytest
 from hypothesis import HealthCheck, example, given, settings
@@ -11,6 +9,7 @@ from hypothesis import strategies as st
 from ephem import api
 from ephem.catalogue import Body, Orbit, Pole
 from ephem.errors import EphemError, NotApplicableError
+from scenes import address_space_cap
 
 #: Address space the sweep may add to the process. The costliest bodies are the most eccentric: at
 #: e = 0.95 the exact Hansen coefficients run to k = 3974 harmonics and one body takes ~300 MB at
@@ -19,28 +18,6 @@ from ephem.errors import EphemError, NotApplicableError
 #: drawn, once grew a worker to 24 GB until the OOM killer took it; under this cap that fails here
 #: as a MemoryError naming the example.
 HEADROOM_BYTES = 2 << 30
-
-
-@contextlib.contextmanager
-def address_space_cap(extra: int):
-    """Cap this process's address space (Linux RLIMIT_AS) at its present size plus ``extra`` bytes."""
-    try:
-        import resource
-        with open("/proc/self/statm") as fh:
-            size = int(fh.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
-    except (ImportError, OSError, ValueError):     # not Linux: no cap, the sweep still runs
-        yield
-        return
-    soft, hard = resource.getrlimit(resource.RLIMIT_AS)
-    cap = size + extra if hard == resource.RLIM_INFINITY else min(size + extra, hard)
-    if soft != resource.RLIM_INFINITY and soft <= cap:   # already capped tighter by someone else
-        yield
-        return
-    resource.setrlimit(resource.RLIMIT_AS, (cap, hard))
-    try:
-        yield
-    finally:
-        resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
 
 
 @st.composite

@@ -11,6 +11,7 @@ from fastapi.testclient import TestClient
 from hypothesis import given, settings, strategies as st
 
 from ephem.catalogue import get_body, resolve_perturbers
+from ephem.constants import JD_RANGE
 from ephem.errors import InvalidInputError, NotApplicableError
 from ephem.timeparse import TIME_PATTERN, TIME_PATTERN_ECMA, to_jd_tdb, ut1_span
 from service.app import BODY_RULES, OPERATION_RULES, PARAMETER_RULES, PERTURBERS_PATTERN, create_app
@@ -92,6 +93,7 @@ def test_every_rule_is_stated_where_it_applies():
 # ---- the time grammar: the document's pattern is the parser's, so the two cannot disagree
 
 def test_the_documented_time_pattern_is_the_parsers():
+    assert JD_RANGE == (0.0, 1e7)      # the pattern's Julian dates (up to 7 digits, not 0) are written for it
     assert TIME_PATTERN_ECMA == re.sub(r"\(\?P<[a-z]+>", "(", TIME_PATTERN)
     assert "(?P<" not in TIME_PATTERN_ECMA and "\\d" not in TIME_PATTERN_ECMA and "\\s" not in TIME_PATTERN_ECMA
 
@@ -160,7 +162,8 @@ USER = {"orbit": {"a_au": 2.36, "e": 0.089, "i_deg": 7.14, "node_deg": 103.7, "p
 
 @pytest.mark.parametrize("section, field, value", [
     ("orbit", "a_au", 0.0), ("orbit", "e", 1.0), ("orbit", "e", -0.01), ("orbit", "i_deg", 180.5),
-    ("orbit", "i_deg", -1.0), ("pole", "dec_deg", 90.5), ("moments", "A", 0.0), (None, "rotation_period_hours", 5e-5), ("orbit", "epoch_jd_tdb", 0.0),
+    ("orbit", "i_deg", -1.0), ("pole", "dec_deg", 90.5), ("moments", "A", 0.0),
+    (None, "rotation_period_hours", 5e-5), ("orbit", "epoch_jd_tdb", 0.0), ("pole", "epoch_jd_tdb", 1e7),
     ("track", "step_days", 0.0), ("track", "start", 0.0), ("track", "stop", 1e7), ("track", "start", "2020-01-01Q"),
 ])
 def test_a_value_outside_a_documented_bound_is_refused_naming_the_field(client, section, field, value):

@@ -10,7 +10,8 @@
   `make test` on a fresh clone) therefore never run `python -m venv` or pip on the same venv at
   once: the second waits for the first and then finds a complete venv. (The lock file lives in
   the venv directory, which is never removed, only emptied, so the lock stays valid; the kernel
-  drops the lock when its holder dies, so a crash leaves no stale lock.)
+  drops the lock when its holder dies, so a crash leaves no stale lock. The `python -m venv` and
+  pip children hold it too: a pip left running by a killed bootstrap still keeps others out.)
 * **Complete or redone.** A stamp file `<venv>/.bootstrap-stamp`, holding a hash of what was
   installed (the lock file, pyproject.toml, the install command, the Python version), is written
   only after every install step has succeeded. Before touching the venv the script writes
@@ -36,7 +37,6 @@ import shutil
 import subprocess
 import sys
 import time
-import venv
 from pathlib import Path
 
 try:
@@ -134,9 +134,18 @@ def acquire(env: Path):
     return f
 
 
+def run(cmd: list[str], held) -> None:
+    """Run cmd holding the lock too (the child inherits the locked file description): if this
+    script is killed alone, a pip still writing into the venv keeps the others waiting."""
+    r = subprocess.run(cmd, cwd=ROOT, pass_fds=(held.fileno(),) if fcntl else ())
+    if r.returncode:
+        raise SystemExit(f"bootstrap_venv: failed ({r.returncode}): {' '.join(cmd)}\n"
+                         "bootstrap_venv: the venv is marked incomplete; the next run rebuilds it")
+
+
 def bootstrap(env: Path, lock: Path, extras: str, fresh: bool) -> None:
     env.mkdir(parents=True, exist_ok=True)
-    with acquire(env):
+    with acquire(env) as held:
         stamp_file, marker = env / STAMP_NAME, env / INCOMPLETE_NAME
         want = expected_stamp(lock, extras)
         py = venv_python(env)
@@ -159,7 +168,7 @@ def bootstrap(env: Path, lock: Path, extras: str, fresh: bool) -> None:
             marker.touch()
             empty_dir_but_lock(env)  # removes the marker too: write it again before anything else
             marker.touch()
-            venv.EnvBuilder(with_pip=True, symlinks=os.name != "nt").create(env)
+            run([sys.executable, "-m", "venv", str(env)], held)
         else:
             why = "its stamp is from another lock or pyproject.toml" if have else "it has no stamp"
             say(f"updating {env} in place ({why})")
@@ -168,10 +177,7 @@ def bootstrap(env: Path, lock: Path, extras: str, fresh: bool) -> None:
 
         say(f"installing the project ('.[{extras}]') with the versions of {lock.name}")
         for cmd in install_commands(py, lock, extras):
-            r = subprocess.run(cmd, cwd=ROOT)
-            if r.returncode:
-                raise SystemExit(f"bootstrap_venv: failed ({r.returncode}): {' '.join(cmd)}\n"
-                                 f"bootstrap_venv: {env} is marked incomplete; the next run rebuilds it")
+            run(cmd, held)
         tmp = stamp_file.with_name(STAMP_NAME + ".tmp")
         tmp.write_text(want + "\n")
         os.replace(tmp, stamp_file)  # the stamp appears whole, and only now
