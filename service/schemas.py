@@ -1,9 +1,9 @@
 """Pydantic schemas: the JSON contract of the routes (units in the key names)."""
 from __future__ import annotations
 
-from typing import Literal, Optional, Union
+from typing import Annotated, Literal, Optional, Union
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 
 # strict: JSON true is not a number, nor "2.36" (a string) one; JSON integers are still numbers
 Finite = ConfigDict(allow_inf_nan=False, extra="forbid", strict=True)
@@ -236,16 +236,10 @@ class UserBody(BaseModel):
     rotation_period_hours: float
     moments: Optional[MomentsIn] = None
     dynamical_ellipticity: Optional[float] = None
-    # not strict: JSON Schema counts 22.0 as an integer; a boolean is still refused (below)
-    order: Optional[int] = Field(None, ge=0, le=30, strict=False, description="e-power order of the Hansen "
-                                 "coefficients (0 to 30); omit for exact")
-
-    @field_validator("order", mode="before")
-    @classmethod
-    def _order_is_no_boolean(cls, v):
-        if isinstance(v, bool):
-            raise ValueError("an integer is expected, not a boolean")
-        return v
+    # JSON Schema counts 22.0 as an integer: an integral float is taken as one; "4" and true stay refused
+    order: Optional[Annotated[int, Field(ge=0, le=30), BeforeValidator(
+        lambda v: int(v) if isinstance(v, float) and v.is_integer() else v)]] = Field(
+        None, description="e-power order of the Hansen coefficients (0 to 30); omit for exact")
     track: Optional[TrackIn] = None
 
 

@@ -101,3 +101,24 @@ def positive_data_acceptance_with_stated_rules(ctx, response, case):
 def test_openapi_contract(case):
     case.call_and_validate(excluded_checks=[positive_data_acceptance],
                            additional_checks=[positive_data_acceptance_with_stated_rules])
+
+
+def _refusal(path, method, problem):
+    from types import SimpleNamespace
+
+    case = SimpleNamespace(operation=SimpleNamespace(path=path, method=method))
+    response = SimpleNamespace(headers={"content-type": [PROBLEM]}, content=json.dumps(problem).encode())
+    return _refusal_is_a_stated_rule(case, response)
+
+
+def test_the_sharpened_check_lets_through_only_stated_rules():
+    invalid = {"type": TYPE_BASE + "invalid-input", "title": "Invalid input", "status": 422}
+    track = "/v1/bodies/{body}/track"
+    stop = dict(invalid, detail="stop: ...", errors=[{"field": "stop", "reason": "stop (JD 1.0) is before start (JD 2.0)"}])
+    assert _refusal(track, "GET", stop) is None
+    assert "does not state" in _refusal("/v1/bodies/{body}/precession", "GET", stop)       # not its rule
+    typed = dict(invalid, detail="order: ...", errors=[{"field": "order", "reason": "Input should be a valid integer"}])
+    assert "does not state" in _refusal(track, "GET", typed)                               # a schema mismatch
+    na = {"type": TYPE_BASE + "not-applicable", "title": "Not applicable", "status": 422, "detail": "..."}
+    assert _refusal(track, "GET", na) is None
+    assert "not applicable" in _refusal("/v1/bodies/{body}", "GET", na)
