@@ -29,6 +29,8 @@ preload_app = False
 max_requests = 5000
 max_requests_jitter = 500
 keepalive = 5
+# gunicorn 27 shares one control socket per user (~/.gunicorn): two services of one user would collide
+control_socket_disable = True
 accesslog = "-"
 
 

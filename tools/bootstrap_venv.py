@@ -103,8 +103,9 @@ def pip_works(py: Path) -> bool:
 
 
 def empty_dir_but_lock(env: Path) -> None:
+    """Remove everything in the venv directory but the lock file and the incomplete-marker."""
     for entry in env.iterdir():
-        if entry.name == LOCK_NAME:
+        if entry.name in (LOCK_NAME, INCOMPLETE_NAME):
             continue
         if entry.is_dir() and not entry.is_symlink():
             shutil.rmtree(entry)
@@ -165,9 +166,8 @@ def bootstrap(env: Path, lock: Path, extras: str, fresh: bool) -> None:
         if reason:
             say(f"creating {env} from scratch ({reason})")
             stamp_file.unlink(missing_ok=True)
-            marker.touch()
-            empty_dir_but_lock(env)  # removes the marker too: write it again before anything else
-            marker.touch()
+            marker.touch()  # before anything is removed: a crash from here on means "rebuild"
+            empty_dir_but_lock(env)
             run([sys.executable, "-m", "venv", str(env)], held)
         else:
             why = "its stamp is from another lock or pyproject.toml" if have else "it has no stamp"
