@@ -55,6 +55,9 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))   # run from a checkout: the project's schema and the service benchmark's helpers
+from benchmarks.bench_service import percentile  # noqa: E402
+from service.schemas import UserBody  # noqa: E402
 RESULTS = ROOT / "benchmarks" / "RESULTS_load.md"
 HOST = "127.0.0.1"
 
@@ -67,16 +70,8 @@ MAX_PHASE_S = 600.0
 PHASE_END_GRACE_S = 35.0         # in-flight requests at a phase's end: waited for this long, then cancelled
 SAMPLE_INTERVAL_S = 0.5
 
-# the README's example body
-EXAMPLE_BODY = {
-    "name": "my-asteroid",
-    "orbit": {"a_au": 2.36, "e": 0.089, "i_deg": 7.14, "node_deg": 103.7, "peri_deg": 151.7,
-              "mean_anomaly_deg": 169.2, "epoch_jd_tdb": 2460200.5},
-    "pole": {"ra_deg": 309.03, "dec_deg": 42.23, "epoch_jd_tdb": 2451545.0},
-    "rotation_period_hours": 5.342,
-    "moments": {"A": 0.3433, "B": 0.3546, "C": 0.42},
-    "track": {"start": "2020-01-01", "stop": "2030-01-01", "step_days": 10},
-}
+# the POST's documented example (the README's): one source, the schema
+EXAMPLE_BODY = UserBody.model_config["json_schema_extra"]["examples"][0]
 POST = "/v1/precession-nutation"
 
 NORMAL = [  # (name, method, path, json body)
@@ -127,16 +122,6 @@ def hostile_requests(max_track_samples: int) -> list[tuple[str, str, str, dict |
 
 
 # ----------------------------------------------------------------------------- helpers
-
-def percentile(values: list[float], q: float) -> float:
-    """Linear-interpolated percentile (numpy's default) of a list; NaN when empty."""
-    xs = sorted(values)
-    if not xs:
-        return math.nan
-    pos = (len(xs) - 1) * q / 100.0
-    lo, hi = math.floor(pos), math.ceil(pos)
-    return xs[lo] + (xs[hi] - xs[lo]) * (pos - lo)
-
 
 def free_port() -> int:
     with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
