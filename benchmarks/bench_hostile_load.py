@@ -7,7 +7,8 @@ instance does not take over the per-user control socket of another gunicorn on t
 
 0. a short warm-up of normal traffic (not counted: it fills each worker's memoised models), and one
    solo pass over the hostile requests (each sent once, alone: its status and its latency unloaded);
-1. ``clean``: N normal clients (asyncio, one keep-alive ``httpx.AsyncClient`` each) looping over
+1. ``clean``: N normal clients (asyncio, one ``httpx.AsyncClient`` each, a new connection per request
+   unless ``--keepalive``) looping over
    ``/v1/bodies/vesta/precession``, ``/v1/bodies/ceres/nutation``, a one-year Itokawa track, and the
    README's ``POST /v1/precession-nutation``;
 2. ``mixed``: the same normal clients, plus M hostile clients (a separate process, so their client-side
@@ -19,8 +20,14 @@ with the reason gunicorn or the service logged). ``/proc/stat`` gives what the w
 phase, so the CPU taken by other users of the (shared) cores is reported too.
 
 Verdict: the normal requests' p99 in the mixed phase within 2x of the clean phase's; no normal request
-answered other than 2xx; no hostile request answered 500 (a 503 is reported); the workers' largest RSS
-below the watchdog's recycle threshold (0.8 x ``EPHEM_WORKER_MEMORY_MB``).
+answered other than 2xx; no hostile request answered 5xx other than 503 ``busy`` (a large request
+refused while another runs, with Retry-After: the designed answer); the workers' largest RSS below the
+watchdog's recycle threshold (0.8 x ``EPHEM_WORKER_MEMORY_MB``).
+
+Why a new connection per request: a keep-alive connection stays with the worker that accepted it, so
+which worker each client landed on decided the phase's p99 (one worker with 6 of the 8 clients, the
+other with 2): the clean phase's p99 ranged 42-110 ms between runs with the same code. New connections
+are spread by the kernel over the workers, as a load balancer would.
 
 Every request goes to 127.0.0.1; every loop is bounded in count and time; the server started here is
 always stopped (SIGTERM, then SIGKILL of its process group). Writes ``benchmarks/RESULTS_load.md``.
@@ -28,7 +35,7 @@ always stopped (SIGTERM, then SIGKILL of its process group). Writes ``benchmarks
 Run: ``.venv/bin/python benchmarks/bench_hostile_load.py`` (about a minute with the defaults); options:
 ``--duration S`` (each phase), ``--clients N``, ``--hostile M``, ``--workers W``, ``--warmup S``,
 ``--exclude-hostile NAME,...`` (a diagnostic run without some hostile requests), ``--out FILE``,
-``--no-write``, ``--append TITLE`` (add the report to ``--out`` as a section instead of replacing it).
+``--no-write``, ``--keepalive``, ``--append TITLE`` (add the report to ``--out`` as a section instead of replacing it).
 """
 from __future__ import annotations
 
@@ -270,9 +277,15 @@ async def _one(client, method: str, path: str, body, raw: bytes | None, timeout:
             kwargs["content"] = raw
             kwargs["headers"] = {"content-type": "application/json"}
         async with client.stream(method, path, **kwargs) as r:
+            head = b""
             async for chunk in r.aiter_raw():
                 n += len(chunk)
+                if r.status_code >= 500 and len(head) < 4096:
+                    head += chunk
             status: int | str = r.status_code
+            if r.status_code >= 500:        # which 5xx: a problem's type (busy, deadline, memory, internal)
+                with contextlib.suppress(ValueError, AttributeError):
+                    status = f"{r.status_code} {json.loads(head)['type'].rsplit('/', 1)[-1]}"
     except httpx.TimeoutException:
         status = "timeout"
     except httpx.HTTPError as exc:
@@ -281,10 +294,11 @@ async def _one(client, method: str, path: str, body, raw: bytes | None, timeout:
 
 
 async def client_loop(base: str, requests: list, offset: int, t_start: float, t_end: float, timeout: float,
-                      out: list) -> None:
-    """One client: one keep-alive connection, the requests in turn (from ``offset``) until ``t_end``."""
+                      out: list, keepalive: bool = False) -> None:
+    """One client: the requests in turn (from ``offset``) until ``t_end``, each on a new connection (or
+    all on one keep-alive connection)."""
     import httpx
-    limits = httpx.Limits(max_connections=1, max_keepalive_connections=1)
+    limits = httpx.Limits(max_connections=1, max_keepalive_connections=1 if keepalive else 0)
     async with httpx.AsyncClient(base_url=base, limits=limits, timeout=timeout) as client:
         delay = t_start - time.monotonic()
         if delay > 0:
@@ -299,15 +313,17 @@ async def client_loop(base: str, requests: list, offset: int, t_start: float, t_
 
 
 async def run_clients(base: str, requests: list, count: int, t_start: float, t_end: float, timeout: float,
-                      out: list) -> None:
-    tasks = [asyncio.create_task(client_loop(base, requests, k, t_start, t_end, timeout, out)) for k in range(count)]
+                      out: list, keepalive: bool = False) -> None:
+    tasks = [asyncio.create_task(client_loop(base, requests, k, t_start, t_end, timeout, out, keepalive))
+             for k in range(count)]
     done, pending = await asyncio.wait(tasks, timeout=max(0.0, t_end - time.monotonic()) + PHASE_END_GRACE_S)
     for task in pending:          # bounded: a request still running this long after the phase is abandoned
         task.cancel()
     await asyncio.gather(*tasks, return_exceptions=True)
 
 
-def hostile_process(base: str, count: int, max_track_samples: int, exclude: list[str], conn) -> None:
+def hostile_process(base: str, count: int, max_track_samples: int, exclude: list[str], conn,
+                    keepalive: bool = False) -> None:
     """The hostile clients, in their own process: waits for (t_start, t_end) on ``conn``, sends the
     requests' records and this process's CPU time back."""
     requests = [r for r in hostile_requests(max_track_samples) if not any(x in r[0] for x in exclude)]
@@ -326,7 +342,8 @@ def hostile_process(base: str, count: int, max_track_samples: int, exclude: list
 
     async def main():
         import httpx  # noqa: F401  (imported before the phase starts)
-        tasks = [asyncio.create_task(client_loop(base, requests, off, t_start, t_end, HOSTILE_TIMEOUT_S, out))
+        tasks = [asyncio.create_task(client_loop(base, requests, off, t_start, t_end, HOSTILE_TIMEOUT_S, out,
+                                                       keepalive))
                  for off in tasks_offsets]
         done, pending = await asyncio.wait(tasks, timeout=max(0.0, t_end - time.monotonic()) + 5.0)
         for task in pending:      # the hostile clients stop with their phase
@@ -584,7 +601,8 @@ async def run_phases(args, server: Server, hostile_conn, normal_reqs: list, host
         sampler.phase = "warm-up"
         if args.warmup > 0:
             t0 = time.monotonic()
-            await run_clients(base, normal_reqs, args.clients, t0, t0 + args.warmup, NORMAL_TIMEOUT_S, [])
+            await run_clients(base, normal_reqs, args.clients, t0, t0 + args.warmup, NORMAL_TIMEOUT_S, [],
+                              args.keepalive)
         sampler.phase = "solo"
         result["solo"] = await solo_pass(base, hostile_reqs)
 
@@ -599,7 +617,7 @@ async def run_phases(args, server: Server, hostile_conn, normal_reqs: list, host
             if phase == "mixed" and args.hostile > 0:
                 hostile_conn.send((t_start, t_end))
             normal: list = []
-            await run_clients(base, normal_reqs, args.clients, t_start, t_end, NORMAL_TIMEOUT_S, normal)
+            await run_clients(base, normal_reqs, args.clients, t_start, t_end, NORMAL_TIMEOUT_S, normal, args.keepalive)
             hostile, hostile_cpu = [], 0.0
             if phase == "mixed" and args.hostile > 0:
                 deadline = time.monotonic() + PHASE_END_GRACE_S
@@ -675,8 +693,9 @@ def verdict(res: dict, rss_limit_mb: float) -> dict:
     hostile_hist = mixed["hostile"]["hist"] if mixed["hostile"] else {}
     solo_hist = collections.Counter(str(r[1]) for r in res["solo"])
     n500 = hostile_hist.get("500", 0) + solo_hist.get("500", 0)
-    n503 = hostile_hist.get("503", 0) + solo_hist.get("503", 0)
-    n5xx = sum(v for k, v in list(hostile_hist.items()) + list(solo_hist.items()) if k.startswith("5"))
+    n503 = sum(v for k, v in list(hostile_hist.items()) + list(solo_hist.items()) if k.startswith("503"))
+    n5xx = sum(v for k, v in list(hostile_hist.items()) + list(solo_hist.items())
+               if k.startswith("5") and k != "503 busy")
     max_rss = max((m["max_mb"] for ph in ("clean", "mixed") for m in res[ph]["memory"]), default=math.nan)
     restarts = any(res[ph]["restarts"]["gone"] or res[ph]["restarts"]["new"] for ph in ("clean", "mixed"))
     normal_errors = clean["normal"]["errors"] + mixed["normal"]["errors"]
@@ -725,8 +744,11 @@ def interpretation(res: dict, v: dict, hostile_reqs: list, estimates: dict, args
                     f"{est['cpu_s']:.2f} s of one core and {est['memory_mb']:.0f} MB, is within the per-request "
                     f"budget ({args.settings.max_request_cpu_s:g} s, {args.settings.max_request_memory_mb:g} MB); "
                     f"alone it took {solo[2]:.2f} s wall, so the estimate is not too low for one request. The budget "
-                    f"is per request, though: with {args.hostile} hostile clients up to {args.hostile} of them run at "
-                    f"once on {args.workers} workers and 2 cores.")
+                    f"is per request, so {args.hostile} hostile clients looping on it would keep {args.workers} "
+                    f"workers and 2 cores busy; above {args.settings.heavy_request_cpu_s:g} s "
+                    f"(EPHEM_HEAVY_REQUEST_CPU_S) a request is large, and only {args.settings.heavy_slots} large "
+                    f"request(s) run at once across the workers (EPHEM_HEAVY_SLOTS): the others answer 503 busy with "
+                    f"Retry-After at once.")
     lines.append(
         f"- CPU over the mixed phase ({mc['wall_s']:.1f} s, {cap:.0f} core-s available): server workers "
         f"{mc['workers_cpu_s']:.1f} core-s, load generator {mc['loadgen_cpu_s']:.1f}, other users of the machine "
@@ -758,7 +780,9 @@ def interpretation(res: dict, v: dict, hostile_reqs: list, estimates: dict, args
     if v["n500"]:
         lines.append(f"- **{v['n500']} hostile request(s) answered 500** (see the table above for which).")
     if v["n503"]:
-        lines.append(f"- {v['n503']} hostile request(s) answered 503 (deadline or memory ceiling).")
+        lines.append(f"- {v['n503']} hostile request(s) answered 503 (by problem type in the tables: busy, a large "
+                     f"request already running, is the designed refusal; deadline or memory would mean an estimate "
+                     f"was wrong).")
     return lines
 
 
@@ -778,9 +802,11 @@ def render(res: dict, args, info: dict, server: Server, hostile_reqs: list, esti
     s = args.settings
     out.append(f"- service limits: {s.max_track_samples} epochs per track, {s.max_body_bytes} B per body, "
                f"{s.max_request_cpu_s:g} s CPU and {s.max_request_memory_mb:g} MB per request (estimated, before the "
-               f"work), {s.request_deadline_s:g} s deadline, {s.worker_memory_mb:g} MB address space per worker")
+               f"work), {s.heavy_slots} large request(s) (estimated above {s.heavy_request_cpu_s:g} s) at once, "
+               f"{s.request_deadline_s:g} s deadline, {s.worker_memory_mb:g} MB address space per worker")
     out.append(f"- load: {args.clients} normal clients, {args.hostile} hostile clients (mixed phase only, in a separate "
-               f"process), {args.duration:g} s per phase after a {args.warmup:g} s warm-up; one keep-alive connection "
+               f"process), {args.duration:g} s per phase after a {args.warmup:g} s warm-up; "
+               f"{'one keep-alive connection per client' if args.keepalive else 'a new connection per request'}"
                f"per client; RSS sampled every {SAMPLE_INTERVAL_S} s\n")
 
     out.append("## Result\n")
@@ -951,6 +977,8 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
     p.add_argument("--exclude-hostile", default="", help="comma-separated substrings: hostile requests to leave out")
     p.add_argument("--out", type=Path, default=RESULTS, help="the Markdown report (default benchmarks/RESULTS_load.md)")
     p.add_argument("--no-write", action="store_true", help="print the report only")
+    p.add_argument("--keepalive", action="store_true",
+                   help="one keep-alive connection per client (pinned to one worker) instead of one per request")
     p.add_argument("--append", metavar="TITLE", default=None,
                    help="append the report to --out as a section with this title (a diagnostic run), "
                         "instead of replacing the file")
@@ -1003,7 +1031,7 @@ def main(argv: list[str] | None = None) -> int:
             if args.hostile > 0:
                 hostile_proc = mp.get_context("spawn").Process(
                     target=hostile_process, args=(base, args.hostile, args.settings.max_track_samples, args.exclude,
-                                                  child_conn), daemon=True)
+                                                  child_conn, args.keepalive), daemon=True)
                 hostile_proc.start()
             ready_s = server.wait_ready()
             print(f"ready in {ready_s:.1f} s; warm-up {args.warmup:g} s, then clean and mixed, {args.duration:g} s each",

@@ -4,8 +4,14 @@ The service opens one :func:`budget` per request. Each entry point of :mod:`ephe
 its cost (:mod:`ephem.cost`) and calls :func:`charge` before doing the work: a cost that would
 take the request over its CPU or memory budget raises :class:`OverBudgetError` naming the
 parameter that drives it and the estimate, before anything is computed. The long loops
-(integrations, harmonic sums) call :func:`check_deadline`, the backstop for an estimate that
-was wrong: past the deadline they raise :class:`DeadlineExceededError`.
+(integrations, harmonic sums, the Hansen FFT) call :func:`checkpoint`, the backstop for an
+estimate that was wrong: past the deadline they raise :class:`DeadlineExceededError`.
+
+A budget may carry an admission hook, called at each checkpoint: the service uses it to let only
+a few large requests run at once (a request's own budget does not stop many of them together
+from starving the rest); the hook refuses with :class:`BusyError`. It is called at the work's
+checkpoints rather than at the charges so that a request charged in several parts is admitted
+on its total, and one over its budget is refused as such (422), whether or not the service is busy.
 
 Outside a budget (the library, the CLI) charging and the deadline are no-ops: a scientist's own
 script may run for an hour.
@@ -16,6 +22,7 @@ import time
 from contextlib import contextmanager
 from contextvars import ContextVar
 from dataclasses import dataclass, field
+from typing import Callable
 
 from .cost import Cost
 from .errors import EphemError
@@ -57,6 +64,21 @@ class DeadlineExceededError(EphemError):
                          f"{predicted_cpu_s:.3g} s) and was stopped; ask for fewer epochs or a shorter span")
 
 
+class BusyError(EphemError):
+    """The request is within its budget, but as many large requests as allowed are running already;
+    raised before any work. ``retry_after_s``: when to try again."""
+
+    def __init__(self, cpu_s: float, threshold_cpu_s: float, slots: int, retry_after_s: int):
+        self.cpu_s = cpu_s
+        self.threshold_cpu_s = threshold_cpu_s
+        self.slots = slots
+        self.retry_after_s = retry_after_s
+        super().__init__(f"this request is estimated to need {cpu_s:.3g} s of one core, more than "
+                         f"{threshold_cpu_s:.3g} s, and the {slots} such request{'s' if slots != 1 else ''} "
+                         f"allowed at once {'are' if slots != 1 else 'is'} running; retry in {retry_after_s} s, "
+                         "or ask for less")
+
+
 @dataclass
 class Budget:
     """Limits of one request: predicted CPU seconds (summed over its parts), memory (per part) and
@@ -68,6 +90,8 @@ class Budget:
     spent_cpu_s: float = 0.0
     started: float = field(default_factory=time.monotonic)
     prepaid: int = 0
+    #: called with the budget at each :func:`checkpoint` (may raise :class:`BusyError`)
+    admit: Callable[["Budget"], None] | None = None
 
     @property
     def deadline_at(self) -> float | None:
@@ -78,9 +102,10 @@ _current: ContextVar[Budget | None] = ContextVar("ephem_budget", default=None)
 
 
 @contextmanager
-def budget(cpu_s: float, memory_mb: float, deadline_s: float | None = None):
+def budget(cpu_s: float, memory_mb: float, deadline_s: float | None = None,
+           admit: Callable[[Budget], None] | None = None):
     """Run the block under a budget (the service: one per request)."""
-    token = _current.set(Budget(cpu_s, memory_mb, deadline_s))
+    token = _current.set(Budget(cpu_s, memory_mb, deadline_s, admit=admit))
     try:
         yield _current.get()
     finally:
@@ -115,10 +140,16 @@ def prepaid():
             b.prepaid -= 1
 
 
-def check_deadline() -> None:
-    """Raise :class:`DeadlineExceededError` past the current request's deadline (cheap: call it in loops)."""
+def checkpoint() -> None:
+    """A point in the work (cheap: call it in loops, and before a large step): the request is admitted
+    (the budget's hook, which may raise :class:`BusyError` the first time), and past its deadline
+    :class:`DeadlineExceededError` stops it."""
     b = _current.get()
-    if b is None or b.deadline_s is None:
+    if b is None:
+        return
+    if b.admit is not None:
+        b.admit(b)
+    if b.deadline_s is None:
         return
     if time.monotonic() > b.started + b.deadline_s:
         raise DeadlineExceededError(b.deadline_s, b.spent_cpu_s)

@@ -26,7 +26,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .budget import check_deadline
+from .budget import checkpoint
 from .catalogue import Body, data_dir
 from .constants import ARCSEC
 from .errors import InvalidInputError, NotApplicableError
@@ -77,7 +77,7 @@ def _numeric_attitudes(moments, L0: np.ndarray, R0: np.ndarray, t: np.ndarray) -
     q0 = Rotation.from_matrix(R0.T).as_quat(scalar_first=True)   # body -> inertial
 
     def rhs(_, y):
-        check_deadline()    # the service's backstop
+        checkpoint()    # the service's backstop
         l1, l2, l3, q_w, q_x, q_y, q_z = y
         w1, w2, w3 = l1 / A, l2 / B, l3 / C
         return [l2 * w3 - l3 * w2, l3 * w1 - l1 * w3, l1 * w2 - l2 * w1,

@@ -37,6 +37,7 @@ from typing import Mapping
 
 import numpy as np
 
+from .budget import checkpoint
 from .errors import InvalidInputError
 from .kepler import solve_kepler
 
@@ -281,6 +282,7 @@ def hansen_exact(e: float, kmax: int | None = None) -> HansenCoefficients:
     if kmax is not None and (int(kmax) != kmax or kmax < 0):
         raise InvalidInputError("kmax", f"must be a non-negative integer, got {kmax!r}")
     N = _fft_length(e, None if kmax is None else int(kmax))
+    checkpoint()        # the service's: the FFT is the large step of an eccentric orbit's answer
 
     g, f = _sample_functions(e, N)
     G = np.fft.rfft(g) / N      # G[n]: coefficient of exp(i n M) in (a/r)^3

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .budget import check_deadline
+from .budget import checkpoint
 from .errors import InvalidInputError
 from .hansen import hansen_exact, hansen_series
 
@@ -337,7 +337,7 @@ def evaluate_harmonics(angle, multiple: np.ndarray, sin_coef: np.ndarray, cos_co
     kmax, power, work, block = _prepare(multiple, sin_coef, cos_coef, flat.size)
     if kmax:
         for start in range(0, flat.size, block):
-            check_deadline()
+            checkpoint()
             xb = flat[start:start + block]
             _sum_block(np.cos(xb), np.sin(xb), kmax, power, sin_coef, cos_coef, out[:, start:start + xb.size], work)
     return tuple(out[j].reshape(x.shape) for j in range(ncol))
@@ -388,6 +388,6 @@ def evaluate_harmonics_uniform(x_start: float, x_step: float, count: int, multip
     kmax, power, work, block = _prepare(multiple, sin_coef, cos_coef, count)
     if kmax:
         for start, c, s in uniform_cos_sin(x_start, x_step, count, block):
-            check_deadline()
+            checkpoint()
             _sum_block(c, s, kmax, power, sin_coef, cos_coef, out[:, start:start + c.size], work)
     return tuple(out[j] for j in range(ncol))

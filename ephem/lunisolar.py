@@ -64,6 +64,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from .budget import checkpoint
 from .catalogue import data_dir, get_body
 from .constants import ARCSEC, AU_M, J2000_JD, JULIAN_YEAR_DAYS, MAS
 from .errors import InvalidInputError
@@ -334,6 +335,7 @@ class LunisolarSeries:
         dpsi = np.empty(flat.size)
         deps = np.empty(flat.size)
         for start in range(0, flat.size, 4096):   # bounded memory: (block, n terms)
+            checkpoint()    # the service's backstop
             sl = slice(start, start + 4096)
             dpsi[sl], deps[sl] = self.nutation_from_arguments(delaunay_arguments(flat[sl]), centuries(flat[sl]))
         return dpsi.reshape(jd.shape), deps.reshape(jd.shape)

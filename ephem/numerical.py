@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from .budget import check_deadline
+from .budget import checkpoint
 from .constants import AU_M, DAY_S, GM_SUN
 from .kepler import solve_kepler_scalar
 from .model import PrecessionNutation
@@ -49,7 +49,7 @@ def integrate_spin_axis(model: PrecessionNutation, jd_tdb, rtol: float = 1e-12,
     coef = 3.0 * GM_SUN_AU3_PER_DAY2 * model.hd / model.spin_rate
 
     def rhs_real(tt, s):
-        check_deadline()    # the service's backstop: ~0.1 us against ~10 us a call
+        checkpoint()    # the service's backstop: ~0.1 us against ~10 us a call
         x, y, z = sun(tt)
         rx, ry, rz = r00 * x + r01 * y + r02 * z, r10 * x + r11 * y + r12 * z, r20 * x + r21 * y + r22 * z
         r2 = rx * rx + ry * ry + rz * rz
@@ -58,7 +58,7 @@ def integrate_spin_axis(model: PrecessionNutation, jd_tdb, rtol: float = 1e-12,
         return [f * (ry * s[2] - rz * s[1]), f * (rz * s[0] - rx * s[2]), f * (rx * s[1] - ry * s[0])]
 
     def rhs_kepler(tt, s):
-        check_deadline()
+        checkpoint()
         m = model.mean_anomaly_at_epoch + n * (tt - model.orbit_epoch)
         ecc = solve_kepler_scalar(m, e)
         nu = ecc + 2.0 * math.atan2(beta * math.sin(ecc), 1.0 - beta * math.cos(ecc))

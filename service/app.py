@@ -457,7 +457,10 @@ def _rule_texts(settings: Settings) -> dict[str, str]:
                            f"(EPHEM_MAX_REQUEST_CPU_S) or {settings.max_request_memory_mb:g} MB "
                            "(EPHEM_MAX_REQUEST_MEMORY_MB) is refused before any work: 422 over-budget, naming the "
                            "parameter to change; one still running after "
-                           f"{settings.request_deadline_s:g} s (EPHEM_REQUEST_DEADLINE_S) is stopped: 503.")
+                           f"{settings.request_deadline_s:g} s (EPHEM_REQUEST_DEADLINE_S) is stopped: 503. Only "
+                           f"{settings.heavy_slots} request(s) estimated above {settings.heavy_request_cpu_s:g} s "
+                           "(EPHEM_HEAVY_SLOTS, EPHEM_HEAVY_REQUEST_CPU_S) run at once: another gets 503 busy "
+                           "with Retry-After.")
     return texts
 
 

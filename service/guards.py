@@ -3,9 +3,14 @@
 - Before the work: each request runs inside :func:`ephem.budget.budget` with the service's limits, so
   every entry point of :mod:`ephem.api` charges its predicted cost first and a request over budget
   gets a 422 naming the parameter and the estimate (``over-budget``).
-- During the work: the deadline (:func:`ephem.budget.check_deadline` in the long loops) stops a request
+- During the work: the deadline (:func:`ephem.budget.checkpoint` in the long loops) stops a request
   whose estimate was wrong with a 503 (``deadline``); a ``MemoryError`` under the worker's memory
   ceiling (``service/gunicorn_conf.py``) is a 503 (``memory``) too, and the worker recycles itself.
+- Beside it, admission: a request whose estimate exceeds ``heavy_request_cpu_s`` must hold one of
+  ``heavy_slots`` slots shared by all the workers (a lock file each) while it runs; when all are taken
+  it gets a 503 (``busy``) with ``Retry-After`` at once, at the first checkpoint of its work (after
+  every part was charged, before any large step). A per-request budget alone
+  lets a few clients looping on requests just under it take every core from everyone else.
 - Beyond that, the watchdog: a request still running ``hard_kill_after_s`` past its deadline (stuck
   in compiled code that never reaches a check) ends the worker process, which the supervisor
   (gunicorn) replaces. It is armed only under a supervisor (``EPHEM_SUPERVISED``), never in a bare
@@ -13,15 +18,18 @@
 """
 from __future__ import annotations
 
+import fcntl
 import logging
+import math
 import os
 import signal
+import tempfile
 import threading
 import time
 
 from fastapi import FastAPI, Request
 
-from ephem.budget import DeadlineExceededError, OverBudgetError, budget
+from ephem.budget import Budget, BusyError, DeadlineExceededError, OverBudgetError, budget
 
 from .problems import problem
 from .settings import Settings
@@ -33,22 +41,73 @@ class RequestBudget:
     """ASGI middleware: every HTTP request runs under the service's budget (a context variable, which
     the thread pool running the routes inherits), and is known to the watchdog while it runs."""
 
-    def __init__(self, app, settings: Settings, watchdog: "Watchdog | None" = None):
+    def __init__(self, app, settings: Settings, watchdog: "Watchdog | None" = None,
+                 heavy: "HeavySlots | None" = None):
         self.app = app
         self.settings = settings
         self.watchdog = watchdog
+        self.heavy = heavy
 
     async def __call__(self, scope, receive, send):
         if scope["type"] != "http":
             return await self.app(scope, receive, send)
         s = self.settings
         token = self.watchdog.enter(scope) if self.watchdog is not None else None
+        admission = self.heavy.admission() if self.heavy is not None else None
         try:
-            with budget(s.max_request_cpu_s, s.max_request_memory_mb, s.request_deadline_s):
-                await self.app(scope, receive, send)
+            with budget(s.max_request_cpu_s, s.max_request_memory_mb, s.request_deadline_s, admit=admission):
+                await self.app(scope, receive, send)     # a streamed answer holds its slot until sent
         finally:
+            if admission is not None:
+                admission.release()
             if token is not None:
                 self.watchdog.leave(token)
+
+
+class HeavySlots:
+    """At most ``slots`` requests estimated above ``threshold_cpu_s`` run at once, across every worker of
+    the service: each running one holds an exclusive ``flock`` on one of ``slots`` files in ``lock_dir``
+    (the kernel releases it when the holder ends, even by ``kill -9``). Waiting would hold a thread of the
+    worker's pool per waiting client, so a request that finds every slot taken is refused at once."""
+
+    def __init__(self, threshold_cpu_s: float, slots: int, lock_dir: str | None = None):
+        self.threshold_cpu_s = threshold_cpu_s
+        self.slots = slots
+        self.lock_dir = lock_dir or tempfile.mkdtemp(prefix="ephem-heavy-")
+        self.paths = [os.path.join(self.lock_dir, f"heavy-{i}.lock") for i in range(slots)]
+
+    def admission(self) -> "_Admission":
+        return _Admission(self)
+
+
+class _Admission:
+    """One request's admission, called at the work's checkpoints: takes a slot the first time the request's
+    charged total is over the threshold (every part is charged before the first checkpoint)."""
+
+    def __init__(self, slots: HeavySlots):
+        self.slots = slots
+        self.fd: int | None = None
+
+    def __call__(self, b: Budget) -> None:
+        if self.fd is not None or b.spent_cpu_s <= self.slots.threshold_cpu_s:
+            return
+        for path in self.slots.paths:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o600)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                os.close(fd)
+                continue
+            self.fd = fd
+            return
+        # the slot frees when a request like this one ends: about its own estimate from now
+        raise BusyError(b.spent_cpu_s, self.slots.threshold_cpu_s, self.slots.slots,
+                        retry_after_s=max(1, math.ceil(b.spent_cpu_s)))
+
+    def release(self) -> None:
+        if self.fd is not None:
+            os.close(self.fd)      # closing the descriptor drops its lock
+            self.fd = None
 
 
 class Watchdog:
@@ -109,7 +168,8 @@ def install(app: FastAPI, settings: Settings) -> None:
     watchdog = None
     if settings.supervised:
         watchdog = Watchdog(settings.request_deadline_s, settings.hard_kill_after_s, settings.worker_memory_mb * 0.8)
-    app.add_middleware(RequestBudget, settings=settings, watchdog=watchdog)
+    heavy = HeavySlots(settings.heavy_request_cpu_s, settings.heavy_slots, settings.lock_dir)
+    app.add_middleware(RequestBudget, settings=settings, watchdog=watchdog, heavy=heavy)
 
     @app.exception_handler(OverBudgetError)
     async def over_budget(request: Request, exc: OverBudgetError):
@@ -117,6 +177,12 @@ def install(app: FastAPI, settings: Settings) -> None:
         return problem(422, "over-budget", "Over budget", str(exc), errors=[{"field": exc.field, "reason": exc.reason}],
                        estimated_cpu_s=c.cpu_s, estimated_memory_mb=c.memory_mb, budget_cpu_s=exc.cpu_s_budget,
                        budget_memory_mb=exc.memory_mb_budget, estimate=c.as_dict())
+
+    @app.exception_handler(BusyError)
+    async def busy(request: Request, exc: BusyError):
+        return problem(503, "busy", "Busy with large requests", str(exc),
+                       headers={"Retry-After": str(exc.retry_after_s)}, estimated_cpu_s=exc.cpu_s,
+                       heavy_request_cpu_s=exc.threshold_cpu_s, heavy_slots=exc.slots)
 
     @app.exception_handler(DeadlineExceededError)
     async def deadline(request: Request, exc: DeadlineExceededError):

@@ -11,11 +11,16 @@ Bind address and worker count come from the command line (``--bind``, ``--worker
 """
 import os
 import resource
+import shutil
+import tempfile
 
 from service.settings import Settings
 
 # the app reads this when each worker imports it: the watchdog may end a worker, the master replaces it
 os.environ.setdefault("EPHEM_SUPERVISED", "1")
+# the workers share the slots of large requests (service/guards.py) through lock files here
+_own_lock_dir = "EPHEM_LOCK_DIR" not in os.environ
+os.environ.setdefault("EPHEM_LOCK_DIR", tempfile.mkdtemp(prefix="ephem-service-"))
 _settings = Settings.from_env()
 
 worker_class = "uvicorn_worker.UvicornWorker"
@@ -25,9 +30,13 @@ graceful_timeout = 20
 # the app is imported by each worker after the fork (no preload): the memory ceiling below then covers
 # everything a worker allocates, and a worker's crash cannot take the master's copy with it
 preload_app = False
-# recycle workers now and then: numpy's freed arenas are not always returned to the system
-max_requests = 5000
-max_requests_jitter = 500
+# No recycling after a count of requests by default: under steady load the workers reach the count
+# together, and a new worker takes seconds to import and warm up, so the service stopped answering
+# for 7-10 s and dropped keep-alive requests (benchmarks/RESULTS_load.md). Memory that numpy does not
+# return is handled by the watchdog instead, which recycles a worker over 80 % of its ceiling.
+# EPHEM_MAX_REQUESTS turns the count on (with a jitter of half of it, so workers recycle apart).
+max_requests = int(os.environ.get("EPHEM_MAX_REQUESTS") or 0)
+max_requests_jitter = max_requests // 2
 keepalive = 5
 # gunicorn 27 shares one control socket per user (~/.gunicorn): two services of one user would collide
 control_socket_disable = True
@@ -38,3 +47,8 @@ def post_fork(server, worker):
     ceiling = int(_settings.worker_memory_mb * 2**20)
     resource.setrlimit(resource.RLIMIT_AS, (ceiling, ceiling))
     server.log.info("worker %s: address-space ceiling %d MB", worker.pid, _settings.worker_memory_mb)
+
+
+def on_exit(server):
+    if _own_lock_dir:
+        shutil.rmtree(os.environ["EPHEM_LOCK_DIR"], ignore_errors=True)

@@ -31,8 +31,8 @@ class Problem(BaseModel):
         "detail": "user body: orbit.e: eccentricity must satisfy 0 <= e < 1 (bound orbit), got 1.2",
         "errors": [{"field": "orbit.e", "reason": "eccentricity must satisfy 0 <= e < 1 (bound orbit), got 1.2"}]}]})
     type: str = Field(description="the kind of problem, a stable identifier (not fetched): " + TYPE_BASE +
-                                  "invalid-input, not-applicable, unknown-body, over-budget, too-large, deadline, "
-                                  "memory, http or internal")
+                                  "invalid-input, not-applicable, unknown-body, over-budget, busy, too-large, "
+                                  "deadline, memory, http or internal")
     title: str = Field(description="short summary of the kind")
     status: int = Field(ge=400, le=599, description="the HTTP status, repeated")
     detail: str = Field(description="what was wrong with this request, naming the field")
@@ -43,12 +43,16 @@ class Problem(BaseModel):
     spin_orbit_ratio: Optional[float] = Field(None, description="not-applicable: spin rate over orbital mean "
                                                                 "motion, when that decided it")
     min_spin_orbit_ratio: Optional[float] = Field(None, description="not-applicable: the ratio's lower limit")
-    estimated_cpu_s: Optional[float] = Field(None, description="over-budget: the request's estimated CPU time, s")
+    estimated_cpu_s: Optional[float] = Field(None, description="over-budget, busy: the request's estimated CPU "
+                                                               "time, s")
     estimated_memory_mb: Optional[float] = Field(None, description="over-budget: its estimated memory, MB")
     budget_cpu_s: Optional[float] = Field(None, description="over-budget: the CPU budget of a request, s")
     budget_memory_mb: Optional[float] = Field(None, description="over-budget: the memory budget of a request, MB")
     estimate: Optional[dict] = Field(None, description="over-budget: the estimate, part by part")
     deadline_s: Optional[float] = Field(None, description="deadline: the wall-clock deadline of a request, s")
+    heavy_request_cpu_s: Optional[float] = Field(None, description="busy: a request estimated above this many "
+                                                                   "seconds of CPU is large")
+    heavy_slots: Optional[int] = Field(None, description="busy: how many large requests run at once")
 
 
 def problem(status: int, kind: str, title: str, detail: str, headers: dict | None = None, **extra) -> JSONResponse:
@@ -93,7 +97,8 @@ _STANDARD = {
          "(type not-applicable)",
     500: "internal error: a bug, reported as a problem (never a bare 500, never NaN)",
     503: "the request ran past its deadline or the worker's memory ceiling and was stopped (deadline, memory): "
-         "ask for less",
+         "ask for less; or it is large and as many large requests as allowed are running (busy): retry after "
+         "the Retry-After header's seconds",
 }
 
 

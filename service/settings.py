@@ -46,8 +46,10 @@ def _bool_env(name: str, default: bool) -> bool:
 
 @dataclass(frozen=True)
 class Settings:
-    #: largest number of epochs in one track (422 beyond)
-    max_track_samples: int = 1_000_000
+    #: largest number of epochs in one track (422 beyond): 10^5 is 12 MB of JSON, ~0.05 s of one core; at
+    #: 10^6 (122 MB, ~0.3 s holding the worker) one such answer stalled every request of its worker
+    #: (benchmarks/RESULTS_load.md). The library and the CLI allow 10^6 (ephem.api.MAX_TRACK_SAMPLES).
+    max_track_samples: int = 100_000
     #: largest request body in bytes (413 beyond)
     max_body_bytes: int = 65_536
     #: build the Earth's lunisolar series at start-up (~2 s) rather than in the first Earth request
@@ -56,6 +58,14 @@ class Settings:
     max_request_cpu_s: float = 5.0
     #: a request's predicted peak memory above the worker's baseline, MB (422 beyond, before any work)
     max_request_memory_mb: float = 500.0
+    #: a request estimated above this many seconds of one core is large: only heavy_slots of them run at once
+    #: (the usual requests are estimated at 2-50 ms; a track of 10^5 epochs at 0.18 s)
+    heavy_request_cpu_s: float = 0.1
+    #: how many large requests run at once, across all the workers (503 busy with Retry-After beyond)
+    heavy_slots: int = 1
+    #: where the workers' shared slot locks live (service/gunicorn_conf.py sets one per service; None: a
+    #: fresh temporary directory, shared by nothing but this process)
+    lock_dir: str | None = None
     #: wall-clock deadline of a request, seconds: the long loops stop past it (503)
     request_deadline_s: float = 20.0
     #: a request still running this long past its deadline ends its worker (under a supervisor only)
@@ -72,6 +82,9 @@ class Settings:
                    warm_up=_bool_env("EPHEM_WARM_UP", cls.warm_up),
                    max_request_cpu_s=_float_env("EPHEM_MAX_REQUEST_CPU_S", cls.max_request_cpu_s),
                    max_request_memory_mb=_float_env("EPHEM_MAX_REQUEST_MEMORY_MB", cls.max_request_memory_mb),
+                   heavy_request_cpu_s=_float_env("EPHEM_HEAVY_REQUEST_CPU_S", cls.heavy_request_cpu_s),
+                   heavy_slots=_int_env("EPHEM_HEAVY_SLOTS", cls.heavy_slots),
+                   lock_dir=os.environ.get("EPHEM_LOCK_DIR") or None,
                    request_deadline_s=_float_env("EPHEM_REQUEST_DEADLINE_S", cls.request_deadline_s),
                    hard_kill_after_s=_float_env("EPHEM_HARD_KILL_AFTER_S", cls.hard_kill_after_s),
                    worker_memory_mb=_float_env("EPHEM_WORKER_MEMORY_MB", cls.worker_memory_mb),
