@@ -49,7 +49,6 @@ import json
 import math
 import multiprocessing as mp
 import os
-import platform
 import re
 import resource
 import shlex
@@ -63,7 +62,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))   # run from a checkout: the project's schema and the service benchmark's helpers
-from benchmarks.bench_service import percentile  # noqa: E402
+from benchmarks.bench_service import machine_info, percentile  # noqa: E402
 from service.schemas import UserBody  # noqa: E402
 RESULTS = ROOT / "benchmarks" / "RESULTS_load.md"
 HOST = "127.0.0.1"
@@ -134,17 +133,6 @@ def free_port() -> int:
     with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
         s.bind((HOST, 0))
         return s.getsockname()[1]
-
-
-def machine_info() -> dict:
-    model = "unknown"
-    with contextlib.suppress(OSError):
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    return {"nproc": os.cpu_count(), "cpu": model, "python": platform.python_version(),
-            "kernel": platform.release(), "loadavg": os.getloadavg()}
 
 
 def children_of(pid: int) -> list[int]:

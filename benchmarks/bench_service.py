@@ -89,8 +89,8 @@ def machine_info() -> dict:
             from importlib.metadata import version
             versions[name] = version(name)
     return {"nproc": nproc, "cpu": model, "python": platform.python_version(),
-            "platform": platform.platform(), "date": dt.datetime.now(dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
-            "versions": versions}
+            "platform": platform.platform(), "kernel": platform.release(), "loadavg": os.getloadavg(),
+            "date": dt.datetime.now(dt.UTC).strftime("%Y-%m-%d %H:%M UTC"), "versions": versions}
 
 
 def fmt_ms(x: float | None) -> str:
