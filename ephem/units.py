@@ -13,7 +13,8 @@ from .errors import InvalidInputError
 
 #: key suffix -> astropy unit string, longest suffixes first
 _SUFFIX_UNITS = (
-    ("_arcsec_per_year", "arcsec / yr"), ("_deg_per_day", "deg / d"), ("_arcsec", "arcsec"), ("_mas", "mas"),
+    ("_arcsec_per_year", "arcsec / yr"), ("_arcsec_per_century", "arcsec / hyr"), ("_mas_per_century", "mas / hyr"),
+    ("_deg_per_day", "deg / d"), ("_arcsec", "arcsec"), ("_mas", "mas"),
     ("_deg", "deg"), ("_days", "d"), ("_years", "yr"), ("_hours", "h"), ("_au", "AU"), ("_km", "km"),
     ("_ms", "ms"),
 )

@@ -67,3 +67,50 @@ def test_a_track_reports_the_obliquity_uncertainty():
     eros = api.track("eros", "2030-01-01", "2030-03-01", 30.0)
     assert eros["obliquity_deg_uncertainty"] == api.precession("eros")["obliquity_deg_uncertainty"] > 0.0
     assert api.track("vesta", "2030-01-01", "2030-03-01", 30.0)["obliquity_deg_uncertainty"] is None  # unknown
+
+
+#: numbers whose keys name no unit because they have none (ratios, counts, identifiers)
+DIMENSIONLESS = {"dynamical_ellipticity", "e", "multiple", "naif_id", "spin_orbit_ratio", "min_spin_orbit_ratio",
+                 "moments_over_C", "delaunay_multipliers"}
+
+
+def _numeric_keys(answer, path="", found=None):
+    """(key, path) of every number or number array in an answer, outside dicts whose own key names the
+    unit of all their entries (error_terms_mas)."""
+    found = {} if found is None else found
+    if isinstance(answer, list):
+        for v in answer:
+            _numeric_keys(v, path + "[]", found)
+    elif isinstance(answer, dict):
+        for k, v in answer.items():
+            numbers = isinstance(v, (int, float)) and not isinstance(v, bool)
+            array = isinstance(v, list) and v and isinstance(v[0], (int, float)) and not isinstance(v[0], bool)
+            if numbers or array:
+                found.setdefault(k, path)
+            elif isinstance(v, (dict, list)) and not (isinstance(v, dict) and unit_of(k) is not None):
+                _numeric_keys(v, f"{path}.{k}", found)
+    return found
+
+
+def test_every_number_of_every_answer_names_its_unit_or_has_none():
+    answers = {"precession": api.precession("vesta"), "nutation": api.nutation("vesta"),
+               "track": api.track("mars", "2000-01-01", "2002-01-01", 100.0, free_wobble_phase_deg=30),
+               "free motion": api.free_motion_answer("eros", 2451545, 2451645, 10.0),
+               "Earth precession": api.precession("earth"), "Earth nutation": api.nutation("earth"),
+               "Earth track": api.track("earth", "2020-01-01", "2021-01-01", 30.0), "bodies": api.list_bodies()}
+    unnamed = {k: f"{name}{path}" for name, a in answers.items() for k, path in _numeric_keys(a).items()
+               if unit_of(k) is None and k not in DIMENSIONLESS and not (k == "jd_tdb" or k.endswith("_jd_tdb"))}
+    assert not unnamed, f"numbers with no unit in their name: {unnamed}"
+
+
+def test_rates_per_century_come_back_as_quantities_per_century():
+    plain = api.nutation("earth")["terms"][0]
+    q = api.nutation("earth", quantities=True)["terms"][0]
+    rate_keys = [k for k in plain if k.endswith("_per_century")]
+    assert rate_keys, "the Earth's nutation terms carry rates per century"
+    for k in rate_keys:
+        per_year = u.arcsec / u.yr if k.endswith("_arcsec_per_century") else u.mas / u.yr
+        # a century is 100 Julian years: per year the number is a hundredth; astropy's hyr -> yr factor is
+        # 0.010000000000000002 (1 ulp) and each division rounds once: within 4 ulp (1e-15 relative)
+        assert q[k].to_value(per_year) == pytest.approx(plain[k] / 100.0, rel=1e-15, abs=0.0)
+    assert unit_of("geodesic_arcsec_per_century") == "arcsec / hyr"
