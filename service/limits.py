@@ -18,21 +18,24 @@ class BodySizeLimit:
         declared = headers.get(b"content-length")
         if declared is not None and declared.isdigit() and int(declared) > self.max_bytes:
             return await self._reject(send)
-        seen = 0
-
-        async def limited_receive():
-            nonlocal seen
+        # Read the body here, before the app: a body over the limit found while the route reads it
+        # (a chunked body declares no length) would surface inside FastAPI's body parsing, which turns
+        # any error there into a 400. The bodies allowed are small (64 KiB by default), so holding
+        # one in memory costs nothing.
+        chunks, seen = [], 0
+        while True:
             message = await receive()
-            if message["type"] == "http.request":
-                seen += len(message.get("body", b""))
-                if seen > self.max_bytes:
-                    raise _TooLarge()
-            return message
-
-        try:
-            await self.app(scope, limited_receive, send)
-        except _TooLarge:
-            await self._reject(send)
+            if message["type"] != "http.request":       # the client went away: let the app see it
+                return await self.app(scope, _replay([message], receive), send)
+            body = message.get("body", b"")
+            seen += len(body)
+            if seen > self.max_bytes:
+                return await self._reject(send)
+            chunks.append(body)
+            if not message.get("more_body", False):
+                break
+        whole = {"type": "http.request", "body": b"".join(chunks), "more_body": False}
+        await self.app(scope, _replay([whole], receive), send)
 
     async def _reject(self, send):
         body = json.dumps({"type": TYPE_BASE + "too-large", "title": "Request body too large", "status": 413,
@@ -43,5 +46,13 @@ class BodySizeLimit:
         await send({"type": "http.response.body", "body": body})
 
 
-class _TooLarge(Exception):
-    pass
+def _replay(messages: list, receive):
+    """A ``receive`` that gives ``messages`` first, then defers to the server's (for the disconnect)."""
+    pending = list(messages)
+
+    async def replayed():
+        if pending:
+            return pending.pop(0)
+        return await receive()
+
+    return replayed

@@ -185,6 +185,26 @@ def test_request_body_size_cap():
         _problem(c.post("/v1/precession-nutation", json=USER), 413)
 
 
+def _chunked(data: bytes, size: int = 64):
+    """The body as a generator: sent chunked, with no Content-Length to check up front."""
+    for i in range(0, len(data), size):
+        yield data[i:i + size]
+
+
+def test_a_chunked_body_over_the_cap_is_413_and_one_under_it_is_read_whole():
+    body = json.dumps(USER).encode()
+    small = create_app(Settings(max_track_samples=1000, max_body_bytes=len(body) - 1, warm_up=False))
+    with TestClient(small) as c:
+        r = c.post("/v1/precession-nutation", content=_chunked(body), headers={"content-type": "application/json"})
+        assert "content-length" not in r.request.headers
+        _problem(r, 413)
+    fits = create_app(Settings(max_track_samples=1000, max_body_bytes=len(body), warm_up=False))
+    with TestClient(fits) as c:
+        r = c.post("/v1/precession-nutation", content=_chunked(body), headers={"content-type": "application/json"})
+        assert r.status_code == 200, r.text
+        assert r.json()["precession"]["body"] == USER["name"]
+
+
 def test_settings_from_environment(monkeypatch):
     monkeypatch.setenv("EPHEM_MAX_TRACK_SAMPLES", "1234")
     assert Settings.from_env().max_track_samples == 1234
