@@ -36,8 +36,9 @@ RUN python -m pip install --constraint /tmp/constraints.txt pip \
 # Number of worker processes under gunicorn (one per core is a good start).
 ENV WORKERS=2
 # Largest number of epochs in one /track request (422 beyond). Each 10^4 epochs cost ~1.2 MB of
-# JSON and ~7 ms of one worker's CPU, so the default 10^6 allows ~120 MB / ~0.7 s per request.
-ENV EPHEM_MAX_TRACK_SAMPLES=1000000
+# JSON and ~5 ms of one worker's CPU: 10^5 is 12 MB; at 10^6 one answer held its worker for ~0.3 s
+# and stalled the other requests there (benchmarks/RESULTS_load.md). The other limits: README.
+ENV EPHEM_MAX_TRACK_SAMPLES=100000
 # Largest request body in bytes (413 beyond).
 ENV EPHEM_MAX_BODY_BYTES=65536
 

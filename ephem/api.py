@@ -490,8 +490,10 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
                  order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES,
                  tolerance_mas: float | None = None, model: str | None = None, axis: str = "figure",
                  free_wobble_phase_deg: float | None = None, free_wobble_J_arcsec: float | None = None,
-                 free_wobble_epoch=None, perturbers=None) -> dict:
-    """As :func:`track`, with numpy arrays instead of lists (for streaming and numerical use)."""
+                 free_wobble_epoch=None, perturbers=None, output: str = "json") -> dict:
+    """As :func:`track`, with numpy arrays instead of lists (for streaming and numerical use).
+
+    ``output``: how the caller will write the answer out (``json`` or ``csv``), which its cost includes."""
     begin = time.perf_counter()
     b = resolve_body(body, dataset)
     t0, step, count = epoch_grid(start, stop, step_days, max_samples)
@@ -501,9 +503,11 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     if tol is not None and (order is not None or rung is not None):
         raise InvalidInputError("tolerance_mas", "give a tolerance, or a model and order, not both")
     per = _perturbers(b, perturbers)
+    if output not in cost.SERIALISATIONS:
+        raise InvalidInputError("format", f"must be one of {', '.join(cost.SERIALISATIONS)}, got {output!r}", b.name)
     if "Moon" in per:
         return _lunisolar_track(b, per, dataset, t0, step, count, order, tol, rung, axis, free_wobble_phase_deg,
-                                free_wobble_J_arcsec, free_wobble_epoch, begin)
+                                free_wobble_J_arcsec, free_wobble_epoch, begin, output)
     if rung == "lunisolar":
         raise NotApplicableError(b.name, "the 'lunisolar' model is the Earth's under the Moon and the Sun; these "
                                  f"perturbers ({', '.join(per)}) are served by the single-perturber ladder "
@@ -520,7 +524,7 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
                              in_unit(free_wobble_J_arcsec, "arcsec", "free_wobble_J_arcsec"), free_wobble_epoch)
     ladder = Ladder(b, axis, wobble)
     t_end = t0 + step * (count - 1)
-    output = cost.Cost((cost.serialised(count, len(TRACK_KEYS)),))
+    output = cost.Cost((cost.serialised(count, len(TRACK_KEYS), output),))
     # the estimates of every rung, charged with the rung's own cost when it is named, before any is built
     charge(ladder.cost(None, t0, t_end, count, free_wobble=wobble is not None)
            + (cost.FREE if tol is not None else ladder.cost(rung, t0, t_end, count, order, wobble is not None)
@@ -821,7 +825,7 @@ def _lunisolar_nutation(b: Body, per: tuple[str, ...], dataset: str, order, tole
 
 
 def _lunisolar_track(b: Body, per: tuple[str, ...], dataset: str, t0: float, step: float, count: int, order, tol,
-                     rung, axis: str, phase_deg, J_arcsec, wobble_epoch, begin: float) -> dict:
+                     rung, axis: str, phase_deg, J_arcsec, wobble_epoch, begin: float, output: str = "json") -> dict:
     from . import earth
 
     model_for(b, dataset)
@@ -832,7 +836,7 @@ def _lunisolar_track(b: Body, per: tuple[str, ...], dataset: str, t0: float, ste
                                  "for the Sun-only ladder")
     wobble = _wobble_request(b, axis, in_unit(phase_deg, "deg", "free_wobble_phase_deg"),
                              in_unit(J_arcsec, "arcsec", "free_wobble_J_arcsec"), wobble_epoch)
-    charge(cost.Cost((cost.lunisolar_answer(), cost.lunisolar_sum(count), cost.serialised(count, len(TRACK_KEYS)))
+    charge(cost.Cost((cost.lunisolar_answer(), cost.lunisolar_sum(count), cost.serialised(count, len(TRACK_KEYS), output))
                      + ((cost.free_rotation("exact", count, 0.0),) if wobble is not None else ())), b.name)
     lm = earth.lunisolar_earth(b, axis, earth.TRACK_CUT_MAS, per)
     t = t0 + step * np.arange(count)

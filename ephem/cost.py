@@ -6,10 +6,11 @@ tied to the request parameter that drives it, so a refusal can say which paramet
 :mod:`ephem.budget` charges these costs against a request's budget.
 
 The unit costs in ``data/cost_model.toml`` were measured on the project's reference machine
-(2 cores, CPython 3.11, numpy 2.4) by ``benchmarks/bench_cost.py``, which also prints each
-prediction against the measured time and memory; they are upper estimates (a factor 1-3 above
-the measured cost on that machine), not promises: the deadline of :mod:`ephem.budget` is the
-backstop when a machine or an input is slower than predicted.
+(2 cores, CPython 3.11, numpy 2.4, one BLAS thread) and set about twice the measurement;
+``benchmarks/bench_cost.py`` prints each prediction against the measured time and memory
+(``benchmarks/RESULTS_cost.md``). They are upper estimates there, some by much more than 2x
+(the integrations' dense output, the second-order theory), not promises: the deadline of
+:mod:`ephem.budget` is the backstop when a machine or an input is slower than predicted.
 """
 from __future__ import annotations
 
@@ -127,18 +128,25 @@ def hansen_build(e: float, order: int | None) -> Part:
                 _u("base_s") + _u("fft_s_per_n_log_n") * n * math.log2(n), _u("fft_bytes_per_sample") * n / MB)
 
 
+def harmonic_work_mb(epochs: int, k: int) -> float:
+    """The work table of a harmonic sum (:func:`ephem.kinoshita.evaluate_harmonics`): two float64 rows
+    per harmonic over a block of at most 8192 epochs, capped at ``harmonic_block_mb``."""
+    return min(_u("harmonic_block_mb"), 16.0 * max(k, 1) * min(epochs, 8192) / MB)
+
+
 def half_peak_to_peak(e: float, order: int | None, k: int | None = None) -> Part:
     """Half the peak-to-peak nutation (Petit Table 4's Δψ, Δε): a grid of 64 points per harmonic
     (``k`` harmonics; default all the Hansen coefficients')."""
     k = harmonics(e, order)[1] if k is None else k
     return Part("orbit.e", f"the nutation's extremes over one orbit ({k} harmonics on a {64 * k}-point grid)",
-                _u("harmonic_s") * 64.0 * k * k, 0.5)
+                _u("harmonic_s") * 64.0 * k * k, 0.5 + harmonic_work_mb(64 * k, k))
 
 
 def harmonic_sum(epochs: int, k: int, parameter: str, what: str) -> Part:
     """A nutation series of ``k`` harmonics summed at ``epochs`` epochs (Chebyshev blocks)."""
     return Part(parameter, f"{what}: {epochs} epochs x {k} harmonics",
-                epochs * (_u("epoch_s") + _u("harmonic_s") * k), epochs * _u("track_bytes_per_epoch") / MB)
+                epochs * (_u("epoch_s") + _u("harmonic_s") * k),
+                epochs * _u("track_bytes_per_epoch") / MB + harmonic_work_mb(epochs, k))
 
 
 def second_order(epochs: int, k: int) -> Part:
@@ -170,11 +178,11 @@ def free_rotation(method: str, epochs: int, rotations: float) -> Part:
                     _u("base_s") + rotations * _u("rigid_s_per_rotation") + epochs * _u("dense_output_s"),
                     epochs * _u("track_bytes_per_epoch") / MB)
     if method == "series":
-        fixed, per = _u("free_series_build_s"), _u("free_series_epoch_s")
+        fixed, per, per_bytes = _u("free_series_build_s"), _u("free_series_epoch_s"), _u("free_series_bytes_per_epoch")
     else:
-        fixed, per = _u("base_s"), _u("free_exact_epoch_s")
+        fixed, per, per_bytes = _u("base_s"), _u("free_exact_epoch_s"), _u("track_bytes_per_epoch")
     return Part("step_days", f"the free motion ({method}) at {epochs} epochs", fixed + epochs * per,
-                epochs * _u("track_bytes_per_epoch") / MB)
+                epochs * per_bytes / MB)
 
 
 def lunisolar_sum(epochs: int) -> Part:
@@ -182,10 +190,15 @@ def lunisolar_sum(epochs: int) -> Part:
                 epochs * _u("track_bytes_per_epoch") / MB)
 
 
-def serialised(epochs: int, columns: int) -> Part:
-    """An answer of ``epochs`` rows of ``columns`` floats, serialised (JSON, CSV or a figure)."""
-    return Part("step_days", f"{epochs} epochs serialised", epochs * columns * _u("serialise_s_per_value"),
-                epochs * columns * _u("serialised_bytes_per_value") / MB)
+#: how an answer is written out: the unit cost of one value
+SERIALISATIONS = {"json": "serialise_s_per_value", "csv": "serialise_csv_s_per_value"}
+
+
+def serialised(epochs: int, columns: int, output: str = "json") -> Part:
+    """An answer of ``epochs`` rows of ``columns`` floats, serialised as JSON (orjson, or a figure's
+    points) or CSV (a float's exact repr per value: ~20x the cost of JSON)."""
+    return Part("step_days", f"{epochs} epochs serialised as {output}",
+                epochs * columns * _u(SERIALISATIONS[output]), epochs * columns * _u("serialised_bytes_per_value") / MB)
 
 
 def truncation_bounds(e: float) -> Part:

@@ -252,6 +252,7 @@ def _sample_functions(e: float, N: int) -> tuple[np.ndarray, np.ndarray]:
     return inv3, (x + 1j * y) ** 2 * inv3 / r_over_a**2
 
 
+@lru_cache(maxsize=32)      # immutable results; a model's build asks three times (its mean-pole iteration)
 def hansen_exact(e: float, kmax: int | None = None) -> HansenCoefficients:
     """Coefficients ``c0, c2, s2`` to machine precision for any ``0 <= e < 1``.
 

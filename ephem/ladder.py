@@ -454,9 +454,9 @@ class Ladder:
             parts = [build, cost.second_order(count, k)]
         else:   # numerical, real_orbit: the second-order mean track is subtracted from the integrated pole
             parts = [build, cost.second_order(count, k), cost.spin_integration(orbits, e, count)]
-            if rung == "real_orbit":
-                parts.append(cost.orbit_integration(abs(max(stop, b.pole.epoch_jd_tdb)
-                                                        - min(start, b.pole.epoch_jd_tdb))))
+            if rung == "real_orbit":   # integrated from the elements' epoch through the pole's and the track's
+                epochs_jd = (start, stop, b.pole.epoch_jd_tdb, b.orbit.epoch_jd_tdb)
+                parts.append(cost.orbit_integration(max(epochs_jd) - min(epochs_jd)))
         if free_wobble:
             parts.append(cost.free_rotation("exact", count, 0.0))
         return Cost(tuple(parts))

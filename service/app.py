@@ -251,7 +251,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         arrays = api.track_arrays(body, start, stop, step_days, dataset.value, order,
                                   settings.max_track_samples, tolerance_mas, None if model is None else model.value,
                                   axis.value, free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch,
-                                  perturbers=perturbers)
+                                  perturbers=perturbers, output=format.value)
         if format is TrackFormat.csv:
             return StreamingResponse(_csv_rows(arrays), media_type="text/csv; charset=utf-8")
         return finite_json(arrays)

@@ -18,6 +18,12 @@ from service.settings import Settings
 
 # the app reads this when each worker imports it: the watchdog may end a worker, the master replaces it
 os.environ.setdefault("EPHEM_SUPERVISED", "1")
+# One BLAS thread per worker: a worker is one core's worth of work, which the cost predictions and the
+# turns of large requests count on. With BLAS's own threads an e = 0.95 track took 2.2-13.6 s of CPU
+# in three runs against a steady 1.3 s on one thread (benchmarks/RESULTS_cost.md). Set before the
+# workers import numpy; an operator's own setting is kept.
+for _blas in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_blas, "1")
 # the workers share the slots of large requests (service/guards.py) through lock files here
 _own_lock_dir = "EPHEM_LOCK_DIR" not in os.environ
 os.environ.setdefault("EPHEM_LOCK_DIR", tempfile.mkdtemp(prefix="ephem-service-"))

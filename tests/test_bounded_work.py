@@ -346,3 +346,60 @@ def test_a_slot_is_taken_at_the_first_checkpoint_of_a_large_request_and_freed_at
         budget.checkpoint()
         assert second.fd is not None
     second.release()
+
+
+def test_the_workers_get_one_blas_thread_and_a_shared_lock_directory_before_numpy():
+    """service/gunicorn_conf.py runs in the master, which forks the workers: what it sets in the environment
+    (before numpy is imported anywhere) is what every worker starts with."""
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "EPHEM_LOCK_DIR")}
+    probe = ("import os, sys; sys.path.insert(0, '.'); import service.gunicorn_conf as conf; "
+             "print(os.environ['OPENBLAS_NUM_THREADS'], os.environ['OMP_NUM_THREADS'], os.environ['MKL_NUM_THREADS'], "
+             "os.path.isdir(os.environ['EPHEM_LOCK_DIR']), 'numpy' in sys.modules, conf.max_requests); "
+             "conf.on_exit(None); print(os.path.isdir(os.environ['EPHEM_LOCK_DIR']))")
+    out = subprocess.run([sys.executable, "-c", probe], cwd=ROOT, env=env, capture_output=True, text=True,
+                         timeout=60, check=True).stdout.split()
+    assert out == ["1", "1", "1", "True", "False", "0", "False"]
+    env["OPENBLAS_NUM_THREADS"] = "4"           # an operator's own setting is kept
+    out = subprocess.run([sys.executable, "-c", probe], cwd=ROOT, env=env, capture_output=True, text=True,
+                         timeout=60, check=True).stdout.split()
+    assert out[0] == "4"
+
+
+# --- the cost model's corrections (benchmarks/RESULTS_cost.md)
+
+def test_the_harmonic_work_table_the_cost_model_allows_is_the_one_kinoshita_caps():
+    assert cost.unit_costs()["harmonic_block_mb"] * 2**20 == pytest.approx(kinoshita._BLOCK_BYTES, rel=0, abs=0.5)
+    assert cost.harmonic_work_mb(10**6, 40_000) == pytest.approx(32.0, rel=1e-12)
+    assert cost.harmonic_work_mb(100, 10) < 0.1
+
+
+def test_a_csv_track_is_charged_for_its_slower_serialisation():
+    """10^5 epochs: ~0.18 s estimated as JSON, ~0.8 s as CSV (a float's repr each: measured ~470 ns a value
+    against ~20 ns in JSON); a budget of 0.5 s admits the one and refuses the other, naming the parameter."""
+    path = "/v1/bodies/vesta/track?start=2451545&stop=2551544&step_days=1"
+    with TestClient(create_app(Settings(warm_up=False, max_request_cpu_s=0.5)), raise_server_exceptions=False) as c:
+        assert c.get(path).status_code == 200
+        body = _problem(c.get(path + "&format=csv"), 422, "over-budget")
+        assert body["errors"][0]["field"] == "step_days"
+        assert any("serialised as csv" in part["what"] for part in body["estimate"]["parts"])
+
+
+def test_the_real_orbit_is_charged_from_the_elements_epoch():
+    """The orbit is integrated from its elements' epoch (ephem.ephemeris): elements of 1900 for a track in
+    2040 cost 140 years of integration, not the 40 from the pole epoch (J2000)."""
+    import dataclasses
+
+    from ephem.ladder import Ladder
+
+    vesta = api.resolve_body("vesta")
+    t0, t1 = 2466154.5, 2466519.5                      # 2040-2041
+
+    def path_years(body) -> float:
+        part = next(p for p in Ladder(body).cost("real_orbit", t0, t1, 10).parts if p.what.startswith("the real orbit"))
+        return float(part.what.split()[-2])
+
+    # Vesta's elements are of 2025 and its pole of J2000: from J2000 to 2041 (the description prints 4 digits)
+    assert path_years(vesta) == pytest.approx((t1 - 2451545.0) / 365.25, rel=1e-3)
+    old_elements = dataclasses.replace(vesta, orbit=dataclasses.replace(vesta.orbit, epoch_jd_tdb=2415020.5))
+    assert path_years(old_elements) == pytest.approx((t1 - 2415020.5) / 365.25, rel=1e-3)
