@@ -152,7 +152,7 @@ def harmonic_sum(epochs: int, k: int, parameter: str, what: str) -> Part:
 def second_order(epochs: int, k: int) -> Part:
     return Part("step_days", f"the second-order theory at {epochs} epochs x {k} harmonics",
                 _u("base_s") + epochs * (_u("second_order_epoch_s") + _u("second_order_harmonic_s") * k),
-                epochs * _u("track_bytes_per_epoch") / MB)
+                epochs * _u("track_bytes_per_epoch") / MB + harmonic_work_mb(epochs, k))
 
 
 def spin_integration(orbits: float, e: float, epochs: int) -> Part:
