@@ -14,18 +14,19 @@ import numpy as np
 
 from . import cost
 from .budget import OverBudgetError, charge, prepaid
-from .catalogue import DEFAULT_DATASET, Body, get_body, load_catalogue, load_references, resolve_perturbers
+from .catalogue import (DEFAULT_DATASET, Body, get_body, load_catalogue, load_references, resolve_body,
+                        resolve_perturbers)
 from .constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from .errors import InvalidInputError, NotApplicableError
 from .hansen import LAPLACE_LIMIT, hansen_series
-from .ladder import AXES, RUNGS, Ladder, cached_model, truncation_bound
-from .model import MIN_SPIN_ORBIT_RATIO, PrecessionNutation, check_domain
+from .ladder import AXES, RUNGS, Ladder, truncation_bound
+from .model import (MAX_ORDER, MIN_SPIN_ORBIT_RATIO, PrecessionNutation, cached_model, check_domain, check_order,
+                    model_for)
 from .timeparse import to_jd_tdb
 from .units import in_unit, with_units
 
 #: Highest e-power order served: the exact-rational series costs ~0.7 s to build at 30 and grows
 #: steeply beyond (a request could tie up a worker); exact Hansen coefficients have no such limit.
-MAX_ORDER = 30
 #: Default cap on the number of epochs in one track.
 MAX_TRACK_SAMPLES = 1_000_000
 #: Obliquity within this many degrees of 90: ψ̇ ∝ cos ε is small and poorly determined.
@@ -69,30 +70,6 @@ RUNG_DESCRIPTIONS = {
 }
 #: The track models: the single-perturber ladder's rungs, and the Earth's lunisolar theory.
 MODELS = RUNGS + ("lunisolar",)
-
-
-def _order(order: int | None) -> int | None:
-    if order is None:
-        return None
-    if isinstance(order, bool) or not isinstance(order, int) or order < 0 or order > MAX_ORDER:
-        raise InvalidInputError("order", f"eccentricity order must be an integer in [0, {MAX_ORDER}] or omitted "
-                                f"for exact Hansen coefficients, got {order!r}")
-    return order
-
-
-def resolve_body(body: str | int | Body, dataset: str = DEFAULT_DATASET) -> Body:
-    return body if isinstance(body, Body) else get_body(body, dataset)
-
-
-def model_for(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None) -> PrecessionNutation:
-    """Validated model of a catalogue body (by name or NAIF id) or of a :class:`Body`."""
-    b = resolve_body(body, dataset)
-    order = _order(order)
-    if order is not None and b.orbit.e > LAPLACE_LIMIT:
-        raise InvalidInputError(
-            "order", f"e = {b.orbit.e} exceeds the Laplace limit {LAPLACE_LIMIT:.4f}: the e-power series "
-            "diverge; omit the order to use exact Hansen coefficients", b.name)
-    return cached_model(b, order)
 
 
 @lru_cache(maxsize=512)
@@ -263,7 +240,7 @@ def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: in
         ans = _lunisolar_precession(b, per, dataset, order, tolerance_mas, start)
         return with_units(ans) if quantities else ans
     tol = _tolerance(tolerance_mas)
-    order = _order(order)
+    order = check_order(order)
     charge(answer_cost(b, order, tolerance=tol is not None), b.name)
     order = _order_for_tolerance(b, tol, order)
     m = model_for(b, dataset, order)
@@ -364,7 +341,7 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
         raise InvalidInputError("cut_mas", "an amplitude cut applies to the lunisolar series (the Earth with the "
                                 "Moon); this series is truncated by e-order (order, tolerance_mas)", b.name)
     tol = _tolerance(tolerance_mas)
-    order = _order(order)
+    order = check_order(order)
     charge(answer_cost(b, order, nutation=True, tolerance=tol is not None), b.name)
     order = _order_for_tolerance(b, tol, order)
     m = model_for(b, dataset, order)
@@ -417,7 +394,7 @@ def precession_nutation(body: Body, order: int | None = None, track: dict | None
     Every part's cost is charged before any part is computed (the track's own check comes first, then
     the two answers'); errors in the track's inputs name their full path (``track.step_days``).
     """
-    charge(answer_cost(body, _order(order), nutation=True), body.name)
+    charge(answer_cost(body, check_order(order), nutation=True), body.name)
     ans = {}
     if track is not None:
         try:
@@ -499,7 +476,7 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     begin = time.perf_counter()
     b = resolve_body(body, dataset)
     t0, step, count = epoch_grid(start, stop, step_days, max_samples)
-    order, tol, rung = _order(order), _tolerance(tolerance_mas), _rung(model)
+    order, tol, rung = check_order(order), _tolerance(tolerance_mas), _rung(model)
     if axis not in AXES:
         raise InvalidInputError("axis", f"must be one of {', '.join(AXES)}, got {axis!r}", b.name)
     if tol is not None and (order is not None or rung is not None):
@@ -737,7 +714,7 @@ def _lunisolar_precession(b: Body, per: tuple[str, ...], dataset: str, order, to
 
     tol = _tolerance(tolerance_mas)
     model_for(b, dataset)                              # applicability (the Moon)
-    _no_order_for_lunisolar(b, _order(order))
+    _no_order_for_lunisolar(b, check_order(order))
     charge(cost.Cost((cost.lunisolar_answer(),)), b.name)
     lm = earth.lunisolar_earth(b, "figure", earth.TRACK_CUT_MAS, per)
     ans = _rates(b, lm, None)
@@ -768,7 +745,7 @@ def _lunisolar_nutation(b: Body, per: tuple[str, ...], dataset: str, order, tole
 
     tol = _tolerance(tolerance_mas)
     model_for(b, dataset)
-    _no_order_for_lunisolar(b, _order(order))
+    _no_order_for_lunisolar(b, check_order(order))
     if tol is not None and cut_mas is not None:
         raise InvalidInputError("cut_mas", "give either cut_mas or tolerance_mas, not both", b.name)
     if cut_mas is not None:

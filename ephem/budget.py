@@ -1,7 +1,7 @@
 """A request's budget: predicted costs charged before the work, and a deadline while it runs.
 
 The service opens one :func:`budget` per request. Each entry point of :mod:`ephem.api` states
-its cost (:mod:`ephem.cost`) and calls :func:`charge` before doing the work: a cost that would
+its cost (a :class:`Cost`, predicted by :mod:`ephem.cost`) and calls :func:`charge` before doing the work: a cost that would
 take the request over its CPU or memory budget raises :class:`OverBudgetError` naming the
 parameter that drives it and the estimate, before anything is computed. The long loops
 (integrations, harmonic sums, the Hansen FFT) call :func:`checkpoint`, the backstop for an
@@ -24,8 +24,58 @@ from contextvars import ContextVar
 from dataclasses import dataclass, field
 from typing import Callable
 
-from .cost import Cost
 from .errors import EphemError
+
+
+@dataclass(frozen=True)
+class Part:
+    """One piece of work: ``what`` it is, the request ``parameter`` that drives it, its cost."""
+
+    parameter: str
+    what: str
+    cpu_s: float
+    memory_mb: float
+
+
+@dataclass(frozen=True)
+class Cost:
+    """The predicted cost of a request: the sum of its parts (CPU) and their largest (memory)."""
+
+    parts: tuple[Part, ...] = ()
+
+    @property
+    def cpu_s(self) -> float:
+        return float(sum(p.cpu_s for p in self.parts))
+
+    @property
+    def memory_mb(self) -> float:
+        # parts run one after another and free their work arrays; the largest sets the peak
+        return float(max((p.memory_mb for p in self.parts), default=0.0))
+
+    def __add__(self, other: "Cost") -> "Cost":
+        return Cost(self.parts + other.parts)
+
+    def largest(self, by: str = "cpu_s") -> Part | None:
+        return max(self.parts, key=lambda p: getattr(p, by), default=None)
+
+    def describe(self) -> str:
+        cpu, mem = self.largest("cpu_s"), self.largest("memory_mb")
+        text = f"{self.cpu_s:.3g} s of one core and {self.memory_mb:.3g} MB"
+        if cpu is not None:
+            text += f" (largest: {cpu.what}, set by {cpu.parameter}"
+            if mem is not None and mem is not cpu and mem.memory_mb > 0.5 * self.memory_mb:
+                text += f"; most memory: {mem.what}, set by {mem.parameter}"
+            text += ")"
+        return text
+
+    def as_dict(self) -> dict:
+        return {"cpu_s": self.cpu_s, "memory_mb": self.memory_mb,
+                "parts": [{"parameter": p.parameter, "what": p.what, "cpu_s": p.cpu_s, "memory_mb": p.memory_mb}
+                          for p in self.parts]}
+
+
+#: a cost of nothing (a part charged elsewhere)
+FREE = Cost()
 
 
 class OverBudgetError(EphemError):

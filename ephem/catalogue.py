@@ -44,6 +44,19 @@ def data_dir() -> Path:
     raise FileNotFoundError("ephem data directory not found (set EPHEM_DATA_DIR)")
 
 
+def dynamical_ellipticity(A: float, B: float, C: float, body: str | None = None) -> float:
+    """H_d = (C - (A+B)/2) / C (Petit et al. eq. 11), from principal moments A <= B <= C."""
+    for name, value in (("A", A), ("B", B), ("C", C)):
+        if not math.isfinite(value) or value <= 0.0:
+            raise InvalidInputError(f"inertia.{name}", f"must be a positive finite number, got {value!r}", body)
+    if not A <= B <= C:
+        raise InvalidInputError("inertia", f"principal moments must satisfy A <= B <= C, got A={A}, B={B}, C={C}", body)
+    if C > A + B:
+        raise InvalidInputError("inertia", f"C={C} exceeds A+B={A + B}: no rigid body has these moments", body)
+    return (C - 0.5 * (A + B)) / C
+
+
+
 @dataclass(frozen=True)
 class Measured:
     """A catalogue value as published: value, unit, 1-sigma uncertainty, source key."""
@@ -154,8 +167,7 @@ class Body:
     perturbers: tuple[str, ...] | None = None
 
     def __post_init__(self):
-        from .kinoshita import dynamical_ellipticity
-
+        
         n = self.name
         object.__setattr__(self, "perturbers", resolve_perturbers(self.perturbers, self))
         _check_finite(n, "rotation_period_hours", self.rotation_period_hours)
@@ -394,3 +406,8 @@ def load_references() -> dict:
 def get_body(query: str | int, dataset: str = DEFAULT_DATASET) -> Body:
     """A catalogue body by case-insensitive name or NAIF id (2000004 = Vesta)."""
     return load_catalogue(dataset).get(query)
+
+
+def resolve_body(body: "str | int | Body", dataset: str = DEFAULT_DATASET) -> Body:
+    """``body`` itself if it is a :class:`Body` (a user's own), else the catalogue's by name or NAIF id."""
+    return body if isinstance(body, Body) else get_body(body, dataset)

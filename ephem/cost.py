@@ -16,67 +16,21 @@ from __future__ import annotations
 
 import math
 import tomllib
-from dataclasses import dataclass
 from functools import lru_cache
+
+from .budget import FREE, Cost, Part
+from .catalogue import data_dir
+from .hansen import decay_rate, fft_length
+from .kepler import mean_motion_rad_per_day
 
 MB = 1024.0 * 1024.0
 
 
-@dataclass(frozen=True)
-class Part:
-    """One piece of work: ``what`` it is, the request ``parameter`` that drives it, its cost."""
-
-    parameter: str
-    what: str
-    cpu_s: float
-    memory_mb: float
-
-
-@dataclass(frozen=True)
-class Cost:
-    """The predicted cost of a request: the sum of its parts (CPU) and their largest (memory)."""
-
-    parts: tuple[Part, ...] = ()
-
-    @property
-    def cpu_s(self) -> float:
-        return float(sum(p.cpu_s for p in self.parts))
-
-    @property
-    def memory_mb(self) -> float:
-        # parts run one after another and free their work arrays; the largest sets the peak
-        return float(max((p.memory_mb for p in self.parts), default=0.0))
-
-    def __add__(self, other: "Cost") -> "Cost":
-        return Cost(self.parts + other.parts)
-
-    def largest(self, by: str = "cpu_s") -> Part | None:
-        return max(self.parts, key=lambda p: getattr(p, by), default=None)
-
-    def describe(self) -> str:
-        cpu, mem = self.largest("cpu_s"), self.largest("memory_mb")
-        text = f"{self.cpu_s:.3g} s of one core and {self.memory_mb:.3g} MB"
-        if cpu is not None:
-            text += f" (largest: {cpu.what}, set by {cpu.parameter}"
-            if mem is not None and mem is not cpu and mem.memory_mb > 0.5 * self.memory_mb:
-                text += f"; most memory: {mem.what}, set by {mem.parameter}"
-            text += ")"
-        return text
-
-    def as_dict(self) -> dict:
-        return {"cpu_s": self.cpu_s, "memory_mb": self.memory_mb,
-                "parts": [{"parameter": p.parameter, "what": p.what, "cpu_s": p.cpu_s, "memory_mb": p.memory_mb}
-                          for p in self.parts]}
-
-
-FREE = Cost()
 
 
 @lru_cache(maxsize=1)
 def unit_costs() -> dict:
     """The measured unit costs (``data/cost_model.toml``)."""
-    from .catalogue import data_dir
-
     with open(data_dir() / "cost_model.toml", "rb") as fh:
         return tomllib.load(fh)["unit"]
 
@@ -91,18 +45,16 @@ def harmonics(e: float, order: int | None, relative_floor: float = 1e-16) -> tup
     """(FFT samples N, harmonics K) of the nutation series at eccentricity ``e``.
 
     ``order`` None: the exact coefficients of :func:`ephem.hansen.hansen_exact`, whose harmonics
-    decay like k^(3/2) exp(-σk) (σ of :func:`ephem.hansen._decay_rate`, ~(1-e²)^(3/2)/3 as e -> 1):
+    decay like k^(3/2) exp(-σk) (σ of :func:`ephem.hansen.decay_rate`, ~(1-e²)^(3/2)/3 as e -> 1):
     K solves σK - 1.5 ln K = ln(1/relative_floor), the last harmonic above that fraction of the
     largest (1e-16: the Hansen coefficients themselves; the nutation series cuts at an absolute
     amplitude, a larger fraction, see :func:`nutation_harmonics`). An e-power series to e^order has
     order + 2.
     """
-    from .hansen import _decay_rate, _fft_length
-
     if order is not None:
         return 0, order + 2
-    n = _fft_length(e, None)
-    sigma = _decay_rate(e)
+    n = fft_length(e, None)
+    sigma = decay_rate(e)
     if math.isinf(sigma):
         return n, 2
     target = math.log(1.0 / relative_floor)
@@ -218,8 +170,6 @@ def lunisolar_answer() -> Part:
 def body_harmonics(body, order: int | None = None) -> int:
     """:func:`nutation_harmonics` of a :class:`~ephem.catalogue.Body`, from its parameters alone
     (K/n = 3 n H_d / ω, Petit et al. eq. 10)."""
-    from .kepler import mean_motion_rad_per_day
-
     n = mean_motion_rad_per_day(body.orbit.a_au, body.orbit.center)
     omega = 2.0 * math.pi / (body.rotation_period_hours / 24.0)
     return nutation_harmonics(body.orbit.e, order, 3.0 * n * body.hd / omega)

@@ -181,7 +181,7 @@ def _check_eccentricity(e) -> float:
 # Exact coefficients: FFT over the mean anomaly
 # ---------------------------------------------------------------------------
 
-def _decay_rate(e: float) -> float:
+def decay_rate(e: float) -> float:
     """``sigma`` in ``|X_k| ~ exp(-sigma k)`` for Fourier series in ``M``.
 
     The functions are analytic in ``M`` in the strip ``|Im M| < sigma`` bounded
@@ -201,14 +201,14 @@ def exact_unavailable(e: float) -> str | None:
     """Why the exact coefficients cannot be had at ``e`` (None: they can). As e -> 1 the significant
     harmonics grow like (1-e²)^(-3/2): past e ~ 0.999 they would need more than ``_MAX_SAMPLES``."""
     try:
-        _fft_length(e, None)
+        fft_length(e, None)
     except InvalidInputError as exc:
         return (f"e = {e:.6g} is too close to 1 for the Fourier series of the solar torque in the mean anomaly: "
                 f"{exc.reason}; the pericentre passage is too brief for an averaged theory")
     return None
 
 
-def _fft_length(e: float, kmax: int | None) -> int:
+def fft_length(e: float, kmax: int | None) -> int:
     """Power-of-two sample count making aliasing negligible (< 1e-16 relative).
 
     With ``|X_n| <~ n^(3/2) exp(-sigma n)`` (``(a/r)^3 ~ (M - M_s)^(-3/2)`` at
@@ -219,7 +219,7 @@ def _fft_length(e: float, kmax: int | None) -> int:
     uses to measure its noise floor.  Checked: doubling ``N`` changes the
     coefficients by < 4e-16 of the largest for e = 0.1 ... 0.99.
     """
-    sigma = _decay_rate(e)
+    sigma = decay_rate(e)
     target = math.log(1e18)
     K = float(_MIN_KMAX) if math.isinf(sigma) else target / sigma
     while not math.isinf(sigma) and sigma * K - 1.5 * math.log(K) < target:
@@ -259,7 +259,7 @@ def hansen_exact(e: float, kmax: int | None = None) -> HansenCoefficients:
     Method: the two functions are sampled on ``N`` (a power of two) uniformly
     spaced mean anomalies, Kepler's equation being solved to round-off
     (:func:`solve_kepler`), and Fourier-analysed by FFT.  ``N`` is chosen from
-    the analyticity strip of the functions in ``M`` (:func:`_decay_rate`) so
+    the analyticity strip of the functions in ``M`` (:func:`decay_rate`) so
     that aliasing is below 1e-16 relative; what remains is round-off, a few
     1e-16 of the largest coefficient (measured: doubling ``N`` moves no
     coefficient by more than 4e-16 of the largest, e = 0.1 ... 0.99).
@@ -282,7 +282,7 @@ def hansen_exact(e: float, kmax: int | None = None) -> HansenCoefficients:
     e = _check_eccentricity(e)
     if kmax is not None and (int(kmax) != kmax or kmax < 0):
         raise InvalidInputError("kmax", f"must be a non-negative integer, got {kmax!r}")
-    N = _fft_length(e, None if kmax is None else int(kmax))
+    N = fft_length(e, None if kmax is None else int(kmax))
     checkpoint()        # the service's: the FFT is the large step of an eccentric orbit's answer
 
     g, f = _sample_functions(e, N)
@@ -310,7 +310,7 @@ def _significant_kmax(*families: np.ndarray) -> int:
     """Last ``k`` where some family exceeds both 1e-16 of the largest value
     and the round-off noise, taken as the largest magnitude over the top half
     of the harmonics (negligible by the choice of ``N``, see
-    :func:`_fft_length`); at least 6."""
+    :func:`fft_length`); at least 6."""
     magnitude = np.max(np.abs(np.vstack(families)), axis=0)
     noise = magnitude[magnitude.size // 2:].max()
     threshold = max(_REL_TOL * magnitude.max(), noise)

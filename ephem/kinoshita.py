@@ -37,18 +37,6 @@ from .errors import InvalidInputError
 from .hansen import hansen_exact, hansen_series
 
 
-def dynamical_ellipticity(A: float, B: float, C: float, body: str | None = None) -> float:
-    """H_d = (C - (A+B)/2) / C (Petit et al. eq. 11), from principal moments A <= B <= C."""
-    for name, value in (("A", A), ("B", B), ("C", C)):
-        if not math.isfinite(value) or value <= 0.0:
-            raise InvalidInputError(f"inertia.{name}", f"must be a positive finite number, got {value!r}", body)
-    if not A <= B <= C:
-        raise InvalidInputError("inertia", f"principal moments must satisfy A <= B <= C, got A={A}, B={B}, C={C}", body)
-    if C > A + B:
-        raise InvalidInputError("inertia", f"C={C} exceeds A+B={A + B}: no rigid body has these moments", body)
-    return (C - 0.5 * (A + B)) / C
-
-
 def scaling_factor(n: float, omega: float, hd: float) -> float:
     """K = 3 n² H_d / ω (Petit et al. eq. 10), in the unit of n and ω (rad per time)."""
     return 3.0 * n * n * hd / omega

@@ -65,7 +65,7 @@ from .errors import InvalidInputError, NotApplicableError
 from .hansen import LAPLACE_LIMIT, hansen_exact, hansen_series
 from .kepler import mean_motion_rad_per_day
 from .kinoshita import eccentricity_factor
-from .model import PrecessionNutation, Track, build_model, check_domain
+from .model import PrecessionNutation, Track, cached_model, check_domain
 from .free_motion import Wobble, add_free_wobble, free_wobble_bound, wobble_model_bound
 from .physics_errors import (ephemeris_bound, orbit_motion_bound, real_orbit_unavailable, rotation_averaging_bound,
                              sun_path_for)
@@ -255,12 +255,6 @@ def pole_vectors(track: Track) -> np.ndarray:
 
 
 # --- the ladder of one body -----------------------------------------------------------------------
-
-@lru_cache(maxsize=512)
-def cached_model(body: Body, order: int | None = None) -> PrecessionNutation:
-    """:func:`~ephem.model.build_model`, memoised (a pure function of immutable inputs)."""
-    return build_model(body, order)
-
 
 @lru_cache(maxsize=512)
 def cached_theory(body: Body) -> SecondOrderTheory:

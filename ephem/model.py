@@ -16,22 +16,25 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
-from .catalogue import Body
-from .errors import NotApplicableError
+from .catalogue import DEFAULT_DATASET, Body, resolve_body
+from .errors import InvalidInputError, NotApplicableError
 from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
-from .hansen import exact_unavailable
+from .hansen import LAPLACE_LIMIT, exact_unavailable
 from .kepler import mean_motion_rad_per_day
-from .kinoshita import (MAX_SHIFT, NutationSeries, cos_sin_shifted, nutation_series, precession_rate,
-                        scaling_factor, uniform_cos_sin)
+from .kinoshita import (MAX_SHIFT, NutationSeries, cos_sin_shifted, eccentricity_factor, nutation_series,
+                        precession_rate, scaling_factor, uniform_cos_sin)
 
 #: Rotation-averaging needs the spin much faster than the orbital motion. Against the full rigid
 #: body (ephem.rigid, docs/rigid_body_study.md) the averaged theory's figure axis is off by 10% of
 #: the pole's motion over an orbit at ω/n = 25 for the catalogue Eros ((B-A)/C = 0.73, the worst
 #: shape), 5-11 for near-axisymmetric bodies, and by order 1 below ω/n = 3: refuse below 30.
 MIN_SPIN_ORBIT_RATIO = 30.0
+#: highest e-order of the truncated Hansen coefficients a model accepts (omit the order for exact ones)
+MAX_ORDER = 30
 
 
 @dataclass(frozen=True)
@@ -108,8 +111,6 @@ class PrecessionNutation:
         estimate, checked against the numerical integration in the tests (it must
         never be exceeded there).
         """
-        from .kinoshita import eccentricity_factor
-
         half_psi, half_eps = self.nutation.semi_peak_to_peak()
         amp = max(half_psi, half_eps)
         f = eccentricity_factor(self.eccentricity)
@@ -235,3 +236,31 @@ def build_model(body: Body, order: int | None = None) -> PrecessionNutation:
         precession_rate=precession_rate(K, eps_mean, orb.e, order), nutation=series,
         pole_epoch=t0, orbit_epoch=orb.epoch_jd_tdb, mean_anomaly_at_epoch=m0,
         nutation_at_pole_epoch=(dpsi0, deps0), icrf_from_orbit=icrf_from_orbit, order=order)
+
+
+def check_order(order: int | None) -> int | None:
+    """``order`` if it is None (exact Hansen coefficients) or an integer in [0, MAX_ORDER]; else
+    :class:`InvalidInputError` naming ``order``."""
+    if order is None:
+        return None
+    if isinstance(order, bool) or not isinstance(order, int) or order < 0 or order > MAX_ORDER:
+        raise InvalidInputError("order", f"eccentricity order must be an integer in [0, {MAX_ORDER}] or omitted "
+                                f"for exact Hansen coefficients, got {order!r}")
+    return order
+
+
+@lru_cache(maxsize=512)
+def cached_model(body: Body, order: int | None = None) -> PrecessionNutation:
+    """:func:`build_model`, memoised (a pure function of immutable inputs)."""
+    return build_model(body, order)
+
+
+def model_for(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None) -> PrecessionNutation:
+    """Validated model of a catalogue body (by name or NAIF id) or of a :class:`Body`."""
+    b = resolve_body(body, dataset)
+    order = check_order(order)
+    if order is not None and b.orbit.e > LAPLACE_LIMIT:
+        raise InvalidInputError(
+            "order", f"e = {b.orbit.e} exceeds the Laplace limit {LAPLACE_LIMIT:.4f}: the e-power series "
+            "diverge; omit the order to use exact Hansen coefficients", b.name)
+    return cached_model(b, order)

@@ -34,13 +34,14 @@ from functools import lru_cache
 
 import numpy as np
 
-from .catalogue import DEFAULT_DATASET, Body
+from .catalogue import DEFAULT_DATASET, Body, resolve_body
 from .constants import ARCSEC, JULIAN_YEAR_DAYS
 from .errors import InvalidInputError
 from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from .hansen import hansen_exact, hansen_series
 from .kepler import mean_motion_rad_per_day
 from .kinoshita import precession_rate, scaling_factor, series_extrema
+from .model import model_for
 
 #: Central-difference step as a fraction of the input's σ. The linear σ is J·σ with J the
 #: derivative at the nominal point. Truncation error of the central difference, relative:
@@ -316,7 +317,6 @@ class _Setup:
 
 def _setup(body, dataset, order, uncertainties, correlations) -> _Setup:
     # the answers' own validation of the order and of the theory's applicability
-    from .api import model_for, resolve_body
 
     b = resolve_body(body, dataset)
     m = model_for(b, dataset, order)            # raises NotApplicableError for the Moon

@@ -68,17 +68,17 @@ def test_a_pericentre_inside_the_sun_is_refused():
 
 
 def test_e_099_is_over_budget_before_any_model_is_built(client, monkeypatch):
-    import ephem.ladder
+    import ephem.model
 
     def no_build(*args, **kwargs):       # the refusal must come from the estimate, not from the work
         raise AssertionError("a model was built before the cost was checked")
 
-    monkeypatch.setattr(ephem.ladder, "build_model", no_build)
-    ephem.ladder.cached_model.cache_clear()
+    monkeypatch.setattr(ephem.model, "build_model", no_build)
+    ephem.model.cached_model.cache_clear()
     try:
         body = _problem(client.post("/v1/precession-nutation", json=_user(orbit__e=0.99)), 422, "over-budget")
     finally:
-        ephem.ladder.cached_model.cache_clear()
+        ephem.model.cached_model.cache_clear()
     assert body["errors"][0]["field"] == "orbit.e"
     assert body["estimated_cpu_s"] > body["budget_cpu_s"] == Settings().max_request_cpu_s
 

@@ -5,11 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from ephem.catalogue import Body, Orbit, Pole
+from ephem.catalogue import Body, Orbit, Pole, dynamical_ellipticity
 from ephem.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from ephem.errors import InvalidInputError, NotApplicableError
 from ephem.geometry import unit_vector
-from ephem.kinoshita import (dynamical_ellipticity, eccentricity_factor, evaluate_harmonics,
+from ephem.kinoshita import (eccentricity_factor, evaluate_harmonics,
                              evaluate_harmonics_uniform, nutation_series, precession_rate)
 from ephem.model import build_model
 from ephem.numerical import angular_separation, integrate_spin_axis

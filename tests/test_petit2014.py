@@ -19,12 +19,12 @@ import numpy as np
 import pytest
 
 from ephem import api
-from ephem.catalogue import data_dir, load_catalogue
+from ephem.catalogue import data_dir, dynamical_ellipticity, load_catalogue
 from ephem.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from ephem.geometry import icrf_to_ecliptic, spin_geometry
 from ephem.hansen import hansen_series
 from ephem.kepler import orbit_normal
-from ephem.kinoshita import dynamical_ellipticity, nutation_series
+from ephem.kinoshita import nutation_series
 from ephem.model import build_model
 
 TABLES = data_dir() / "petit2014"
