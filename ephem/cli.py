@@ -1,4 +1,4 @@
-"""Command-line interface: ``ephem bodies | body | precession | nutation | track | free-motion | bench accuracy | demo``.
+"""Command-line interface: ``ephem bodies | body | precession | nutation | track | free-motion | demo``.
 
 Output is JSON (default), CSV or an aligned text table. Errors go to stderr as ``error: FIELD: why``
 with exit status 2 (bad input, unknown body, and what the option parser refuses: a malformed
@@ -93,7 +93,7 @@ def _usage_message(exc) -> str:
 @contextmanager
 def _usage_errors():
     """Print a usage error as ``error: FIELD: why`` on stderr and exit 2 (no usage page, no rich box);
-    the help that a bare ``ephem`` or ``ephem bench`` prints is left alone."""
+    the help that a bare ``ephem`` prints is left alone."""
     try:
         yield
     except _usage.UsageError as exc:
@@ -539,36 +539,6 @@ def pck(names: list[str] = typer.Argument(..., metavar="BODY..."),
         typer.echo(f"{f.name}: fitting error {f.fit_error_mas:.4g} mas with {len(f.angles)} angles (model "
                    f"{f.model['name']}" + (f", estimated {est:.4g} mas" if est is not None else "") + ")")
     typer.echo(f"wrote {out}")
-
-
-def _run_charts(jobs, out: Path, doc: str) -> None:
-    with typer.progressbar(jobs, label="charts", item_show_func=lambda job: job[0] if job else "") as bar:
-        for _, job in bar:
-            job()
-    typer.echo(f"wrote {len(jobs)} charts to {out}/ (see {doc})")
-
-
-bench_app = _Typer(cls=_Group, no_args_is_help=True, help="Benchmarks that regenerate the committed charts.")
-app.add_typer(bench_app, name="bench")
-
-
-@bench_app.command("accuracy")
-def bench_accuracy(out: Path = typer.Option(Path("docs/charts"), "--out", help="Directory for the PNG, SVG and CSV."),
-                   quick: bool = typer.Option(False, "--quick", help="Small versions in seconds (as the tests).")):
-    """The fidelity ladder's charts: work-precision, error against e-order, error against span, and
-    where rotation averaging fails (ω/n); see docs/accuracy.md."""
-    from .accuracy_bench import tasks
-
-    _run_charts(tasks(out, quick=quick), out, "docs/accuracy.md")
-
-
-@bench_app.command("free-motion")
-def bench_free_motion(out: Path = typer.Option(Path("docs/charts"), "--out", help="Directory for the PNG, SVG and CSV."),
-                      quick: bool = typer.Option(False, "--quick", help="Small versions in seconds.")):
-    """Cost against accuracy of the torque-free solutions (exact, series, numeric); see docs/free_motion.md."""
-    from .free_motion_bench import tasks
-
-    _run_charts(tasks(out, quick=quick), out, "docs/free_motion.md")
 
 
 @app.command()

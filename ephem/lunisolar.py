@@ -435,14 +435,17 @@ def _build(cut: float, perturbers: tuple, hd: float, axis: str, grid: tuple, ome
     keep = np.nonzero((amp >= cut) & periodic)[0]
     keep = keep[np.argsort(-amp[keep], kind="stable")]
     slow = np.nonzero((amp >= cut) & ~periodic)[0]
-    long_terms = _term_dicts(spec0.multipliers[slow], nu0[slow], mas0[slow], mas_rate[slow])
+    long_terms = term_dicts(spec0.multipliers[slow], nu0[slow], mas0[slow], mas_rate[slow])
     ks, c, r, nu = spec0.multipliers[keep], mas0[keep], mas_rate[keep], nu0[keep]
-    terms = _term_dicts(ks, nu, c, r)
+    terms = term_dicts(ks, nu, c, r)
     return LunisolarSeries(perturbers, axis, hd, omega, eps0, cut, prec0, prec1 - prec0, ks, c, r, nu, terms,
                            long_terms)
 
 
-def _term_dicts(ks, nu, c, r) -> list:
+def term_dicts(ks, nu, c, r) -> list:
+    """The series' terms as dicts (the ``LunisolarSeries.terms`` entries): Delaunay multipliers ``ks``, angular
+    frequencies ``nu`` (rad/day; the period is 2π/ν), coefficients ``c`` (mas: Δψ sin, Δψ cos, Δε sin, Δε cos)
+    and their rates ``r`` (mas per century), one row per term."""
     return [{
         "delaunay_multipliers": [int(v) for v in k],
         "period_days": float(2.0 * math.pi / n),
@@ -576,62 +579,3 @@ def residual_vs_iau2000a(series: LunisolarSeries, jd_tdb) -> tuple[np.ndarray, n
     dpsi, deps = series.nutation_at(jd)
     ref_psi, ref_eps = erfa.nut00a(jd, 0.0)
     return dpsi - ref_psi, deps - ref_eps
-
-
-def write_residual_chart(prefix: str, step_days: float = 2.0) -> dict:
-    """The residual against IAU 2000A over 1900-2100 of the rigid series (IERS H_d, figure axis,
-    0.1 mas cut) and of the same series times the IERS 1996 transfer function
-    (:func:`ephem.nonrigid.non_rigid_series`): ``prefix``.csv, .png and .svg. Returns the rms and
-    max (mas) it drew."""
-    import csv
-
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from .nonrigid import non_rigid_series
-
-    series = earth_lunisolar(hd="iers2010")
-    jd = np.arange(2415020.5, 2488069.5 + 0.5 * step_days, step_days)   # 1900-01-01 .. 2100-01-01
-    rp, re = (x / MAS for x in residual_vs_iau2000a(series, jd))
-    np_, ne = (x / MAS for x in residual_vs_iau2000a(non_rigid_series(series), jd))
-    stats = {}
-    for key, y in (("psi", rp), ("eps", re), ("psi_nonrigid", np_), ("eps_nonrigid", ne)):
-        stats[key + "_rms_mas"] = float(np.sqrt(np.mean(y**2)))
-        stats[key + "_max_mas"] = float(np.abs(y).max())
-    with open(prefix + ".csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["jd_tdb", "year", "dpsi_minus_iau2000a_mas", "deps_minus_iau2000a_mas",
-                    "dpsi_times_iers1996_T_minus_iau2000a_mas", "deps_times_iers1996_T_minus_iau2000a_mas"])
-        for j in range(0, jd.size, 5):
-            w.writerow([f"{jd[j]:.1f}", f"{2000.0 + (jd[j] - J2000_JD) / JULIAN_YEAR_DAYS:.4f}",
-                        f"{rp[j]:.4f}", f"{re[j]:.4f}", f"{np_[j]:.4f}", f"{ne[j]:.4f}"])
-    year = 2000.0 + (jd - J2000_JD) / JULIAN_YEAR_DAYS
-    fig, axes = plt.subplots(2, 2, figsize=(13, 6), sharex=True)
-    panels = ((axes[0, 0], rp, "Δψ", "psi", "rigid", "tab:blue"),
-              (axes[1, 0], re, "Δε", "eps", "rigid", "tab:blue"),
-              (axes[0, 1], np_, "Δψ", "psi_nonrigid", "rigid × T", "tab:orange"),
-              (axes[1, 1], ne, "Δε", "eps_nonrigid", "rigid × T", "tab:orange"))
-    for ax, y, label, key, what, colour in panels:
-        ax.plot(year, y, lw=0.4, color=colour)
-        ax.set_ylabel(f"{label} {what} − IAU 2000A (mas)")
-        ax.set_title(f"{label}, {what}: rms {stats[key + '_rms_mas']:.1f} mas, max {stats[key + '_max_mas']:.1f} mas",
-                     fontsize=9)
-        ax.grid(alpha=0.3)
-    for ax in axes[1]:
-        ax.set_xlabel("year (TDB)")
-    fig.suptitle("Left: first-order rigid-Earth lunisolar nutation (H_d = 0.0032737949, figure axis, 0.1 mas cut) "
-                 "minus erfa.nut00a (IAU 2000A).\nRight: the same, plus the precession-nutation coupling, times the "
-                 "IERS 1996 transfer function T (elastic mantle, fluid core; ephem.nonrigid)", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(prefix + ".png", dpi=110)
-    fig.savefig(prefix + ".svg")
-    plt.close(fig)
-    return stats
-
-
-if __name__ == "__main__":  # python -m ephem.lunisolar docs/charts/earth_nutation_residual
-    import sys
-
-    print(write_residual_chart(sys.argv[1] if len(sys.argv) > 1 else "earth_nutation_residual"))

@@ -31,6 +31,7 @@ Units: coefficients in mas, frequencies in cycles per sidereal day, periods in d
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import tomllib
 from functools import lru_cache
@@ -39,6 +40,7 @@ import numpy as np
 
 from .catalogue import data_dir
 from .errors import InvalidInputError
+from .lunisolar import precession_nutation_coupling, term_dicts
 
 
 @lru_cache(maxsize=1)
@@ -142,10 +144,6 @@ def non_rigid_series(series, coupling: bool = True):
     22 for the rigid series (docs/earth.md): what IAU 2000A adds beyond it is mostly the
     planetary nutation.
     """
-    import dataclasses
-
-    from .lunisolar import _term_dicts, precession_nutation_coupling
-
     coef = np.array(series.coefficients, dtype=float)
     if coupling:
         coef[:, :2] += precession_nutation_coupling(series)
@@ -155,5 +153,5 @@ def non_rigid_series(series, coupling: bool = True):
                 "obliquity_sin_mas": coef[i, 2], "obliquity_cos_mas": coef[i, 3]}
         nr = non_rigid_term(term, series.obliquity)
         out[i] = (nr["longitude_sin_mas"], nr["longitude_cos_mas"], nr["obliquity_sin_mas"], nr["obliquity_cos_mas"])
-    terms = _term_dicts(series.multipliers, series.frequencies, out, series.rates)
+    terms = term_dicts(series.multipliers, series.frequencies, out, series.rates)
     return dataclasses.replace(series, coefficients=out, terms=terms, long_period_terms=[])

@@ -115,13 +115,3 @@ def test_cli_track_with_tolerance_reports_the_model_on_stderr():
     res = runner.invoke(app, ["track", "vesta", "--start", "2000-01-01", "--stop", "2300-01-01", "--step-days", "365",
                               "--tolerance-mas", "1"])
     assert res.exit_code == 3 and "tolerance" in res.stderr
-
-
-def test_cli_bench_accuracy_runs_every_task(monkeypatch, tmp_path):
-    import ephem.accuracy_bench as bench
-    ran = []
-    monkeypatch.setattr(bench, "tasks", lambda out, quick=False: [(f"job{i}", lambda i=i: ran.append((i, out, quick)))
-                                                                  for i in range(3)])
-    res = runner.invoke(app, ["bench", "accuracy", "--out", str(tmp_path), "--quick"])
-    assert res.exit_code == 0, res.output
-    assert ran == [(i, tmp_path, True) for i in range(3)] and "wrote 3 charts" in res.output

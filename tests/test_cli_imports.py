@@ -1,6 +1,6 @@
 """A one-body answer of the CLI imports no more than it needs: no plotting (matplotlib), no integrator
 (scipy.integrate), no web stack (FastAPI, starlette, pydantic, uvicorn), no astropy.coordinates (the
-ICRF -> ecliptic rotation comes from erfa). A usage error imports not even ephem.api or numpy.
+ICRF -> ecliptic rotation comes from erfa), no study (the studies are not the library). A usage error imports not even ephem.api or numpy.
 Each case runs in a fresh interpreter, as the ``ephem`` script does; no timing here
 (benchmarks/bench_cli_startup.py measures that)."""
 import json
@@ -12,7 +12,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 FORBIDDEN = ("matplotlib", "scipy.integrate", "fastapi", "starlette", "pydantic", "pydantic_core", "uvicorn",
-             "astropy.coordinates")
+             "astropy.coordinates", "studies")
 
 PROBE = """
 import contextlib, io, json, sys

@@ -9,9 +9,9 @@ from ephem.catalogue import get_body
 from ephem.kepler import solve_kepler_scalar
 from ephem.model import build_model
 from ephem.numerical import angular_separation, integrate_spin_axis
-from ephem.rigid import (StudyRow, SunOrbit, averaging_error_estimate, compare_with_averaged,
-                         integrate_rigid_body, model_moments, quaternion_from_matrix, rotation_matrices,
-                         synthetic_model, threshold_ratio, warm_kepler, worst_case_moments)
+from ephem.rigid import (SunOrbit, averaging_error_estimate, compare_with_averaged, integrate_rigid_body,
+                         model_moments, quaternion_from_matrix, rotation_matrices, synthetic_model, warm_kepler,
+                         worst_case_moments)
 
 
 @pytest.fixture(scope="module")
@@ -242,10 +242,3 @@ def test_a_body_outside_the_catalogue_needs_its_moments(vesta):
 def test_error_estimate_rejects_an_unknown_axis(vesta):
     with pytest.raises(ValueError):
         averaging_error_estimate(vesta, 10.0, axis="rotation")
-
-
-def test_threshold_ratio_interpolates_log_log():
-    rows = [StudyRow("x", r, 0.0, 1.0, 0.0, 1.0 / r, 0.0, 0.0) for r in (1.0, 5.0, 20.0, 100.0)]
-    # figure relative error 1/r crosses 0.1 at r = 10
-    assert threshold_ratio(rows) == pytest.approx(10.0, rel=1e-12)   # a log, a division, an exp: a few ε
-    assert threshold_ratio(rows, level=2.0) == 1.0      # above the level from the start: the first ratio, copied

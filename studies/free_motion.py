@@ -1,6 +1,8 @@
 """The free-motion methods (exact, Lara's series, numeric): cost against accuracy, and where the series fails.
 
-:func:`tasks` lists the jobs (label, zero-argument callable), as in :mod:`ephem.accuracy_bench`.
+A study, not the library (see :mod:`studies`): run from the project root as
+``python -m studies.free_motion [--out DIR] [--quick]`` (default ``--out docs/charts``).
+:func:`tasks` lists the jobs (label, zero-argument callable), as in :mod:`studies.accuracy`.
 Each writes one chart into ``out_dir`` as PNG (150 dpi) and SVG, with the plotted numbers as CSV:
 
 1. ``free_motion_work_precision``: the error of the body-frame angular momentum direction (the
@@ -37,10 +39,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .catalogue import get_body
-from .constants import ARCSEC
-from .accuracy_bench import chart_job, new_figure as _figure, save_chart
-from .free_motion import SERIES_MAX_DELTA
+from ephem.catalogue import get_body
+from ephem.constants import ARCSEC
+from ephem.free_motion import SERIES_MAX_DELTA
+
+from ._command import chart_app
+from .accuracy import chart_job, new_figure as _figure, save_chart
 
 #: Errors below this (radians) are drawn at it (an exact zero has no place on a log axis).
 ERROR_FLOOR = 1e-20
@@ -142,7 +146,7 @@ def _cpu(fn, repeats: int):
 
 
 def _series(moments, order: int):
-    from .lie_series import SamSeriesSolution
+    from ephem.lie_series import SamSeriesSolution
 
     return SamSeriesSolution(moments, order)
 
@@ -158,13 +162,13 @@ def _series_error(sol, L0: np.ndarray, t: np.ndarray, upto: int, ref: np.ndarray
 
 
 def _exact_momentum(moments, L0: np.ndarray, t: np.ndarray) -> np.ndarray:
-    from .euler_poinsot import FreeRotation
+    from ephem.euler_poinsot import FreeRotation
 
     return FreeRotation.from_body_momentum(moments, L0).body_momentum(t)
 
 
 def work_precision_rows(s: Settings) -> list[dict]:
-    from .euler_poinsot import FreeRotation
+    from ephem.euler_poinsot import FreeRotation
 
     rows = []
     for name in s.bodies:
@@ -193,7 +197,7 @@ def work_precision_rows(s: Settings) -> list[dict]:
 
 
 def _failure_case(sols: dict, moments, omega: float, J: float, s: Settings, extra: dict) -> list[dict]:
-    from .euler_poinsot import FreeRotation
+    from ephem.euler_poinsot import FreeRotation
 
     L0 = _initial(omega, J)
     fr = FreeRotation.from_body_momentum(moments, L0)
@@ -377,3 +381,11 @@ def tasks(out_dir: Path, quick: bool = False) -> list[tuple[str, Callable[[], No
         (f"free-motion work-precision ({', '.join(s.bodies)}; {len(s.j_arcsec)} J)", run(work_precision)),
         (f"where the series fails (orders {', '.join(map(str, s.fail_orders))})", run(series_failure)),
     ]
+
+
+app = chart_app(lambda out, quick=False: tasks(out, quick=quick), "docs/free_motion.md",
+                "Cost against accuracy of the torque-free solutions (exact, series, numeric); see docs/free_motion.md.",
+                "Small versions in seconds.")
+
+if __name__ == "__main__":  # python -m studies.free_motion [--out DIR] [--quick]
+    app(prog_name="python -m studies.free_motion")

@@ -1,0 +1,14 @@
+"""Studies of the library: the scripts behind the committed charts and the tables of docs/*.md.
+
+They are not the library. ``ephem`` and ``service`` never import this package (tests/test_studies_outside_library.py
+checks it), and the wheel does not ship it (pyproject.toml packages only ``ephem`` and ``service``): the studies
+run from a checkout, from the project root, each as a module:
+
+* ``python -m studies.accuracy [--out DIR] [--quick]``: the fidelity ladder's speed-against-accuracy charts
+  (docs/accuracy.md);
+* ``python -m studies.free_motion [--out DIR] [--quick]``: the torque-free solutions' charts (docs/free_motion.md);
+* ``python -m studies.rigid_body``: rung 5 against the full rigid body as ω/n falls, and rung 7's cost
+  (the tables of docs/rigid_body_study.md);
+* ``python -m studies.earth_nutation_residual [PREFIX]``: the Earth's nutation minus IAU 2000A, rigid and
+  times the IERS 1996 transfer function (the chart of docs/earth.md).
+"""
