@@ -19,9 +19,12 @@ from .catalogue import (DEFAULT_DATASET, Body, get_body, load_catalogue, load_re
 from .constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from .errors import InvalidInputError, NotApplicableError
 from .hansen import LAPLACE_LIMIT, hansen_series
-from .ladder import AXES, RUNGS, Ladder, truncation_bound
-from .model import (MAX_ORDER, MIN_SPIN_ORBIT_RATIO, PrecessionNutation, cached_model, check_domain, check_order,
-                    model_for)
+from . import earth
+from .earth import LunisolarTheory
+from .ladder import AXES, SunLadder, model_info, truncation_bound
+from .registry import MODELS, refuse_model, theory_for
+from .theory import cheapest_within
+from .model import MAX_ORDER, cached_model, check_domain, check_order, model_for
 from .timeparse import to_jd_tdb
 from .units import in_unit, with_units
 
@@ -29,8 +32,6 @@ from .units import in_unit, with_units
 #: steeply beyond (a request could tie up a worker); exact Hansen coefficients have no such limit.
 #: Default cap on the number of epochs in one track.
 MAX_TRACK_SAMPLES = 1_000_000
-#: Obliquity within this many degrees of 90: ψ̇ ∝ cos ε is small and poorly determined.
-NEAR_RIGHT_ANGLE_DEG = 2.0
 #: A track whose estimated error exceeds this (mas; 1°) carries a warning that its poles are uncertain by
 #: more than a degree.
 WARN_ESTIMATE_MAS = 3.6e6
@@ -38,38 +39,6 @@ WARN_ESTIMATE_MAS = 3.6e6
 #: asteroids' obliquity changes, so no number served would mean anything.
 REFUSE_ESTIMATE_MAS = 3.6e7
 
-THEORY = ("Kinoshita (1977) forced precession-nutation in the solar torque, as in Petit, Souchay & Lhotka (2014), "
-          "on the fidelity ladder of ephem.ladder")
-#: What every rung assumes, and what each drops besides (see :mod:`ephem.ladder`).
-ASSUMPTIONS = [
-    "rigid body; figure, rotation and angular-momentum axes coincide (free wobble J = 0)",
-    "torque averaged over the rotation; triaxial P22 term of the potential dropped",
-    "single perturber: the orbit's centre",
-]
-RUNG_ASSUMPTIONS = {
-    "secular": ["no nutation", "fixed Keplerian orbit (osculating elements at their epoch)"],
-    "series": ["first order in the torque", "Hansen coefficients truncated at a power of e",
-               "fixed Keplerian orbit (osculating elements at their epoch)"],
-    "hansen": ["first order in the torque: the equinox drift is not fed back into the nutation phases",
-               "fixed Keplerian orbit (osculating elements at their epoch)"],
-    "second_order": ["second order in the torque", "fixed Keplerian orbit (osculating elements at their epoch)"],
-    "numerical": ["fixed Keplerian orbit (osculating elements at their epoch)"],
-    "real_orbit": ["orbit from DE421 (planets) or integrated under the DE421 planets (asteroids)"],
-}
-#: What each rung of the fidelity ladder drops (see :mod:`ephem.ladder`).
-RUNG_DESCRIPTIONS = {
-    "secular": "precession only: no nutation",
-    "series": "Kinoshita-Cayley nutation, Hansen coefficients as e-power series truncated at e^order",
-    "hansen": "Kinoshita-Cayley nutation with exact Hansen coefficients (first order in the torque)",
-    "second_order": "second order in the torque: the equinox drift re-phases the nutation, plus the "
-                    "second-order mean rates",
-    "numerical": "rotation-averaged torque integrated numerically along the fixed Keplerian orbit",
-    "real_orbit": "rotation-averaged torque integrated along the real orbit (DE421 and planetary perturbations)",
-    "lunisolar": "Kinoshita's first-order rigid-Earth theory under the Moon and the Sun (ephem.lunisolar): "
-                 "precession rate and nutation in the Delaunay arguments, amplitude cut 0.1 mas (ephem.earth)",
-}
-#: The track models: the single-perturber ladder's rungs, and the Earth's lunisolar theory.
-MODELS = RUNGS + ("lunisolar",)
 
 
 @lru_cache(maxsize=512)
@@ -118,17 +87,12 @@ def _moon_left_out(b: Body, per: tuple[str, ...]) -> list[str]:
 
 
 def _tag_perturbers(ans: dict, b: Body, per: tuple[str, ...]) -> dict:
+    model = ans.pop("model")        # the perturbers go before the model object, which closes every answer
     ans["perturbers"] = list(per)
+    ans["model"] = model
     ans["model"]["perturbers"] = list(per)
     ans["model"]["warnings"].extend(_moon_left_out(b, per))
     return ans
-
-
-def _no_order_for_lunisolar(b: Body, order) -> None:
-    if order is not None:
-        raise NotApplicableError(b.name, f"an e-order (order={order!r}) truncates the single-perturber theory's "
-                                 "Hansen coefficients; the lunisolar series is cut by amplitude instead (cut_mas, or "
-                                 "tolerance_mas). Pass perturbers=sun for the Sun-only theory")
 
 
 def _order_for_tolerance(b: Body, tolerance: float | None, order: int | None) -> int | None:
@@ -149,38 +113,16 @@ def _order_for_tolerance(b: Body, tolerance: float | None, order: int | None) ->
     return None
 
 
-def _selection_info(name: str, order: int | None, estimate: float | None, cost_ms: float,
+def _selection_info(theory, name: str, order: int | None, estimate: float | None, cost_ms: float,
                     tolerance: float | None, terms: dict | None = None) -> dict:
-    return {"name": name, "order": order, "description": RUNG_DESCRIPTIONS[name],
+    """The selection part of an answer's ``model`` object: which of ``theory``'s models answered, how good it is
+    estimated to be and what it cost."""
+    return {"name": name, "order": order, "description": theory.descriptions[name],
             "estimated_error_mas": None if estimate is None else estimate / MAS,
             "error_terms_mas": None if terms is None else {k: v / MAS for k, v in terms.items()},
             "tolerance_mas": None if tolerance is None else float(f"{tolerance / MAS:.12g}"), "cost_ms": cost_ms,
             "axis": None, "free_wobble": None,   # tracks only
             "cut_mas": None}                     # the lunisolar series only
-
-
-def model_info(m: PrecessionNutation, b: Body) -> dict:
-    warnings = []
-    if abs(math.degrees(m.obliquity) - 90.0) < NEAR_RIGHT_ANGLE_DEG:
-        warnings.append("obliquity within 2 deg of 90: the precession rate (∝ cos ε) is small and "
-                        "dominated by the obliquity's uncertainty")
-    if b.hd_from == "dynamical_ellipticity" and b.hd_from_moments is not None \
-            and abs(b.hd - b.hd_from_moments) > 1e-4 * b.hd:
-        given = b.values.get("inertia.dynamical_ellipticity")
-        why = "see data/errata.toml" if given is None or given.source.startswith("petit2014") \
-            else f"source {given.source}: {given.note}" if given.note else f"source {given.source}"
-        warnings.append(f"dynamical ellipticity {b.hd:.6g} given explicitly; the catalogue moments imply "
-                        f"{b.hd_from_moments:.6g} ({why})")
-    return {
-        "theory": THEORY,
-        "eccentricity_order": "exact" if m.order is None else m.order,
-        "assumptions": ASSUMPTIONS + RUNG_ASSUMPTIONS["hansen" if m.order is None else "series"],
-        "warnings": warnings,
-        "spin_orbit_ratio": m.spin_orbit_ratio,
-        "min_spin_orbit_ratio": MIN_SPIN_ORBIT_RATIO,
-        "pole_epoch_jd_tdb": m.pole_epoch,
-        "orbit_epoch_jd_tdb": m.orbit_epoch,
-    }
 
 
 def warm_up(dataset: str = DEFAULT_DATASET) -> None:
@@ -313,7 +255,7 @@ def _uncertainty_summary(u: dict) -> dict:
 
 def _series_selection(b: Body, order: int | None, tol: float | None, start: float) -> dict:
     estimate = None if order is None else truncation_bound(cached_model(b), order, 0.0)
-    return _selection_info("hansen" if order is None else "series", order, estimate or 0.0,
+    return _selection_info(SunLadder, "hansen" if order is None else "series", order, estimate or 0.0,
                            1e3 * (time.perf_counter() - start), tol)
 
 
@@ -442,15 +384,6 @@ TRACK_KEYS = ("jd_tdb", "psi_arcsec", "delta_psi_arcsec", "delta_epsilon_arcsec"
               "pole_ra_deg", "pole_dec_deg")
 
 
-AXIS_ASSUMPTIONS = {
-    "angular_momentum": "the pole served is the angular momentum, which the free wobble does not move",
-    "figure": "the pole served is the figure axis, taken as the angular momentum: the free wobble is left "
-              "out and counted in the estimate (free_wobble)",
-    "figure+wobble": "the pole served is the figure axis: the torque-free rigid-body wobble (given J and phase) "
-                     "added about the forced angular momentum",
-}
-
-
 def _wobble_request(b: Body, axis: str, phase_deg, J_arcsec, epoch):
     if phase_deg is None:
         for name, value in (("free_wobble_J_arcsec", J_arcsec), ("free_wobble_epoch", epoch)):
@@ -476,71 +409,59 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     begin = time.perf_counter()
     b = resolve_body(body, dataset)
     t0, step, count = epoch_grid(start, stop, step_days, max_samples)
-    order, tol, rung = check_order(order), _tolerance(tolerance_mas), _rung(model)
+    order, tol, name = check_order(order), _tolerance(tolerance_mas), _rung(model)
     if axis not in AXES:
         raise InvalidInputError("axis", f"must be one of {', '.join(AXES)}, got {axis!r}", b.name)
-    if tol is not None and (order is not None or rung is not None):
+    if tol is not None and (order is not None or name is not None):
         raise InvalidInputError("tolerance_mas", "give a tolerance, or a model and order, not both")
     per = _perturbers(b, perturbers)
     if output not in cost.SERIALISATIONS:
         raise InvalidInputError("format", f"must be one of {', '.join(cost.SERIALISATIONS)}, got {output!r}", b.name)
-    if "Moon" in per:
-        return _lunisolar_track(b, per, dataset, t0, step, count, order, tol, rung, axis, free_wobble_phase_deg,
-                                free_wobble_J_arcsec, free_wobble_epoch, begin, output)
-    if rung == "lunisolar":
-        raise NotApplicableError(b.name, "the 'lunisolar' model is the Earth's under the Moon and the Sun; these "
-                                 f"perturbers ({', '.join(per)}) are served by the single-perturber ladder "
-                                 f"({', '.join(RUNGS)})")
-    if rung is None:
-        rung = "hansen" if order is None else "series"
-    if rung == "series" and order is None:
-        raise InvalidInputError("order", "the 'series' model needs an e-order")
-    if order is not None and rung != "series":
-        raise InvalidInputError("order", f"an e-order applies to the 'series' model, not to {rung!r}")
-    if order is not None and b.orbit.e > LAPLACE_LIMIT:
-        model_for(b, dataset, order)     # refuses the diverging series, before any cost
+    theory = theory_for(b, per, axis)
+    if name is not None and name not in theory.models:
+        refuse_model(theory, name)
+    theory.check_request(name, order)
     wobble = _wobble_request(b, axis, in_unit(free_wobble_phase_deg, "deg", "free_wobble_phase_deg"),
                              in_unit(free_wobble_J_arcsec, "arcsec", "free_wobble_J_arcsec"), free_wobble_epoch)
-    ladder = Ladder(b, axis, wobble)
+    theory = theory.with_wobble(wobble)
     t_end = t0 + step * (count - 1)
     output = cost.Cost((cost.serialised(count, len(TRACK_KEYS), output),))
-    # the estimates of every rung, charged with the rung's own cost when it is named, before any is built
-    charge(ladder.cost(None, t0, t_end, count, free_wobble=wobble is not None)
-           + (cost.FREE if tol is not None else ladder.cost(rung, t0, t_end, count, order, wobble is not None)
+    # the estimates, and the named model's own cost, charged before anything is built
+    charge(theory.choice_cost(t0, t_end, count)
+           + (cost.FREE if tol is not None else theory.track_cost(name, order, t0, t_end, count, wobble is not None)
               + output), b.name)
-    m = model_for(b, dataset, order)
     t = t0 + step * np.arange(count)
     if tol is not None:
-        est = ladder.choose(t, tol)
-        rung, order = est.rung, est.order
-        charge(ladder.cost(rung, t0, t_end, count, order, est.free_wobble) + output, b.name)
-    else:   # a named rung follows the wobble whenever its phase is given
-        est = next((e for e in ladder.estimates(t) if e.rung == rung and e.order == order
-                    and e.free_wobble == (wobble is not None)), None)
-    if rung in ("hansen", "series"):   # the fast evaluation on an even grid
-        tr = cached_model(b, order).track_grid(t0, step, count)
+        est = cheapest_within([e for e in theory.estimates(t) if e.available], tol, b.name, wobble is not None)
+        name, order = est.rung, est.order
+        charge(theory.track_cost(name, order, t0, t_end, count, est.free_wobble) + output, b.name)
     else:
-        tr = ladder.track(rung, t, order)
+        est = theory.named(t, name, order)
+        name = name or theory.default_model(order)
+    tr = theory.track(est, name, order, t0, step, count)
     with_wobble = wobble is not None and (est is None or est.free_wobble)
-    if with_wobble:
-        tr = ladder.add_wobble(tr)
     estimate = None if est is None or not est.available else est.total
-    info = model_info(m, b)
-    info["assumptions"] = [AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else axis]] + ASSUMPTIONS[1:] \
-        + RUNG_ASSUMPTIONS[rung]
-    if est is not None and "orbit_motion" in est.unestimated:
-        info["warnings"].append("the real orbit's departure from the fixed Keplerian one was never measured for "
-                                "this body: the error estimate treats the given orbit as exact (see docs/accuracy.md)")
-    if est is not None and "free_wobble" in est.unestimated:
-        info["warnings"].append("no free-wobble amplitude is published for this body: the estimate takes its "
-                                "figure axis to coincide with the angular momentum (a relaxed rotator)")
+    info = theory.describe(est, name, order, with_wobble)
+    for term in () if est is None else est.unestimated:
+        info["warnings"].append(UNESTIMATED_WARNINGS[term])
     _meaningful(b, estimate, info)
-    selection = _selection_info(rung, order, estimate, 1e3 * (time.perf_counter() - begin), tol,
+    selection = _selection_info(theory, name, order, estimate, 1e3 * (time.perf_counter() - begin), tol,
                                 None if est is None else est.terms)
     # the mean obliquity's 1σ from the catalogue's uncertainties (null: unknown), as in precession()
-    ans = _track_answer(b, tr, info, selection, axis, wobble if with_wobble else None,
-                        _propagated(b, order)["obliquity_deg_uncertainty"])
+    sigma = _propagated(b, order)["obliquity_deg_uncertainty"] if theory.propagates_uncertainty else None
+    ans = _track_answer(b, tr, info, selection, axis, wobble if with_wobble else None, sigma,
+                        theory.extra_description())
     return _tag_perturbers(ans, b, per)
+
+
+#: the warning an answer carries for each error term its estimate could not include
+UNESTIMATED_WARNINGS = {
+    "orbit_motion": "the real orbit's departure from the fixed Keplerian one was never measured for this body: the "
+                    "error estimate treats the given orbit as exact (see docs/accuracy.md)",
+    "free_wobble": "no free-wobble amplitude is published for this body: the estimate takes its figure axis to "
+                   "coincide with the angular momentum (a relaxed rotator)",
+    "rotation_averaging": "without moments of inertia the rotation-averaging error is not estimated",
+}
 
 
 def _meaningful(b: Body, estimate: float | None, info: dict) -> None:
@@ -654,33 +575,6 @@ def free_motion_answer(body: str | int | Body, start, stop, step_days: float, J_
 
 # ----------------------------------------------------------------------------- the Earth under the Moon and the Sun
 
-def _lunisolar_model_info(b: Body, per: tuple[str, ...], lm) -> dict:
-    """``model`` of a lunisolar answer: model_info's keys (the spin-orbit ratio and epochs are the Earth's
-    about the Sun) with the lunisolar theory, its assumptions and the H_d it used, and why."""
-    from . import earth
-    from .lunisolar import lunisolar_data
-
-    info = model_info(cached_model(b), b)
-    rate = lm.precession_rate * JULIAN_YEAR_DAYS / ARCSEC
-    iau = lunisolar_data()["precession_reference"]["psi_a_rate_arcsec_per_century"] / 100.0
-    geodesic = lunisolar_data()["precession_reference"]["geodesic_arcsec_per_century"] / 100.0
-    given = b.values.get("inertia.dynamical_ellipticity")
-    if b.hd_from == "dynamical_ellipticity":
-        src = f"the catalogue's explicit dynamical ellipticity (source {given.source})" if given is not None \
-            else "the body's explicit dynamical ellipticity"
-    else:
-        src = "the catalogue's moments of inertia"
-    info["theory"] = earth.THEORY
-    info["eccentricity_order"] = None
-    info["assumptions"] = list(earth.ASSUMPTIONS) + [
-        f"H_d = {lm.hd:.10g} from {src}",
-        f"precession rate {rate:.6f}″/yr against IAU 2006's ψ_A rate {iau:.6f}″/yr ({rate - iau:+.4f}″/yr): the "
-        f"geodesic precession ({geodesic:+.4f}″/yr) and P03's second-order and planetary contributions are in "
-        "IAU 2006 and not in a first-order Newtonian theory (docs/earth.md)"]
-    info["perturbers"] = list(per)
-    return info
-
-
 def _lunisolar_uncertainty(b: Body) -> dict:
     from .uncertainty import SCALAR_KEYS
 
@@ -710,21 +604,19 @@ def _rates(b: Body, m, unc: dict | None) -> dict:
 
 
 def _lunisolar_precession(b: Body, per: tuple[str, ...], dataset: str, order, tolerance_mas, start: float) -> dict:
-    from . import earth
-
     tol = _tolerance(tolerance_mas)
     model_for(b, dataset)                              # applicability (the Moon)
-    _no_order_for_lunisolar(b, check_order(order))
+    earth.no_order(b, check_order(order))
     charge(cost.Cost((cost.lunisolar_answer(),)), b.name)
     lm = earth.lunisolar_earth(b, "figure", earth.TRACK_CUT_MAS, per)
     ans = _rates(b, lm, None)
     ans["uncertainty"] = _lunisolar_uncertainty(b)
     ans["perturbers"] = list(per)
-    ans["model"] = _lunisolar_model_info(b, per, lm)
+    ans["model"] = earth.describe_model(b, per, lm)
     ans["model"]["assumptions"].append("scaling_factor_arcsec_per_year: with several perturbers, 2ψ̇/cos ε̄ (the K "
                                        "of one perturber on a circular orbit in the ecliptic giving the same rate)")
     # the rate does not depend on the nutation's amplitude cut: nothing truncated
-    ans["model"].update(_selection_info("lunisolar", None, 0.0, 1e3 * (time.perf_counter() - start), tol))
+    ans["model"].update(_selection_info(LunisolarTheory, "lunisolar", None, 0.0, 1e3 * (time.perf_counter() - start), tol))
     return ans
 
 
@@ -740,12 +632,11 @@ def _lunisolar_half_peak_to_peak(lm) -> tuple[float, float]:
 
 def _lunisolar_nutation(b: Body, per: tuple[str, ...], dataset: str, order, tolerance_mas, cut_mas,
                         start: float) -> dict:
-    from . import earth
     from .lunisolar import delaunay_arguments, delaunay_rates
 
     tol = _tolerance(tolerance_mas)
     model_for(b, dataset)
-    _no_order_for_lunisolar(b, check_order(order))
+    earth.no_order(b, check_order(order))
     if tol is not None and cut_mas is not None:
         raise InvalidInputError("cut_mas", "give either cut_mas or tolerance_mas, not both", b.name)
     if cut_mas is not None:
@@ -777,8 +668,8 @@ def _lunisolar_nutation(b: Body, per: tuple[str, ...], dataset: str, order, tole
     half_psi, half_eps = _lunisolar_half_peak_to_peak(lm)
     orbit_epoch = b.orbit.epoch_jd_tdb
     omitted = earth.omitted_bound(b, cut, "figure", per)
-    info = _lunisolar_model_info(b, per, lm)
-    info.update(_selection_info("lunisolar", None, omitted, 1e3 * (time.perf_counter() - start), tol,
+    info = earth.describe_model(b, per, lm)
+    info.update(_selection_info(LunisolarTheory, "lunisolar", None, omitted, 1e3 * (time.perf_counter() - start), tol,
                                 {"truncation": omitted}))
     info["cut_mas"] = cut
     info["assumptions"].append("terms: Δψ = Σ (S + Ṡ T) sin φ + (C + Ċ T) cos φ (likewise Δε), φ = the multipliers "
@@ -801,41 +692,3 @@ def _lunisolar_nutation(b: Body, per: tuple[str, ...], dataset: str, order, tole
         "perturbers": list(per),
         "model": info,
     }
-
-
-def _lunisolar_track(b: Body, per: tuple[str, ...], dataset: str, t0: float, step: float, count: int, order, tol,
-                     rung, axis: str, phase_deg, J_arcsec, wobble_epoch, begin: float, output: str = "json") -> dict:
-    from . import earth
-
-    model_for(b, dataset)
-    _no_order_for_lunisolar(b, order)
-    if rung not in (None, "lunisolar"):
-        raise NotApplicableError(b.name, f"'{rung}' is a rung of the single-perturber (Sun) ladder; {b.name} with the "
-                                 "Moon is served by the 'lunisolar' model (omit the model), or pass perturbers=sun "
-                                 "for the Sun-only ladder")
-    wobble = _wobble_request(b, axis, in_unit(phase_deg, "deg", "free_wobble_phase_deg"),
-                             in_unit(J_arcsec, "arcsec", "free_wobble_J_arcsec"), wobble_epoch)
-    charge(cost.Cost((cost.lunisolar_answer(), cost.lunisolar_sum(count), cost.serialised(count, len(TRACK_KEYS), output))
-                     + ((cost.free_rotation("exact", count, 0.0),) if wobble is not None else ())), b.name)
-    lm = earth.lunisolar_earth(b, axis, earth.TRACK_CUT_MAS, per)
-    t = t0 + step * np.arange(count)
-    candidates = earth.estimates(lm, t, wobble)
-    if tol is not None:
-        est = earth.choose(lm, candidates, tol, wobble)
-    else:   # a named (or the default) model follows the wobble whenever its phase is given
-        est = candidates[-1] if wobble is not None else candidates[0]
-    tr = lm.track(t)
-    with_wobble = est.free_wobble
-    if with_wobble:
-        tr = earth.add_wobble(lm, tr, wobble)
-    info = _lunisolar_model_info(b, per, lm)
-    info["assumptions"] = [earth.AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else axis]] + info["assumptions"]
-    if "free_wobble" in est.unestimated:
-        info["warnings"].append("no free-wobble amplitude is published for this body: the estimate takes its "
-                                "figure axis to coincide with the angular momentum (a relaxed rotator)")
-    if "rotation_averaging" in est.unestimated:
-        info["warnings"].append("without moments of inertia the rotation-averaging error is not estimated")
-    selection = _selection_info("lunisolar", None, est.total, 1e3 * (time.perf_counter() - begin), tol, est.terms)
-    # obliquity σ not propagated for the lunisolar theory (see precession())
-    return _track_answer(b, tr, info, selection, axis, wobble if with_wobble else None, None,
-                         extra_model={"cut_mas": earth.TRACK_CUT_MAS}, perturbers=per)

@@ -18,7 +18,7 @@ import math
 import tomllib
 from functools import lru_cache
 
-from .budget import FREE, Cost, Part
+from .budget import FREE, Cost, Part  # noqa: F401  (FREE, Cost: re-exported with the predictors)
 from .catalogue import data_dir
 from .hansen import decay_rate, fft_length
 from .kepler import mean_motion_rad_per_day

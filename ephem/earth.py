@@ -45,10 +45,14 @@ from functools import lru_cache
 import numpy as np
 
 from .catalogue import Body, is_earth
-from .constants import ARCSEC, J2000_JD, MAS
+from .constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS, MAS
 from .errors import InvalidInputError, NotApplicableError
 from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
-from .model import Track
+from . import cost
+from .budget import Cost
+from .ladder import model_info
+from .model import Track, cached_model, model_for
+from .theory import Estimate, SpinAxisTheory
 
 DAYS_PER_CENTURY = 36525.0
 #: Amplitude cut of the served track's series (mas): the cut the residual envelope was measured with.
@@ -64,6 +68,9 @@ THEORY = ("Kinoshita (1977) lunisolar precession-nutation, first order, rigid Ea
           "in the Delaunay arguments l, l′, F, D, Ω")
 DESCRIPTION = ("Kinoshita's first-order rigid-Earth theory under the Moon and the Sun: ψ = ψ̇ (t − t0) + Δψ, "
                "ε = ε̄ + Δε with the lunisolar series (amplitude cut 0.1 mas)")
+#: the answer's ``model.description``
+SELECTION_DESCRIPTION = ("Kinoshita's first-order rigid-Earth theory under the Moon and the Sun (ephem.lunisolar): "
+                         "precession rate and nutation in the Delaunay arguments, amplitude cut 0.1 mas (ephem.earth)")
 ASSUMPTIONS = [
     "rigid Earth: IAU 2000A (non-rigid, MHB2000) differs term by term by up to 77 mas (18.6-yr term in "
     "longitude) and 40 mas (semi-annual): the published non-rigid correction of each term (IERS 1996 "
@@ -386,3 +393,93 @@ def check_cut(cut_mas) -> float:
         raise InvalidInputError("cut_mas", f"must be a finite number of milliarcseconds >= {MIN_CUT_MAS:g}, "
                                 f"got {cut_mas!r}")
     return float(cut_mas)
+
+
+# ----------------------------------------------------------------------------- the theory's interface (ephem.theory)
+
+def describe_model(b: Body, per: tuple[str, ...], lm) -> dict:
+    """``model`` of a lunisolar answer: model_info's keys (the spin-orbit ratio and epochs are the Earth's
+    about the Sun) with the lunisolar theory, its assumptions and the H_d it used, and why."""
+    info = model_info(cached_model(b), b)
+    rate = lm.precession_rate * JULIAN_YEAR_DAYS / ARCSEC
+    iau = _data()["precession_reference"]["psi_a_rate_arcsec_per_century"] / 100.0
+    geodesic = _data()["precession_reference"]["geodesic_arcsec_per_century"] / 100.0
+    given = b.values.get("inertia.dynamical_ellipticity")
+    if b.hd_from == "dynamical_ellipticity":
+        src = f"the catalogue's explicit dynamical ellipticity (source {given.source})" if given is not None \
+            else "the body's explicit dynamical ellipticity"
+    else:
+        src = "the catalogue's moments of inertia"
+    info["theory"] = THEORY
+    info["eccentricity_order"] = None
+    info["assumptions"] = list(ASSUMPTIONS) + [
+        f"H_d = {lm.hd:.10g} from {src}",
+        f"precession rate {rate:.6f}″/yr against IAU 2006's ψ_A rate {iau:.6f}″/yr ({rate - iau:+.4f}″/yr): the "
+        f"geodesic precession ({geodesic:+.4f}″/yr) and P03's second-order and planetary contributions are in "
+        "IAU 2006 and not in a first-order Newtonian theory (docs/earth.md)"]
+    info["perturbers"] = list(per)
+    return info
+
+
+class LunisolarTheory(SpinAxisTheory):
+    """The Earth under the Moon and the Sun (:func:`lunisolar_earth`) behind the common interface: one
+    model, ``lunisolar``, whose track is the series at the served amplitude cut."""
+
+    summary = "the Earth's lunisolar theory (the Earth under the Moon and the Sun)"
+    models = ("lunisolar",)
+    descriptions = {"lunisolar": SELECTION_DESCRIPTION}
+
+    @classmethod
+    def serves(cls, body: Body, perturbers: tuple[str, ...]) -> bool:
+        return "Moon" in perturbers
+
+    @property
+    def model(self) -> LunisolarEarth:
+        return lunisolar_earth(self.body, self.axis, TRACK_CUT_MAS, self.perturbers)
+
+    @classmethod
+    def how_to_reach(cls, body: Body) -> str:
+        return "it models the Earth with the Moon among the perturbers (perturbers=moon,sun, the Earth's default)"
+
+    def default_model(self, order: int | None) -> str:
+        return "lunisolar"
+
+    def check_request(self, model: str | None, order: int | None) -> None:
+        model_for(self.body, self.body.dataset)              # applicability (the Moon: synchronous)
+        no_order(self.body, order)
+
+    def choice_cost(self, start: float, stop: float, count: int) -> Cost:
+        return Cost((cost.lunisolar_answer(),))
+
+    def track_cost(self, model, order, start, stop, count, free_wobble) -> Cost:
+        return Cost((cost.lunisolar_sum(count),) + ((cost.free_rotation("exact", count, 0.0),) if free_wobble else ()))
+
+    def estimates(self, jd_tdb) -> list[Estimate]:
+        return estimates(self.model, jd_tdb, self.wobble)
+
+    def named(self, jd_tdb, model, order):
+        # the model follows the wobble whenever its phase is given
+        candidates = self.estimates(jd_tdb)
+        return candidates[-1] if self.wobble is not None else candidates[0]
+
+    def track(self, est, model, order, t0, step, count) -> Track:
+        tr = self.model.track(self.grid(t0, step, count))
+        if est is not None and est.free_wobble:
+            tr = add_wobble(self.model, tr, self.wobble)
+        return tr
+
+    def describe(self, est, model, order, with_wobble) -> dict:
+        info = describe_model(self.body, self.perturbers, self.model)
+        info["assumptions"] = [AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else self.axis]] + info["assumptions"]
+        return info
+
+    def extra_description(self) -> dict:
+        return {"cut_mas": TRACK_CUT_MAS}
+
+
+def no_order(body: Body, order) -> None:
+    """An e-order does not apply to the lunisolar series (cut by amplitude instead)."""
+    if order is not None:
+        raise NotApplicableError(body.name, f"an e-order (order={order!r}) truncates the single-perturber theory's "
+                                 "Hansen coefficients; the lunisolar series is cut by amplitude instead (cut_mas, or "
+                                 "tolerance_mas). Pass perturbers=sun for the Sun-only theory")

@@ -52,7 +52,7 @@ The tests hold each estimate against the next rungs up for many bodies and spans
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -60,21 +60,19 @@ import numpy as np
 from . import cost
 from .catalogue import Body
 from .cost import Cost
-from .constants import ARCSEC, MAS
+from .constants import ARCSEC
 from .errors import InvalidInputError, NotApplicableError
 from .hansen import LAPLACE_LIMIT, hansen_exact, hansen_series
 from .kepler import mean_motion_rad_per_day
 from .kinoshita import eccentricity_factor
-from .model import PrecessionNutation, Track, cached_model, check_domain
+from .model import MIN_SPIN_ORBIT_RATIO, PrecessionNutation, Track, cached_model, check_domain, model_for
 from .free_motion import Wobble, add_free_wobble, free_wobble_bound, wobble_model_bound
 from .physics_errors import (ephemeris_bound, orbit_motion_bound, real_orbit_unavailable, rotation_averaging_bound,
                              sun_path_for)
 from .second_order import SecondOrderTheory, second_order_theory
+from .theory import Estimate, SpinAxisTheory, cheapest_within
 
 RUNGS = ("secular", "series", "hansen", "second_order", "numerical", "real_orbit")
-#: Terms from physics every rung up to ``numerical`` shares (the reference those rungs are tested against
-#: has them too); the rest are the rung's own approximations.
-PHYSICS_TERMS = ("orbit_motion", "rotation_averaging", "free_wobble", "free_wobble_model")
 #: The poles a track can follow (see the module docstring).
 AXES = ("figure", "angular_momentum")
 #: Highest e-power order the ladder tries for rung 2 (a truncated series is cheaper than the
@@ -87,30 +85,6 @@ NUMERICAL_RTOL = 1e-12
 MAX_NUMERICAL_ORBITS = 1000
 #: Rounding floor of any pole computed in double precision through a few rotations (radians, 0.2 µas).
 ROUNDING = 1e-12
-
-
-@dataclass(frozen=True)
-class Estimate:
-    """Estimated pole error of one rung (radians), by named term."""
-
-    rung: str
-    order: int | None
-    terms: dict = field(compare=False)
-    available: bool = True
-    why_not: str | None = None
-    #: terms that could not be estimated (a user's body: its orbit's motion was never measured)
-    unestimated: tuple = ()
-    #: the track adds the free wobble of the figure axis (:func:`ephem.free_motion.add_free_wobble`)
-    free_wobble: bool = False
-
-    @property
-    def total(self) -> float:
-        return float(sum(self.terms.values()))
-
-    @property
-    def theory_total(self) -> float:
-        """The estimate without the physics terms: the error against rung 5 (``numerical``)."""
-        return float(sum(v for k, v in self.terms.items() if k not in PHYSICS_TERMS))
 
 
 def _coefficient_bound(sin_psi, cos_psi, sin_eps, cos_eps, obliquity: float) -> float:
@@ -277,36 +251,6 @@ def numerical_unavailable(model: PrecessionNutation, t: np.ndarray) -> str | Non
 
 
 #: What to tell a user when the largest term of the best estimate is one no rung removes.
-THEORY_LIMIT_HINTS = {
-    "nutation_residual": "the first-order rigid-Earth theory is this far from the real (non-rigid) Earth: no "
-                         "lunisolar model here does better (IAU 2006/2000A, e.g. ERFA, does)",
-}
-THEORY_LIMIT_HINTS["precession"] = THEORY_LIMIT_HINTS["axis_relation"] = THEORY_LIMIT_HINTS["nutation_residual"]
-
-
-def cheapest_within(candidates: list, tolerance: float, body: str, wobble_given: bool) -> Estimate:
-    """The first (cheapest) estimate within ``tolerance`` (radians); else :class:`NotApplicableError` naming
-    the best estimate, its largest term and what would help."""
-    for est in candidates:
-        if est.total <= tolerance:
-            return est
-    best = min(candidates, key=lambda e: e.total)
-    largest = max(best.terms, key=best.terms.get)
-    hint = THEORY_LIMIT_HINTS.get(largest, "widen the tolerance or shorten the span")
-    if largest == "free_wobble" and wobble_given:
-        followed = next(e for e in candidates if e.free_wobble and e.rung == best.rung and e.order == best.order)
-        hint = (f"following the free wobble does not help: its model is estimated good to only "
-                f"{followed.terms['free_wobble_model'] / MAS:.6g} mas here (the rigid wobble drifts in phase "
-                "from the observed one, or L moves far from its epoch direction); give a wobble epoch "
-                "(free_wobble_epoch) nearer these epochs, or ask for axis=angular_momentum")
-    elif largest == "free_wobble":
-        hint = ("the figure axis wobbles about the angular momentum by the free wobble; give its phase "
-                "(free_wobble_phase_deg) to follow it, or ask for axis=angular_momentum")
-    raise NotApplicableError(body, (
-        f"no model meets the tolerance of {tolerance / MAS:.6g} mas over these epochs: the best, "
-        f"'{best.rung}', is estimated good to {best.total / MAS:.6g} mas (largest term: {largest}); {hint}"))
-
-
 def with_free_wobble(model: PrecessionNutation, track: Track, figure_icrf: np.ndarray) -> Track:
     """The track of the figure axis: ``track`` (of the angular momentum) moved to the vectors ``figure_icrf``;
     the wobble's share of ψ and ε goes into Δψ and Δε."""
@@ -513,3 +457,133 @@ class Ladder:
             return track_from_vectors(m, self.theory, t, integrate_spin_axis(
                 m, t, rtol=NUMERICAL_RTOL, sun=path.position_scalar))
         raise InvalidInputError("model", f"unknown rung {rung!r}; one of {', '.join(RUNGS)}", self.body.name)
+
+
+# --- the ladder as a theory of the spin axis (ephem.theory) -------------------------------------------
+
+#: Obliquity within this many degrees of 90: ψ̇ ∝ cos ε is small and poorly determined.
+NEAR_RIGHT_ANGLE_DEG = 2.0
+THEORY = ("Kinoshita (1977) forced precession-nutation in the solar torque, as in Petit, Souchay & Lhotka (2014), "
+          "on the fidelity ladder of ephem.ladder")
+#: What every rung assumes, and what each drops besides (see :mod:`ephem.ladder`).
+ASSUMPTIONS = [
+    "rigid body; figure, rotation and angular-momentum axes coincide (free wobble J = 0)",
+    "torque averaged over the rotation; triaxial P22 term of the potential dropped",
+    "single perturber: the orbit's centre",
+]
+RUNG_ASSUMPTIONS = {
+    "secular": ["no nutation", "fixed Keplerian orbit (osculating elements at their epoch)"],
+    "series": ["first order in the torque", "Hansen coefficients truncated at a power of e",
+               "fixed Keplerian orbit (osculating elements at their epoch)"],
+    "hansen": ["first order in the torque: the equinox drift is not fed back into the nutation phases",
+               "fixed Keplerian orbit (osculating elements at their epoch)"],
+    "second_order": ["second order in the torque", "fixed Keplerian orbit (osculating elements at their epoch)"],
+    "numerical": ["fixed Keplerian orbit (osculating elements at their epoch)"],
+    "real_orbit": ["orbit from DE421 (planets) or integrated under the DE421 planets (asteroids)"],
+}
+#: What each rung of the fidelity ladder drops (see :mod:`ephem.ladder`).
+RUNG_DESCRIPTIONS = {
+    "secular": "precession only: no nutation",
+    "series": "Kinoshita-Cayley nutation, Hansen coefficients as e-power series truncated at e^order",
+    "hansen": "Kinoshita-Cayley nutation with exact Hansen coefficients (first order in the torque)",
+    "second_order": "second order in the torque: the equinox drift re-phases the nutation, plus the "
+                    "second-order mean rates",
+    "numerical": "rotation-averaged torque integrated numerically along the fixed Keplerian orbit",
+    "real_orbit": "rotation-averaged torque integrated along the real orbit (DE421 and planetary perturbations)",
+}
+
+AXIS_ASSUMPTIONS = {
+    "angular_momentum": "the pole served is the angular momentum, which the free wobble does not move",
+    "figure": "the pole served is the figure axis, taken as the angular momentum: the free wobble is left "
+              "out and counted in the estimate (free_wobble)",
+    "figure+wobble": "the pole served is the figure axis: the torque-free rigid-body wobble (given J and phase) "
+                     "added about the forced angular momentum",
+}
+
+
+def model_info(m: PrecessionNutation, b: Body) -> dict:
+    warnings = []
+    if abs(math.degrees(m.obliquity) - 90.0) < NEAR_RIGHT_ANGLE_DEG:
+        warnings.append("obliquity within 2 deg of 90: the precession rate (∝ cos ε) is small and "
+                        "dominated by the obliquity's uncertainty")
+    if b.hd_from == "dynamical_ellipticity" and b.hd_from_moments is not None \
+            and abs(b.hd - b.hd_from_moments) > 1e-4 * b.hd:
+        given = b.values.get("inertia.dynamical_ellipticity")
+        why = "see data/errata.toml" if given is None or given.source.startswith("petit2014") \
+            else f"source {given.source}: {given.note}" if given.note else f"source {given.source}"
+        warnings.append(f"dynamical ellipticity {b.hd:.6g} given explicitly; the catalogue moments imply "
+                        f"{b.hd_from_moments:.6g} ({why})")
+    return {
+        "theory": THEORY,
+        "eccentricity_order": "exact" if m.order is None else m.order,
+        "assumptions": ASSUMPTIONS + RUNG_ASSUMPTIONS["hansen" if m.order is None else "series"],
+        "warnings": warnings,
+        "spin_orbit_ratio": m.spin_orbit_ratio,
+        "min_spin_orbit_ratio": MIN_SPIN_ORBIT_RATIO,
+        "pole_epoch_jd_tdb": m.pole_epoch,
+        "orbit_epoch_jd_tdb": m.orbit_epoch,
+    }
+
+
+
+class SunLadder(SpinAxisTheory):
+    """The single-perturber ladder (:class:`Ladder`) behind the common interface: a body torqued by the
+    centre of its orbit alone, its rungs cheapest first."""
+
+    summary = "the single-perturber ladder (a body torqued by the centre of its orbit)"
+    models = RUNGS
+    descriptions = RUNG_DESCRIPTIONS
+    propagates_uncertainty = True
+
+    @classmethod
+    def serves(cls, body: Body, perturbers: tuple[str, ...]) -> bool:
+        return tuple(perturbers) == (body.orbit.center,)
+
+    @property
+    def ladder(self) -> Ladder:
+        return Ladder(self.body, self.axis, self.wobble)
+
+    @classmethod
+    def how_to_reach(cls, body: Body) -> str:
+        return f"pass perturbers={body.orbit.center.lower()} for it (the centre of {body.name}'s orbit alone)"
+
+    def default_model(self, order: int | None) -> str:
+        return "hansen" if order is None else "series"
+
+    def check_request(self, model: str | None, order: int | None) -> None:
+        rung = model or self.default_model(order)
+        if rung == "series" and order is None:
+            raise InvalidInputError("order", "the 'series' model needs an e-order")
+        if order is not None and rung != "series":
+            raise InvalidInputError("order", f"an e-order applies to the 'series' model, not to {rung!r}")
+        if order is not None and self.body.orbit.e > LAPLACE_LIMIT:
+            model_for(self.body, self.body.dataset, order)     # refuses the diverging series, before any cost
+
+    def choice_cost(self, start: float, stop: float, count: int) -> Cost:
+        return self.ladder.cost(None, start, stop, count, free_wobble=self.wobble is not None)
+
+    def track_cost(self, model, order, start, stop, count, free_wobble) -> Cost:
+        return self.ladder.cost(model or self.default_model(order), start, stop, count, order, free_wobble)
+
+    def estimates(self, jd_tdb) -> list[Estimate]:
+        return self.ladder.estimates(jd_tdb)
+
+    def named(self, jd_tdb, model, order):
+        rung = model or self.default_model(order)
+        return next((e for e in self.estimates(jd_tdb) if e.rung == rung and e.order == order
+                     and e.free_wobble == (self.wobble is not None)), None)
+
+    def track(self, est, model, order, t0, step, count) -> Track:
+        if model in ("hansen", "series"):   # the fast evaluation on an even grid
+            tr = cached_model(self.body, order).track_grid(t0, step, count)
+        else:
+            tr = self.ladder.track(model, self.grid(t0, step, count), order)
+        if self.wobble is not None and (est is None or est.free_wobble):
+            tr = self.ladder.add_wobble(tr)
+        return tr
+
+    def describe(self, est, model, order, with_wobble) -> dict:
+        info = model_info(cached_model(self.body, order), self.body)
+        info["assumptions"] = [AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else self.axis]] + ASSUMPTIONS[1:] \
+            + RUNG_ASSUMPTIONS[model]
+        return info

@@ -1,0 +1,177 @@
+"""One interface for every theory of a body's spin axis.
+
+A :class:`SpinAxisTheory` is what a request is answered with: for one body, the torquing bodies
+(perturbers), the axis followed and, for the figure axis, the free wobble the track may add, it
+offers a family of models (the Sun-only ladder's rungs, the lunisolar Earth, …), cheapest first,
+and for each:
+
+- its domain of validity, checked before any work (:meth:`check_request`: a model this family does
+  not have, an order it does not take, or "not applicable" with the reason);
+- what a request will cost before it runs (:meth:`choice_cost`, :meth:`track_cost`: a
+  :class:`~ephem.budget.Cost` the service charges against its budget);
+- its error estimate over given epochs, by named term (:meth:`estimates`, one
+  :class:`Estimate` per model, cheapest first; :func:`cheapest_within` picks one by tolerance);
+- the track over an even grid of epochs (:meth:`track`, each family's fast path);
+- a description, the ``model`` object of the answer (:meth:`describe`).
+
+:mod:`ephem.registry` lists the families; :func:`ephem.registry.theory_for` gives the one serving a
+body and its perturbers. :mod:`ephem.api` answers every body through this interface and never asks
+which theory it holds: adding a theory is writing one module and adding it to the registry.
+"""
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+import numpy as np
+
+from .budget import Cost
+from .catalogue import Body
+from .constants import MAS
+from .errors import NotApplicableError
+from .model import Track
+
+#: Error terms of the physics left out rather than of a theory's approximations (the orbit's motion, the
+#: rotation, the free wobble): what :attr:`Estimate.theory_total` leaves out
+PHYSICS_TERMS = ("orbit_motion", "rotation_averaging", "free_wobble", "free_wobble_model")
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """Estimated pole error of one model (radians), by named term."""
+
+    rung: str
+    order: int | None
+    terms: dict = field(compare=False)
+    available: bool = True
+    why_not: str | None = None
+    #: terms that could not be estimated (a user's body: its orbit's motion was never measured)
+    unestimated: tuple = ()
+    #: the track adds the free wobble of the figure axis (:func:`ephem.free_motion.add_free_wobble`)
+    free_wobble: bool = False
+
+    @property
+    def total(self) -> float:
+        return float(sum(self.terms.values()))
+
+    @property
+    def theory_total(self) -> float:
+        """The estimate without the physics terms: the error against the numerical integration."""
+        return float(sum(v for k, v in self.terms.items() if k not in PHYSICS_TERMS))
+
+
+#: what to suggest when the largest term of the best estimate is a theory's own limit
+THEORY_LIMIT_HINTS = {
+    "nutation_residual": "the first-order rigid-Earth theory is this far from the real (non-rigid) Earth: no "
+                         "lunisolar model here does better (IAU 2006/2000A, e.g. ERFA, does)",
+}
+THEORY_LIMIT_HINTS["precession"] = THEORY_LIMIT_HINTS["axis_relation"] = THEORY_LIMIT_HINTS["nutation_residual"]
+
+
+def cheapest_within(candidates: list, tolerance: float, body: str, wobble_given: bool) -> Estimate:
+    """The first (cheapest) estimate within ``tolerance`` (radians); else :class:`NotApplicableError` naming
+    the best estimate, its largest term and what would help."""
+    for est in candidates:
+        if est.total <= tolerance:
+            return est
+    best = min(candidates, key=lambda e: e.total)
+    largest = max(best.terms, key=best.terms.get)
+    hint = THEORY_LIMIT_HINTS.get(largest, "widen the tolerance or shorten the span")
+    if largest == "free_wobble" and wobble_given:
+        followed = next(e for e in candidates if e.free_wobble and e.rung == best.rung and e.order == best.order)
+        hint = (f"following the free wobble does not help: its model is estimated good to only "
+                f"{followed.terms['free_wobble_model'] / MAS:.6g} mas here (the rigid wobble drifts in phase "
+                "from the observed one, or L moves far from its epoch direction); give a wobble epoch "
+                "(free_wobble_epoch) nearer these epochs, or ask for axis=angular_momentum")
+    elif largest == "free_wobble":
+        hint = ("the figure axis wobbles about the angular momentum by the free wobble; give its phase "
+                "(free_wobble_phase_deg) to follow it, or ask for axis=angular_momentum")
+    raise NotApplicableError(body, (
+        f"no model meets the tolerance of {tolerance / MAS:.6g} mas over these epochs: the best, "
+        f"'{best.rung}', is estimated good to {best.total / MAS:.6g} mas (largest term: {largest}); {hint}"))
+
+
+class SpinAxisTheory(ABC):
+    """A family of models of one body's spin axis, for one request's perturbers, axis and free wobble.
+
+    Subclasses set :attr:`models` (the names they answer to, cheapest first) and implement the
+    abstract methods; :meth:`serves` says which bodies and perturbers they are for.
+    """
+
+    #: what the family is, in a few words ("the single-perturber ladder")
+    summary: ClassVar[str] = ""
+    #: the model names of this family, cheapest first (an answer's ``model.name``)
+    models: ClassVar[tuple[str, ...]] = ()
+    #: one line per model name: what it computes and what it drops (an answer's ``model.description``)
+    descriptions: ClassVar[dict[str, str]] = {}
+    #: whether the catalogue's 1σ uncertainties propagate through this family (:mod:`ephem.uncertainty`
+    #: replicates the single-perturber theory only)
+    propagates_uncertainty: ClassVar[bool] = False
+
+    def __init__(self, body: Body, perturbers: tuple[str, ...], axis: str = "figure", wobble=None):
+        self.body = body
+        self.perturbers = tuple(perturbers)
+        self.axis = axis
+        self.wobble = wobble
+
+    @classmethod
+    @abstractmethod
+    def serves(cls, body: Body, perturbers: tuple[str, ...]) -> bool:
+        """Whether this family answers for ``body`` under ``perturbers`` (the first family that does, in the
+        registry's order, is used)."""
+
+    def with_wobble(self, wobble) -> "SpinAxisTheory":
+        """The same family for the same request, with the free wobble a track of the figure axis may add."""
+        return type(self)(self.body, self.perturbers, self.axis, wobble)
+
+    @classmethod
+    @abstractmethod
+    def how_to_reach(cls, body: Body) -> str:
+        """What a request for ``body`` must say to be served by this family (for a refusal elsewhere)."""
+
+    @abstractmethod
+    def default_model(self, order: int | None) -> str:
+        """The model answering when none is named and no tolerance is given."""
+
+    @abstractmethod
+    def check_request(self, model: str | None, order: int | None) -> None:
+        """Refuse, before any work, a model this family does not have, an e-order it does not take, or a body
+        outside its domain (:class:`~ephem.errors.NotApplicableError` with the reason)."""
+
+    @abstractmethod
+    def choice_cost(self, start: float, stop: float, count: int) -> Cost:
+        """The cost of the estimates that choose a model by tolerance over ``count`` epochs in [start, stop]."""
+
+    @abstractmethod
+    def track_cost(self, model: str | None, order: int | None, start: float, stop: float, count: int,
+                   free_wobble: bool) -> Cost:
+        """The cost of one model's track (``model`` None: the family's default) over ``count`` epochs."""
+
+    @abstractmethod
+    def estimates(self, jd_tdb) -> list[Estimate]:
+        """Every model's estimate over the epochs, cheapest first; unavailable ones say why."""
+
+    @abstractmethod
+    def named(self, jd_tdb, model: str | None, order: int | None) -> Estimate | None:
+        """The estimate of the model asked for by name (None: the family's default), or None where it
+        has none."""
+
+    @abstractmethod
+    def track(self, est: Estimate | None, model: str, order: int | None, t0: float, step: float,
+              count: int) -> Track:
+        """The track of ``model`` at ``t0 + step * arange(count)`` (JD TDB), with the free wobble added when
+        ``est`` says so (``est`` None: added whenever the request gave its phase)."""
+
+    @abstractmethod
+    def describe(self, est: Estimate | None, model: str, order: int | None, with_wobble: bool) -> dict:
+        """The answer's ``model`` object before the selection is added: theory, assumptions, warnings, the
+        spin-orbit ratio and epochs."""
+
+    def extra_description(self) -> dict:
+        """Keys of the ``model`` object only this family fills (the lunisolar amplitude cut)."""
+        return {}
+
+    @staticmethod
+    def grid(t0: float, step: float, count: int) -> np.ndarray:
+        return t0 + step * np.arange(count)
