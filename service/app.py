@@ -16,11 +16,13 @@ from fastapi.staticfiles import StaticFiles
 
 import ephem
 from ephem import api
-from ephem.catalogue import MIN_ROTATION_PERIOD_HOURS, Body, Orbit, Pole, available_datasets, load_catalogue
+from ephem.catalogue import (DEFAULT_DATASET, KNOWN_PERTURBERS, MIN_ROTATION_PERIOD_HOURS, Body, Orbit, Pole,
+                             available_datasets, load_catalogue)
 from ephem.free_motion import SERIES_MAX_DELTA
 from ephem.geometry import icrf_to_ecliptic_matrix
-from ephem.ladder import LAPLACE_LIMIT, MAX_NUMERICAL_ORBITS
+from ephem.ladder import AXES, LAPLACE_LIMIT, MAX_NUMERICAL_ORBITS
 from ephem.plots import MAX_PLOT_POINTS
+from ephem.registry import MODELS
 from ephem.tables import FORMATS, render_nutation
 from ephem.timeparse import TIME_PATTERN_ECMA, ut1_span
 
@@ -29,9 +31,11 @@ from .limits import BodySizeLimit
 from .settings import Settings
 
 
-class Dataset(str, Enum):
-    current = "current"
-    petit2014 = "petit2014"
+# the names the library knows, one source each: datasets (data/catalogue), models (ephem.registry), axes
+Dataset = Enum("Dataset", {name: name for name in available_datasets()}, type=str)
+Rung = Enum("Rung", {name: name for name in MODELS}, type=str)
+Axis = Enum("Axis", {name: name for name in AXES}, type=str)
+DEFAULT_DATASET_VALUE = Dataset(DEFAULT_DATASET)
 
 
 class TableFormat(str, Enum):
@@ -56,16 +60,6 @@ ToleranceQuery = Annotated[Optional[float], Query(gt=0, description="pick the ch
                                                   examples=[10.0])]
 
 
-class Rung(str, Enum):
-    secular = "secular"
-    series = "series"
-    hansen = "hansen"
-    second_order = "second_order"
-    numerical = "numerical"
-    real_orbit = "real_orbit"
-    lunisolar = "lunisolar"
-
-
 class PlotKind(str, Enum):
     precession = "precession"
     nutation_loop = "nutation-loop"
@@ -76,11 +70,6 @@ class PlotKind(str, Enum):
 class TableLayout(str, Enum):
     sin_cos = "sin-cos"
     amp_period = "amp-period"
-
-
-class Axis(str, Enum):
-    figure = "figure"
-    angular_momentum = "angular_momentum"
 
 
 class FreeMethod(str, Enum):
@@ -147,7 +136,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                  "name": "Vesta", "naif_id": 2000004, "kind": "asteroid", "dataset": "current", "a_au": 2.3615413,
                  "e": 0.0901676, "orbit_center": "Sun", "rotation_period_hours": 5.342128248, "pole_ra_deg": 309.031,
                  "pole_dec_deg": 42.235, "dynamical_ellipticity": 0.168871}]}}}})
-    def bodies(dataset: DatasetQuery = Dataset.current):
+    def bodies(dataset: DatasetQuery = DEFAULT_DATASET_VALUE):
         return api.list_bodies(dataset.value)
 
     @app.get("/v1/bodies/{body}", response_model=schemas.BodyRecord, tags=["catalogue"], responses={
@@ -157,7 +146,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             "values": {"pole.ra": {"value": 309.031, "unit": "deg", "uncertainty": None, "source": "archinal2018",
                                    "reference": {"authors": "Archinal, B. A. et al.", "year": 2018},
                                    "note": None}}}}}}})
-    def body_record(body: BodyPath, dataset: DatasetQuery = Dataset.current):
+    def body_record(body: BodyPath, dataset: DatasetQuery = DEFAULT_DATASET_VALUE):
         return api.body_record(body, dataset.value)
 
     @app.get("/v1/bodies/{body}/precession", response_model=schemas.Precession, tags=["theory"], responses={
@@ -170,7 +159,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                       "order": None, "description": "Kinoshita-Cayley nutation with exact Hansen coefficients …",
                       "estimated_error_mas": 0.0, "error_terms_mas": None, "tolerance_mas": None,
                       "cost_ms": 0.05}}}}}})
-    def precession(body: BodyPath, dataset: DatasetQuery = Dataset.current, order: OrderQuery = None,
+    def precession(body: BodyPath, dataset: DatasetQuery = DEFAULT_DATASET_VALUE, order: OrderQuery = None,
                    tolerance_mas: ToleranceQuery = None,
                    perturbers: Annotated[Optional[str], Query(
                        description="the torquing bodies: default the catalogue's (the Earth: the Moon and the Sun, "
@@ -188,7 +177,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                     "longitude,1,M,2.3784,0.2431,1.1025,3.6287\n"},
             "text/markdown": {"example": "| Sin (\") | Cos (\") | Amp (\") | Period (year) | Arg |\n"},
             "application/x-latex": {"example": "\\begin{tabular}{rrrrl}\n\\toprule\n"}}}})
-    def nutation(body: BodyPath, dataset: DatasetQuery = Dataset.current, order: OrderQuery = None,
+    def nutation(body: BodyPath, dataset: DatasetQuery = DEFAULT_DATASET_VALUE, order: OrderQuery = None,
                  tolerance_mas: ToleranceQuery = None,
                  perturbers: Annotated[Optional[str], Query(
                        description="the torquing bodies: default the catalogue's (the Earth: the Moon and the Sun, "
@@ -227,14 +216,14 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                           examples=["2040-01-01"])],
               stop: Annotated[str, Query(description="ISO 8601 or JD TDB", examples=["2041-01-01"])],
               step_days: Annotated[float, Query(description="sampling step, days", examples=[10.0])],
-              dataset: DatasetQuery = Dataset.current, order: OrderQuery = None,
+              dataset: DatasetQuery = DEFAULT_DATASET_VALUE, order: OrderQuery = None,
               tolerance_mas: ToleranceQuery = None,
               model: Annotated[Optional[Rung], Query(description="a rung of the fidelity ladder (not with "
                                                                  "tolerance_mas); default hansen, and for the Earth "
                                                                  "with the Moon its lunisolar model")] = None,
               axis: Annotated[Axis, Query(description="the pole to follow: the figure axis (the body's axis of "
                                                       "largest inertia, which circles the angular momentum by the "
-                                                      "free wobble) or the angular momentum")] = Axis.figure,
+                                                      "free wobble) or the angular momentum")] = Axis("figure"),
               free_wobble_phase_deg: Annotated[Optional[float], Query(
                   description="the figure axis's position angle about the angular momentum at free_wobble_epoch, "
                               "from the ICRF north through east, deg: lets the track add the free wobble when the "
@@ -266,7 +255,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                                              "or free-wobble")] = PlotKind.precession,
                  step_days: Annotated[Optional[float], Query(gt=0, description="sampling step, days (default: "
                                                                                "chosen for the kind and span)")] = None,
-                 dataset: DatasetQuery = Dataset.current, order: OrderQuery = None,
+                 dataset: DatasetQuery = DEFAULT_DATASET_VALUE, order: OrderQuery = None,
                  tolerance_mas: ToleranceQuery = None,
                  model: Annotated[Optional[Rung], Query(description="a rung of the fidelity ladder")] = None,
                  J_arcsec: Annotated[Optional[float], Query(ge=0, le=648000, description="free-wobble amplitude "
@@ -308,7 +297,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                                                     "and most accurate), exact, series (short-axis "
                                                                     "mode, δ <= 0.1) or numeric")]
                     = None,
-                    dataset: DatasetQuery = Dataset.current):
+                    dataset: DatasetQuery = DEFAULT_DATASET_VALUE):
         """The torque-free wobble of the figure axis about the angular momentum (ephem.free_motion)."""
         return finite_json(api.free_motion_arrays(body, start, stop, step_days, J_arcsec,
                                                   (method or FreeMethod.auto).value, dataset.value,
@@ -377,7 +366,7 @@ def _install_docs(app: FastAPI) -> None:
 # physics). tests/test_schemathesis.py holds the service to exactly these: a schema-valid request is refused
 # only for a rule written here.
 
-_NAME = "|".join("".join(f"[{c.upper()}{c.lower()}]" for c in n) for n in ("sun", "earth", "moon"))
+_NAME = "|".join("".join(f"[{c.upper()}{c.lower()}]" for c in n.lower()) for n in KNOWN_PERTURBERS)
 PERTURBERS_PATTERN = rf"^\s*(?:{_NAME})\s*(?:,\s*(?:{_NAME})\s*)*$"
 _JD = {"exclusiveMinimum": 0, "exclusiveMaximum": 1e7}
 _POSITIVE = {"exclusiveMinimum": 0}

@@ -5,12 +5,17 @@ from typing import Annotated, Literal, Optional, Union
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 
+from ephem.ladder import AXES
+from ephem.model import MAX_ORDER
+from ephem.registry import MODELS
+
 # strict: JSON true is not a number, nor "2.36" (a string) one; JSON integers are still numbers
 Finite = ConfigDict(allow_inf_nan=False, extra="forbid", strict=True)
-RungName = Literal["secular", "series", "hansen", "second_order", "numerical", "real_orbit", "lunisolar"]
+# the names come from the library (one source each): the models of ephem.registry, the axes of ephem.ladder
+RungName = Literal[MODELS]
 Perturbers = Field(None, description="the bodies whose torque the answer includes: the orbit's centre (the Sun), "
                                      "and for the Earth by default the Moon too (the lunisolar theory)")
-AxisName = Literal["figure", "angular_momentum"]
+AxisName = Literal[AXES]
 
 
 class FreeWobbleInfo(BaseModel):
@@ -237,9 +242,9 @@ class UserBody(BaseModel):
     moments: Optional[MomentsIn] = None
     dynamical_ellipticity: Optional[float] = None
     # JSON Schema counts 22.0 as an integer: an integral float is taken as one; "4" and true stay refused
-    order: Optional[Annotated[int, Field(ge=0, le=30), BeforeValidator(
+    order: Optional[Annotated[int, Field(ge=0, le=MAX_ORDER), BeforeValidator(
         lambda v: int(v) if isinstance(v, float) and v.is_integer() else v)]] = Field(
-        None, description="e-power order of the Hansen coefficients (0 to 30); omit for exact")
+        None, description=f"e-power order of the Hansen coefficients (0 to {MAX_ORDER}); omit for exact")
     track: Optional[TrackIn] = None
 
 

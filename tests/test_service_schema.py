@@ -183,3 +183,23 @@ def test_dynamical_ellipticity_bounds_and_the_moments_or_ellipticity_rule(client
     r = client.post("/v1/precession-nutation", json=body)
     assert r.status_code == 422, r.text
     assert r.json()["errors"][0]["field"] in ("dynamical_ellipticity", "moments")
+
+
+def test_the_service_takes_its_names_from_the_library():
+    """One source of names: a model added to ephem.registry, a dataset to data/catalogue, an axis to the
+    ladder, or a higher e-order to ephem.model is what the service accepts and documents."""
+    from ephem.catalogue import available_datasets
+    from ephem.ladder import AXES
+    from ephem.model import MAX_ORDER
+    from ephem.registry import MODELS
+    from service.app import Axis, Dataset, Rung
+
+    assert [r.value for r in Rung] == list(MODELS)
+    assert [a.value for a in Axis] == list(AXES)
+    assert [d.value for d in Dataset] == list(available_datasets())
+    schema = app.openapi()
+    track_in = schema["components"]["schemas"]["UserBody"]["properties"]["order"]
+    bounds = [s.get("maximum") for s in track_in.get("anyOf", [track_in]) if "maximum" in s]
+    assert bounds == [MAX_ORDER]
+    model_out = schema["components"]["schemas"]["ModelInfo"]["properties"]["name"]
+    assert model_out["enum"] == list(MODELS)
