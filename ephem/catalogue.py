@@ -56,6 +56,11 @@ def dynamical_ellipticity(A: float, B: float, C: float, body: str | None = None)
     return (C - 0.5 * (A + B)) / C
 
 
+def spin_rate_rad_per_day(rotation_period_hours: float) -> float:
+    """Spin rate ω = 2π / P (rad/day) of a rotation period P in hours (sidereal: relative to the
+    stars); the ω of K = 3 n² H_d / ω (Petit et al. 2014, eq. 10)."""
+    return 2.0 * math.pi / (rotation_period_hours / 24.0)
+
 
 @dataclass(frozen=True)
 class Measured:
@@ -201,6 +206,11 @@ class Body:
     def hd(self) -> float:
         """The dynamical ellipticity H_d the theory uses."""
         return self.dynamical_ellipticity if self.dynamical_ellipticity is not None else self._hd_moments
+
+    @property
+    def spin_rate_rad_per_day(self) -> float:
+        """ω = 2π / P (rad/day) of the rotation period (:func:`spin_rate_rad_per_day`)."""
+        return spin_rate_rad_per_day(self.rotation_period_hours)
 
     @property
     def hd_from(self) -> str:

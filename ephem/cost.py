@@ -171,5 +171,4 @@ def body_harmonics(body, order: int | None = None) -> int:
     """:func:`nutation_harmonics` of a :class:`~ephem.catalogue.Body`, from its parameters alone
     (K/n = 3 n H_d / ω, Petit et al. eq. 10)."""
     n = mean_motion_rad_per_day(body.orbit.a_au, body.orbit.center)
-    omega = 2.0 * math.pi / (body.rotation_period_hours / 24.0)
-    return nutation_harmonics(body.orbit.e, order, 3.0 * n * body.hd / omega)
+    return nutation_harmonics(body.orbit.e, order, 3.0 * n * body.hd / body.spin_rate_rad_per_day)

@@ -154,7 +154,7 @@ def free_motion(body: Body, jd_tdb: np.ndarray, J_arcsec: float | None = None, m
     moments = _moments(body)
     J_arcsec = _wobble_angle(body, J_arcsec, "J_arcsec", 648000.0, "(0-180 deg)")
     t = np.asarray(jd_tdb, dtype=float)
-    omega = 2.0 * math.pi / (body.rotation_period_hours / 24.0)   # rad/day about C: M = C ω with C = 1
+    omega = body.spin_rate_rad_per_day   # rad/day about C: M = C ω with C = 1
     M, J = omega, float(J_arcsec) * ARCSEC
     # the initial attitude R1(J) (Andoyer with λ = μ = ν = 0, I = 0) built from J itself: through
     # cos J = N/M (ephem.andoyer.andoyer_matrix) sin J loses 4e-4 of itself to cancellation at J = 0.1"
@@ -244,7 +244,7 @@ def _wobble_path(body: Body, wobble: Wobble, jd_tdb: np.ndarray) -> tuple[np.nda
     from .euler_poinsot import FreeRotation
 
     moments = _moments(body)
-    omega = 2.0 * math.pi / (body.rotation_period_hours / 24.0)
+    omega = body.spin_rate_rad_per_day
     J = wobble.J_arcsec * ARCSEC
     L0 = np.array([0.0, omega * math.sin(J), omega * math.cos(J)])
     rot = FreeRotation.from_body_momentum(moments, L0, wobble.epoch_jd_tdb, rot1(J))

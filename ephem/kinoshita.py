@@ -28,6 +28,7 @@ sign here is the one the numerical integration of the torque confirms.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -143,6 +144,92 @@ def series_extrema(sin_coef: np.ndarray, cos_coef: np.ndarray) -> tuple[float, f
     return 0.5 * (v_max - v_min), x_max, x_min
 
 
+def nutation_coefficients(K: float, n: float, obliquity: float, equinox_to_pericentre: float, k,
+                          c0, c2, s2) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The nutation's coefficients from the Hansen coefficients (Petit et al. 2014, eqs. 20 and 22).
+
+    With C' = cos 2θ, S' = sin 2θ (θ = ``equinox_to_pericentre``, ε = ``obliquity``, radians) and
+    C0_k, C2_k, S2_k the Hansen coefficients of (a/r)^3, (a/r)^3 cos 2ν and (a/r)^3 sin 2ν
+    (:mod:`ephem.hansen`) at the multiples ``k`` of the mean anomaly:
+
+        lon_sin_k =  (K/2) cos ε (C0_k - C' C2_k) / (k n)     lon_cos_k = -(K/2) cos ε S' S2_k / (k n)
+        obl_sin_k = -(K/2) sin ε S' C2_k / (k n)              obl_cos_k =  (K/2) sin ε C' S2_k / (k n)
+
+    so that Δψ = Σ lon_sin_k sin kM + lon_cos_k cos kM and Δε likewise (the sign of Δε is the
+    one the integration of the torque confirms, opposite to the paper's Tables 6 and 8: see the
+    module docstring). K (:func:`scaling_factor`) and n in one unit of rad per time; the four
+    arrays (shaped like ``k``) in radians. No amplitude cut (:func:`nutation_series` applies one).
+    """
+    cp, sp = math.cos(2.0 * equinox_to_pericentre), math.sin(2.0 * equinox_to_pericentre)
+    f_psi = 0.5 * K * math.cos(obliquity) / (k * n)
+    f_eps = -0.5 * K * math.sin(obliquity) / (k * n)
+    return f_psi * (c0 - cp * c2), -f_psi * sp * s2, f_eps * sp * c2, -f_eps * cp * s2
+
+
+#: Fixed-point passes of :func:`mean_pole` for a nutation that depends on the mean pole: each pass
+#: multiplies the error by ~ the nutation's amplitude (radians), so three leave rounding.
+MEAN_POLE_PASSES = 3
+
+
+def mean_pole(obliquity: float, equinox_to_pericentre: float,
+              nutation_at_pole_epoch: Callable[[float, float], tuple[float, float]],
+              passes: int = MEAN_POLE_PASSES) -> tuple[float, float, float, float]:
+    """The mean pole at the pole epoch t0 from the instantaneous one: (ε̄, θ̄, Δψ(t0), Δε(t0)), radians.
+
+    The catalogue pole is the instantaneous spin axis at t0, the mean pole plus the nutation there:
+    ε = ε̄ + Δε(t0), θ = θ̄ + Δψ(t0) (θ the equinox-to-pericentre angle; the instantaneous equinox
+    is the mean one moved by Δψ). The nutation itself depends on the mean pole (Petit et al. 2014,
+    eqs. 20 and 22, through ε̄ and θ̄: :func:`nutation_coefficients`), so this iterates the fixed point
+
+        ε̄ ← ε - Δε(t0; ε̄, θ̄),    θ̄ ← θ - Δψ(t0; ε̄, θ̄)
+
+    from ε̄ = ε, θ̄ = θ, ``passes`` times. ``nutation_at_pole_epoch(ε̄, θ̄)`` gives (Δψ(t0), Δε(t0))
+    in radians for a trial mean pole; the returned Δψ(t0), Δε(t0) are those of the last pass and
+    ε̄ = ε - Δε(t0), θ̄ = θ - Δψ(t0) hold exactly, so a track built from that pass's nutation
+    starts at the catalogue pole (a caller needing that pass's series keeps it from its callable).
+    A nutation independent of the mean pole (the Earth's lunisolar series, built at IAU 2006's
+    obliquity) needs ``passes=1``.
+    """
+    if passes < 1:
+        raise ValueError("mean_pole needs at least one pass")
+    dpsi0 = deps0 = 0.0
+    for _ in range(passes):
+        dpsi, deps = nutation_at_pole_epoch(obliquity - deps0, equinox_to_pericentre - dpsi0)
+        dpsi0, deps0 = float(dpsi), float(deps)
+    return obliquity - deps0, equinox_to_pericentre - dpsi0, dpsi0, deps0
+
+
+def _four_columns(coefficients):
+    """(lon_sin, lon_cos, obl_sin, obl_cos) of a :class:`NutationSeries` (or any object with those
+    attributes) or of an array (N, 4) whose columns are these (the lunisolar series' ``coefficients``)."""
+    if hasattr(coefficients, "lon_sin"):
+        return coefficients.lon_sin, coefficients.lon_cos, coefficients.obl_sin, coefficients.obl_cos
+    c = np.asarray(coefficients, dtype=float)
+    if c.ndim != 2 or c.shape[1] != 4:
+        raise ValueError(f"expected a NutationSeries or an (N, 4) array of (Δψ sin, Δψ cos, Δε sin, Δε cos), "
+                         f"got shape {c.shape}")
+    return c[:, 0], c[:, 1], c[:, 2], c[:, 3]
+
+
+def pole_displacements(coefficients, obliquity: float) -> np.ndarray:
+    """Per term, the most it can move the pole: |sin ε| sqrt(S_ψ² + C_ψ²) + sqrt(S_ε² + C_ε²).
+
+    A term S sin φ + C cos φ has the amplitude sqrt(S² + C²); a change Δψ of the longitude moves
+    the pole by sin ε |Δψ| on the sphere and a change Δε of the obliquity by |Δε|, so their sum
+    bounds the pole's displacement by the term (first order in the nutation). ``coefficients``: a
+    :class:`NutationSeries` or an (N, 4) array of (Δψ sin, Δψ cos, Δε sin, Δε cos), e.g. the
+    lunisolar series' ``coefficients``; the result is in their unit (radians, or mas for those).
+    """
+    lon_sin, lon_cos, obl_sin, obl_cos = _four_columns(coefficients)
+    return abs(math.sin(obliquity)) * np.hypot(lon_sin, lon_cos) + np.hypot(obl_sin, obl_cos)
+
+
+def pole_displacement_sum(coefficients, obliquity: float) -> float:
+    """Σ over the terms of :func:`pole_displacements`: how far the nutation can move the pole from the
+    mean pole (in the coefficients' unit)."""
+    return float(np.sum(pole_displacements(coefficients, obliquity)))
+
+
 def nutation_series(K: float, n: float, obliquity: float, e: float, equinox_to_pericentre: float,
                     order: int | None = None, min_amplitude: float = 1e-14) -> NutationSeries:
     """Nutation coefficients (Petit et al. eqs. 20, 22; radians).
@@ -157,14 +244,8 @@ def nutation_series(K: float, n: float, obliquity: float, e: float, equinox_to_p
     else:
         h = hansen_series(order).evaluate(e)
     k = np.asarray(h.k[1:], dtype=float)
-    c0, c2, s2 = h.c0[1:], h.c2[1:], h.s2[1:]
-    cp, sp = math.cos(2.0 * equinox_to_pericentre), math.sin(2.0 * equinox_to_pericentre)
-    f_psi = 0.5 * K * math.cos(obliquity) / (k * n)
-    f_eps = -0.5 * K * math.sin(obliquity) / (k * n)
-    lon_sin = f_psi * (c0 - cp * c2)
-    lon_cos = -f_psi * sp * s2
-    obl_sin = f_eps * sp * c2
-    obl_cos = -f_eps * cp * s2
+    lon_sin, lon_cos, obl_sin, obl_cos = nutation_coefficients(K, n, obliquity, equinox_to_pericentre, k,
+                                                               h.c0[1:], h.c2[1:], h.s2[1:])
     big = np.max(np.abs(np.stack([lon_sin, lon_cos, obl_sin, obl_cos])), axis=0) >= min_amplitude
     keep = np.nonzero(big)[0]
     last = keep[-1] + 1 if keep.size else 0

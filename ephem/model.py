@@ -2,7 +2,8 @@
 
 The catalogue pole is the *instantaneous* spin axis at its epoch t0; the
 theory's mean pole differs from it by the nutation (Δψ(t0), Δε(t0)), which is
-removed here (two fixed-point passes; the correction is second order).
+removed here (:func:`ephem.kinoshita.mean_pole`: three fixed-point passes; the correction is
+second order).
 
 The track follows the issue's definition, in the frame of the orbit and the
 mean equinox at t0:
@@ -25,7 +26,7 @@ from .errors import InvalidInputError, NotApplicableError
 from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from .hansen import LAPLACE_LIMIT, exact_unavailable
 from .kepler import mean_motion_rad_per_day
-from .kinoshita import (MAX_SHIFT, NutationSeries, cos_sin_shifted, eccentricity_factor, nutation_series,
+from .kinoshita import (MAX_SHIFT, NutationSeries, cos_sin_shifted, eccentricity_factor, mean_pole, nutation_series,
                         precession_rate, scaling_factor, uniform_cos_sin)
 
 #: Rotation-averaging needs the spin much faster than the orbital motion. Against the full rigid
@@ -188,8 +189,7 @@ def check_domain(body: Body, order: int | None = None) -> None:
     """The theory's domain, checked before any work: a fast enough rotation (:func:`check_applicable`)
     and, for exact coefficients, an eccentricity whose Fourier series can be summed."""
     orb = body.orbit
-    check_applicable(body, 2.0 * math.pi / (body.rotation_period_hours / 24.0),
-                     mean_motion_rad_per_day(orb.a_au, orb.center))
+    check_applicable(body, body.spin_rate_rad_per_day, mean_motion_rad_per_day(orb.a_au, orb.center))
     why = exact_unavailable(orb.e) if order is None else None
     if why is not None:
         raise NotApplicableError(body.name, why)
@@ -203,7 +203,7 @@ def build_model(body: Body, order: int | None = None) -> PrecessionNutation:
     """
     orb = body.orbit
     n = mean_motion_rad_per_day(orb.a_au, orb.center)
-    omega = 2.0 * math.pi / (body.rotation_period_hours / 24.0)
+    omega = body.spin_rate_rad_per_day
     check_domain(body, order)
     K = scaling_factor(n, omega, body.hd)
 
@@ -215,15 +215,16 @@ def build_model(body: Body, order: int | None = None) -> PrecessionNutation:
     t0 = body.pole.epoch_jd_tdb
     m0 = math.radians(orb.mean_anomaly_deg)
     m_t0 = m0 + n * (t0 - orb.epoch_jd_tdb)
-    dpsi0 = deps0 = 0.0
-    for _ in range(3):
-        eps_mean = geo.obliquity - deps0
-        theta_mean = geo.equinox_to_pericentre - dpsi0
-        series = nutation_series(K, n, eps_mean, orb.e, theta_mean, order)
-        dpsi_a, deps_a = series.evaluate(np.array([m_t0]))
-        dpsi0, deps0 = float(dpsi_a[0]), float(deps_a[0])
-    eps_mean = geo.obliquity - deps0
-    theta_mean = geo.equinox_to_pericentre - dpsi0
+    last = {}
+
+    def nutation_at_pole_epoch(eps_trial: float, theta_trial: float) -> tuple[float, float]:
+        last["series"] = nutation_series(K, n, eps_trial, orb.e, theta_trial, order)
+        dpsi_a, deps_a = last["series"].evaluate(np.array([m_t0]))
+        return float(dpsi_a[0]), float(deps_a[0])
+
+    # the series of the last pass reproduces the catalogue pole at t0 exactly (see mean_pole)
+    eps_mean, theta_mean, dpsi0, deps0 = mean_pole(geo.obliquity, geo.equinox_to_pericentre, nutation_at_pole_epoch)
+    series = last["series"]
 
     gamma, y_true, w = geo.orbit_frame
     x_mean = math.cos(dpsi0) * gamma + math.sin(dpsi0) * y_true

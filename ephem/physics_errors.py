@@ -33,7 +33,7 @@ import numpy as np
 from .catalogue import Body, data_dir
 from .constants import ARCSEC
 from .kepler import solve_kepler, true_anomaly
-from .kinoshita import eccentricity_factor
+from .kinoshita import eccentricity_factor, pole_displacements
 from .model import PrecessionNutation
 
 
@@ -127,10 +127,8 @@ def orbit_motion_for(body: Body) -> OrbitMotion | None:
 
 def phase_sensitivity(model: PrecessionNutation) -> float:
     """Σ_k k A_k: the most the nutation moves the pole per radian of the Sun's phase (radians)."""
-    s = model.nutation
-    k = s.multiple.astype(float)
-    return float(np.sum(k * (abs(math.sin(model.obliquity)) * np.hypot(s.lon_sin, s.lon_cos)
-                             + np.hypot(s.obl_sin, s.obl_cos))))
+    k = model.nutation.multiple.astype(float)
+    return float(np.sum(k * pole_displacements(model.nutation, model.obliquity)))
 
 
 def orbit_motion_bound(body: Body, model: PrecessionNutation, jd_tdb: np.ndarray) -> float | None:

@@ -34,13 +34,13 @@ from functools import lru_cache
 
 import numpy as np
 
-from .catalogue import DEFAULT_DATASET, Body, resolve_body
+from .catalogue import DEFAULT_DATASET, Body, dynamical_ellipticity, resolve_body, spin_rate_rad_per_day
 from .constants import ARCSEC, JULIAN_YEAR_DAYS
 from .errors import InvalidInputError
 from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from .hansen import hansen_exact, hansen_series
 from .kepler import mean_motion_rad_per_day
-from .kinoshita import precession_rate, scaling_factor, series_extrema
+from .kinoshita import mean_pole, nutation_coefficients, precession_rate, scaling_factor, series_extrema
 from .model import model_for
 
 #: Central-difference step as a fraction of the input's σ. The linear σ is J·σ with J the
@@ -180,10 +180,11 @@ class _Rejected(Exception):
 class _Replica:
     """The numbers of :func:`ephem.model.build_model` as a function of the model-unit inputs.
 
-    Mirrors build_model and kinoshita.nutation_series step by step (the same three fixed-point
-    passes removing the nutation at the pole epoch), with the Hansen coefficients kept per e and
-    the nutation at the pole epoch summed directly. ``kmax`` fixes the number of harmonics to
-    that of the nominal model, so that perturbed outputs line up term by term.
+    Mirrors build_model and kinoshita.nutation_series step by step (the same formulas: the
+    coefficients of kinoshita.nutation_coefficients, the mean pole of kinoshita.mean_pole), with
+    the Hansen coefficients kept per e and the nutation at the pole epoch summed directly.
+    ``kmax`` fixes the number of harmonics to that of the nominal model, so that perturbed
+    outputs line up term by term.
     """
 
     def __init__(self, body: Body, keys: list[str], order: int | None, kmax: int):
@@ -215,14 +216,6 @@ class _Replica:
             self._hansen[e] = h
         return h
 
-    def coefficients(self, K, n, eps, theta, h):
-        """kinoshita.nutation_series without the amplitude cut (radians)."""
-        c0, c2, s2 = h
-        cp, sp = math.cos(2.0 * theta), math.sin(2.0 * theta)
-        f_psi = 0.5 * K * math.cos(eps) / (self.k * n)
-        f_eps = -0.5 * K * math.sin(eps) / (self.k * n)
-        return f_psi * (c0 - cp * c2), -f_psi * sp * s2, f_eps * sp * c2, -f_eps * cp * s2
-
     def state(self, x: np.ndarray) -> dict:
         """Model quantities for one input vector (model units, in the order of ``keys``)."""
         v = dict(zip(self.keys, x))
@@ -238,10 +231,9 @@ class _Replica:
             # A and B may swap (H_d is symmetric in them); C must stay the largest moment
             if min(A, B) <= 0.0 or C < max(A, B) or C > A + B:
                 raise _Rejected("moments not those of a rigid body spinning about C")
-            hd = (C - 0.5 * (A + B)) / C
+            hd = dynamical_ellipticity(min(A, B), max(A, B), C)
         n = mean_motion_rad_per_day(a, self.center)
-        omega = 2.0 * math.pi / (period / 24.0)
-        K = scaling_factor(n, omega, hd)
+        K = scaling_factor(n, spin_rate_rad_per_day(period), hd)
         if self.ecliptic_pole:
             s_ecl = unit_vector(math.radians(v["pole.lon"]), math.radians(v["pole.lat"]))
         else:
@@ -253,15 +245,16 @@ class _Replica:
             raise _Rejected("spin axis normal to the orbit") from None
         m_t0 = math.radians(v["orbit.mean_anomaly"]) + n * (self.t0 - self.orbit_epoch)
         skm, ckm = np.sin(self.k * m_t0), np.cos(self.k * m_t0)
-        h = self.hansen(e)
-        dpsi0 = deps0 = 0.0
-        for _ in range(3):
-            eps_mean = geo.obliquity - deps0
-            theta_mean = geo.equinox_to_pericentre - dpsi0
-            coef = self.coefficients(K, n, eps_mean, theta_mean, h)
-            dpsi0 = float(coef[0] @ skm + coef[1] @ ckm)
-            deps0 = float(coef[2] @ skm + coef[3] @ ckm)
-        eps_mean = geo.obliquity - deps0
+        c0, c2, s2 = self.hansen(e)
+        last = {}
+
+        def nutation_at_pole_epoch(eps_trial: float, theta_trial: float) -> tuple[float, float]:
+            # kinoshita.nutation_series without the amplitude cut, summed at the pole epoch only
+            coef = last["coef"] = nutation_coefficients(K, n, eps_trial, theta_trial, self.k, c0, c2, s2)
+            return coef[0] @ skm + coef[1] @ ckm, coef[2] @ skm + coef[3] @ ckm
+
+        eps_mean = mean_pole(geo.obliquity, geo.equinox_to_pericentre, nutation_at_pole_epoch)[0]
+        coef = last["coef"]
         return {"hd": hd, "n": n, "K": K, "obliquity": eps_mean,
                 "precession_rate": precession_rate(K, eps_mean, e, self.order), "coefficients": coef}
 
@@ -275,7 +268,7 @@ class _Replica:
         s = self.state(x)
         lon_s, lon_c, obl_s, obl_c = s["coefficients"]
         if extrema is None:
-            half_psi, half_eps = half_peak_to_peak(lon_s, lon_c)[0], half_peak_to_peak(obl_s, obl_c)[0]
+            half_psi, half_eps = series_extrema(lon_s, lon_c)[0], series_extrema(obl_s, obl_c)[0]
         else:
             xs = np.asarray(extrema)
             sk, ck = np.sin(np.outer(xs, self.k)), np.cos(np.outer(xs, self.k))
@@ -291,12 +284,6 @@ class _Replica:
         terms = np.stack([period, lon_s / ARCSEC, lon_c / ARCSEC, obl_s / ARCSEC, obl_c / ARCSEC,
                           amp_lon, amp_obl], axis=1)
         return np.concatenate([scalars, terms.ravel()])
-
-
-def half_peak_to_peak(sin_coef: np.ndarray, cos_coef: np.ndarray) -> tuple[float, float, float]:
-    """(max − min)/2 of the series over one orbit and the M of the max and of the min
-    (:func:`ephem.kinoshita.series_extrema`, the algorithm of the answers themselves)."""
-    return series_extrema(sin_coef, cos_coef)
 
 
 # --------------------------------------------------------------------------- the set-up shared by both methods
@@ -326,8 +313,9 @@ def _setup(body, dataset, order, uncertainties, correlations) -> _Setup:
     replica = _Replica(b, keys, m.order, kmax)
     x0 = np.array([i.value * i.factor for i in inputs])
     lon_s, lon_c, obl_s, obl_c = replica.state(x0)["coefficients"]
-    _, xp_max, xp_min = half_peak_to_peak(lon_s, lon_c)
-    _, xe_max, xe_min = half_peak_to_peak(obl_s, obl_c)
+    # the extremes located as the answers locate them (kinoshita.series_extrema: grid, then Newton)
+    _, xp_max, xp_min = series_extrema(lon_s, lon_c)
+    _, xe_max, xe_min = series_extrema(obl_s, obl_c)
     extrema = (xp_max, xp_min, xe_max, xe_min)
     y0 = replica.outputs(x0, extrema)
     return _Setup(b, b.dataset, m.order, inputs, replica, x0, y0, extrema,

@@ -121,3 +121,10 @@ def test_earth_pole_is_the_cip_at_j2000():
     ra, dec = math.radians(b.pole.ra_deg), math.radians(b.pole.dec_deg)
     assert math.cos(dec) * math.cos(ra) == pytest.approx(x, abs=1e-9)  # 0.2 mas
     assert math.cos(dec) * math.sin(ra) == pytest.approx(y, abs=1e-9)
+
+
+def test_spin_rate_of_the_earth_is_the_iers_nominal_one():
+    # IERS Conventions (2010), Table 1.1: the Earth's nominal mean angular velocity ω = 7.292115e-5 rad/s,
+    # from the catalogue's sidereal period 23.9344719 h through Body.spin_rate_rad_per_day (rad/day);
+    # the IERS value has 7 digits: agreement to half its last one
+    assert get_body("earth").spin_rate_rad_per_day / 86400.0 == pytest.approx(7.292115e-5, abs=0.5e-11)

@@ -9,8 +9,11 @@ from ephem.catalogue import Body, Orbit, Pole, dynamical_ellipticity
 from ephem.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from ephem.errors import InvalidInputError, NotApplicableError
 from ephem.geometry import unit_vector
-from ephem.kinoshita import (eccentricity_factor, evaluate_harmonics,
-                             evaluate_harmonics_uniform, nutation_series, precession_rate)
+from ephem.hansen import hansen_exact
+from ephem.kepler import solve_kepler, true_anomaly
+from ephem.kinoshita import (eccentricity_factor, evaluate_harmonics, evaluate_harmonics_uniform, mean_pole,
+                             nutation_coefficients, nutation_series, pole_displacement_sum, pole_displacements,
+                             precession_rate)
 from ephem.model import build_model
 from ephem.numerical import angular_separation, integrate_spin_axis
 
@@ -253,3 +256,88 @@ def test_integration_at_the_start_epoch_and_both_directions(vesta_like):
     both = integrate_spin_axis(m, [t0 + 400.0, t0 - 400.0, t0])
     tr = m.track(np.array([t0 + 400.0, t0 - 400.0, t0]))
     assert np.all(angular_separation(unit_vector(tr.pole_ra, tr.pole_dec), both) < 1.0 * MAS)
+
+
+@pytest.mark.parametrize("e", [0.0, 0.3, 0.7])
+def test_nutation_coefficients_are_the_fourier_series_of_the_integrated_torque(e):
+    # eqs. 20/22 against the rate equations themselves, dψ/dt = (K/2) cos ε (a/r)^3 (1 - cos 2λ) and
+    # dε/dt = -(K/2) sin ε (a/r)^3 sin 2λ with λ = θ + ν, sampled on an even grid of M (Kepler's equation,
+    # no Hansen coefficient), Fourier-analysed by an FFT and integrated term by term over t = M/n:
+    # a_k cos kM + b_k sin kM integrates to (a_k sin kM - b_k cos kM)/(k n).
+    K, n, eps, theta = 1e-4, 0.01, 0.5, 1.1
+    h = hansen_exact(e)
+    k = np.asarray(h.k[1:], dtype=float)
+    got = np.array(nutation_coefficients(K, n, eps, theta, k, h.c0[1:], h.c2[1:], h.s2[1:]))
+    count = 4096       # aliasing: the harmonics fall off like 0.41^k at e = 0.7, nil beyond k = 2048
+    m = 2.0 * np.pi * np.arange(count) / count
+    rho3 = (1.0 / (1.0 - e * np.cos(solve_kepler(m, e)))) ** 3
+    lam = theta + true_anomaly(m, e)
+    ref = []
+    for rate in (0.5 * K * math.cos(eps) * rho3 * (1.0 - np.cos(2.0 * lam)),
+                 -0.5 * K * math.sin(eps) * rho3 * np.sin(2.0 * lam)):
+        f = np.fft.rfft(rate)[1:k.size + 1]
+        a_k, b_k = 2.0 * f.real / count, -2.0 * f.imag / count
+        ref += [a_k / (k * n), -b_k / (k * n)]
+    ref = np.array(ref)
+    # rounding of the FFT and of the Hansen coefficients: a few ε of the largest term (measured 2.2e-16 of it)
+    assert np.max(np.abs(got - ref)) <= 1e-14 * np.max(np.abs(ref))
+
+
+def test_mean_pole_solves_the_fixed_point_of_a_linear_nutation():
+    # a nutation linear in the trial mean pole, Δψ = a0 + a·x, Δε = b0 + b·x (x = (ε̄, θ̄)), has the fixed
+    # point in closed form: (I + J) x = (ε - b0, θ - a0) with J's rows b and a. Couplings far stronger than
+    # a real body's (|J| ~ 0.1 against the nutation's ~1e-5) make the passes' convergence visible.
+    eps, theta = 0.4, 1.3
+    a0, a = 0.02, np.array([0.03, -0.05])
+    b0, b = -0.01, np.array([0.04, 0.02])
+
+    def nutation(e_bar, t_bar):
+        x = np.array([e_bar, t_bar])
+        return a0 + a @ x, b0 + b @ x
+
+    jac = np.array([b, a])
+    exact = np.linalg.solve(np.eye(2) + jac, [eps - b0, theta - a0])
+    start_error = np.max(np.abs(np.array([eps, theta]) - exact))
+    contraction = np.max(np.sum(np.abs(jac), axis=1))          # ||J||_inf = 0.08
+    for passes in (1, 3, 6):
+        e_bar, t_bar, dpsi0, deps0 = mean_pole(eps, theta, nutation, passes)
+        # x_p - x* = (-J)^p (x_0 - x*): the error falls by ||J|| per pass (plus rounding)
+        assert np.max(np.abs([e_bar - exact[0], t_bar - exact[1]])) <= contraction**passes * start_error + 1e-15
+        # the returned nutation is the last pass's, the one the mean pole was taken from
+        assert e_bar == eps - deps0 and t_bar == theta - dpsi0
+        if passes > 1:
+            assert (dpsi0, deps0) == nutation(*mean_pole(eps, theta, nutation, passes - 1)[:2])
+    assert np.allclose(mean_pole(eps, theta, nutation, 40)[:2], exact, rtol=0, atol=4e-16)
+    # a nutation independent of the mean pole (the Earth's lunisolar series): one pass is the answer
+    assert mean_pole(eps, theta, lambda *_: (a0, b0), passes=1) == (eps - b0, theta - a0, a0, b0)
+
+
+def test_pole_displacement_is_the_largest_angle_the_nutation_moves_the_pole():
+    # geometry, not the formula: the angle between the nutated pole s(ψ + Δψ, ε̄ + Δε) and the mean pole
+    # s(ψ, ε̄) on the sphere. A longitude-only term moves the pole along a small circle of colatitude ε̄, by
+    # sin ε̄ times its amplitude at its peak; an obliquity-only term along a meridian, by its amplitude; a
+    # whole series by no more than the sum over its terms. Amplitudes ~1e-6 rad: second order 1e-12.
+    eps = math.radians(35.0)
+
+    def pole(psi, obl):
+        return np.stack([np.sin(obl) * np.sin(psi), np.sin(obl) * np.cos(psi), np.cos(obl)], axis=-1)
+
+    def moved(dpsi, deps):
+        a, b = pole(0.3 + dpsi, eps + deps), pole(0.3, eps)
+        return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))
+
+    for col in range(4):
+        c = np.zeros((1, 4))
+        c[0, col], c[0, col ^ 1] = 3e-6, -2e-6          # one term: (S, C) in longitude or in obliquity
+        peak = math.atan2(c[0, col & 2], c[0, (col & 2) + 1])   # S sin M + C cos M is largest at tan M = S/C
+        value = c[0, col & 2] * math.sin(peak) + c[0, (col & 2) + 1] * math.cos(peak)
+        angle = float(moved(value, 0.0) if col < 2 else moved(0.0, value))
+        assert pole_displacements(c, eps)[0] == pytest.approx(angle, rel=1e-9)
+    series = nutation_series(2e-4, 0.01, eps, 0.4, 0.7)
+    m = np.linspace(0.0, 2.0 * np.pi, 20001)
+    dpsi, deps = series.evaluate(m)
+    total = pole_displacement_sum(series, eps)
+    assert float(np.max(moved(dpsi, deps))) <= total * (1.0 + 1e-9)
+    # the same on the lunisolar series' layout, an (N, 4) array of (ψ sin, ψ cos, ε sin, ε cos)
+    table = np.stack([series.lon_sin, series.lon_cos, series.obl_sin, series.obl_cos], axis=1)
+    assert pole_displacement_sum(table, eps) == total
