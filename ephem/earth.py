@@ -48,6 +48,8 @@ from .catalogue import Body, is_earth
 from .constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS, MAS
 from .errors import InvalidInputError, NotApplicableError
 from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
+from .kinoshita import mean_pole, pole_displacement_sum, pole_displacements
+from .lunisolar import term_amplitudes
 from . import cost
 from .budget import Cost
 from .ladder import model_info
@@ -164,14 +166,15 @@ def lunisolar_earth(body: Body, axis: str = "figure", cut_mas: float = TRACK_CUT
 
     check_earth(body)
     series = earth_lunisolar(cut_mas=cut_mas, perturbers=_lower(perturbers), hd=float(body.hd), axis=axis,
-                             spin_rate=2.0 * math.pi / (body.rotation_period_hours / 24.0))
+                             spin_rate=body.spin_rate_rad_per_day)
     ecl_from_icrf = icrf_to_ecliptic_matrix()
     s_ecl = ecl_from_icrf @ unit_vector(math.radians(body.pole.ra_deg), math.radians(body.pole.dec_deg))
     o = body.orbit
     geo = spin_geometry(s_ecl, *(math.radians(x) for x in (o.i_deg, o.node_deg, o.peri_deg)), body.name)
     t0 = body.pole.epoch_jd_tdb
-    dpsi0, deps0 = (float(x) for x in series.nutation_at(np.array(t0)))
-    eps_mean = geo.obliquity - deps0
+    # the lunisolar series does not depend on the mean pole: one pass of the fixed point is exact
+    eps_mean, _, dpsi0, deps0 = mean_pole(geo.obliquity, geo.equinox_to_pericentre,
+                                          lambda *_: series.nutation_at(np.array(t0)), passes=1)
     eps_a = obliquity_arcsec((t0 - J2000_JD) / DAYS_PER_CENTURY) * ARCSEC
     if abs(eps_mean - eps_a) > MAX_OBLIQUITY_MISMATCH:
         raise NotApplicableError(body.name, (
@@ -197,9 +200,8 @@ def _poly(coef, T):
 
 
 def displacement_sum(series, obliquity: float) -> float:
-    """Σ_k sin ε |Δψ_k| + |Δε_k| of a lunisolar series (radians): the most its nutation moves the pole."""
-    c = series.coefficients
-    return float(np.sum(abs(math.sin(obliquity)) * np.hypot(c[:, 0], c[:, 1]) + np.hypot(c[:, 2], c[:, 3]))) * MAS
+    """The most a lunisolar series' nutation moves the pole (radians; its coefficients are in mas)."""
+    return pole_displacement_sum(series.coefficients, obliquity) * MAS
 
 
 @lru_cache(maxsize=64)
@@ -223,16 +225,11 @@ def _oppolzer_sum(model: LunisolarEarth) -> float:
               spin_rate=model.spin_rate)
     fig, mom = earth_lunisolar(axis="figure", **kw), earth_lunisolar(axis="angular_momentum", **kw)
     lookup = {tuple(k): i for i, k in enumerate(mom.multipliers)}
-    se = abs(math.sin(model.obliquity))
-    total = 0.0
-    for k, c in zip(fig.multipliers, fig.coefficients):
-        i = lookup.get(tuple(k))
-        d = c - (mom.coefficients[i] if i is not None else 0.0)
-        total += se * math.hypot(d[0], d[1]) + math.hypot(d[2], d[3])
-    for k, c in zip(mom.multipliers, mom.coefficients):   # terms above the cut on one axis only
-        if not any(np.array_equal(k, f) for f in fig.multipliers):
-            total += se * math.hypot(c[0], c[1]) + math.hypot(c[2], c[3])
-    return total * MAS
+    rows = [c - (mom.coefficients[lookup[tuple(k)]] if tuple(k) in lookup else 0.0)
+            for k, c in zip(fig.multipliers, fig.coefficients)]
+    on_figure = {tuple(k) for k in fig.multipliers}
+    rows += [c for k, c in zip(mom.multipliers, mom.coefficients) if tuple(k) not in on_figure]  # one axis only
+    return pole_displacement_sum(np.array(rows).reshape(-1, 4), model.obliquity) * MAS
 
 
 def window() -> tuple[float, float]:
@@ -242,13 +239,13 @@ def window() -> tuple[float, float]:
 
 def unavailable(model: LunisolarEarth, jd_tdb: np.ndarray) -> str | None:
     """Why the track cannot be served with an estimate at these epochs, or None."""
-    from .ephemeris import _date
+    from .ephemeris import tdb_date
 
     lo, hi = window()
     t = np.asarray(jd_tdb, dtype=float)
     need = [model.pole_epoch] + ([float(t.min()), float(t.max())] if t.size else [])
     if min(need) < lo or max(need) > hi:
-        return (f"the lunisolar track's error was measured against IAU 2006/2000A from {_date(lo)} to {_date(hi)} "
+        return (f"the lunisolar track's error was measured against IAU 2006/2000A from {tdb_date(lo)} to {tdb_date(hi)} "
                 f"only; these epochs (with the pole epoch) need JD {min(need):.1f} to {max(need):.1f}. The Sun-only "
                 "theory (perturbers=sun) serves any epoch, but leaves out the Moon's two thirds of the Earth's "
                 "precession")
@@ -358,11 +355,10 @@ def omitted_bound(body: Body, cut_mas: float, axis: str = "figure", perturbers=(
     """Σ of the pole displacements (radians) of the terms the cut leaves out (against the cut-free series)."""
     full = _all_terms(body, axis, tuple(perturbers))
     c = full.coefficients
-    amp = np.maximum(np.hypot(c[:, 0], c[:, 1]), np.hypot(c[:, 2], c[:, 3]))
+    amp = term_amplitudes(c)
     dropped = amp < cut_mas
     eps = lunisolar_earth(body, axis, TRACK_CUT_MAS, tuple(perturbers)).obliquity
-    return float(np.sum(abs(math.sin(eps)) * np.hypot(c[dropped, 0], c[dropped, 1])
-                        + np.hypot(c[dropped, 2], c[dropped, 3]))) * MAS
+    return pole_displacement_sum(c[dropped], eps) * MAS
 
 
 def cut_for_tolerance(body: Body, tolerance: float, axis: str = "figure", perturbers=("Moon", "Sun")) -> float:
@@ -370,9 +366,9 @@ def cut_for_tolerance(body: Body, tolerance: float, axis: str = "figure", pertur
     more than ``tolerance`` (radians) in all; :class:`NotApplicableError` when even the smallest cut does not."""
     full = _all_terms(body, axis, tuple(perturbers))
     c = full.coefficients
-    amp = np.maximum(np.hypot(c[:, 0], c[:, 1]), np.hypot(c[:, 2], c[:, 3]))
+    amp = term_amplitudes(c)
     eps = lunisolar_earth(body, axis, TRACK_CUT_MAS, tuple(perturbers)).obliquity
-    disp = (abs(math.sin(eps)) * np.hypot(c[:, 0], c[:, 1]) + np.hypot(c[:, 2], c[:, 3])) * MAS
+    disp = pole_displacements(c, eps) * MAS
     order = np.argsort(amp)                       # drop the smallest terms first
     dropped = np.cumsum(disp[order])
     n = int(np.searchsorted(dropped, tolerance, side="right"))   # the n smallest may go

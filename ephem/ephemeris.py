@@ -157,7 +157,8 @@ def heliocentric(naif: int, jd_tdb, velocity: bool = False, jd2=0.0):
     return barycentric(naif, jd_tdb, jd2=jd2) - barycentric(10, jd_tdb, jd2=jd2)
 
 
-def _date(jd: float) -> str:
+def tdb_date(jd: float) -> str:
+    """The calendar date (YYYY-MM-DD, TDB) of a Julian date TDB, for messages."""
     return timescale().tdb_jd(jd).tdb_strftime("%Y-%m-%d")
 
 
@@ -167,7 +168,7 @@ def check_span(body: str, start_jd_tdb: float, stop_jd_tdb: float, what: str = "
     if not (lo <= start_jd_tdb <= stop_jd_tdb <= hi):
         raise NotApplicableError(
             body, f"the real Sun direction is available only within DE421's span, "
-                  f"{_date(lo)} to {_date(hi)} TDB (JD {lo} to {hi}); "
+                  f"{tdb_date(lo)} to {tdb_date(hi)} TDB (JD {lo} to {hi}); "
                   f"{what} JD {start_jd_tdb} to {stop_jd_tdb}")
 
 
@@ -436,7 +437,7 @@ def integrate_heliocentric(r0, v0, t0: float, start: float, stop: float, *,
 # ----------------------------------------------------------------- entry point
 
 #: NAIF ids whose position DE421 gives directly (planet centres).
-_DE421_BODIES = {199, 299, 399, 499}
+DE421_BODIES = {199, 299, 399, 499}
 
 
 def _snap(start: float, stop: float) -> tuple[float, float]:
@@ -471,7 +472,7 @@ def sun_path(body, start_jd_tdb: float, stop_jd_tdb: float) -> SunPath:
     if not start_jd_tdb <= stop_jd_tdb:
         raise ValueError(f"start {start_jd_tdb} after stop {stop_jd_tdb}")
     check_span(body.name, start_jd_tdb, stop_jd_tdb)
-    if body.naif_id not in _DE421_BODIES:
+    if body.naif_id not in DE421_BODIES:
         check_span(body.name, body.orbit.epoch_jd_tdb, body.orbit.epoch_jd_tdb,
                    "the orbit integration starts at its elements' epoch,")
     return _cached_path(body.name, body.naif_id, body.orbit, *_snap(start_jd_tdb, stop_jd_tdb))
@@ -479,7 +480,7 @@ def sun_path(body, start_jd_tdb: float, stop_jd_tdb: float) -> SunPath:
 
 @lru_cache(maxsize=8)   # a 150-year path holds ~6 MB
 def _cached_path(name: str, naif_id, orbit, start: float, stop: float) -> SunPath:
-    if naif_id in _DE421_BODIES:
+    if naif_id in DE421_BODIES:
         # Planet centres (Mars: 499, 0.2 m from the Mars barycentre 4). DE421
         # gives the Earth about the Earth-Moon barycentre in 4-day records, a
         # monthly wobble of 4700 km: 8-day pieces for it.

@@ -64,7 +64,7 @@ from .constants import ARCSEC
 from .errors import InvalidInputError, NotApplicableError
 from .hansen import LAPLACE_LIMIT, hansen_exact, hansen_series
 from .kepler import mean_motion_rad_per_day
-from .kinoshita import eccentricity_factor
+from .kinoshita import eccentricity_factor, nutation_coefficients, pole_displacement_sum
 from .model import MIN_SPIN_ORBIT_RATIO, PrecessionNutation, Track, cached_model, check_domain, model_for
 from .free_motion import Wobble, add_free_wobble, free_wobble_bound, wobble_model_bound
 from .physics_errors import (ephemeris_bound, orbit_motion_bound, real_orbit_unavailable, rotation_averaging_bound,
@@ -87,27 +87,15 @@ MAX_NUMERICAL_ORBITS = 1000
 ROUNDING = 1e-12
 
 
-def _coefficient_bound(sin_psi, cos_psi, sin_eps, cos_eps, obliquity: float) -> float:
-    """Σ_k of the largest pole displacement each harmonic can make: sin ε |Δψ_k| + |Δε_k| (radians)."""
-    return float(np.sum(abs(math.sin(obliquity)) * np.hypot(sin_psi, cos_psi) + np.hypot(sin_eps, cos_eps)))
-
-
-def _pole_displacement_bound(series, obliquity: float) -> float:
-    return _coefficient_bound(series.lon_sin, series.lon_cos, series.obl_sin, series.obl_cos, obliquity)
-
-
 def _series_coefficients(model: PrecessionNutation, order: int | None, kmax: int):
     """The nutation coefficients (lon_sin, lon_cos, obl_sin, obl_cos) for k = 1..kmax at the model's ε̄, θ̄."""
     h = hansen_exact(model.eccentricity) if order is None else hansen_series(order).evaluate(model.eccentricity)
     out = np.zeros((4, kmax))
     m = min(kmax, len(h.k) - 1)
     k = np.arange(1, m + 1, dtype=float)
-    K, n, eps, th = model.scaling_factor, model.mean_motion, model.obliquity, model.equinox_to_pericentre
-    cp, sp = math.cos(2 * th), math.sin(2 * th)
-    f_psi = 0.5 * K * math.cos(eps) / (k * n)
-    f_eps = -0.5 * K * math.sin(eps) / (k * n)
-    c0, c2, s2 = (np.asarray(x[1:m + 1]) for x in (h.c0, h.c2, h.s2))
-    out[:, :m] = [f_psi * (c0 - cp * c2), -f_psi * sp * s2, f_eps * sp * c2, -f_eps * cp * s2]
+    out[:, :m] = nutation_coefficients(model.scaling_factor, model.mean_motion, model.obliquity,
+                                       model.equinox_to_pericentre, k,
+                                       *(np.asarray(x[1:m + 1]) for x in (h.c0, h.c2, h.s2)))
     return out
 
 
@@ -129,7 +117,7 @@ def _truncation_parts(model: PrecessionNutation, order: int) -> tuple[float, flo
     diff = _series_coefficients(model, order, kmax) - _series_coefficients(model, None, kmax)
     rate_diff = 0.5 * model.scaling_factor * abs(math.cos(model.obliquity)) * abs(
         eccentricity_factor(model.eccentricity, order) - eccentricity_factor(model.eccentricity))
-    return 2.0 * _coefficient_bound(*diff, model.obliquity), abs(math.sin(model.obliquity)) * rate_diff
+    return 2.0 * pole_displacement_sum(diff.T, model.obliquity), abs(math.sin(model.obliquity)) * rate_diff
 
 
 @lru_cache(maxsize=4096)
@@ -164,7 +152,7 @@ def higher_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, spa
     # the small parameter is the torque over the orbital rate; near pericentre both grow, the torque
     # faster, and its mean over the orbit carries f(e) = (1 - e²)^(-3/2) (needed at e = 0.9)
     ratio = model.scaling_factor / model.mean_motion * eccentricity_factor(model.eccentricity)
-    amplitude = _pole_displacement_bound(model.nutation, model.obliquity)
+    amplitude = pole_displacement_sum(model.nutation, model.obliquity)
     return 2.0 * ratio * amplitude + 4.0 * ratio * theory.second_order_rate_bound() * span_days \
         + ratio * ratio * abs(model.precession_rate) * span_days * amplitude
 
@@ -314,7 +302,7 @@ class Ladder:
         physics = self.physics_terms(t)
         higher = higher_order_bound(m, th, T)
         second = second_order_bound(m, th, T) + higher
-        out = [self._estimate("secular", None, {"nutation_omitted": _pole_displacement_bound(m.nutation, m.obliquity),
+        out = [self._estimate("secular", None, {"nutation_omitted": pole_displacement_sum(m.nutation, m.obliquity),
                                                 "second_order": second}, physics)]
         kmax = int(m.nutation.multiple.max()) if m.nutation.multiple.size else 0
         if m.eccentricity < LAPLACE_LIMIT:

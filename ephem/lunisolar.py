@@ -341,6 +341,13 @@ class LunisolarSeries:
         return dpsi.reshape(jd.shape), deps.reshape(jd.shape)
 
 
+def term_amplitudes(coefficients) -> np.ndarray:
+    """Per term of (N, 4) coefficients (ψ sin, ψ cos, ε sin, ε cos), the larger of its two amplitudes: what the
+    amplitude cut compares (a term is kept when either component reaches the cut)."""
+    c = np.asarray(coefficients, dtype=float).reshape(-1, 4)
+    return np.maximum(np.hypot(c[:, 0], c[:, 1]), np.hypot(c[:, 2], c[:, 3]))
+
+
 def _coefficients(spec: OrbitalSpectrum, hd: float, omega: float, eps: float, nu: np.ndarray, axis: str):
     """Nutation coefficients (rad) ψ sin, ψ cos, ε sin, ε cos for each row of ``spec``."""
     f = 3.0 * hd / omega
@@ -383,7 +390,7 @@ def _resolve_hd(hd) -> float:
 
 def earth_spin_rate() -> float:
     """ω (rad/day): the catalogue's stellar day (rotation relative to the ICRF)."""
-    return 2.0 * math.pi / (get_body("earth").rotation_period_hours / 24.0)
+    return get_body("earth").spin_rate_rad_per_day
 
 
 def earth_lunisolar(cut_mas: float = 0.1, perturbers=PERTURBERS, hd=None, axis: str = "figure",
@@ -430,7 +437,7 @@ def _build(cut: float, perturbers: tuple, hd: float, axis: str, grid: tuple, ome
     coef1, prec1 = _coefficients(spec1, hd, omega, obliquity_arcsec(1.0) * ARCSEC, nu1, axis)
 
     mas0, mas_rate = coef0 / MAS, (coef1 - coef0) / MAS
-    amp = np.maximum(np.hypot(mas0[:, 0], mas0[:, 1]), np.hypot(mas0[:, 2], mas0[:, 3]))
+    amp = term_amplitudes(mas0)
     periodic = 2.0 * math.pi / np.abs(nu0) <= MAX_PERIOD_DAYS
     keep = np.nonzero((amp >= cut) & periodic)[0]
     keep = keep[np.argsort(-amp[keep], kind="stable")]

@@ -70,6 +70,7 @@ import numpy as np
 from .catalogue import DEFAULT_DATASET, Body
 from .constants import ARCSEC, J2000_JD, MAS
 from .errors import InvalidInputError
+from .kinoshita import pole_displacements
 
 #: Days per Julian century (T in the PCK formulas).
 CENTURY_DAYS = 36525.0
@@ -410,8 +411,7 @@ def _mean_anomaly_spectrum(m, aim_mas: float, psi_dot: float) -> _Spectrum:
     """Harmonics k = 0..kmax of the mean anomaly (single perturber: ephem.model), k = 0 the precession alone."""
     series = m.nutation
     kmax_series = int(series.multiple.max()) if series.multiple.size else 1
-    amp = abs(math.sin(m.obliquity)) * np.hypot(series.lon_sin, series.lon_cos) \
-        + np.hypot(series.obl_sin, series.obl_cos)
+    amp = pole_displacements(series, m.obliquity)
     big = series.multiple[amp > 0.01 * aim_mas * MAS]
     kmax = int(min(MAX_MULTIPLE, 2 * kmax_series, (int(big.max()) if big.size else 1) + KMAX_MARGIN))
     ks = np.arange(0, kmax + 1)
@@ -433,7 +433,7 @@ def _lunisolar_spectrum(lm, aim_mas: float, Tm: float) -> _Spectrum:
 
     s = lm.series
     c = s.coefficients                                   # mas: ψ sin, ψ cos, ε sin, ε cos
-    amp = (abs(math.sin(lm.obliquity)) * np.hypot(c[:, 0], c[:, 1]) + np.hypot(c[:, 2], c[:, 3])) * MAS
+    amp = pole_displacements(c, lm.obliquity) * MAS
     keep = np.nonzero(amp > 0.01 * aim_mas * MAS)[0]
     mult = s.multipliers[keep].astype(float)
     jd_m = J2000_JD + Tm * CENTURY_DAYS

@@ -177,7 +177,7 @@ def rotation_averaging_bound(body: Body, model: PrecessionNutation, span_days: f
 
 def real_orbit_unavailable(body: Body, jd_tdb: np.ndarray) -> str | None:
     """Why rung 6 cannot serve these epochs, or None if it can."""
-    from .ephemeris import _DE421_BODIES, _date, de421_span
+    from .ephemeris import DE421_BODIES, de421_span, tdb_date
 
     if body.orbit.center != "Sun":
         return (f"the orbit is centred on the {body.orbit.center}: the real-orbit rung follows heliocentric "
@@ -185,11 +185,11 @@ def real_orbit_unavailable(body: Body, jd_tdb: np.ndarray) -> str | None:
     lo, hi = de421_span()
     t = np.asarray(jd_tdb, dtype=float)
     need = [body.pole.epoch_jd_tdb] + ([float(t.min()), float(t.max())] if t.size else [])
-    if body.naif_id not in _DE421_BODIES:
+    if body.naif_id not in DE421_BODIES:
         need.append(body.orbit.epoch_jd_tdb)
     if min(need) < lo or max(need) > hi:
-        return (f"the real orbit comes from DE421, which spans {_date(lo)} to {_date(hi)} TDB; these epochs "
-                f"(with the pole epoch{'' if body.naif_id in _DE421_BODIES else ' and the elements epoch'}) "
+        return (f"the real orbit comes from DE421, which spans {tdb_date(lo)} to {tdb_date(hi)} TDB; these epochs "
+                f"(with the pole epoch{'' if body.naif_id in DE421_BODIES else ' and the elements epoch'}) "
                 f"need JD {min(need):.1f} to {max(need):.1f}")
     return None
 

@@ -99,7 +99,7 @@ def _moments_of(name: str) -> tuple[float, float, float]:
 
 
 def _omega(name: str) -> float:
-    return 2.0 * math.pi / (get_body(name).rotation_period_hours / 24.0)
+    return get_body(name).spin_rate_rad_per_day
 
 
 def synthetic_moments(alpha: float, beta: float) -> tuple[float, float, float]:
