@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import math
 import time
-from functools import lru_cache
 
 import numpy as np
 
@@ -16,15 +15,15 @@ from . import cost
 from .budget import OverBudgetError, charge, prepaid
 from .catalogue import (DEFAULT_DATASET, Body, get_body, load_catalogue, load_references, resolve_body,
                         resolve_perturbers)
-from .constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
+from .constants import ARCSEC, MAS
 from .errors import InvalidInputError, NotApplicableError
-from .hansen import LAPLACE_LIMIT, hansen_series
-from . import earth
-from .earth import LunisolarTheory
-from .ladder import AXES, SunLadder, model_info, truncation_bound
+from .hansen import hansen_series
+from .ladder import AXES
+# model_for and MAX_ORDER are part of this facade (the numeric model of a body; the highest e-order)
+from .model import MAX_ORDER, cached_model, check_order, model_for  # noqa: F401
 from .registry import MODELS, refuse_model, theory_for
-from .theory import cheapest_within
-from .model import MAX_ORDER, cached_model, check_domain, check_order, model_for
+from .theory import cheapest_within, selection_info
+from .uncertainty import propagated
 from .timeparse import to_jd_tdb
 from .units import in_unit, with_units
 
@@ -39,11 +38,6 @@ WARN_ESTIMATE_MAS = 3.6e6
 #: asteroids' obliquity changes, so no number served would mean anything.
 REFUSE_ESTIMATE_MAS = 3.6e7
 
-
-
-@lru_cache(maxsize=512)
-def _semi_amplitudes(body: Body, order: int | None) -> tuple[float, float]:
-    return cached_model(body, order).nutation.semi_peak_to_peak()
 
 
 def _tolerance(tolerance_mas) -> float | None:
@@ -93,36 +87,6 @@ def _tag_perturbers(ans: dict, b: Body, per: tuple[str, ...]) -> dict:
     ans["model"]["perturbers"] = list(per)
     ans["model"]["warnings"].extend(_moon_left_out(b, per))
     return ans
-
-
-def _order_for_tolerance(b: Body, tolerance: float | None, order: int | None) -> int | None:
-    """The lowest e-order whose truncation error is within the tolerance (None: exact coefficients).
-
-    For the rate and the nutation terms (no time span): the truncation bound alone.
-    """
-    if tolerance is None:
-        return order
-    if order is not None:
-        raise InvalidInputError("order", "give either order or tolerance_mas, not both")
-    m = cached_model(b)
-    if m.eccentricity < LAPLACE_LIMIT:
-        kmax = int(m.nutation.multiple.max()) if m.nutation.multiple.size else 0
-        for n in range(0, min(kmax, MAX_ORDER)):
-            if truncation_bound(m, n, 0.0) <= tolerance:
-                return n
-    return None
-
-
-def _selection_info(theory, name: str, order: int | None, estimate: float | None, cost_ms: float,
-                    tolerance: float | None, terms: dict | None = None) -> dict:
-    """The selection part of an answer's ``model`` object: which of ``theory``'s models answered, how good it is
-    estimated to be and what it cost."""
-    return {"name": name, "order": order, "description": theory.descriptions[name],
-            "estimated_error_mas": None if estimate is None else estimate / MAS,
-            "error_terms_mas": None if terms is None else {k: v / MAS for k, v in terms.items()},
-            "tolerance_mas": None if tolerance is None else float(f"{tolerance / MAS:.12g}"), "cost_ms": cost_ms,
-            "axis": None, "free_wobble": None,   # tracks only
-            "cut_mas": None}                     # the lunisolar series only
 
 
 def warm_up(dataset: str = DEFAULT_DATASET) -> None:
@@ -178,85 +142,15 @@ def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: in
     start = time.perf_counter()
     b = resolve_body(body, dataset)
     per = _perturbers(b, perturbers)
-    if "Moon" in per:
-        ans = _lunisolar_precession(b, per, dataset, order, tolerance_mas, start)
-        return with_units(ans) if quantities else ans
-    tol = _tolerance(tolerance_mas)
-    order = check_order(order)
-    charge(answer_cost(b, order, tolerance=tol is not None), b.name)
-    order = _order_for_tolerance(b, tol, order)
-    m = model_for(b, dataset, order)
-    unc = _propagated(b, order)
-    ans = _rates(b, m, unc)
-    ans["uncertainty"] = _uncertainty_summary(unc)
-    ans["model"] = model_info(m, b)
-    ans["model"].update(_series_selection(b, order, tol, start))
-    _tag_perturbers(ans, b, per)
+    tol, order = _tolerance(tolerance_mas), check_order(order)
+    ans = _tag_perturbers(theory_for(b, per).precession_answer(order, tol, start), b, per)
     return with_units(ans) if quantities else ans
 
 
 def answer_cost(b: Body, order: int | None, nutation: bool = False, tolerance: bool = False) -> cost.Cost:
-    """What a precession (or, with ``nutation``, a nutation) answer will cost (:mod:`ephem.cost`): the
-    Hansen coefficients, the nutation's extremes, and the propagation of the inputs' σ (each input with
-    a σ re-evaluates the model twice). ``tolerance``: the e-order is chosen by the truncation bound."""
-    if "Moon" in b.perturbers:
-        return cost.Cost((cost.lunisolar_answer(),))
-    from .uncertainty import input_sigmas
-
-    check_domain(b, order)                   # not applicable (the Moon, e -> 1): refused before any cost
-    e = b.orbit.e
-    if order is not None and e > LAPLACE_LIMIT:
-        return cost.FREE      # refused by model_for before any work
-    build = cost.hansen_build(e, None)
-    parts = [build] if order is None else [build, cost.hansen_build(e, order)]
-    if nutation:
-        parts.append(cost.half_peak_to_peak(e, order, cost.body_harmonics(b, order)))
-    if tolerance:
-        parts.append(cost.truncation_bounds(e))
-    with_sigma = sum(1 for v in input_sigmas(b).values() if v is not None)
-    if with_sigma:
-        half = cost.half_peak_to_peak(e, order, cost.body_harmonics(b, order))
-        parts.append(cost.Part("the catalogue's uncertainties", f"propagating {with_sigma} input uncertainties",
-                               2 * with_sigma * parts[1 if order is not None else 0].cpu_s + 2 * half.cpu_s,
-                               build.memory_mb))
-    return cost.Cost(tuple(parts))
-
-
-@lru_cache(maxsize=256)
-def _propagated(b: Body, order: int | None) -> dict:
-    """The 1-σ uncertainties of :func:`ephem.uncertainty.propagate`, with 0 (no input of known σ moves the
-    value: its σ is unknown, not zero) replaced by None. A body none of whose inputs has a σ (a user's
-    body) skips the propagation: every σ is None, at no cost."""
-    from .uncertainty import ASSUMPTIONS, SCALAR_KEYS, TERM_KEYS, input_sigmas, propagate
-
-    def unknown_as_none(d: dict) -> dict:
-        return {k: (None if k.endswith("_uncertainty") and v == 0.0 else v) for k, v in d.items()}
-
-    sigmas = input_sigmas(b)
-    if all(s is None for s in sigmas.values()):
-        u = {f"{k}_uncertainty": None for k in SCALAR_KEYS}
-        u["terms"] = [{"multiple": int(k), **{f"{key}_uncertainty": None for key in TERM_KEYS}}
-                      for k in cached_model(b, order).nutation.multiple]
-        u.update(dominant_input={k: None for k in SCALAR_KEYS}, unpropagated_inputs=list(sigmas),
-                 assumptions=list(ASSUMPTIONS))
-        return u
-    u = unknown_as_none(propagate(b, b.dataset, order, sensitivities=False))
-    u["terms"] = [unknown_as_none(t) for t in u["terms"]]
-    return u
-
-
-def _uncertainty_summary(u: dict) -> dict:
-    return {"method": "linear propagation of the catalogue's 1-sigma uncertainties (ephem.uncertainty); they "
-                      "cover only the inputs with a published sigma, and null means no such input moves the "
-                      "value (its uncertainty is unknown, not zero)",
-            "dominant_input": u["dominant_input"], "unpropagated_inputs": list(u["unpropagated_inputs"]),
-            "assumptions": list(u["assumptions"])}
-
-
-def _series_selection(b: Body, order: int | None, tol: float | None, start: float) -> dict:
-    estimate = None if order is None else truncation_bound(cached_model(b), order, 0.0)
-    return _selection_info(SunLadder, "hansen" if order is None else "series", order, estimate or 0.0,
-                           1e3 * (time.perf_counter() - start), tol)
+    """What a precession (or, with ``nutation``, a nutation) answer for ``b`` under its catalogue perturbers
+    will cost (:meth:`ephem.theory.SpinAxisTheory.answer_cost`)."""
+    return theory_for(b, b.perturbers).answer_cost(order, nutation, tolerance)
 
 
 def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None,
@@ -276,54 +170,8 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
     start = time.perf_counter()
     b = resolve_body(body, dataset)
     per = _perturbers(b, perturbers)
-    if "Moon" in per:
-        ans = _lunisolar_nutation(b, per, dataset, order, tolerance_mas, cut_mas, start)
-        return with_units(ans) if quantities else ans
-    if cut_mas is not None:
-        raise InvalidInputError("cut_mas", "an amplitude cut applies to the lunisolar series (the Earth with the "
-                                "Moon); this series is truncated by e-order (order, tolerance_mas)", b.name)
-    tol = _tolerance(tolerance_mas)
-    order = check_order(order)
-    charge(answer_cost(b, order, nutation=True, tolerance=tol is not None), b.name)
-    order = _order_for_tolerance(b, tol, order)
-    m = model_for(b, dataset, order)
-    s = m.nutation
-    periods = s.period_days
-    terms = [{
-        "multiple": int(k), "period_days": float(p), "period_years": float(p / JULIAN_YEAR_DAYS),
-        "longitude_sin_arcsec": float(a / ARCSEC), "longitude_cos_arcsec": float(c / ARCSEC),
-        "obliquity_sin_arcsec": float(d / ARCSEC), "obliquity_cos_arcsec": float(f / ARCSEC),
-    } for k, p, a, c, d, f in zip(s.multiple, periods, s.lon_sin, s.lon_cos, s.obl_sin, s.obl_cos)]
-    unc = _propagated(b, order)
-    sin_eps = abs(math.sin(m.obliquity))
-    for term, sigma in zip(terms, unc["terms"]):
-        if sigma["multiple"] != term["multiple"]:  # pragma: no cover - both come from the same series
-            raise RuntimeError("uncertainty terms out of step with the nutation terms")
-        term["period_days_uncertainty"] = sigma["period_days_uncertainty"]
-        for comp in ("longitude", "obliquity"):
-            for part in ("sin", "cos"):
-                term[f"{comp}_{part}_arcsec_uncertainty"] = sigma[f"{comp}_{part}_arcsec_uncertainty"]
-            # the paper's Amp: (Sin² + Cos²)^½, times sin ε in longitude
-            amp = math.hypot(term[f"{comp}_sin_arcsec"], term[f"{comp}_cos_arcsec"])
-            term[f"{comp}_amplitude_arcsec"] = amp * (sin_eps if comp == "longitude" else 1.0)
-            term[f"{comp}_amplitude_arcsec_uncertainty"] = sigma[f"amplitude_{comp}_arcsec_uncertainty"]
-    half_psi, half_eps = _semi_amplitudes(b, m.order)
-    ans = {
-        "body": b.name, "dataset": b.dataset, "argument": "mean anomaly M",
-        "mean_anomaly_at_epoch_deg": math.degrees(m.mean_anomaly_at_epoch) % 360.0,
-        "orbit_epoch_jd_tdb": m.orbit_epoch,
-        "mean_motion_deg_per_day": math.degrees(m.mean_motion),
-        "obliquity_deg": math.degrees(m.obliquity),
-        "terms": terms,
-        "delta_psi_half_peak_to_peak_arcsec": half_psi / ARCSEC,
-        "delta_epsilon_half_peak_to_peak_arcsec": half_eps / ARCSEC,
-        "delta_psi_half_peak_to_peak_arcsec_uncertainty": unc["delta_psi_half_peak_to_peak_arcsec_uncertainty"],
-        "delta_epsilon_half_peak_to_peak_arcsec_uncertainty": unc["delta_epsilon_half_peak_to_peak_arcsec_uncertainty"],
-        "uncertainty": _uncertainty_summary(unc),
-        "model": model_info(m, b),
-    }
-    ans["model"].update(_series_selection(b, order, tol, start))
-    _tag_perturbers(ans, b, per)
+    tol, order = _tolerance(tolerance_mas), check_order(order)
+    ans = _tag_perturbers(theory_for(b, per).nutation_answer(order, tol, cut_mas, start), b, per)
     return with_units(ans) if quantities else ans
 
 
@@ -445,10 +293,10 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     for term in () if est is None else est.unestimated:
         info["warnings"].append(UNESTIMATED_WARNINGS[term])
     _meaningful(b, estimate, info)
-    selection = _selection_info(theory, name, order, estimate, 1e3 * (time.perf_counter() - begin), tol,
+    selection = selection_info(theory, name, order, estimate, 1e3 * (time.perf_counter() - begin), tol,
                                 None if est is None else est.terms)
     # the mean obliquity's 1σ from the catalogue's uncertainties (null: unknown), as in precession()
-    sigma = _propagated(b, order)["obliquity_deg_uncertainty"] if theory.propagates_uncertainty else None
+    sigma = propagated(b, order)["obliquity_deg_uncertainty"] if theory.propagates_uncertainty else None
     ans = _track_answer(b, tr, info, selection, axis, wobble if with_wobble else None, sigma,
                         theory.extra_description())
     return _tag_perturbers(ans, b, per)
@@ -571,124 +419,3 @@ def free_motion_answer(body: str | int | Body, start, stop, step_days: float, J_
     for key in FREE_MOTION_KEYS:
         ans[key] = np.asarray(ans[key]).tolist()
     return ans
-
-
-# ----------------------------------------------------------------------------- the Earth under the Moon and the Sun
-
-def _lunisolar_uncertainty(b: Body) -> dict:
-    from .uncertainty import SCALAR_KEYS
-
-    inputs = sorted(k for k in b.values if k.split(".")[0] in ("orbit", "pole", "rotation", "inertia"))
-    return {"method": "not propagated: ephem.uncertainty replicates the single-perturber (Sun) theory only, so the "
-                      "lunisolar answer's 1-sigma uncertainties are unknown (null), not zero; its error against the "
-                      "real Earth is the track's estimate (model.estimated_error_mas) and docs/earth.md",
-            "dominant_input": {k: None for k in SCALAR_KEYS}, "unpropagated_inputs": inputs,
-            "assumptions": ["the lunisolar theory's inputs (the Moon's and the Sun's orbits, GMs) are published "
-                            "series without a stated 1-sigma (data/lunisolar.toml)"]}
-
-
-RATE_KEYS = ("obliquity_deg", "dynamical_ellipticity", "scaling_factor_arcsec_per_year",
-             "precession_rate_arcsec_per_year")
-
-
-def _rates(b: Body, m, unc: dict | None) -> dict:
-    """The precession answer's values (Petit et al. Table 4 columns) from a model with obliquity, hd,
-    scaling_factor and precession_rate (either theory), and their 1σ from ``unc`` (None: not propagated)."""
-    per_year = JULIAN_YEAR_DAYS / ARCSEC
-    ans = {"body": b.name, "dataset": b.dataset, "obliquity_deg": math.degrees(m.obliquity),
-           "dynamical_ellipticity": m.hd, "scaling_factor_arcsec_per_year": m.scaling_factor * per_year,
-           "precession_rate_arcsec_per_year": m.precession_rate * per_year}
-    for key in RATE_KEYS:
-        ans[f"{key}_uncertainty"] = None if unc is None else unc[f"{key}_uncertainty"]
-    return ans
-
-
-def _lunisolar_precession(b: Body, per: tuple[str, ...], dataset: str, order, tolerance_mas, start: float) -> dict:
-    tol = _tolerance(tolerance_mas)
-    model_for(b, dataset)                              # applicability (the Moon)
-    earth.no_order(b, check_order(order))
-    charge(cost.Cost((cost.lunisolar_answer(),)), b.name)
-    lm = earth.lunisolar_earth(b, "figure", earth.TRACK_CUT_MAS, per)
-    ans = _rates(b, lm, None)
-    ans["uncertainty"] = _lunisolar_uncertainty(b)
-    ans["perturbers"] = list(per)
-    ans["model"] = earth.describe_model(b, per, lm)
-    ans["model"]["assumptions"].append("scaling_factor_arcsec_per_year: with several perturbers, 2ψ̇/cos ε̄ (the K "
-                                       "of one perturber on a circular orbit in the ecliptic giving the same rate)")
-    # the rate does not depend on the nutation's amplitude cut: nothing truncated
-    ans["model"].update(_selection_info(LunisolarTheory, "lunisolar", None, 0.0, 1e3 * (time.perf_counter() - start), tol))
-    return ans
-
-
-@lru_cache(maxsize=32)
-def _lunisolar_half_peak_to_peak(lm) -> tuple[float, float]:
-    """Half the peak-to-peak Δψ, Δε (radians) of a lunisolar series over 1900-2100, sampled every 0.5 d."""
-    from .earth import window
-
-    lo, hi = window()
-    dpsi, deps = lm.series.nutation_at(np.arange(lo, hi + 0.25, 0.5))
-    return 0.5 * float(np.ptp(dpsi)), 0.5 * float(np.ptp(deps))
-
-
-def _lunisolar_nutation(b: Body, per: tuple[str, ...], dataset: str, order, tolerance_mas, cut_mas,
-                        start: float) -> dict:
-    from .lunisolar import delaunay_arguments, delaunay_rates
-
-    tol = _tolerance(tolerance_mas)
-    model_for(b, dataset)
-    earth.no_order(b, check_order(order))
-    if tol is not None and cut_mas is not None:
-        raise InvalidInputError("cut_mas", "give either cut_mas or tolerance_mas, not both", b.name)
-    if cut_mas is not None:
-        cut = earth.check_cut(in_unit(cut_mas, "mas", "cut_mas"))
-    elif tol is not None:
-        cut = earth.cut_for_tolerance(b, tol, "figure", per)
-    else:
-        cut = earth.TRACK_CUT_MAS
-    charge(cost.Cost((cost.lunisolar_answer(),)), b.name)
-    lm = earth.lunisolar_earth(b, "figure", cut, per)
-    eps = earth.lunisolar_earth(b, "figure", earth.TRACK_CUT_MAS, per).obliquity   # the track's, any cut
-    sin_eps = abs(math.sin(eps))
-    terms = []
-    for t in lm.series.terms:
-        term = {"multiple": None, "delaunay_multipliers": list(t["delaunay_multipliers"]),
-                "period_days": t["period_days"], "period_years": t["period_days"] / JULIAN_YEAR_DAYS}
-        for comp in ("longitude", "obliquity"):
-            for part in ("sin", "cos"):
-                term[f"{comp}_{part}_arcsec"] = t[f"{comp}_{part}_mas"] / 1e3
-        term["period_days_uncertainty"] = None
-        for comp in ("longitude", "obliquity"):
-            for part in ("sin", "cos"):
-                term[f"{comp}_{part}_arcsec_uncertainty"] = None
-                term[f"{comp}_{part}_rate_arcsec_per_century"] = t[f"{comp}_{part}_rate_mas_per_century"] / 1e3
-            amp = math.hypot(term[f"{comp}_sin_arcsec"], term[f"{comp}_cos_arcsec"])
-            term[f"{comp}_amplitude_arcsec"] = amp * (sin_eps if comp == "longitude" else 1.0)
-            term[f"{comp}_amplitude_arcsec_uncertainty"] = None
-        terms.append(term)
-    half_psi, half_eps = _lunisolar_half_peak_to_peak(lm)
-    orbit_epoch = b.orbit.epoch_jd_tdb
-    omitted = earth.omitted_bound(b, cut, "figure", per)
-    info = earth.describe_model(b, per, lm)
-    info.update(_selection_info(LunisolarTheory, "lunisolar", None, omitted, 1e3 * (time.perf_counter() - start), tol,
-                                {"truncation": omitted}))
-    info["cut_mas"] = cut
-    info["assumptions"].append("terms: Δψ = Σ (S + Ṡ T) sin φ + (C + Ċ T) cos φ (likewise Δε), φ = the multipliers "
-                               "· (l, l′, F, D, Ω), T Julian centuries TDB from J2000; `multiple` is null (no single "
-                               "mean anomaly), periods are signed (negative: the argument decreases); "
-                               "half peak-to-peak over 1900-2100")
-    return {
-        "body": b.name, "dataset": b.dataset, "argument": earth.ARGUMENT,
-        # the Earth's orbital mean anomaly is l′ (the Sun's mean anomaly seen from the Earth)
-        "mean_anomaly_at_epoch_deg": math.degrees(float(delaunay_arguments(orbit_epoch)[1])) % 360.0,
-        "orbit_epoch_jd_tdb": orbit_epoch,
-        "mean_motion_deg_per_day": math.degrees(float(delaunay_rates((orbit_epoch - 2451545.0) / 36525.0)[1])),
-        "obliquity_deg": math.degrees(eps),
-        "terms": terms,
-        "delta_psi_half_peak_to_peak_arcsec": half_psi / ARCSEC,
-        "delta_epsilon_half_peak_to_peak_arcsec": half_eps / ARCSEC,
-        "delta_psi_half_peak_to_peak_arcsec_uncertainty": None,
-        "delta_epsilon_half_peak_to_peak_arcsec_uncertainty": None,
-        "uncertainty": _lunisolar_uncertainty(b),
-        "perturbers": list(per),
-        "model": info,
-    }

@@ -39,6 +39,7 @@ Radians and days unless a name says otherwise.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -49,12 +50,14 @@ from .constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS, MAS
 from .errors import InvalidInputError, NotApplicableError
 from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from .kinoshita import mean_pole, pole_displacement_sum, pole_displacements
-from .lunisolar import term_amplitudes
+from .lunisolar import delaunay_arguments, delaunay_rates, term_amplitudes
 from . import cost
-from .budget import Cost
+from .budget import Cost, charge
 from .ladder import model_info
 from .model import Track, cached_model, model_for
-from .theory import Estimate, SpinAxisTheory
+from .theory import Estimate, SpinAxisTheory, rate_values, selection_info
+from .uncertainty import SCALAR_KEYS
+from .units import in_unit
 
 DAYS_PER_CENTURY = 36525.0
 #: Amplitude cut of the served track's series (mas): the cut the residual envelope was measured with.
@@ -471,6 +474,109 @@ class LunisolarTheory(SpinAxisTheory):
 
     def extra_description(self) -> dict:
         return {"cut_mas": TRACK_CUT_MAS}
+
+    # --- the precession and nutation answers
+
+    def answer_cost(self, order: int | None, nutation: bool = False, tolerance: bool = False) -> Cost:
+        return Cost((cost.lunisolar_answer(),))
+
+    def _check_answer(self, order) -> None:
+        model_for(self.body, self.body.dataset)           # applicability (the Moon)
+        no_order(self.body, order)
+
+    def precession_answer(self, order: int | None, tolerance: float | None, start: float) -> dict:
+        b = self.body
+        self._check_answer(order)
+        charge(self.answer_cost(order), b.name)
+        lm = lunisolar_earth(b, "figure", TRACK_CUT_MAS, self.perturbers)
+        ans = rate_values(b, lm, None)
+        ans["uncertainty"] = uncertainty_summary(b)
+        ans["model"] = describe_model(b, self.perturbers, lm)
+        ans["model"]["assumptions"].append("scaling_factor_arcsec_per_year: with several perturbers, 2ψ̇/cos ε̄ (the "
+                                           "K of one perturber on a circular orbit in the ecliptic giving the same "
+                                           "rate)")
+        # the rate does not depend on the nutation's amplitude cut: nothing truncated
+        ans["model"].update(selection_info(self, "lunisolar", None, 0.0, 1e3 * (time.perf_counter() - start),
+                                           tolerance))
+        return ans
+
+    def nutation_answer(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> dict:
+        b, per = self.body, self.perturbers
+        self._check_answer(order)
+        if tolerance is not None and cut_mas is not None:
+            raise InvalidInputError("cut_mas", "give either cut_mas or tolerance_mas, not both", b.name)
+        if cut_mas is not None:
+            cut = check_cut(in_unit(cut_mas, "mas", "cut_mas"))
+        elif tolerance is not None:
+            cut = cut_for_tolerance(b, tolerance, "figure", per)
+        else:
+            cut = TRACK_CUT_MAS
+        charge(self.answer_cost(order, nutation=True), b.name)
+        lm = lunisolar_earth(b, "figure", cut, per)
+        eps = lunisolar_earth(b, "figure", TRACK_CUT_MAS, per).obliquity   # the track's, any cut
+        sin_eps = abs(math.sin(eps))
+        terms = []
+        for t in lm.series.terms:
+            term = {"multiple": None, "delaunay_multipliers": list(t["delaunay_multipliers"]),
+                    "period_days": t["period_days"], "period_years": t["period_days"] / JULIAN_YEAR_DAYS}
+            for comp in ("longitude", "obliquity"):
+                for part in ("sin", "cos"):
+                    term[f"{comp}_{part}_arcsec"] = t[f"{comp}_{part}_mas"] / 1e3
+            term["period_days_uncertainty"] = None
+            for comp in ("longitude", "obliquity"):
+                for part in ("sin", "cos"):
+                    term[f"{comp}_{part}_arcsec_uncertainty"] = None
+                    term[f"{comp}_{part}_rate_arcsec_per_century"] = t[f"{comp}_{part}_rate_mas_per_century"] / 1e3
+                amp = math.hypot(term[f"{comp}_sin_arcsec"], term[f"{comp}_cos_arcsec"])
+                term[f"{comp}_amplitude_arcsec"] = amp * (sin_eps if comp == "longitude" else 1.0)
+                term[f"{comp}_amplitude_arcsec_uncertainty"] = None
+            terms.append(term)
+        half_psi, half_eps = half_peak_to_peak(lm)
+        orbit_epoch = b.orbit.epoch_jd_tdb
+        omitted = omitted_bound(b, cut, "figure", per)
+        info = describe_model(b, per, lm)
+        info.update(selection_info(self, "lunisolar", None, omitted, 1e3 * (time.perf_counter() - start), tolerance,
+                                   {"truncation": omitted}))
+        info["cut_mas"] = cut
+        info["assumptions"].append("terms: Δψ = Σ (S + Ṡ T) sin φ + (C + Ċ T) cos φ (likewise Δε), φ = the "
+                                   "multipliers · (l, l′, F, D, Ω), T Julian centuries TDB from J2000; `multiple` is "
+                                   "null (no single mean anomaly), periods are signed (negative: the argument "
+                                   "decreases); half peak-to-peak over 1900-2100")
+        return {
+            "body": b.name, "dataset": b.dataset, "argument": ARGUMENT,
+            # the Earth's orbital mean anomaly is l′ (the Sun's mean anomaly seen from the Earth)
+            "mean_anomaly_at_epoch_deg": math.degrees(float(delaunay_arguments(orbit_epoch)[1])) % 360.0,
+            "orbit_epoch_jd_tdb": orbit_epoch,
+            "mean_motion_deg_per_day": math.degrees(float(delaunay_rates((orbit_epoch - J2000_JD)
+                                                                          / DAYS_PER_CENTURY)[1])),
+            "obliquity_deg": math.degrees(eps),
+            "terms": terms,
+            "delta_psi_half_peak_to_peak_arcsec": half_psi / ARCSEC,
+            "delta_epsilon_half_peak_to_peak_arcsec": half_eps / ARCSEC,
+            "delta_psi_half_peak_to_peak_arcsec_uncertainty": None,
+            "delta_epsilon_half_peak_to_peak_arcsec_uncertainty": None,
+            "uncertainty": uncertainty_summary(b),
+            "model": info,
+        }
+
+
+def uncertainty_summary(b: Body) -> dict:
+    """The answers' ``uncertainty`` object: not propagated through the lunisolar theory (unknown, not zero)."""
+    inputs = sorted(k for k in b.values if k.split(".")[0] in ("orbit", "pole", "rotation", "inertia"))
+    return {"method": "not propagated: ephem.uncertainty replicates the single-perturber (Sun) theory only, so the "
+                      "lunisolar answer's 1-sigma uncertainties are unknown (null), not zero; its error against the "
+                      "real Earth is the track's estimate (model.estimated_error_mas) and docs/earth.md",
+            "dominant_input": {k: None for k in SCALAR_KEYS}, "unpropagated_inputs": inputs,
+            "assumptions": ["the lunisolar theory's inputs (the Moon's and the Sun's orbits, GMs) are published "
+                            "series without a stated 1-sigma (data/lunisolar.toml)"]}
+
+
+@lru_cache(maxsize=32)
+def half_peak_to_peak(lm: LunisolarEarth) -> tuple[float, float]:
+    """Half the peak-to-peak Δψ, Δε (radians) of a lunisolar series over 1900-2100, sampled every 0.5 d."""
+    lo, hi = window()
+    dpsi, deps = lm.series.nutation_at(np.arange(lo, hi + 0.25, 0.5))
+    return 0.5 * float(np.ptp(dpsi)), 0.5 * float(np.ptp(deps))
 
 
 def no_order(body: Body, order) -> None:

@@ -52,25 +52,29 @@ The tests hold each estimate against the next rungs up for many bodies and spans
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 
 from . import cost
+from .budget import charge
 from .catalogue import Body
 from .cost import Cost
-from .constants import ARCSEC
+from .constants import ARCSEC, JULIAN_YEAR_DAYS
 from .errors import InvalidInputError, NotApplicableError
 from .hansen import LAPLACE_LIMIT, hansen_exact, hansen_series
 from .kepler import mean_motion_rad_per_day
 from .kinoshita import eccentricity_factor, nutation_coefficients, pole_displacement_sum
-from .model import MIN_SPIN_ORBIT_RATIO, PrecessionNutation, Track, cached_model, check_domain, model_for
+from .model import (MAX_ORDER, MIN_SPIN_ORBIT_RATIO, PrecessionNutation, Track, cached_model, check_domain,
+                    model_for)
 from .free_motion import Wobble, add_free_wobble, free_wobble_bound, wobble_model_bound
 from .physics_errors import (ephemeris_bound, orbit_motion_bound, real_orbit_unavailable, rotation_averaging_bound,
                              sun_path_for)
 from .second_order import SecondOrderTheory, second_order_theory
-from .theory import Estimate, SpinAxisTheory, cheapest_within
+from .theory import Estimate, SpinAxisTheory, cheapest_within, rate_values, selection_info
+from .uncertainty import input_sigmas, propagated, summary
 
 RUNGS = ("secular", "series", "hansen", "second_order", "numerical", "real_orbit")
 #: The poles a track can follow (see the module docstring).
@@ -575,3 +579,111 @@ class SunLadder(SpinAxisTheory):
         info["assumptions"] = [AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else self.axis]] + ASSUMPTIONS[1:] \
             + RUNG_ASSUMPTIONS[model]
         return info
+
+    # --- the precession and nutation answers
+
+    def answer_cost(self, order: int | None, nutation: bool = False, tolerance: bool = False) -> Cost:
+        """The Hansen coefficients, the nutation's extremes, and the propagation of the inputs' σ (each input
+        with a σ re-evaluates the model twice); ``tolerance``: the truncation bounds of the e-orders."""
+        b = self.body
+        check_domain(b, order)                   # not applicable (the Moon, e -> 1): refused before any cost
+        e = b.orbit.e
+        if order is not None and e > LAPLACE_LIMIT:
+            return cost.FREE      # refused by model_for before any work
+        build = cost.hansen_build(e, None)
+        parts = [build] if order is None else [build, cost.hansen_build(e, order)]
+        if nutation:
+            parts.append(cost.half_peak_to_peak(e, order, cost.body_harmonics(b, order)))
+        if tolerance:
+            parts.append(cost.truncation_bounds(e))
+        with_sigma = sum(1 for v in input_sigmas(b).values() if v is not None)
+        if with_sigma:
+            half = cost.half_peak_to_peak(e, order, cost.body_harmonics(b, order))
+            parts.append(cost.Part("the catalogue's uncertainties", f"propagating {with_sigma} input uncertainties",
+                                   2 * with_sigma * parts[1 if order is not None else 0].cpu_s + 2 * half.cpu_s,
+                                   build.memory_mb))
+        return Cost(tuple(parts))
+
+    def order_for_tolerance(self, tolerance: float | None, order: int | None) -> int | None:
+        """The lowest e-order whose truncation error is within the tolerance (None: exact coefficients); for
+        the rate and the nutation terms (no time span): the truncation bound alone."""
+        if tolerance is None:
+            return order
+        if order is not None:
+            raise InvalidInputError("order", "give either order or tolerance_mas, not both")
+        m = cached_model(self.body)
+        if m.eccentricity < LAPLACE_LIMIT:
+            kmax = int(m.nutation.multiple.max()) if m.nutation.multiple.size else 0
+            for n in range(0, min(kmax, MAX_ORDER)):
+                if truncation_bound(m, n, 0.0) <= tolerance:
+                    return n
+        return None
+
+    def _selection(self, order: int | None, tol: float | None, start: float) -> dict:
+        estimate = None if order is None else truncation_bound(cached_model(self.body), order, 0.0)
+        return selection_info(self, "hansen" if order is None else "series", order, estimate or 0.0,
+                              1e3 * (time.perf_counter() - start), tol)
+
+    def precession_answer(self, order: int | None, tolerance: float | None, start: float) -> dict:
+        b = self.body
+        charge(self.answer_cost(order, tolerance=tolerance is not None), b.name)
+        order = self.order_for_tolerance(tolerance, order)
+        m = model_for(b, b.dataset, order)
+        unc = propagated(b, order)
+        ans = rate_values(b, m, unc)
+        ans["uncertainty"] = summary(unc)
+        ans["model"] = model_info(m, b)
+        ans["model"].update(self._selection(order, tolerance, start))
+        return ans
+
+    def nutation_answer(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> dict:
+        b = self.body
+        if cut_mas is not None:
+            raise InvalidInputError("cut_mas", "an amplitude cut applies to the lunisolar series (the Earth with the "
+                                    "Moon); this series is truncated by e-order (order, tolerance_mas)", b.name)
+        charge(self.answer_cost(order, nutation=True, tolerance=tolerance is not None), b.name)
+        order = self.order_for_tolerance(tolerance, order)
+        m = model_for(b, b.dataset, order)
+        s = m.nutation
+        terms = [{
+            "multiple": int(k), "period_days": float(p), "period_years": float(p / JULIAN_YEAR_DAYS),
+            "longitude_sin_arcsec": float(a / ARCSEC), "longitude_cos_arcsec": float(c / ARCSEC),
+            "obliquity_sin_arcsec": float(d / ARCSEC), "obliquity_cos_arcsec": float(f / ARCSEC),
+        } for k, p, a, c, d, f in zip(s.multiple, s.period_days, s.lon_sin, s.lon_cos, s.obl_sin, s.obl_cos)]
+        unc = propagated(b, order)
+        sin_eps = abs(math.sin(m.obliquity))
+        for term, sigma in zip(terms, unc["terms"]):
+            if sigma["multiple"] != term["multiple"]:  # pragma: no cover - both come from the same series
+                raise RuntimeError("uncertainty terms out of step with the nutation terms")
+            term["period_days_uncertainty"] = sigma["period_days_uncertainty"]
+            for comp in ("longitude", "obliquity"):
+                for part in ("sin", "cos"):
+                    term[f"{comp}_{part}_arcsec_uncertainty"] = sigma[f"{comp}_{part}_arcsec_uncertainty"]
+                # the paper's Amp: (Sin² + Cos²)^½, times sin ε in longitude
+                amp = math.hypot(term[f"{comp}_sin_arcsec"], term[f"{comp}_cos_arcsec"])
+                term[f"{comp}_amplitude_arcsec"] = amp * (sin_eps if comp == "longitude" else 1.0)
+                term[f"{comp}_amplitude_arcsec_uncertainty"] = sigma[f"amplitude_{comp}_arcsec_uncertainty"]
+        half_psi, half_eps = semi_amplitudes(b, m.order)
+        ans = {
+            "body": b.name, "dataset": b.dataset, "argument": "mean anomaly M",
+            "mean_anomaly_at_epoch_deg": math.degrees(m.mean_anomaly_at_epoch) % 360.0,
+            "orbit_epoch_jd_tdb": m.orbit_epoch,
+            "mean_motion_deg_per_day": math.degrees(m.mean_motion),
+            "obliquity_deg": math.degrees(m.obliquity),
+            "terms": terms,
+            "delta_psi_half_peak_to_peak_arcsec": half_psi / ARCSEC,
+            "delta_epsilon_half_peak_to_peak_arcsec": half_eps / ARCSEC,
+            "delta_psi_half_peak_to_peak_arcsec_uncertainty": unc["delta_psi_half_peak_to_peak_arcsec_uncertainty"],
+            "delta_epsilon_half_peak_to_peak_arcsec_uncertainty":
+                unc["delta_epsilon_half_peak_to_peak_arcsec_uncertainty"],
+            "uncertainty": summary(unc),
+            "model": model_info(m, b),
+        }
+        ans["model"].update(self._selection(order, tolerance, start))
+        return ans
+
+
+@lru_cache(maxsize=512)
+def semi_amplitudes(body: Body, order: int | None) -> tuple[float, float]:
+    """Half the peak-to-peak Δψ, Δε (radians) of the body's nutation series (Petit et al. Table 4)."""
+    return cached_model(body, order).nutation.semi_peak_to_peak()

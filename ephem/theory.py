@@ -20,6 +20,7 @@ which theory it holds: adding a theory is writing one module and adding it to th
 """
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from typing import ClassVar
@@ -28,7 +29,7 @@ import numpy as np
 
 from .budget import Cost
 from .catalogue import Body
-from .constants import MAS
+from .constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from .errors import NotApplicableError
 from .model import Track
 
@@ -90,6 +91,35 @@ def cheapest_within(candidates: list, tolerance: float, body: str, wobble_given:
     raise NotApplicableError(body, (
         f"no model meets the tolerance of {tolerance / MAS:.6g} mas over these epochs: the best, "
         f"'{best.rung}', is estimated good to {best.total / MAS:.6g} mas (largest term: {largest}); {hint}"))
+
+
+def selection_info(theory, name: str, order: int | None, estimate: float | None, cost_ms: float,
+                   tolerance: float | None, terms: dict | None = None) -> dict:
+    """The selection part of an answer's ``model`` object: which of ``theory``'s models answered (``theory``: a
+    family or an instance), how good it is estimated to be (radians in, mas out) and what it cost."""
+    return {"name": name, "order": order, "description": theory.descriptions[name],
+            "estimated_error_mas": None if estimate is None else estimate / MAS,
+            "error_terms_mas": None if terms is None else {k: v / MAS for k, v in terms.items()},
+            "tolerance_mas": None if tolerance is None else float(f"{tolerance / MAS:.12g}"), "cost_ms": cost_ms,
+            "axis": None, "free_wobble": None,   # tracks only
+            "cut_mas": None}                     # the lunisolar series only
+
+
+#: the precession answer's values (Petit et al. Table 4 columns)
+RATE_KEYS = ("obliquity_deg", "dynamical_ellipticity", "scaling_factor_arcsec_per_year",
+             "precession_rate_arcsec_per_year")
+
+
+def rate_values(b: Body, m, unc: dict | None) -> dict:
+    """The precession answer's values from a model with obliquity, hd, scaling_factor and precession_rate (any
+    family's; radians and days), and their 1σ from ``unc`` (None: not propagated)."""
+    per_year = JULIAN_YEAR_DAYS / ARCSEC
+    ans = {"body": b.name, "dataset": b.dataset, "obliquity_deg": math.degrees(m.obliquity),
+           "dynamical_ellipticity": m.hd, "scaling_factor_arcsec_per_year": m.scaling_factor * per_year,
+           "precession_rate_arcsec_per_year": m.precession_rate * per_year}
+    for key in RATE_KEYS:
+        ans[f"{key}_uncertainty"] = None if unc is None else unc[f"{key}_uncertainty"]
+    return ans
 
 
 class SpinAxisTheory(ABC):
@@ -167,6 +197,21 @@ class SpinAxisTheory(ABC):
     def describe(self, est: Estimate | None, model: str, order: int | None, with_wobble: bool) -> dict:
         """The answer's ``model`` object before the selection is added: theory, assumptions, warnings, the
         spin-orbit ratio and epochs."""
+
+    @abstractmethod
+    def answer_cost(self, order: int | None, nutation: bool = False, tolerance: bool = False) -> Cost:
+        """What a precession (or, with ``nutation``, a nutation) answer will cost; ``tolerance``: the model is
+        chosen by a tolerance."""
+
+    @abstractmethod
+    def precession_answer(self, order: int | None, tolerance: float | None, start: float) -> dict:
+        """The precession answer (rates, their 1σ, the ``model`` object with the selection), charged first;
+        ``start``: the request's ``time.perf_counter()`` at its start (for ``cost_ms``)."""
+
+    @abstractmethod
+    def nutation_answer(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> dict:
+        """The nutation answer (the terms with their 1σ, half peak-to-peak amplitudes, the ``model``
+        object), charged first."""
 
     def extra_description(self) -> dict:
         """Keys of the ``model`` object only this family fills (the lunisolar amplitude cut)."""

@@ -41,7 +41,7 @@ from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from .hansen import hansen_exact, hansen_series
 from .kepler import mean_motion_rad_per_day
 from .kinoshita import mean_pole, nutation_coefficients, precession_rate, scaling_factor, series_extrema
-from .model import model_for
+from .model import cached_model, model_for
 
 #: Central-difference step as a fraction of the input's σ. The linear σ is J·σ with J the
 #: derivative at the nominal point. Truncation error of the central difference, relative:
@@ -512,3 +512,33 @@ def monte_carlo(body: str | int | Body, n: int = 1000, seed: int = 0, dataset: s
     ans["relative_standard_error"] = 1.0 / math.sqrt(2.0 * (len(rows) - 1))
     ans["linear"] = lin
     return ans
+
+
+@lru_cache(maxsize=256)
+def propagated(b: Body, order: int | None) -> dict:
+    """The 1-σ uncertainties of :func:`propagate`, with 0 (no input of known σ moves the value: its σ is
+    unknown, not zero) replaced by None. A body none of whose inputs has a σ (a user's body) skips the
+    propagation: every σ is None, at no cost."""
+    def unknown_as_none(d: dict) -> dict:
+        return {k: (None if k.endswith("_uncertainty") and v == 0.0 else v) for k, v in d.items()}
+
+    sigmas = input_sigmas(b)
+    if all(s is None for s in sigmas.values()):
+        u = {f"{k}_uncertainty": None for k in SCALAR_KEYS}
+        u["terms"] = [{"multiple": int(k), **{f"{key}_uncertainty": None for key in TERM_KEYS}}
+                      for k in cached_model(b, order).nutation.multiple]
+        u.update(dominant_input={k: None for k in SCALAR_KEYS}, unpropagated_inputs=list(sigmas),
+                 assumptions=list(ASSUMPTIONS))
+        return u
+    u = unknown_as_none(propagate(b, b.dataset, order, sensitivities=False))
+    u["terms"] = [unknown_as_none(t) for t in u["terms"]]
+    return u
+
+
+def summary(u: dict) -> dict:
+    """The answers' ``uncertainty`` object from :func:`propagated`."""
+    return {"method": "linear propagation of the catalogue's 1-sigma uncertainties (ephem.uncertainty); they "
+                      "cover only the inputs with a published sigma, and null means no such input moves the "
+                      "value (its uncertainty is unknown, not zero)",
+            "dominant_input": u["dominant_input"], "unpropagated_inputs": list(u["unpropagated_inputs"]),
+            "assumptions": list(u["assumptions"])}
