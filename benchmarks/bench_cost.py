@@ -80,7 +80,7 @@ if __name__ == "__main__":
 
 import numpy as np  # noqa: E402
 
-from ephem import api, budget, cost, earth, ephemeris, free_motion, hansen, ladder, lie_series  # noqa: E402
+from ephem import api, budget, cost, earth, ephemeris, free_motion, hansen, ladder, lie_series, uncertainty  # noqa: E402
 from ephem.catalogue import Body, Orbit, Pole, get_body  # noqa: E402
 from ephem.model import build_model  # noqa: E402
 from ephem.second_order import second_order_theory  # noqa: E402
@@ -199,9 +199,9 @@ def measure(work: Callable[[], object], setup: Callable[[], None] | None, reps: 
 def cold() -> None:
     """Empty every cache a request fills (the first such request in a fresh worker). The start-up
     caches stay: catalogue, DE421 kernel, the Earth's lunisolar series (``api.warm_up``)."""
-    for fn in (ladder.cached_model, ladder.cached_theory, ladder._cached_truncation_parts, api._propagated,
-               api._semi_amplitudes, ephemeris._cached_path, free_motion._series, lie_series.sam_normal_form,
-               hansen.hansen_series):
+    for fn in (ladder.cached_model, ladder.cached_theory, ladder._cached_truncation_parts, uncertainty.propagated,
+               ladder.semi_amplitudes, ephemeris._cached_path, free_motion._series, lie_series.sam_normal_form,
+               hansen.hansen_series, hansen.hansen_exact):
         fn.cache_clear()
 
 
@@ -420,7 +420,7 @@ def build_cases() -> list[Case]:
 
     # --- the Earth's lunisolar series (built at start-up) ----------------------------------------
     earth_body = get_body("earth")
-    lm = earth.lunisolar_earth(earth_body, "figure", earth.TRACK_CUT_MAS, api._perturbers(earth_body, None))
+    lm = earth.lunisolar_earth(earth_body, "figure", earth.TRACK_CUT_MAS, earth_body.perturbers)
     for n, quick in ((1_000, True), (10_000, False), (100_000, True)):
         _, _, t = grid(n, 100 * 365.25, 2415021.0)
         add(Case("lunisolar_sum", f"lunisolar track, {n} epochs", part(cost.lunisolar_sum(n)),
