@@ -3,6 +3,8 @@ import math
 
 #: Julian year in days (IAU).
 JULIAN_YEAR_DAYS = 365.25
+#: Julian century in days (T in the IAU and IERS polynomials).
+JULIAN_CENTURY_DAYS = 36525.0
 #: Seconds per day.
 DAY_S = 86400.0
 #: J2000.0 as a TDB Julian date.

@@ -47,6 +47,7 @@ import numpy as np
 
 from .catalogue import Body, is_earth
 from .constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS, MAS
+from .constants import JULIAN_CENTURY_DAYS as DAYS_PER_CENTURY
 from .errors import InvalidInputError, NotApplicableError
 from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from .kinoshita import mean_pole, pole_displacement_sum, pole_displacements
@@ -55,11 +56,12 @@ from . import cost
 from .budget import Cost, charge
 from .ladder import model_info
 from .model import Track, cached_model, model_for
-from .theory import Estimate, SpinAxisTheory, rate_values, selection_info
+from .theory import Estimate, SpinAxisTheory, Spectrum, rate_values, selection_info
 from .uncertainty import SCALAR_KEYS
 from .units import in_unit
 
-DAYS_PER_CENTURY = 36525.0
+#: Sidebands ±j ψ̇ a track carries about each lunisolar term (the Earth's precession is slow, its terms many)
+TRACK_SIDEBANDS = 1
 #: Amplitude cut of the served track's series (mas): the cut the residual envelope was measured with.
 TRACK_CUT_MAS = 0.1
 #: Smallest cut the nutation answer accepts (mas): far below the first-order theory's own error (the
@@ -474,6 +476,28 @@ class LunisolarTheory(SpinAxisTheory):
 
     def extra_description(self) -> dict:
         return {"cut_mas": TRACK_CUT_MAS}
+
+    def spectrum(self, aim_mas: float, mid_centuries: float, jd_tdb=None, psi=None) -> Spectrum:
+        """The lunisolar series' terms: phases in the Delaunay arguments, their polynomials linearised at
+        ``mid_centuries``; plus a base at 0 for the precession alone. The track's rate is the series' own."""
+        lm = self.model
+        s = lm.series
+        amp = pole_displacements(s.coefficients, lm.obliquity) * MAS      # coefficients in mas
+        keep = np.nonzero(amp > 0.01 * aim_mas * MAS)[0]
+        mult = s.multipliers[keep].astype(float)
+        jd_m = J2000_JD + mid_centuries * DAYS_PER_CENTURY
+        phase_m = np.degrees(mult @ delaunay_arguments(np.array(jd_m)))            # deg at the middle
+        rate = np.degrees(mult @ delaunay_rates(mid_centuries)) * DAYS_PER_CENTURY  # deg/century there
+        sign = np.where(rate < 0.0, -1.0, 1.0)    # positive frequencies: sin(-x) and cos(-x) span the same pair
+        theta1 = sign * rate
+        theta0 = sign * phase_m - theta1 * mid_centuries
+        labels = (None,) + tuple(tuple(int(v) for v in row) for row in s.multipliers[keep])
+        psi_dot = lm.precession_rate
+        return Spectrum(labels, np.concatenate([[0.0], theta0 % 360.0]), np.concatenate([[0.0], theta1]),
+                        np.concatenate([[0.0], amp[keep]]),
+                        math.degrees(psi_dot * (J2000_JD - lm.pole_epoch)) % 360.0,
+                        math.degrees(psi_dot) * DAYS_PER_CENTURY, TRACK_SIDEBANDS,
+                        "Delaunay multipliers (l, l', F, D, Omega) of a lunisolar nutation term")
 
     # --- the precession and nutation answers
 

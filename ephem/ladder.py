@@ -62,18 +62,18 @@ from . import cost
 from .budget import charge
 from .catalogue import Body
 from .cost import Cost
-from .constants import ARCSEC, JULIAN_YEAR_DAYS
+from .constants import ARCSEC, J2000_JD, JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS, MAS
 from .errors import InvalidInputError, NotApplicableError
 from .hansen import LAPLACE_LIMIT, hansen_exact, hansen_series
 from .kepler import mean_motion_rad_per_day
-from .kinoshita import eccentricity_factor, nutation_coefficients, pole_displacement_sum
+from .kinoshita import eccentricity_factor, nutation_coefficients, pole_displacement_sum, pole_displacements
 from .model import (MAX_ORDER, MIN_SPIN_ORBIT_RATIO, PrecessionNutation, Track, cached_model, check_domain,
                     model_for)
 from .free_motion import Wobble, add_free_wobble, free_wobble_bound, wobble_model_bound
 from .physics_errors import (ephemeris_bound, orbit_motion_bound, real_orbit_unavailable, rotation_averaging_bound,
                              sun_path_for)
 from .second_order import SecondOrderTheory, second_order_theory
-from .theory import Estimate, SpinAxisTheory, cheapest_within, rate_values, selection_info
+from .theory import Estimate, SpinAxisTheory, Spectrum, cheapest_within, rate_values, selection_info
 from .uncertainty import input_sigmas, propagated, summary
 
 RUNGS = ("secular", "series", "hansen", "second_order", "numerical", "real_orbit")
@@ -580,6 +580,19 @@ class SunLadder(SpinAxisTheory):
             + RUNG_ASSUMPTIONS[model]
         return info
 
+    def spectrum(self, aim_mas: float, mid_centuries: float, jd_tdb=None, psi=None) -> Spectrum:
+        m = cached_model(self.body)
+        if jd_tdb is None:
+            return mean_anomaly_spectrum(m, aim_mas, m.precession_rate)
+        # ψ̇ as the track has it (the rungs above 'hansen' change the mean rates): ψ = a + ψ̇ t + nutation
+        t = np.asarray(jd_tdb, dtype=float)
+        mt = m.mean_anomaly(t)
+        cols = [np.ones_like(t), t - 0.5 * (t[0] + t[-1])]
+        for k in np.unique(m.nutation.multiple):
+            cols += [np.sin(k * mt), np.cos(k * mt)]
+        psi_dot = float(np.linalg.lstsq(np.array(cols).T, np.asarray(psi, dtype=float), rcond=None)[0][1])
+        return mean_anomaly_spectrum(m, aim_mas, psi_dot)
+
     # --- the precession and nutation answers
 
     def answer_cost(self, order: int | None, nutation: bool = False, tolerance: bool = False) -> Cost:
@@ -681,6 +694,35 @@ class SunLadder(SpinAxisTheory):
         }
         ans["model"].update(self._selection(order, tolerance, start))
         return ans
+
+
+#: Sidebands ±j ψ̇ a track carries about each harmonic of the mean anomaly (the second-order theory's mixing
+#: of the precession into the nutation phases, and the kernel's linear-in-T phases).
+TRACK_SIDEBANDS = 3
+#: Highest multiple of the mean anomaly in a track's spectrum: beyond the last harmonic of the nutation
+#: series that moves the pole by a hundredth of the aim, by HARMONIC_MARGIN (its products with others),
+#: at most twice the series' own and MAX_MULTIPLE.
+MAX_MULTIPLE = 64
+HARMONIC_MARGIN = 4
+
+
+def mean_anomaly_spectrum(m: PrecessionNutation, aim_mas: float, psi_dot: float) -> Spectrum:
+    """Harmonics k = 0..kmax of the mean anomaly (k = 0: the precession alone), with ψ̇ (rad/day)."""
+    series = m.nutation
+    kmax_series = int(series.multiple.max()) if series.multiple.size else 1
+    amp = pole_displacements(series, m.obliquity)
+    big = series.multiple[amp > 0.01 * aim_mas * MAS]
+    kmax = int(min(MAX_MULTIPLE, 2 * kmax_series, (int(big.max()) if big.size else 1) + HARMONIC_MARGIN))
+    ks = np.arange(0, kmax + 1)
+    amplitude = np.zeros(ks.size)
+    for k, a in zip(series.multiple, amp):
+        if k <= kmax:
+            amplitude[int(k)] = a
+    m_j2000 = float(m.mean_anomaly(J2000_JD))
+    return Spectrum(tuple(int(k) for k in ks), np.degrees(ks * m_j2000) % 360.0,
+                    np.degrees(ks * m.mean_motion) * JULIAN_CENTURY_DAYS, amplitude,
+                    math.degrees(psi_dot * (J2000_JD - m.pole_epoch)) % 360.0,
+                    math.degrees(psi_dot) * JULIAN_CENTURY_DAYS, TRACK_SIDEBANDS, "k: multiple of the mean anomaly")
 
 
 @lru_cache(maxsize=512)

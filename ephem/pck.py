@@ -28,9 +28,9 @@ orbital mean motion n (the nutation's argument is the mean anomaly M) and the pr
 ascension and declination are therefore sums of terms at k n + j ψ̇ (k >= 0, any j), which SPICE's
 angles, linear in T, represent exactly; one frequency takes two angles (θ and θ + 90°) because RA
 takes only sines and DEC only cosines. The quadratic polynomials carry the secular motion. The
-frequencies (0 <= k <= 2 k_max of the nutation series, |j| <= :data:`MAX_SIDEBAND`; for the Earth with
+frequencies (0 <= k <= 2 k_max of the nutation series, |j| <= :data:`ephem.ladder.TRACK_SIDEBANDS`; for the Earth with
 the Moon, the ``lunisolar`` model, the lunisolar series' terms instead, their phases in the Delaunay
-arguments linearised at the span's middle, |j| <= :data:`LUNISOLAR_SIDEBAND`) are chosen one at a time
+arguments linearised at the span's middle, |j| <= :data:`ephem.earth.TRACK_SIDEBANDS`) are chosen one at a time
 by orthogonal least squares (the one that lowers the residual most), the coefficients by linear least
 squares over a dense grid of the span, RA weighted by cos DEC so that both residuals are angles on
 the sky. The fit error is the largest angle between the kernel's pole, evaluated as SPICE does, and
@@ -69,11 +69,11 @@ import numpy as np
 
 from .catalogue import DEFAULT_DATASET, Body
 from .constants import ARCSEC, J2000_JD, MAS
+from .constants import JULIAN_CENTURY_DAYS as CENTURY_DAYS
 from .errors import InvalidInputError
-from .kinoshita import pole_displacements
+from .registry import theory_for
+from .theory import Spectrum
 
-#: Days per Julian century (T in the PCK formulas).
-CENTURY_DAYS = 36525.0
 #: Terms are added until the fit error is below this (mas) ...
 FIT_AIM_MAS = 0.1
 #: ... and, when the angle budget runs out first, the kernel is written if its error is below this (mas);
@@ -83,15 +83,6 @@ FIT_LIMIT_MAS = 1.0
 DEFAULT_MAX_ANGLES = 100
 #: Hard cap (TISBOD N0067 buffers 200 angles per body).
 SPICE_MAX_ANGLES = 200
-#: Sidebands ±j ψ̇ tried about each harmonic of the mean anomaly.
-MAX_SIDEBAND = 3
-#: Sidebands ±j ψ̇ about each lunisolar term (the Earth's precession is slower and its terms many).
-LUNISOLAR_SIDEBAND = 1
-#: Highest multiple of the mean anomaly tried: beyond the last harmonic of the nutation series that moves
-#: the pole by a hundredth of the fit's aim, by KMAX_MARGIN (its products with others), at most twice the
-#: series' own and MAX_MULTIPLE.
-MAX_MULTIPLE = 64
-KMAX_MARGIN = 4
 #: Fit epochs per period of the fastest candidate term, and bounds on the fit grid.
 SAMPLES_PER_PERIOD = 8
 MIN_FIT_SAMPLES = 1500
@@ -384,74 +375,7 @@ class _Ols:
         return dict(zip(self.keys, np.linalg.solve(R, self.Q[:m] @ self.data)))
 
 
-@dataclass(frozen=True)
-class _Spectrum:
-    """The track's base frequencies: each a phase linear in T (θ0 deg at J2000, θ1 deg per century), with
-    the largest pole displacement its term makes (radians; 0 where unknown); and the precession angle
-    Ψ = ψ̇ (t - t_p), whose multiples j Ψ are added to each as sidebands."""
-
-    labels: tuple                 # k (a multiple of the mean anomaly) or the Delaunay multipliers of a term
-    theta0: np.ndarray
-    theta1: np.ndarray
-    amplitude: np.ndarray
-    psi_theta0: float             # Ψ at J2000, deg
-    psi_theta1: float             # ψ̇, deg per century
-    max_sideband: int
-    describe: str                 # what a label is, for the kernel's comments
-
-    def frequency(self, i: int, j: int) -> float:
-        """rad/day of base i with sideband j."""
-        return math.radians(self.theta1[i] + j * self.psi_theta1) / CENTURY_DAYS
-
-    def angle(self, i: int, j: int) -> tuple[float, float]:
-        return (float(self.theta0[i] + j * self.psi_theta0) % 360.0, float(self.theta1[i] + j * self.psi_theta1))
-
-
-def _mean_anomaly_spectrum(m, aim_mas: float, psi_dot: float) -> _Spectrum:
-    """Harmonics k = 0..kmax of the mean anomaly (single perturber: ephem.model), k = 0 the precession alone."""
-    series = m.nutation
-    kmax_series = int(series.multiple.max()) if series.multiple.size else 1
-    amp = pole_displacements(series, m.obliquity)
-    big = series.multiple[amp > 0.01 * aim_mas * MAS]
-    kmax = int(min(MAX_MULTIPLE, 2 * kmax_series, (int(big.max()) if big.size else 1) + KMAX_MARGIN))
-    ks = np.arange(0, kmax + 1)
-    amplitude = np.zeros(ks.size)
-    for k, a in zip(series.multiple, amp):
-        if k <= kmax:
-            amplitude[int(k)] = a
-    m_j2000 = float(m.mean_anomaly(J2000_JD))
-    return _Spectrum(tuple(int(k) for k in ks), np.degrees(ks * m_j2000) % 360.0,
-                     np.degrees(ks * m.mean_motion) * CENTURY_DAYS, amplitude,
-                     math.degrees(psi_dot * (J2000_JD - m.pole_epoch)) % 360.0,
-                     math.degrees(psi_dot) * CENTURY_DAYS, MAX_SIDEBAND, "k: multiple of the mean anomaly")
-
-
-def _lunisolar_spectrum(lm, aim_mas: float, Tm: float) -> _Spectrum:
-    """The lunisolar series' terms (ephem.earth, ephem.lunisolar): phases in the Delaunay arguments, their
-    polynomials linearised at the span's middle Tm (centuries); plus a base at 0 for the precession alone."""
-    from .lunisolar import delaunay_arguments, delaunay_rates
-
-    s = lm.series
-    c = s.coefficients                                   # mas: ψ sin, ψ cos, ε sin, ε cos
-    amp = pole_displacements(c, lm.obliquity) * MAS
-    keep = np.nonzero(amp > 0.01 * aim_mas * MAS)[0]
-    mult = s.multipliers[keep].astype(float)
-    jd_m = J2000_JD + Tm * CENTURY_DAYS
-    phase_m = np.degrees(mult @ delaunay_arguments(np.array(jd_m)))            # deg at Tm
-    rate = np.degrees(mult @ delaunay_rates(Tm)) * CENTURY_DAYS                 # deg/century at Tm
-    sign = np.where(rate < 0.0, -1.0, 1.0)        # positive frequencies: sin(-x) and cos(-x) span the same pair
-    theta1 = sign * rate
-    theta0 = sign * phase_m - theta1 * Tm
-    labels = (None,) + tuple(tuple(int(v) for v in row) for row in s.multipliers[keep])
-    psi_dot = lm.precession_rate
-    return _Spectrum(labels, np.concatenate([[0.0], theta0 % 360.0]), np.concatenate([[0.0], theta1]),
-                     np.concatenate([[0.0], amp[keep]]),
-                     math.degrees(psi_dot * (J2000_JD - lm.pole_epoch)) % 360.0,
-                     math.degrees(psi_dot) * CENTURY_DAYS, LUNISOLAR_SIDEBAND,
-                     "Delaunay multipliers (l, l', F, D, Omega) of a lunisolar nutation term")
-
-
-def _candidates(spec: _Spectrum, span: float, fit_step: float) -> list[tuple[int, int]]:
+def _candidates(spec: Spectrum, span: float, fit_step: float) -> list[tuple[int, int]]:
     """(base, j) of the frequencies worth trying: positive, resolved by the fit grid (at least
     SAMPLES_PER_PERIOD / 2 epochs per period), and, for the precession alone, not a mere polynomial."""
     fastest = 2.0 * math.pi / (0.5 * SAMPLES_PER_PERIOD * fit_step)
@@ -484,14 +408,8 @@ def _fit_body(b: Body, t0: float, t1: float, dataset: str, tolerance_mas, model,
 
     T0, T1 = (t0 - J2000_JD) / CENTURY_DAYS, (t1 - J2000_JD) / CENTURY_DAYS
     Tm, Th = 0.5 * (T0 + T1), 0.5 * (T1 - T0)
-    if info["name"] == "lunisolar":
-        from . import earth
-
-        lm = earth.lunisolar_earth(b, axis, info.get("cut_mas", earth.TRACK_CUT_MAS), tuple(info["perturbers"]))
-        spec = _lunisolar_spectrum(lm, aim, Tm)
-    else:
-        m = api.model_for(b, dataset)
-        spec = _mean_anomaly_spectrum(m, aim, m.precession_rate)    # ψ̇ refined below, from the track
+    theory = theory_for(b, tuple(info["perturbers"]), axis)
+    spec = theory.spectrum(aim, Tm)            # refined below from the track (the rates the higher rungs change)
     fastest = max(spec.frequency(i, spec.max_sideband) for i in range(len(spec.labels)))
     count = int(min(MAX_FIT_SAMPLES, max(MIN_FIT_SAMPLES,
                                          math.ceil(SAMPLES_PER_PERIOD * fastest * span / (2.0 * math.pi)) + 1)))
@@ -503,14 +421,7 @@ def _fit_body(b: Body, t0: float, t1: float, dataset: str, tolerance_mas, model,
     check_step = span / check_count
     chk = api.track_arrays(b, t0 + 0.5 * check_step, t1, check_step, dataset, max_samples=check_count + 1, **named)
     t_chk = chk["jd_tdb"]
-    if info["name"] != "lunisolar":
-        # ψ̇ as the track has it (the rungs above 'hansen' change the mean rates): ψ = a + ψ̇ t + nutation
-        mt = m.mean_anomaly(t)
-        cols = [np.ones_like(t), t - 0.5 * (t0 + t1)]
-        for k in np.unique(m.nutation.multiple):
-            cols += [np.sin(k * mt), np.cos(k * mt)]
-        psi_dot = float(np.linalg.lstsq(np.array(cols).T, ans["psi_arcsec"] * ARCSEC, rcond=None)[0][1])
-        spec = _mean_anomaly_spectrum(m, aim, psi_dot)
+    spec = theory.spectrum(aim, Tm, t, ans["psi_arcsec"] * ARCSEC)
 
     # the frame: J2000 unless the pole comes near its pole
     frame = "J2000" if float(np.max(np.abs(ans["pole_dec_deg"]))) <= MAX_J2000_DEC_DEG else "ECLIPJ2000"
@@ -582,7 +493,7 @@ def _fit_body(b: Body, t0: float, t1: float, dataset: str, tolerance_mas, model,
                    **dict(zip(("pm", "pm_source"), _prime_meridian(b, fit, 0.5 * (t0 + t1)))))
 
 
-def _assemble(b: Body, info: dict, dataset: str, frame: str, chosen, spec: _Spectrum, ra_coef, dec_coef, Tm: float,
+def _assemble(b: Body, info: dict, dataset: str, frame: str, chosen, spec: Spectrum, ra_coef, dec_coef, Tm: float,
               Th: float, aim: float, limit: float) -> BodyFit:
     """Kernel coefficients from the fitted ones: the polynomial in u = (T - Tm)/Th re-expanded in T, and each
     frequency's (sin, cos) pair as the coefficients of the angles θ and θ + 90°."""

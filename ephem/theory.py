@@ -29,7 +29,7 @@ import numpy as np
 
 from .budget import Cost
 from .catalogue import Body
-from .constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
+from .constants import ARCSEC, JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS, MAS
 from .errors import NotApplicableError
 from .model import Track
 
@@ -122,6 +122,30 @@ def rate_values(b: Body, m, unc: dict | None) -> dict:
     return ans
 
 
+@dataclass(frozen=True)
+class Spectrum:
+    """The base frequencies a theory's track is made of: each a phase linear in T (θ0 deg at J2000, θ1 deg
+    per Julian century), with the largest pole displacement its term makes (radians; 0 where unknown); and
+    the precession angle Ψ = ψ̇ (t - t_p), whose multiples j Ψ (|j| <= ``max_sideband``) the track also holds
+    about each base. The SPICE kernel writer (:mod:`ephem.pck`) fits the track with these."""
+
+    labels: tuple                 # what identifies each base: k (a multiple of the mean anomaly), Delaunay multipliers
+    theta0: np.ndarray
+    theta1: np.ndarray
+    amplitude: np.ndarray
+    psi_theta0: float             # Ψ at J2000, deg
+    psi_theta1: float             # ψ̇, deg per century
+    max_sideband: int
+    describe: str                 # what a label is, for the kernel's comments
+
+    def frequency(self, i: int, j: int) -> float:
+        """rad/day of base i with sideband j."""
+        return math.radians(self.theta1[i] + j * self.psi_theta1) / JULIAN_CENTURY_DAYS
+
+    def angle(self, i: int, j: int) -> tuple[float, float]:
+        return (float(self.theta0[i] + j * self.psi_theta0) % 360.0, float(self.theta1[i] + j * self.psi_theta1))
+
+
 class SpinAxisTheory(ABC):
     """A family of models of one body's spin axis, for one request's perturbers, axis and free wobble.
 
@@ -212,6 +236,13 @@ class SpinAxisTheory(ABC):
     def nutation_answer(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> dict:
         """The nutation answer (the terms with their 1σ, half peak-to-peak amplitudes, the ``model``
         object), charged first."""
+
+    @abstractmethod
+    def spectrum(self, aim_mas: float, mid_centuries: float, jd_tdb=None, psi=None) -> Spectrum:
+        """The base frequencies of the family's track whose terms move the pole by more than a hundredth of
+        ``aim_mas``, their phases linear about ``mid_centuries`` (Julian centuries TDB from J2000); given a
+        computed track (epochs ``jd_tdb``, ψ in radians), as the track has them (the rates the higher models
+        change)."""
 
     def extra_description(self) -> dict:
         """Keys of the ``model`` object only this family fills (the lunisolar amplitude cut)."""
