@@ -103,8 +103,8 @@ WHY_SERIES = ("hansen.hansen_series(order < 20) cuts the order-20 series (_SHARE
               "computes the ladder's estimates, whose truncation bounds of the e-orders 0-19 need that order-20 "
               "series, charged by neither Ladder.cost(None) nor cost.truncation_bounds. Paid once per worker "
               "(lru_cache); measured here from cold caches.")
-WHY_BLOCK = ("kinoshita.evaluate_harmonics sums in blocks whose work table is up to _BLOCK_BYTES = 32 MB whatever "
-             "the epochs: cost.half_peak_to_peak charges a fixed 0.5 MB, cost.harmonic_sum 250 B per epoch.")
+WHY_BLOCK = ("harmonics.evaluate_harmonics sums in blocks whose work table is up to BLOCK_BYTES = 32 MB whatever "
+             "the epochs: cost.harmonic_work_mb charges it (capped at harmonic_block_mb).")
 WHY_CSV = ("service.app._csv_rows formats every float with repr (Python), ~20x slower than orjson: api.track_arrays "
            "charges it with its own unit, serialise_csv_s_per_value (output='csv').")
 WHY_PATH = ("Ladder.cost charges cost.orbit_integration over the span from the track to the pole epoch, but "

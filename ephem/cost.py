@@ -81,7 +81,7 @@ def hansen_build(e: float, order: int | None) -> Part:
 
 
 def harmonic_work_mb(epochs: int, k: int) -> float:
-    """The work table of a harmonic sum (:func:`ephem.kinoshita.evaluate_harmonics`): two float64 rows
+    """The work table of a harmonic sum (:func:`ephem.harmonics.evaluate_harmonics`): two float64 rows
     per harmonic over a block of at most 8192 epochs, capped at ``harmonic_block_mb``."""
     return min(_u("harmonic_block_mb"), 16.0 * max(k, 1) * min(epochs, 8192) / MB)
 

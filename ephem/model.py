@@ -25,9 +25,9 @@ from .catalogue import DEFAULT_DATASET, Body, resolve_body
 from .errors import InvalidInputError, NotApplicableError
 from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from .hansen import LAPLACE_LIMIT, exact_unavailable
+from .harmonics import MAX_SHIFT, cos_sin_shifted, uniform_cos_sin
 from .kepler import mean_motion_rad_per_day
-from .kinoshita import (MAX_SHIFT, NutationSeries, cos_sin_shifted, eccentricity_factor, mean_pole, nutation_series,
-                        precession_rate, scaling_factor, uniform_cos_sin)
+from .kinoshita import NutationSeries, eccentricity_factor, mean_pole, nutation_series, precession_rate, scaling_factor
 
 #: Rotation-averaging needs the spin much faster than the orbital motion. Against the full rigid
 #: body (ephem.rigid, docs/rigid_body_study.md) the averaged theory's figure axis is off by 10% of

@@ -39,8 +39,9 @@ from .constants import ARCSEC, JULIAN_YEAR_DAYS
 from .errors import InvalidInputError
 from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from .hansen import hansen_exact, hansen_series
+from .harmonics import series_extrema
 from .kepler import mean_motion_rad_per_day
-from .kinoshita import mean_pole, nutation_coefficients, precession_rate, scaling_factor, series_extrema
+from .kinoshita import mean_pole, nutation_coefficients, precession_rate, scaling_factor
 from .model import cached_model, model_for
 
 #: Central-difference step as a fraction of the input's σ. The linear σ is J·σ with J the
@@ -313,7 +314,7 @@ def _setup(body, dataset, order, uncertainties, correlations) -> _Setup:
     replica = _Replica(b, keys, m.order, kmax)
     x0 = np.array([i.value * i.factor for i in inputs])
     lon_s, lon_c, obl_s, obl_c = replica.state(x0)["coefficients"]
-    # the extremes located as the answers locate them (kinoshita.series_extrema: grid, then Newton)
+    # the extremes located as the answers locate them (harmonics.series_extrema: grid, then Newton)
     _, xp_max, xp_min = series_extrema(lon_s, lon_c)
     _, xe_max, xe_min = series_extrema(obl_s, obl_c)
     extrema = (xp_max, xp_min, xe_max, xe_min)

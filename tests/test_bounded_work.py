@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 
-from ephem import api, budget, cost, kinoshita
+from ephem import api, budget, cost, harmonics
 from ephem.budget import DeadlineExceededError, OverBudgetError
 from ephem.catalogue import Body, Orbit, Pole
 from service.app import create_app
@@ -93,15 +93,15 @@ def test_e_too_close_to_one_is_not_applicable_with_the_reason():
 def test_the_harmonic_work_table_is_bounded_whatever_the_harmonics():
     # e = 0.99 keeps ~4e4 harmonics: an 8192-epoch block of them would be 5.5 GB
     k = np.arange(1, 42_001)
-    _, _, work, block = kinoshita._prepare(k, np.zeros((k.size, 2)), np.zeros((k.size, 2)), 10_000)
-    assert work.nbytes <= kinoshita._BLOCK_BYTES and block >= 1
+    _, _, work, block = harmonics._prepare(k, np.zeros((k.size, 2)), np.zeros((k.size, 2)), 10_000)
+    assert work.nbytes <= harmonics.BLOCK_BYTES and block >= 1
 
 
 def test_the_nutation_extremes_need_no_dense_table():
-    # one formula (kinoshita.series_extrema) for the answers and the uncertainties; checked against a
+    # one formula (harmonics.series_extrema) for the answers and the uncertainties; checked against a
     # dense grid on a two-term series whose extremes are known in closed form: sin M + 0.5 sin 2M has its
     # maximum 1.299038... (= 3√3/4) at M = π/3; half peak-to-peak the same by symmetry
-    half, x_max, x_min = kinoshita.series_extrema(np.array([1.0, 0.5]), np.array([0.0, 0.0]))
+    half, x_max, x_min = harmonics.series_extrema(np.array([1.0, 0.5]), np.array([0.0, 0.0]))
     assert half == pytest.approx(3.0 * np.sqrt(3.0) / 4.0, rel=1e-14)   # Newton-polished: rounding only
     assert x_max == pytest.approx(np.pi / 3.0, abs=1e-7)                 # a flat maximum: sqrt(eps) in M
 
@@ -370,8 +370,8 @@ def test_the_workers_get_one_blas_thread_and_a_shared_lock_directory_before_nump
 
 # --- the cost model's corrections (benchmarks/RESULTS_cost.md)
 
-def test_the_harmonic_work_table_the_cost_model_allows_is_the_one_kinoshita_caps():
-    assert cost.unit_costs()["harmonic_block_mb"] * 2**20 == pytest.approx(kinoshita._BLOCK_BYTES, rel=0, abs=0.5)
+def test_the_harmonic_work_table_the_cost_model_allows_is_the_one_harmonics_caps():
+    assert cost.unit_costs()["harmonic_block_mb"] * 2**20 == pytest.approx(harmonics.BLOCK_BYTES, rel=0, abs=0.5)
     assert cost.harmonic_work_mb(10**6, 40_000) == pytest.approx(32.0, rel=1e-12)
     assert cost.harmonic_work_mb(100, 10) < 0.1
 

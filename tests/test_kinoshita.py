@@ -11,11 +11,11 @@ from ephem.errors import InvalidInputError, NotApplicableError
 from ephem.geometry import unit_vector
 from ephem.hansen import hansen_exact
 from ephem.kepler import solve_kepler, true_anomaly
-from ephem.kinoshita import (eccentricity_factor, evaluate_harmonics, evaluate_harmonics_uniform, mean_pole,
-                             nutation_coefficients, nutation_series, pole_displacement_sum, pole_displacements,
-                             precession_rate)
+from ephem.kinoshita import (eccentricity_factor, mean_pole, nutation_coefficients, nutation_series,
+                             pole_displacement_sum, pole_displacements, precession_rate)
 from ephem.model import build_model
 from ephem.numerical import angular_separation, integrate_spin_axis
+from tests.test_harmonics import direct_sums, rounding_bound
 
 YEAR = JULIAN_YEAR_DAYS
 
@@ -51,11 +51,11 @@ def test_circular_orbit_limit():
     m = np.linspace(0, 2 * np.pi, 17)
     dpsi, deps = s.evaluate(m)
     lam = m + theta
-    # rounding: the evaluator's (_rounding_bound: 1.7e-17 here) plus the reference's argument 2λ <= 13.4 rad,
+    # rounding: the evaluator's (rounding_bound: 1.7e-17 here) plus the reference's argument 2λ <= 13.4 rad,
     # rounded to ulp(13.4) = 1.8e-15 (twice), times the amplitude K/4n; measured 2e-18. (An atol alone
     # left np.allclose's default rtol = 1e-5, i.e. 2.5e-8, in force.)
     amp = K / (4 * n)
-    tol = _rounding_bound(s._sin_coef, s._cos_coef) + amp * 2 * np.spacing(2 * lam.max())
+    tol = rounding_bound(s._sin_coef, s._cos_coef) + amp * 2 * np.spacing(2 * lam.max())
     assert np.allclose(dpsi, -amp * math.cos(eps) * np.sin(2 * lam), rtol=0, atol=tol)
     assert np.allclose(deps, amp * math.sin(eps) * np.cos(2 * lam), rtol=0, atol=tol)
     assert precession_rate(K, eps, 0.0) == pytest.approx(0.5 * K * math.cos(eps))
@@ -69,48 +69,6 @@ def test_semiannual_signs_match_the_iau_1980_solar_term():
     assert dpsi[0] < 0
     dpsi, deps = s.evaluate(np.array([0.0]))                  # 2λ = 0: cos = 1
     assert deps[0] > 0
-
-
-def _rounding_bound(sin_c, cos_c):
-    """Worst-case rounding of the three-term recurrence for O(1) coefficients: each of the
-    kmax harmonics carries up to ~kmax ulps, summed over the coefficients' magnitudes."""
-    kmax = sin_c.shape[0]
-    return 4.0 * kmax**2 * np.finfo(float).eps * (np.abs(sin_c).sum() + np.abs(cos_c).sum())
-
-
-def _direct_sums(x, sin_c, cos_c):
-    """Reference sums, one sin/cos per harmonic in long double (k x reaches ~1e3 rad, where
-    float64 products alone would carry ~1e-13 of rounding)."""
-    x = np.asarray(x, dtype=np.longdouble)
-    k = np.arange(1, sin_c.shape[0] + 1, dtype=np.longdouble)[:, None]
-    kx = k * x
-    return (np.sin(kx).T @ sin_c.astype(np.longdouble) + np.cos(kx).T @ cos_c.astype(np.longdouble)).astype(float)
-
-
-@pytest.mark.parametrize("kmax", [1, 2, 6, 12, 16, 17, 30])
-def test_harmonic_evaluator_matches_direct_sums(kmax):
-    # kmax <= 16 uses the power basis of cos x, above it the three-term recurrence
-    rng = np.random.default_rng(kmax)
-    sin_c = rng.normal(size=(kmax, 2))
-    cos_c = rng.normal(size=(kmax, 2))
-    x = rng.uniform(-50, 50, size=70001)  # more than one block
-    got = evaluate_harmonics(x, np.arange(1, kmax + 1), sin_c, cos_c)
-    direct = _direct_sums(x, sin_c, cos_c)
-    for j in range(2):
-        assert np.max(np.abs(got[j] - direct[:, j])) < _rounding_bound(sin_c, cos_c)
-
-
-@pytest.mark.parametrize("kmax, count", [(6, 1), (12, 20000), (30, 9000)])
-def test_uniform_grid_evaluator_matches_direct_sums(kmax, count):
-    rng = np.random.default_rng(kmax)
-    sin_c = rng.normal(size=(kmax, 2))
-    cos_c = rng.normal(size=(kmax, 2))
-    x0, dx = 2.345678, 0.0173
-    got = evaluate_harmonics_uniform(x0, dx, count, np.arange(1, kmax + 1), sin_c, cos_c)
-    x = np.longdouble(x0) + np.longdouble(dx) * np.arange(count, dtype=np.longdouble)
-    direct = _direct_sums(x, sin_c, cos_c)
-    for j in range(2):
-        assert np.max(np.abs(got[j] - direct[:, j])) < _rounding_bound(sin_c, cos_c)
 
 
 @pytest.mark.parametrize("e", [0.09, 0.28, 0.6])
@@ -127,7 +85,7 @@ def test_evaluator_on_physical_series_is_accurate_to_rounding(e):
     k = np.arange(1, sin_c.shape[0] + 1)[:, None]
     phase = (k * (np.abs(sin_c) + np.abs(cos_c))).sum() * 4 * np.spacing(30.0)
     x = np.linspace(-30, 30, 20001)
-    ref = _direct_sums(x, sin_c, cos_c)
+    ref = direct_sums(x, sin_c, cos_c)
     got = s.evaluate(x)
     grid = s.evaluate_uniform(-30.0, 60.0 / 20000, 20001)
     for j in range(2):

@@ -17,8 +17,8 @@ ROOT = Path(__file__).resolve().parents[1]
 #: lowest first; a module may import from its own layer or below (docs/architecture.md)
 LAYERS = {
     "foundation": ("constants", "errors", "budget", "units", "timeparse"),
-    "orbit, geometry and data": ("kepler", "geometry", "catalogue", "hansen", "cost", "andoyer", "euler_poinsot",
-                                 "lie_series"),
+    "orbit, geometry and data": ("kepler", "geometry", "catalogue", "hansen", "harmonics", "cost", "andoyer",
+                                 "euler_poinsot", "polynomials", "deprit", "lie_series"),
     "theories": ("kinoshita", "model", "second_order", "numerical", "ephemeris", "lunisolar", "nonrigid",
                  "free_motion", "rigid"),
     "accuracy": ("theory", "physics_errors", "ladder", "earth", "uncertainty", "registry"),

@@ -10,10 +10,8 @@ import csv
 import dataclasses
 import itertools
 import math
-import random
 import re
 import tomllib
-from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -22,20 +20,17 @@ from scipy.spatial.transform import Rotation
 
 from ephem.catalogue import data_dir, get_body
 from ephem.lie_series import (
-    GaussianPoly,
     Lara2014Series,
     Lara2014Tables,
     SamNormalForm,
     SamParameters,
     SamSeriesSolution,
-    beta_poly,
     body_to_action_angle,
     body_to_poincare,
-    deprit_transform,
-    parse_polynomial,
     poincare_to_body,
     sam_normal_form,
 )
+from ephem.polynomials import beta_poly, parse_polynomial
 
 LARA = data_dir() / "lara"
 ORDER = 16  # high enough for the g_{6,3} erratum to stand out of the truncation error; ~1.5 s
@@ -249,88 +244,6 @@ def test_normal_form_has_only_kernel_terms_and_generator_none(nf):
         kernel, _ = nf.w[n].split_kernel()
         assert kernel.is_zero()                             # no (uU)^j in w_n
         assert nf.s(n) * parse_polynomial("b*(u**2 + U**2)") == nf.w[n]   # L18 eq. 32's factor
-
-
-def _series_mul(a, b, order):
-    return [sum((a[i] * b[n - i] for i in range(n + 1)), GaussianPoly()) for n in range(order + 1)]
-
-
-def _plain_series(seed: GaussianPoly, xi, order):
-    """[seed, ξ₁/1!, ξ₂/2!, ...]: the transformation as a plain power series in ε."""
-    return [seed] + [xi[n - 1].scale(Fraction(1, math.factorial(n))) for n in range(1, order + 1)]
-
-
-def test_normal_form_by_composition():
-    # h₀(u, U) + ε h₁(u, U) with u, U the transformation series = Σ εⁿ/n! K_n + O(ε^{N+1})
-    order = 6
-    nf = sam_normal_form(ORDER)
-    u = _plain_series(GaussianPoly.monomial(1, 0), nf.transformation("u"), order)
-    U = _plain_series(GaussianPoly.monomial(0, 1), nf.transformation("U"), order)
-    uU = _series_mul(u, U, order)
-    u2U2 = _series_mul(uU, uU, order)
-    u3U = _series_mul(uU, _series_mul(u, u, order), order)
-    uU3 = _series_mul(uU, _series_mul(U, U, order), order)
-    for n in range(order + 1):
-        value = uU[n].scale((0, -1))
-        if n >= 1:
-            value = value + u2U2[n - 1].scale(Fraction(1, 2)) + (u3U[n - 1] - uU3[n - 1]) * parse_polynomial("-i*b/4")
-        assert value == nf.K[n].scale(Fraction(1, math.factorial(n))), n
-
-
-def test_transformation_is_canonical_to_the_truncation_order(nf):
-    # {u, U} in the new variables = 1 + O(ε^{N+1})
-    order = 8
-    u = _plain_series(GaussianPoly.monomial(1, 0), nf.transformation("u"), order)
-    U = _plain_series(GaussianPoly.monomial(0, 1), nf.transformation("U"), order)
-    for n in range(order + 1):
-        total = sum((u[i].bracket(U[n - i]) for i in range(n + 1)), GaussianPoly())
-        assert total == (GaussianPoly.constant(1) if n == 0 else GaussianPoly()), n
-
-
-def test_triangle_on_functions_commutes_with_products(nf):
-    # the Lie transform of L = −iuU is −i (transform of u)(transform of U)
-    order = 8
-    u = _plain_series(GaussianPoly.monomial(1, 0), nf.transformation("u"), order)
-    U = _plain_series(GaussianPoly.monomial(0, 1), nf.transformation("U"), order)
-    L = _plain_series(GaussianPoly.monomial(1, 1, 0, (0, -1)), nf.transformation("L"), order)
-    assert [x.scale((0, -1)) for x in _series_mul(u, U, order)] == L
-
-
-def test_angle_seed_matches_the_bracket_of_ell():
-    # {ℓ; w} from e^{2iℓ} = iU/u: for w = u^j U^k it is −(j + k)/(2i) u^{j−1}U^{k−1}, worked by hand
-    # here for one w; the ℓ-series as a whole is checked against the integrated motion below
-    w = parse_polynomial("3*u**3*U - 2*i*b*u*U**5")
-    nf = sam_normal_form(ORDER)
-    seeded = deprit_transform(lambda m: w.euler_operator_over_uU().scale((0, Fraction(1, 2))), [None, w], 1)[0]
-    assert seeded == parse_polynomial("(i/2)*(12*u**2 - 12*i*b*U**4)")
-    assert nf.transformation("ell")[0] == nf.w[1].euler_operator_over_uU().scale((0, Fraction(1, 2)))
-
-
-def _random_poly(rng: random.Random, terms: int = 5) -> GaussianPoly:
-    return GaussianPoly({(rng.randrange(4), rng.randrange(4), rng.randrange(3)):
-                         (Fraction(rng.randrange(-9, 10), rng.randrange(1, 6)), Fraction(rng.randrange(-9, 10), 7))
-                         for _ in range(terms)})
-
-
-def test_poisson_bracket_algebra():
-    rng = random.Random(2018)
-    for _ in range(20):
-        f, g, h = (_random_poly(rng) for _ in range(3))
-        assert f.bracket(g) == -g.bracket(f)
-        assert f.bracket(g * h) == f.bracket(g) * h + g * f.bracket(h)               # Leibniz
-        jacobi = f.bracket(g.bracket(h)) + g.bracket(h.bracket(f)) + h.bracket(f.bracket(g))
-        assert jacobi.is_zero()
-    assert GaussianPoly.monomial(1, 0).bracket(GaussianPoly.monomial(0, 1)) == 1  # {u; U} = 1
-
-
-def test_parse_polynomial_and_exact_arithmetic():
-    p = parse_polynomial("i/64*(24*i*(b**2 + 2)*u*U)")
-    assert p.terms() == {(1, 1, 2): (Fraction(-3, 8), 0), (1, 1, 0): (Fraction(-3, 4), 0)}
-    assert parse_polynomial("(u + U)**2 - u**2 - U**2") == parse_polynomial("2*u*U")
-    with pytest.raises(ValueError):
-        parse_polynomial("u/U")
-    with pytest.raises(ValueError):
-        parse_polynomial("u**b")
 
 
 def test_cost_is_recorded_per_order(nf):
