@@ -439,3 +439,178 @@ def test_bad_inputs_name_the_field(kwargs, field):
     with pytest.raises(InvalidInputError) as info:
         L.earth_lunisolar(**kwargs)
     assert info.value.field == field
+
+
+# ----------------------------------------------------------------------------- evaluation (TermProducts)
+#
+# nutation_at evaluates each term's e^{iφ} as a product of powers of e^{i a_j} (ephem.lunisolar.TermProducts)
+# instead of sin and cos of φ = k · a. Checked here against two independent routes written from the series'
+# coefficients: the direct float64 sum (the evaluation used before, verbatim) and the same sum in long double
+# (64-bit mantissa), within the rounding budget TermProducts states.
+
+WINDOW = (2415020.5, 2488069.5)            # 1900-01-01 .. 2100-01-01 TDB: the served track's window
+U = 2.0**-53
+
+
+def _direct_sum(series, jd):
+    """The direct route: sin and cos of every term's argument (ephem/lunisolar.py before TermProducts)."""
+    a, t = L.delaunay_arguments(jd), L.centuries(jd)
+    phase = a @ series.multipliers.T.astype(float)
+    s, c = np.sin(phase), np.cos(phase)
+    k, r = series.coefficients, series.rates
+    return ((s @ k[:, 0] + c @ k[:, 1] + t * (s @ r[:, 0] + c @ r[:, 1])) * MAS,
+            (s @ k[:, 2] + c @ k[:, 3] + t * (s @ r[:, 2] + c @ r[:, 3])) * MAS)
+
+
+def _long_double_sum(series, jd):
+    """The same sum in long double from the same (float64) Delaunay arguments: error ~2^-64, not 2^-53."""
+    ld = np.longdouble
+    a, t = L.delaunay_arguments(jd).astype(ld), L.centuries(jd).astype(ld)
+    phase = a @ series.multipliers.T.astype(ld)
+    s, c = np.sin(phase), np.cos(phase)
+    k, r = series.coefficients.astype(ld), series.rates.astype(ld)
+    return ((s @ k[:, 0] + c @ k[:, 1] + t * (s @ r[:, 0] + c @ r[:, 1])) * ld(MAS),
+            (s @ k[:, 2] + c @ k[:, 3] + t * (s @ r[:, 2] + c @ r[:, 3])) * ld(MAS))
+
+
+def _budget(series, jd, per_norm, per_term_count, constant):
+    """u Σ_n (|S_n + Ṡ_n T| + |C_n + Ċ_n T|) (per_norm |k_n|₁ + constant + per_term_count n), radians, for Δψ
+    and Δε at each epoch: the form of the bound in TermProducts' docstring (4, 2, 12 there; the direct
+    route's 36, 3, 17)."""
+    t = L.centuries(jd)[:, None]
+    k, r = series.coefficients, series.rates
+    n = k.shape[0]
+    factor = per_norm * np.abs(series.multipliers).sum(axis=1) + constant + per_term_count * n
+    w_psi = np.abs(k[:, 0] + r[:, 0] * t) + np.abs(k[:, 1] + r[:, 1] * t)
+    w_eps = np.abs(k[:, 2] + r[:, 2] * t) + np.abs(k[:, 3] + r[:, 3] * t)
+    return U * MAS * (w_psi @ factor), U * MAS * (w_eps @ factor)
+
+
+def _new_budget(series, jd):
+    return _budget(series, jd, 4, 2, 12)
+
+
+def _old_budget(series, jd):
+    return _budget(series, jd, 36, 3, 17)
+
+
+def _epochs(series, seed=2024):
+    """Random epochs over 1900-2100, an even grid across several blocks (not a multiple of the block), the
+    window's ends and J2000, and fine even grids (0.2 d) at both ends."""
+    rng = np.random.default_rng(seed)
+    block = series._plan.block
+    return np.concatenate([
+        rng.uniform(*WINDOW, 3000),
+        np.linspace(*WINDOW, 3 * block + 17),
+        np.array([WINDOW[0], WINDOW[1], J2000]),
+        WINDOW[0] + 0.2 * np.arange(500),
+        WINDOW[1] - 0.2 * np.arange(500),
+    ])
+
+
+@pytest.fixture(scope="module")
+def fine():
+    """A 0.001 mas cut: 400+ terms, multipliers up to 6, several blocks of the smaller block size."""
+    return L.earth_lunisolar(hd="iers2010", cut_mas=0.001)
+
+
+@pytest.mark.parametrize("which", ["rigid", "rigid_l", "fine", "served"])
+def test_term_products_equal_the_direct_sum(which, request):
+    series = L.earth_lunisolar() if which == "served" else request.getfixturevalue(which)
+    jd = _epochs(series)
+    new, old = series.nutation_at(jd), _direct_sum(series, jd)
+    for got, ref, b_new, b_old in zip(new, old, _new_budget(series, jd), _old_budget(series, jd)):
+        assert np.all(np.abs(got - ref) <= b_new + b_old)
+        # what the budget means in practice: ~1e-17 rad (2e-12 mas) for the served series
+        assert np.abs(got - ref).max() < 1e-16
+    if which == "served":
+        # the budget of the docstring, and what is measured: ~1e-19 rad
+        assert max(b.max() for b in _new_budget(series, jd)) < 5e-18
+
+
+@pytest.mark.skipif(np.finfo(np.longdouble).eps > 1e-18, reason="long double is no wider than double here")
+@pytest.mark.parametrize("which", ["rigid", "rigid_l", "fine"])
+def test_term_products_within_their_budget_of_a_long_double_sum(which, request):
+    series = request.getfixturevalue(which)
+    jd = _epochs(series, seed=7)
+    ref = _long_double_sum(series, jd)
+    # the reference's own rounding: the direct route's budget at long double's unit roundoff
+    ref_err = [b * (np.finfo(np.longdouble).eps / 2 / U) for b in _old_budget(series, jd)]
+    for got, exact, budget, slack in zip(series.nutation_at(jd), ref, _new_budget(series, jd), ref_err):
+        err = np.abs(got.astype(np.longdouble) - exact)
+        assert np.all(err <= budget + slack)
+        assert float(err.max()) < 1e-18                 # measured ~1e-19 rad: the budget is ~20x above
+    for got, exact, budget, slack in zip(_direct_sum(series, jd), ref, _old_budget(series, jd), ref_err):
+        assert np.all(np.abs(got.astype(np.longdouble) - exact) <= budget + slack)   # the old route's own bound
+
+
+def test_term_products_carry_the_poisson_terms(rigid):
+    # at the window's ends |T| = 1: the rate terms move Δψ by up to ~17 mas there, and are evaluated as exactly
+    # as the rest. A series of its rates alone checks them apart from the constant coefficients.
+    from dataclasses import replace
+
+    jd = np.concatenate([np.linspace(WINDOW[0], WINDOW[0] + 30.0, 301), np.linspace(WINDOW[1] - 30.0, WINDOW[1], 301)])
+    static = replace(rigid, rates=np.zeros_like(rigid.rates))
+    rates_only = replace(rigid, coefficients=np.zeros_like(rigid.coefficients))
+    assert np.abs(rigid.nutation_at(jd)[0] - static.nutation_at(jd)[0]).max() / MAS > 5.0
+    for series in (rates_only, static):
+        new, old = series.nutation_at(jd), _direct_sum(series, jd)
+        for got, ref, b_new, b_old in zip(new, old, _new_budget(series, jd), _old_budget(series, jd)):
+            assert np.all(np.abs(got - ref) <= b_new + b_old)
+    total = rigid.nutation_at(jd)
+    for whole, part_a, part_b in zip(total, static.nutation_at(jd), rates_only.nutation_at(jd)):
+        assert np.abs(whole - (part_a + part_b)).max() < 1e-16
+
+
+def test_nutation_from_arguments_any_arguments_and_shapes(rigid):
+    # unreduced and negative arguments, T broadcast against them: the same as the direct formula
+    rng = np.random.default_rng(3)
+    args = rng.uniform(-30.0, 30.0, (3, 4, 5))
+    t = rng.uniform(-1.0, 1.0, (3, 4))
+    dpsi, deps = rigid.nutation_from_arguments(args, t)
+    assert dpsi.shape == deps.shape == (3, 4)
+    phase = args @ rigid.multipliers.T.astype(float)
+    s, c = np.sin(phase), np.cos(phase)
+    k, r = rigid.coefficients, rigid.rates
+    ref_psi = (s @ k[:, 0] + c @ k[:, 1] + t * (s @ r[:, 0] + c @ r[:, 1])) * MAS
+    ref_eps = (s @ k[:, 2] + c @ k[:, 3] + t * (s @ r[:, 2] + c @ r[:, 3])) * MAS
+    # the direct route's phase rounds by ~|k·a| u (|a| up to 30 rad here): still ~1e-16 relative
+    assert np.abs(dpsi - ref_psi).max() < 1e-15 and np.abs(deps - ref_eps).max() < 1e-15
+    one = rigid.nutation_from_arguments(args[1, 2], t[1, 2])
+    assert np.shape(one[0]) == () and float(one[0]) == pytest.approx(dpsi[1, 2], abs=1e-18)
+    at_t = rigid.nutation_from_arguments(args[0], 0.5)          # a scalar T
+    assert at_t[0].shape == (4,)
+
+
+def test_term_products_plan_and_edge_cases(rigid):
+    plan = rigid._plan
+    # the served tree: fewer products than one per term and argument; every term a row of the last level
+    assert sum(level[1].size for level in plan.levels) < 2 * len(rigid.multipliers)
+    assert plan.weights.shape == (8, len(rigid.multipliers))
+    assert 64 <= plan.block <= 2048
+    # the Sun alone uses only some arguments (no l, and F, D, Ω through F - D + Ω): a shorter tree
+    sun = L.earth_lunisolar(perturbers=("sun",), cut_mas=0.0)
+    jd = np.linspace(*WINDOW, 1001)
+    for got, ref in zip(sun.nutation_at(jd), _direct_sum(sun, jd)):
+        assert np.abs(got - ref).max() < 1e-16
+    # one argument only (the tree is the power table), and a multiplier vector given twice (its terms add up)
+    from dataclasses import replace
+
+    one_arg = replace(rigid, multipliers=np.array([[0, 0, 0, 0, 1], [0, 0, 0, 0, -2], [0, 0, 0, 0, 1]]),
+                      coefficients=rigid.coefficients[:3], rates=rigid.rates[:3])
+    for got, ref in zip(one_arg.nutation_at(jd), _direct_sum(one_arg, jd)):
+        assert np.abs(got - ref).max() < 1e-16
+    # no terms at all: zeros of the epochs' shape
+    empty = L.earth_lunisolar(cut_mas=1e9)
+    assert empty.multipliers.shape[0] == 0
+    z = empty.nutation_at(np.full((2, 3), J2000))
+    assert z[0].shape == (2, 3) and not np.any(z[0]) and not np.any(z[1])
+    assert empty.nutation_at(np.array([]))[0].shape == (0,)
+
+
+def test_nutation_at_checkpoints_every_block(rigid, monkeypatch):
+    calls = []
+    monkeypatch.setattr(L, "checkpoint", lambda: calls.append(1))
+    block = rigid._plan.block
+    rigid.nutation_at(np.linspace(*WINDOW, 2 * block + 1))
+    assert len(calls) == 3
