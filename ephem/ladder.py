@@ -186,14 +186,14 @@ def secular_track(model: PrecessionNutation, jd_tdb) -> Track:
     t = np.asarray(jd_tdb, dtype=float)
     zero = np.zeros(t.shape)
     psi = model.precession_rate * (t - model.pole_epoch)
-    return model._track(t, psi, zero, zero, np.full(t.shape, model.obliquity))
+    return model.track_from_angles(t, psi, zero, zero, np.full(t.shape, model.obliquity))
 
 
 def second_order_track(model: PrecessionNutation, theory: SecondOrderTheory, jd_tdb) -> Track:
     """Rung 4: ψ, ε from the second-order theory, in the frame of the orbit and mean equinox at t0."""
     t = np.asarray(jd_tdb, dtype=float)
     psi, dpsi, deps, eps = theory.angles(model.mean_anomaly(t), t)
-    return model._track(t, psi, dpsi, deps, eps)
+    return model.track_from_angles(t, psi, dpsi, deps, eps)
 
 
 def track_from_vectors(model: PrecessionNutation, theory: SecondOrderTheory, jd_tdb, pole_icrf) -> Track:

@@ -126,7 +126,7 @@ class PrecessionNutation:
     def track(self, jd_tdb) -> Track:
         """Track at any epochs (JD TDB)."""
         t = np.asarray(jd_tdb, dtype=float)
-        return self._track(t, *self.angles(t))
+        return self.track_from_angles(t, *self.angles(t))
 
     def track_grid(self, jd_start: float, step_days: float, count: int) -> Track:
         """Track on an evenly spaced grid: the same numbers as :meth:`track`, faster.
@@ -138,7 +138,7 @@ class PrecessionNutation:
         """
         t, psi, dpsi, deps, eps = self.angles_grid(jd_start, step_days, count)
         if count == 0 or max(np.max(np.abs(dpsi)), np.max(np.abs(deps))) > MAX_SHIFT:
-            return self._track(t, psi, dpsi, deps, eps)
+            return self.track_from_angles(t, psi, dpsi, deps, eps)
         ra = np.empty(count)
         dec = np.empty(count)
         psi_start = self.precession_rate * (jd_start - self.pole_epoch)
@@ -150,7 +150,9 @@ class PrecessionNutation:
             self._pole_into(sin_eps * sin_psi, sin_eps * cos_psi, cos_eps, ra[sl], dec[sl])
         return Track(t, psi, dpsi, deps, eps, ra, dec)
 
-    def _track(self, t, psi, dpsi, deps, eps) -> Track:
+    def track_from_angles(self, t, psi, dpsi, deps, eps) -> Track:
+        """The track whose angles (radians) at the epochs ``t`` are given (any theory's ψ, Δψ, Δε, ε in this
+        model's orbit frame), with the pole's RA and Dec."""
         ra = np.empty(t.shape)
         dec = np.empty(t.shape)
         se = np.sin(eps)
