@@ -45,18 +45,20 @@ from functools import lru_cache
 
 import numpy as np
 
+from . import cost
+from .budget import Cost, charge
 from .catalogue import Body, is_earth
 from .constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS, MAS
 from .constants import JULIAN_CENTURY_DAYS as DAYS_PER_CENTURY
 from .errors import InvalidInputError, NotApplicableError
+from .free_motion import add_free_wobble, free_wobble_bound, wobble_model_bound
 from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from .kinoshita import mean_pole, pole_displacement_sum, pole_displacements
-from .lunisolar import delaunay_arguments, delaunay_rates, term_amplitudes
-from . import cost
-from .budget import Cost, charge
-from .ladder import model_info
+from .ladder import ROUNDING, model_info, pole_vectors, with_free_wobble
+from .lunisolar import (delaunay_arguments, delaunay_rates, earth_lunisolar, lunisolar_data, obliquity_arcsec,
+                        term_amplitudes)
 from .model import Track, cached_model, model_for
-from .theory import Estimate, SpinAxisTheory, Spectrum, rate_values, selection_info
+from .theory import Estimate, SpinAxisTheory, Spectrum, cheapest_within, rate_values, selection_info
 from .uncertainty import SCALAR_KEYS
 from .units import in_unit
 
@@ -101,8 +103,6 @@ AXIS_ASSUMPTIONS = {
 
 
 def _data() -> dict:
-    from .lunisolar import lunisolar_data
-
     return lunisolar_data()
 
 
@@ -167,8 +167,6 @@ def check_earth(body: Body) -> None:
 def lunisolar_earth(body: Body, axis: str = "figure", cut_mas: float = TRACK_CUT_MAS,
                     perturbers: tuple[str, ...] = ("Moon", "Sun")) -> LunisolarEarth:
     """The lunisolar model of the Earth ``body`` (its H_d, spin rate, pole and orbit)."""
-    from .lunisolar import earth_lunisolar, obliquity_arcsec
-
     check_earth(body)
     series = earth_lunisolar(cut_mas=cut_mas, perturbers=_lower(perturbers), hd=float(body.hd), axis=axis,
                              spin_rate=body.spin_rate_rad_per_day)
@@ -224,8 +222,6 @@ def _residual_at_pole_epoch(model: LunisolarEarth) -> float:
 @lru_cache(maxsize=64)
 def _oppolzer_sum(model: LunisolarEarth) -> float:
     """Σ_k of the pole displacement between the figure-axis and angular-momentum series (radians)."""
-    from .lunisolar import earth_lunisolar
-
     kw = dict(cut_mas=model.series.cut_mas, perturbers=model.series.perturbers, hd=model.hd,
               spin_rate=model.spin_rate)
     fig, mom = earth_lunisolar(axis="figure", **kw), earth_lunisolar(axis="angular_momentum", **kw)
@@ -244,7 +240,7 @@ def window() -> tuple[float, float]:
 
 def unavailable(model: LunisolarEarth, jd_tdb: np.ndarray) -> str | None:
     """Why the track cannot be served with an estimate at these epochs, or None."""
-    from .ephemeris import tdb_date
+    from .ephemeris import tdb_date          # skyfield and the DE421 kernel: loaded only for this message
 
     lo, hi = window()
     t = np.asarray(jd_tdb, dtype=float)
@@ -263,8 +259,7 @@ def unavailable(model: LunisolarEarth, jd_tdb: np.ndarray) -> str | None:
 def estimate_terms(model: LunisolarEarth, jd_tdb) -> dict:
     """The named error terms (radians) of the track at the epochs: see the module docstring. Raises
     :class:`NotApplicableError` outside the window the residual was measured over."""
-    from .ladder import ROUNDING, cached_model
-    from .rigid import averaging_error_terms, normalised_moments
+    from .rigid import averaging_error_terms, normalised_moments   # scipy's integrators: on first estimate only
 
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     why = unavailable(model, t)
@@ -307,9 +302,6 @@ def estimate_terms(model: LunisolarEarth, jd_tdb) -> dict:
 def estimates(model: LunisolarEarth, jd_tdb, wobble=None) -> list:
     """The lunisolar rung's estimates (:class:`ephem.ladder.Estimate`): without the free wobble and, for the
     figure axis with a wobble phase, with it."""
-    from .free_motion import free_wobble_bound, wobble_model_bound
-    from .ladder import ROUNDING, Estimate, pole_vectors
-
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     terms = estimate_terms(model, t)
     unestimated = () if model.body.moments is not None else ("rotation_averaging",)
@@ -327,24 +319,17 @@ def estimates(model: LunisolarEarth, jd_tdb, wobble=None) -> list:
 
 
 def pole_at(model: LunisolarEarth, jd_tdb: float) -> np.ndarray:
-    from .ladder import pole_vectors
-
     return pole_vectors(model.track(np.array([float(jd_tdb)])))[0]
 
 
 def choose(model: LunisolarEarth, candidates: list, tolerance: float, wobble=None):
     """The cheapest candidate within ``tolerance`` (radians), else :class:`NotApplicableError` naming the best
     (:func:`ephem.ladder.cheapest_within`)."""
-    from .ladder import cheapest_within
-
     return cheapest_within(candidates, tolerance, model.body.name, wobble is not None)
 
 
 def add_wobble(model: LunisolarEarth, track: Track, wobble) -> Track:
     """The figure axis: the forced track with the free wobble added about it (:mod:`ephem.free_motion`)."""
-    from .free_motion import add_free_wobble
-    from .ladder import pole_vectors, with_free_wobble
-
     figure = add_free_wobble(model.body, wobble, track.jd_tdb, pole_vectors(track), pole_at(model, wobble.epoch_jd_tdb))
     return with_free_wobble(model, track, figure)
 
