@@ -23,7 +23,7 @@ LAYERS = {
                  "free_motion", "rigid"),
     "accuracy": ("theory", "physics_errors", "ladder", "earth", "uncertainty", "registry"),
     "answers": ("api",),
-    "exports and CLI": ("tables", "pck", "plots", "cli"),
+    "exports and CLI": ("tables", "pck_fit", "pck_text", "pck", "plots", "cli"),
 }
 LEVEL = {module: level for level, modules in enumerate(LAYERS.values()) for module in modules}
 
