@@ -449,10 +449,11 @@ class LunisolarTheory(SpinAxisTheory):
         return candidates[-1] if self.wobble is not None else candidates[0]
 
     def track(self, est, model, order, t0, step, count) -> Track:
-        tr = self.model.track(self.grid(t0, step, count))
-        if est is not None and est.free_wobble:
-            tr = add_wobble(self.model, tr, self.wobble)
-        return tr
+        return self.track_at(model, order, self.grid(t0, step, count), est is not None and est.free_wobble)
+
+    def track_at(self, model, order, jd_tdb, free_wobble=False) -> Track:
+        tr = self.model.track(np.asarray(jd_tdb, dtype=float))
+        return add_wobble(self.model, tr, self.wobble) if free_wobble else tr
 
     def describe(self, est, model, order, with_wobble) -> dict:
         info = describe_model(self.body, self.perturbers, self.model)

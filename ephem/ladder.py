@@ -574,6 +574,9 @@ class SunLadder(SpinAxisTheory):
             tr = self.ladder.add_wobble(tr)
         return tr
 
+    def track_at(self, model, order, jd_tdb, free_wobble=False) -> Track:
+        return self.ladder.track(model or self.default_model(order), jd_tdb, order, free_wobble)
+
     def describe(self, est, model, order, with_wobble) -> dict:
         info = model_info(cached_model(self.body, order), self.body)
         info["assumptions"] = [AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else self.axis]] + ASSUMPTIONS[1:] \

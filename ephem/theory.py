@@ -218,6 +218,11 @@ class SpinAxisTheory(ABC):
         ``est`` says so (``est`` None: added whenever the request gave its phase)."""
 
     @abstractmethod
+    def track_at(self, model: str | None, order: int | None, jd_tdb, free_wobble: bool = False) -> Track:
+        """The track of ``model`` (None: the default) at any epochs (JD TDB); with ``free_wobble``, the figure
+        axis with the request's wobble added."""
+
+    @abstractmethod
     def describe(self, est: Estimate | None, model: str, order: int | None, with_wobble: bool) -> dict:
         """The answer's ``model`` object before the selection is added: theory, assumptions, warnings, the
         spin-orbit ratio and epochs."""
