@@ -227,22 +227,3 @@ def test_falls_below_interpolates_log_log():
     assert ab.falls_below([1.0, 10.0], [1.0, 0.5], 0.1) == math.inf
     # the last time it is above counts, not the first time it is below
     assert ab.falls_below([1.0, 2.0, 3.0, 4.0], [1.0, 0.05, 0.2, 0.01], 0.1) > 3.0
-
-
-def test_the_command_runs_every_task(monkeypatch, tmp_path):
-    # `python -m studies.accuracy [--out DIR] [--quick]` (the former `ephem bench accuracy`)
-    from pathlib import Path
-
-    from typer.testing import CliRunner
-
-    ran = []
-    monkeypatch.setattr(ab, "tasks", lambda out, quick=False: [(f"job{i}", lambda i=i: ran.append((i, out, quick)))
-                                                               for i in range(3)])
-    res = CliRunner().invoke(ab.app, ["--out", str(tmp_path), "--quick"])
-    assert res.exit_code == 0, res.output
-    assert ran == [(i, tmp_path, True) for i in range(3)] and "wrote 3 charts" in res.output
-    assert "docs/accuracy.md" in res.output
-    ran.clear()
-    res = CliRunner().invoke(ab.app, [])
-    assert res.exit_code == 0, res.output
-    assert ran == [(i, Path("docs/charts"), False) for i in range(3)]      # the committed charts, full size

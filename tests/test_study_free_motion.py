@@ -114,22 +114,3 @@ def test_beta_sweep_axisymmetric_is_exact(out_dir):
     assert zero and all(_f(r["error_rad"]) < 1e-13 for r in zero)
     # the triaxial cases below the switch stay well converged at order 8
     assert all(_f(r["error_rad"]) < 1e-8 for r in rows), rows
-
-
-def test_the_command_runs_every_task(monkeypatch, tmp_path):
-    # `python -m studies.free_motion [--out DIR] [--quick]` (the former `ephem bench free-motion`)
-    from pathlib import Path
-
-    from typer.testing import CliRunner
-
-    ran = []
-    monkeypatch.setattr(fb, "tasks", lambda out, quick=False: [(f"job{i}", lambda i=i: ran.append((i, out, quick)))
-                                                               for i in range(2)])
-    res = CliRunner().invoke(fb.app, ["--out", str(tmp_path), "--quick"])
-    assert res.exit_code == 0, res.output
-    assert ran == [(i, tmp_path, True) for i in range(2)] and "wrote 2 charts" in res.output
-    assert "docs/free_motion.md" in res.output
-    ran.clear()
-    res = CliRunner().invoke(fb.app, [])
-    assert res.exit_code == 0, res.output
-    assert ran == [(i, Path("docs/charts"), False) for i in range(2)]
