@@ -4,7 +4,7 @@
   ``pytest -n 2`` (one process per core): a multi-threaded BLAS in each worker oversubscribes the
   cores, and on a many-core host given two CPUs (a container, a CI runner) OpenBLAS starts one
   thread per *host* core in each worker. Measured on two shared cores: the IAU 2000A fit of
-  tests/test_lunisolar.py (a 34786 x 190 least-squares problem) takes 2.8 s with one thread and
+  tests/test_against_erfa.py (a 34786 x 190 least-squares problem) takes 2.8 s with one thread and
   8.1 s with 16, and it grows with the thread count. Single-threaded
   BLAS also fixes the order of its sums. An explicit setting in the environment wins.
 * Hypothesis is derandomized (the same examples on every machine and every run), keeps no example

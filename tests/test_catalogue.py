@@ -1,5 +1,9 @@
-"""Catalogue loading and validation: every value sourced, every bad record named."""
-import math
+"""Catalogue loading and validation: every value sourced, every bad record named.
+
+Values against their sources: the WGCCRE poles (tests/test_against_wgccre.py), the Earth's pole as ERFA's CIP
+(tests/test_against_erfa.py) and its spin rate as the IERS's (tests/test_against_iau2006.py), Lara (2014)'s
+moments (tests/test_against_lara2014.py).
+"""
 import re
 
 import pytest
@@ -103,28 +107,3 @@ def test_bad_records_name_the_body_and_the_field(old, new, field):
 def test_petit_pole_uncertainties_are_carried():
     v = get_body("vesta", "petit2014").values
     assert v["pole.ra"].uncertainty == 0.003 and v["pole.ra"].unit == "deg"
-
-
-def test_current_poles_are_the_wgccre_values():
-    # Archinal et al. (2018) Table 4: Vesta α0 = 309.031, δ0 = 42.235; Ceres 291.418, 66.764
-    assert (get_body("vesta").pole.ra_deg, get_body("vesta").pole.dec_deg) == (309.031, 42.235)
-    assert (get_body("ceres").pole.ra_deg, get_body("ceres").pole.dec_deg) == (291.418, 66.764)
-    # Lara (2014) Table 1 (C = 1): H_d = (C − (A+B)/2)/C by another order of 3 operations, a few ε; 1e-12
-    assert math.isclose(get_body("eros").hd, 1 - (0.229427 + 0.963754) / 2, rel_tol=1e-12)
-
-
-def test_earth_pole_is_the_cip_at_j2000():
-    # the catalogue holds the instantaneous axis: for the Earth, ERFA's IAU 2006/2000A CIP at J2000.0
-    import erfa
-    x, y = erfa.xy06(2451545.0, 0.0)
-    b = get_body("earth")
-    ra, dec = math.radians(b.pole.ra_deg), math.radians(b.pole.dec_deg)
-    assert math.cos(dec) * math.cos(ra) == pytest.approx(x, abs=1e-9)  # 0.2 mas
-    assert math.cos(dec) * math.sin(ra) == pytest.approx(y, abs=1e-9)
-
-
-def test_spin_rate_of_the_earth_is_the_iers_nominal_one():
-    # IERS Conventions (2010), Table 1.1: the Earth's nominal mean angular velocity ω = 7.292115e-5 rad/s,
-    # from the catalogue's sidereal period 23.9344719 h through Body.spin_rate_rad_per_day (rad/day);
-    # the IERS value has 7 digits: agreement to half its last one
-    assert get_body("earth").spin_rate_rad_per_day / 86400.0 == pytest.approx(7.292115e-5, abs=0.5e-11)

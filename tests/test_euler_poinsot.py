@@ -233,8 +233,8 @@ def test_andoyer_hamilton_equations():
 @pytest.mark.parametrize("L0", [[0.3, 0.2, 1.0], [0.3, 0.2, -1.0], [1e-7, -2e-7, 1.0], [0.2, 0.9, 0.6]])
 def test_sadov_variables_along_the_motion(L0):
     """Lara 2018 Appendix: L and G constant, ℓ and g advance uniformly. The fitted rates are n_ℓ = −πp/(2K)
-    (negative: eq. A6 as printed has the opposite sign, see the erratum test) and n_g of eq. A7, which
-    also equals n_μ derived here independently from Andoyer's μ̇ = ∂H/∂M."""
+    (negative: eq. A6 as printed has the opposite sign, see the erratum test in tests/test_against_lara2018.py)
+    and n_g of eq. A7, which also equals n_μ derived here independently from Andoyer's μ̇ = ∂H/∂M."""
     fr = FreeRotation.from_body_momentum(TRIAXIAL, L0)
     t = np.linspace(0.0, 2 * fr.wobble_period, 300)
     _, mu, nu, _, M, N = fr.andoyer(t)
@@ -247,24 +247,6 @@ def test_sadov_variables_along_the_motion(L0):
     assert fit_l[0] == pytest.approx(sv.n_ell[0], rel=1e-12) and sv.n_ell[0] == pytest.approx(-fr.wobble_frequency)
     assert fit_g[0] == pytest.approx(sv.n_g[0], rel=1e-12)
     assert sv.n_g[0] == pytest.approx(fr.precession_frequency, rel=1e-13)
-
-
-def test_erratum_lara2018_eq_a6_sign():
-    # eq. A6 prints n_ℓ = +(M/2A)((C−A)/C)(π/K)√(f/((1+f)(f+m))); along the motion ℓ of eq. A8 decreases
-    A, _B, C = TRIAXIAL
-    fr = FreeRotation.from_body_momentum(TRIAXIAL, [0.3, 0.2, 1.0])
-    k = fr._core
-    f, m, M = k.f, k.m, fr.M
-    printed = M / (2 * A) * (C - A) / C * math.pi / ellipk(m) * math.sqrt(f / ((1 + f) * (f + m)))
-    t = np.linspace(0.0, fr.wobble_period, 100)
-    _, mu, nu, _, MM, N = fr.andoyer(t)
-    sv = sadov_action_angle(mu, nu, MM, N, TRIAXIAL)
-    slope = np.polyfit(t, np.unwrap(sv.ell), 1)[0]
-    assert slope == pytest.approx(-printed, rel=1e-12)        # magnitude right, sign wrong
-    # eq. A7 with the printed (positive) n_ℓ would miss the measured ġ
-    L_over_G = sv.L[0] / M
-    a7_printed = -L_over_G * printed + M / A * (1 - (C - A) / C * f / (f + m))
-    assert abs(a7_printed - fr.precession_frequency) > 0.1 * fr.precession_frequency
 
 
 def test_sadov_transformation_is_canonical():

@@ -1,7 +1,8 @@
 """The free wobble on spin-axis tracks: the figure axis circles the angular momentum.
 
 Checked against the full rigid body (Euler's equations under the solar torque, started with the
-same wobble) and against astropy's position angle, and the ladder's choice against the tolerance.
+same wobble), and the ladder's choice against the tolerance. The phase against astropy's position angle:
+tests/test_against_astropy.py.
 """
 import math
 
@@ -84,16 +85,6 @@ def test_the_track_with_the_wobble_follows_the_full_rigid_body(name, days, phase
     assert np.max(left_out) > 0.5 * free_wobble_bound(get_body(name))
     assert np.max(left_out) <= without["model"]["estimated_error_mas"] * MAS
     assert np.max(error) < 0.2 * np.max(left_out)
-
-
-def test_the_phase_is_the_position_angle_from_north_through_east():
-    ans = api.track("eros", J2000, J2000 + 1.0, 1.0, model="hansen", free_wobble_phase_deg=250.0)
-    momentum = api.track("eros", J2000, J2000 + 1.0, 1.0, model="hansen", axis="angular_momentum")
-    L = SkyCoord(momentum["pole_ra_deg"][0], momentum["pole_dec_deg"][0], unit="deg")
-    f = SkyCoord(ans["pole_ra_deg"][0], ans["pole_dec_deg"][0], unit="deg")
-    assert L.position_angle(f).deg == pytest.approx(250.0, abs=1e-6)
-    # 55" from RA/Dec served in degrees (ulp 5.7e-14°, 2e-10") and astropy's separation: rel 1e-9 = 5.5e-8"
-    assert L.separation(f).arcsec == pytest.approx(55.0, rel=1e-9)
 
 
 def test_the_ladder_adds_the_wobble_only_when_the_tolerance_needs_it():

@@ -1,47 +1,16 @@
-"""Geometry against ERFA, hand-built limit cases and symmetries."""
+"""Geometry (ephem.geometry, ephem.kepler): hand-built limit cases and symmetries.
+
+Against the IERS Conventions and IAU 2006 constants (the frame bias, the obliquity of J2000):
+tests/test_against_iau2006.py; against ERFA's frame bias: tests/test_against_erfa.py.
+"""
 import math
 
-import erfa
 import numpy as np
 import pytest
 
-from ephem.constants import MAS
 from ephem.errors import InvalidInputError
-from ephem.geometry import (icrf_to_ecliptic, icrf_to_ecliptic_matrix, lon_lat, signed_angle, spin_geometry,
-                            unit_vector)
+from ephem.geometry import signed_angle, spin_geometry, unit_vector
 from ephem.kepler import orbit_basis, orbit_normal, solve_kepler, solve_kepler_scalar, true_anomaly
-
-
-def _rotation(axis: int, angle: float) -> np.ndarray:
-    """R_axis(angle) of the IERS Conventions: a rotation of the coordinate axes (positive anticlockwise)."""
-    c, s = math.cos(angle), math.sin(angle)
-    i, j = [(1, 2), (2, 0), (0, 1)][axis - 1]
-    r = np.eye(3)
-    r[i, i] = r[j, j] = c
-    r[i, j], r[j, i] = s, -s
-    return r
-
-
-def test_ecliptic_matrix_is_the_frame_bias_then_the_j2000_obliquity():
-    # independent of ERFA: built from the published constants. Frame bias B = R1(-eta0) R2(xi0) R3(dalpha0)
-    # with xi0 = -16.6170 mas, eta0 = -6.8192 mas, dalpha0 = -14.6 mas (IERS Conventions 2010, eq. 5.21 and
-    # sec. 5.5.4), then the ecliptic of J2000 by R1(eps0), eps0 = 84381.406" (IAU 2006, Capitaine et al. 2003)
-    arcsec = math.pi / 180 / 3600
-    bias = _rotation(1, 6.8192e-3 * arcsec) @ _rotation(2, -16.6170e-3 * arcsec) @ _rotation(3, -14.60e-3 * arcsec)
-    expected = _rotation(1, 84381.406 * arcsec) @ bias
-    # budget: dalpha0 is printed to 0.01 mas (half a unit: 2.4e-11 rad), xi0 and eta0 to 0.1 uas; the
-    # second-order bias products (~1e-14) are inside that (measured: 9.5e-13). 5e-11 rad still catches
-    # a missing frame bias (~1e-7 rad) or the obliquity of date instead of J2000's
-    assert np.max(np.abs(icrf_to_ecliptic_matrix() - expected)) < 5e-11
-    assert np.max(np.abs(_rotation(1, 84381.406 * arcsec) - expected)) > 5e-8     # the bias is resolved
-
-
-def test_icrf_pole_in_ecliptic_is_at_the_j2000_obliquity():
-    # IAU 2006 obliquity at J2000: 84381.406 arcsec (Capitaine et al. 2003), frame bias ~ 20 mas
-    lon, lat = lon_lat(icrf_to_ecliptic(0.0, math.pi / 2))
-    eps0 = 84381.406 / 3600.0
-    assert math.degrees(lat) == pytest.approx(90.0 - eps0, abs=30 * MAS * 180 / math.pi)
-    assert math.degrees(lon) == pytest.approx(90.0, abs=1e-4)
 
 
 def test_orbit_normal_is_angular_momentum_of_the_kepler_motion():
@@ -58,41 +27,6 @@ def test_orbit_normal_is_angular_momentum_of_the_kepler_motion():
     # per component (measured: 0 and 1.4e-17)
     assert np.allclose(orbit_normal(i, node), w, rtol=0, atol=1e-15)
     assert np.allclose(np.cross(p, q), w, rtol=0, atol=1e-15)
-
-
-def test_paper_eq26_sign_slip():
-    """Erratum: Petit et al. eq. 26 prints z = (sin i sin Ω, cos Ω sin i, cos i).
-
-    The orbit normal must be orthogonal to the line of nodes (cos Ω, sin Ω, 0);
-    the printed vector is not (unless sin 2Ω = 0), ours is.
-    """
-    i, node = math.radians(7.14), math.radians(103.7)
-    nodes = np.array([math.cos(node), math.sin(node), 0.0])
-    printed = np.array([math.sin(i) * math.sin(node), math.cos(node) * math.sin(i), math.cos(i)])
-    assert abs(np.dot(printed, nodes)) > 0.02
-    assert abs(np.dot(orbit_normal(i, node), nodes)) < 1e-15   # a 3-term dot product of unit vectors: ≲ 3 ε
-
-
-def test_earth_equinox_and_obliquity():
-    # Earth: spin axis = mean pole of J2000 (the ICRF pole moved by ERFA's frame bias), orbit in
-    # the ecliptic (i = 0): the equinox is +x of the ecliptic (the vernal point) and the obliquity
-    # is the IAU 2006 obliquity at J2000, 84381.406 arcsec.
-    rb, _, _ = erfa.bp06(2451545.0, 0.0)
-    s = icrf_to_ecliptic_matrix() @ rb[2]
-    geo = spin_geometry(s, 0.0, 0.0, math.radians(102.94))
-    assert math.degrees(geo.obliquity) * 3600 == pytest.approx(84381.406, abs=1e-6)
-    assert np.allclose(geo.equinox, [1, 0, 0], rtol=0, atol=1e-12)   # rounding of the bias rotation: ~1e-16
-    # longitude of perihelion 102.94 deg counted from the vernal point, signed
-    assert math.degrees(geo.equinox_to_pericentre) == pytest.approx(102.94, abs=1e-10)
-
-
-def test_icrf_pole_differs_from_the_mean_pole_by_the_frame_bias():
-    # the ICRF pole sits ~17 mas from the J2000 mean pole (IERS Conventions 2010, ξ0 = -16.617 mas,
-    # η0 = -6.819 mas), which moves the equinox along the ecliptic by ξ0 / sin ε0 ≈ 42 mas
-    s = icrf_to_ecliptic(0.0, math.pi / 2)
-    geo = spin_geometry(s, 0.0, 0.0, 0.0)
-    shift_mas = math.degrees(math.atan2(geo.equinox[1], geo.equinox[0])) * 3.6e6
-    assert abs(shift_mas) == pytest.approx(16.617 / math.sin(math.radians(84381.406 / 3600)), rel=0.02)
 
 
 def test_signed_angle_keeps_the_sign_that_arccos_loses():

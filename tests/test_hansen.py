@@ -1,6 +1,7 @@
 """Tests of ephem.hansen: exact (FFT) and series Hansen/Cayley coefficients.
 
-Reference: Petit, Souchay & Lhotka (2014, A&A 565, A79), Eqs. 16-18 and 23-25.
+Reference: Petit, Souchay & Lhotka (2014, A&A 565, A79), Eqs. 16-18 and 23-25; the series against
+their printed coefficients: tests/test_against_petit2014.py.
 Every tolerance below is stated with its reason and was fixed before looking
 at the residuals; observed residuals are quoted for information only.
 """
@@ -28,60 +29,8 @@ def _poly(order: int, terms: dict[int, F]) -> tuple[F, ...]:
 
 
 # ---------------------------------------------------------------------------
-# Published low-order coefficients
+# Series coefficients
 # ---------------------------------------------------------------------------
-
-# Petit et al. (2014), Eqs. 16-18 and 23-25 (as given in the brief).  Every
-# value below agrees exactly with the engine.  Typos found in the (extracted)
-# Eqs. 23-24 of the paper, none of which affects the coefficient values:
-#   * Eq. 23 contains a spurious extra pair "- C' 62/48 e^3 sin5M/5n
-#     - C' 533/16 e^4 sin6M/6n" (no coefficient 62/48 exists; the correct
-#     k = 5 term is 845/48 e^3, which is also printed);
-#   * Eq. 23 prints "S' (7/2 e - 115/6 e^4) cos4M/4n": the k = 4 coefficient
-#     is S2_4 = 17/2 e^2 - 115/6 e^4 (7/2 e belongs to k = 3);
-#   * Eq. 23 divides the k = 2 terms by n instead of 2n (Eq. 24 has 2n);
-#   * Eq. 24 repeats the (17/2 e^2 - 115/6 e^4) term three times with the
-#     arguments 3M and 5M; it belongs once, with 4M / 4n; "S sin 3M" lacks
-#     the prime of S'.
-PUBLISHED = {
-    "c0": {
-        0: {0: F(1), 2: F(3, 2), 4: F(15, 8)},
-        1: {1: F(3), 3: F(27, 8)},
-        2: {2: F(9, 2), 4: F(7, 2)},
-        3: {3: F(53, 8)},
-        4: {4: F(77, 8)},
-        5: {},
-        6: {},
-    },
-    "c2": {
-        0: {},
-        1: {1: F(-1, 2), 3: F(1, 12)},
-        2: {0: F(1), 2: F(-5, 2), 4: F(41, 48)},
-        3: {1: F(7, 2), 3: F(-123, 16)},
-        4: {2: F(17, 2), 4: F(-115, 6)},
-        5: {3: F(845, 48)},
-        6: {4: F(533, 16)},
-    },
-    "s2": {
-        0: {},
-        1: {1: F(-1, 2), 3: F(1, 24)},
-        2: {0: F(1), 2: F(-5, 2), 4: F(37, 48)},
-        3: {1: F(7, 2), 3: F(-123, 16)},   # no e^4 term (parity)
-        4: {2: F(17, 2), 4: F(-115, 6)},
-        5: {3: F(845, 48)},
-        6: {4: F(533, 16)},
-    },
-}
-
-
-@pytest.mark.parametrize("family", ["c0", "c2", "s2"])
-def test_order4_series_equals_published(family):
-    series = hansen_series(4)
-    got = getattr(series, family)
-    assert sorted(got) == list(range(7))            # k = 0 .. order + 2
-    for k, terms in PUBLISHED[family].items():
-        assert got[k] == _poly(4, terms), (family, k, got[k])
-
 
 def test_series_k0_terms_are_exact_closed_forms():
     """c0_0 = (1-e^2)^(-3/2) and c2_0 = 0 hold term by term, to order 20."""

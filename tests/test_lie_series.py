@@ -1,24 +1,21 @@
-"""Lara's SAM perturbation series (ephem/lie_series.py): the printed polynomials term by term, the
-exactness of the Lie transform, and the series against the torque-free motion computed independently.
+"""Lara's SAM perturbation series (ephem/lie_series.py): the exactness of the Lie transform, and the series
+against the torque-free motion computed independently.
 
-Printed data: data/lara/ (verbatim, typos kept); errata: data/lara/errata.toml, one test each.
+The printed polynomials (data/lara/, verbatim, typos kept) and their errata (data/lara/errata.toml, one test
+each): tests/test_against_lara2014.py and tests/test_against_lara2018.py, which share the routes below.
 Independent routes: (1) the exact action L = (1/2π)∮(M − N)dν, the polhode period and the mean
 rate of g by quadrature of Andoyer's Hamiltonian (Lara 2018 eq. 1); (2) DOP853 integrations of
 Euler's equations with the attitude quaternion, or with ġ = (m₁²/A + m₂²/B)/(M + m₃) + m₃/C.
 """
-import csv
-import dataclasses
 import itertools
 import math
-import re
-import tomllib
 
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
-from ephem.catalogue import data_dir, get_body
+from ephem.catalogue import get_body
 from ephem.lie_series import (
     Lara2014Series,
     Lara2014Tables,
@@ -30,12 +27,9 @@ from ephem.lie_series import (
     poincare_to_body,
     sam_normal_form,
 )
-from ephem.polynomials import beta_poly, parse_polynomial
+from ephem.polynomials import parse_polynomial
 
-LARA = data_dir() / "lara"
 ORDER = 16  # high enough for the g_{6,3} erratum to stand out of the truncation error; ~1.5 s
-ERRATA = {e["id"]: e for e in tomllib.loads((LARA / "errata.toml").read_text())["erratum"]}
-L18 = tomllib.loads((LARA / "lara2018_polynomials.toml").read_text())
 EROS = get_body("eros").moments           # Lara 2014 Table 1: A/C = 0.229427, B/C = 0.963754
 EARTH = get_body("earth").moments         # A/C = 0.99672, B/C = 0.9967222
 MODERATE = (0.5, 0.75, 1.0)               # β = 1/2: every power of β in the tables matters
@@ -51,144 +45,6 @@ def generated(nf) -> Lara2014Tables:
     return nf.lara2014_tables()
 
 
-# ----------------------------------------------------------------------------- printed data
-
-def _latex_to_expr(cell: str) -> str:
-    """The mechanical LaTeX → Python conversion the CSV's expr column was made with."""
-    s = cell.strip().strip("$").strip()
-    s = re.sub(r"\\frac\{\\beta\^(\d+)\}\{(\d+)\}", r"b**\1/\2", s)
-    s = re.sub(r"\\frac\{(\d+)\}\{(\d+)\}\\beta\^(\d+)", r"\1/\2*b**\3", s)
-    s = re.sub(r"\\frac\{(\d+)\}\{(\d+)\}", r"\1/\2", s)
-    return re.sub(r"\\beta\^(\d+)", r"b**\1", s)
-
-
-def _rows_2014() -> list[dict]:
-    with open(LARA / "lara2014_tables.csv") as fh:
-        return list(csv.DictReader(fh))
-
-
-def _key(row) -> tuple:
-    return (row["symbol"], int(row["i"])) if row["symbol"] == "q" else (row["symbol"], int(row["i"]), int(row["m"]))
-
-
-def _as_beta_poly(expr: str):
-    terms = parse_polynomial(expr).terms()
-    assert all(j == k == 0 and im == 0 for (j, k, _), (_, im) in terms.items()), expr
-    return beta_poly([terms.get((0, 0, b), (0, 0))[0] for b in range(1 + max((b for *_, b in terms), default=0))])
-
-
-def _printed_2014() -> Lara2014Tables:
-    tables = {"q": {}, "g": {}, "ell": {}, "L": {}}
-    for row in _rows_2014():
-        k = _key(row)
-        tables[k[0]][k[1] if k[0] == "q" else k[1:]] = _as_beta_poly(row["expr"])
-    return Lara2014Tables(**tables)
-
-
-ERRATUM_CELLS = {("ell", 1, 1): "lara2014-table4-ell11", ("g", 6, 3): "lara2014-table3-g63"}
-
-
-def test_printed_2014_tables_are_complete_and_transcribed():
-    rows = _rows_2014()
-    counts = {s: sum(r["symbol"] == s for r in rows) for s in ("q", "g", "ell", "L")}
-    # Table 2: i = 1..10; Table 3: m ≤ (i+1)//2; Table 4: m ≤ i; Table 5: 0 ≤ m ≤ (i+1)//2; i ≤ 9
-    assert counts == {"q": 10, "g": 25, "ell": 45, "L": 34}
-    for r in rows:
-        assert _latex_to_expr(r["printed_latex"]) == r["expr"], r
-
-
-@pytest.mark.parametrize("symbol", ["q", "g", "ell", "L"])
-def test_lara2014_tables_term_by_term(generated, symbol):
-    printed = {_key(r)[1:]: r for r in _rows_2014() if r["symbol"] == symbol}
-    ours = getattr(generated, symbol)
-    top = 10 if symbol == "q" else 9
-    # same cells: nothing printed that the engine lacks, nothing the engine has that is not printed
-    assert {k for k in ours if (k if symbol == "q" else k[0]) <= top} == {
-        (k[0] if symbol == "q" else k) for k in printed}
-    for k, row in printed.items():
-        index = k[0] if symbol == "q" else k
-        if (symbol, *k) in ERRATUM_CELLS:
-            continue  # asserted as an erratum below
-        assert _as_beta_poly(row["expr"]) == ours[index], (symbol, k, row["seed_line"])
-
-
-@pytest.mark.parametrize("n", range(10))
-def test_lara2018_p_n(nf, n):
-    row = next(r for r in L18["p"] if r["n"] == n)
-    printed = _as_beta_poly(row["expr"])
-    if n in (0, 2):  # errata lara2018-p0-sign and lara2018-p2
-        assert printed != nf.p(n)
-    else:
-        assert printed == nf.p(n)
-
-
-@pytest.mark.parametrize("n", range(1, 9))
-def test_lara2018_s_n(nf, n):
-    row = next(r for r in L18["s"] if r["n"] == n)
-    assert parse_polynomial(row["expr"]) == nf.s(n)
-
-
-def test_lara2018_and_lara2014_normal_forms_agree(nf):
-    # L18: "the same as those in Table 2 of [12] after adjusting subindices and scaling by β²":
-    # p_{i+1} = β² q_i, for every printed q_i (p_2 included: the printed p_2 is the misprint)
-    printed = _printed_2014()
-    for i in range(1, 11):
-        assert nf.p(i + 1) == beta_poly([0, 0, *printed.q[i]]), i
-
-
-# ----------------------------------------------------------------------------- errata
-
-def _erratum_cell(symbol, i, m):
-    return next(r for r in _rows_2014() if _key(r) == (symbol, i, m))
-
-
-def test_erratum_lara2018_p0_sign(nf):
-    e = ERRATA["lara2018-p0-sign"]
-    assert _as_beta_poly(L18["p"][0]["expr"]) == _as_beta_poly(e["printed"])
-    assert nf.p(0) == _as_beta_poly(e["corrected"])
-    # eq. 30 at n = 0 over (√κ V/2C): p_0 · iuU must be eq. 25's −2 iuU (M over (√κ V/2C))
-    eq25 = parse_polynomial("-2*i*u*U")
-    assert parse_polynomial(f"({e['corrected']})*i*u*U") == eq25
-    assert parse_polynomial(f"({e['printed']})*i*u*U") == -eq25
-    # and physically: the energy above G²/2C is positive, +κGL/C at order 0
-    m0 = _initial_m(math.radians(10.0), 0.3)
-    sol = SamSeriesSolution(EROS, 1)
-    _, L, G = body_to_action_angle(m0, sol.params)
-    exact = _quadrature(EROS, m0)
-    assert exact["excess"] > 0 and sol.excess_energy(L, G, upto=0) > 0
-
-
-def test_erratum_lara2018_p2(nf):
-    e = ERRATA["lara2018-p2"]
-    printed_p2 = _as_beta_poly(e["printed"])
-    assert _as_beta_poly(next(r for r in L18["p"] if r["n"] == 2)["expr"]) == printed_p2
-    assert nf.p(2) == _as_beta_poly(e["corrected"])
-    assert nf.p(2) == beta_poly([0, 0, *_printed_2014().q[1]])  # p_{i+1} = β² q_i, L14 Table 2
-    # evidence: the energy of the normal form against the quadrature of the exact action
-    m0 = _initial_m(math.radians(35.0), 0.3)
-    sol = SamSeriesSolution(MODERATE, ORDER)
-    p = sol.params
-    exact = _quadrature(MODERATE, m0)
-    L, G = exact["L"], exact["G"]
-    rho, b = sol.rho(G), p.beta
-    # the normal form's terms are (κG/C) ρⁿ (−p_n/2) L^{n+1}: the printed p_2 adds (κG/C) ρ² (−β²/4) L³
-    extra = -p.kappa * G / p.C * float(printed_p2[2] - nf.p(2)[2]) * b * b / 2 * rho**2 * L**3
-    ours = [abs(sol.excess_energy(L, G, n) / exact["excess"] - 1) for n in range(3, ORDER + 1)]
-    printed = [abs((sol.excess_energy(L, G, n) + extra) / exact["excess"] - 1) for n in range(3, ORDER + 1)]
-    # the series' truncation at order 16 (falling ~3.7x per order: 4.95e-13 here, a property of the series;
-    # rounding, ~1e-15 relative, cannot move it by 1e-12)
-    assert ours[-1] < 1e-12
-    assert all(pe > 20 * oe for pe, oe in zip(printed, ours))
-    assert printed[-1] == pytest.approx(abs(extra / exact["excess"]), rel=1e-6)  # it stays at the misprint
-
-
-def _swap(generated: Lara2014Tables, symbol: str, i: int, m: int) -> Lara2014Tables:
-    """The generated tables with one cell replaced by its printed value."""
-    cells = dict(getattr(generated, symbol))
-    cells[(i, m)] = _as_beta_poly(_erratum_cell(symbol, i, m)["expr"])
-    return dataclasses.replace(generated, **{symbol: cells})
-
-
 @pytest.fixture(scope="module")
 def moderate_reference():
     """β = 1/2, J = 35° (δ = 0.139), two polhode periods: quaternion route (m and g)."""
@@ -197,40 +53,6 @@ def moderate_reference():
     m0 = _initial_m(math.radians(35.0), 0.3)
     m, g = _reference_quaternion(MODERATE, m0, t)
     return m0, t, m, g
-
-
-def test_erratum_lara2014_table4_ell11(generated, moderate_reference):
-    e = ERRATA["lara2014-table4-ell11"]
-    assert _as_beta_poly(_erratum_cell("ell", 1, 1)["expr"]) == _as_beta_poly(e["printed"])
-    assert generated.ell[(1, 1)] == _as_beta_poly(e["corrected"])
-    # canonicity at first order: ℓ_{1,1} = L_{1,1}, and Table 5 prints L_{1,1} = 1/2
-    assert _as_beta_poly(_erratum_cell("L", 1, 1)["expr"]) == generated.ell[(1, 1)]
-    m0, t, m_ref, _ = moderate_reference
-    ours = Lara2014Series(MODERATE, generated, ORDER)
-    printed = Lara2014Series(MODERATE, _swap(generated, "ell", 1, 1), ORDER)
-    err_ours = np.max(np.abs(ours.propagate(m0, t, ORDER)[0] - m_ref))
-    err_printed = np.max(np.abs(printed.propagate(m0, t, ORDER)[0] - m_ref))
-    mean = ours.mean_elements(m0, ORDER)
-    delta = mean.L / (mean.G * math.sqrt(1 - 0.25))
-    assert err_ours < 1e-9
-    assert err_printed == pytest.approx(delta * 0.5 / 4, rel=0.2)  # the misprint's δβ(1/2 − 1/4), |m| = 1
-
-
-def test_erratum_lara2014_table3_g63(generated, moderate_reference):
-    e = ERRATA["lara2014-table3-g63"]
-    assert _as_beta_poly(_erratum_cell("g", 6, 3)["expr"]) == _as_beta_poly(e["printed"])
-    assert generated.g[(6, 3)] == _as_beta_poly(e["corrected"])
-    m0, t, _, g_ref = moderate_reference
-    ours = Lara2014Series(MODERATE, generated, ORDER)
-    printed = Lara2014Series(MODERATE, _swap(generated, "g", 6, 3), ORDER)
-    err_ours = [np.max(np.abs(ours.propagate(m0, t, n)[1] - g_ref)) for n in (12, 14, ORDER)]
-    err_printed = [np.max(np.abs(printed.propagate(m0, t, n)[1] - g_ref)) for n in (12, 14, ORDER)]
-    mean = ours.mean_elements(m0, ORDER)
-    b, delta = 0.5, mean.L / (mean.G * math.sqrt(0.75))
-    misprint = mean.L / mean.G * delta**6 * b**3 * (1 - b * b) / 128  # the two values' difference
-    assert err_ours[0] > err_ours[1] > err_ours[2] and err_ours[2] < 1e-11
-    assert err_printed[2] > 50 * err_ours[2]
-    assert err_printed[2] == pytest.approx(misprint, rel=0.25)
 
 
 # ----------------------------------------------------------------------------- exactness

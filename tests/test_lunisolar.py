@@ -1,14 +1,15 @@
-"""The Earth's rigid lunisolar precession-nutation (ephem.lunisolar) against outside references.
+"""The Earth's rigid lunisolar precession-nutation (ephem.lunisolar): the FFT grid of its forcing spectrum, the
+H_d it takes, a numerical integration of the torque along DE421's Moon and Sun (the independent route: the rate,
+the residuals, the precession-nutation coupling, the 9.3-yr second-order term), the Sun-only model of
+ephem.model, its properties (in-phase terms, the Oppolzer conversion) and its evaluation (TermProducts).
 
-References: ERFA (IAU 2000A nutation, IERS 2010 Delaunay arguments), DE421 (the Moon's and
-Sun's positions, and a numerical integration of the torque), published rigid-Earth values
-(Bourda & Capitaine 2004 Table 2; the orbital coefficients of A&A 2017 aa30490-17 Table A.4;
-P03 Table 3) and the Sun-only model of ephem.model. Numbers and their sources: docs/earth.md,
+Against outside references: ERFA (tests/test_against_erfa.py), DE421's Moon and Sun (tests/test_against_de421.py),
+IAU 2006/2000A (tests/test_against_iau2006.py), Bourda & Capitaine 2004 (tests/test_against_bourda_capitaine2004.py),
+A&A 2017 Table A.4 (tests/test_against_aa2017_aa30490.py). Numbers and their sources: docs/earth.md,
 data/lunisolar.toml.
 """
 import math
 
-import erfa
 import numpy as np
 import pytest
 
@@ -34,75 +35,7 @@ def rigid_l():
     return L.earth_lunisolar(hd="iers2010", axis="angular_momentum")
 
 
-# ----------------------------------------------------------------------------- inputs and arguments
-
-def test_delaunay_arguments_are_erfas():
-    jd = np.array([2415020.5, 2444239.5, J2000, 2460000.5, 2488069.5])
-    t = (jd - J2000) / CY
-    ours = L.delaunay_arguments(jd)
-    ref = np.stack([[erfa.fal03(x), erfa.falp03(x), erfa.faf03(x), erfa.fad03(x), erfa.faom03(x)] for x in t])
-    diff = np.remainder(ours - ref + math.pi, 2 * math.pi) - math.pi
-    # ERFA evaluates the polynomials in arcseconds and reduces them (fmod, exact) before converting; ours takes
-    # the same steps (measured: identical), so the budget is the last conversion's rounding, ~1e-16 rad. A
-    # route that rounded the unreduced value (1.7e9" at |T| = 1, ulp 1.2e-12 rad) would show: 1e-12 rad
-    assert np.abs(diff).max() < 1e-12
-    rates = L.delaunay_rates()
-    assert rates[4] < 0 and 2 * math.pi / -rates[4] == pytest.approx(6798.38, abs=0.01)   # node, 18.6 yr
-    assert 2 * math.pi / rates[0] == pytest.approx(27.5545, abs=1e-3)                      # anomalistic month
-
-
-def test_moon_and_sun_follow_de421_to_meeus_accuracy():
-    # Meeus (1998, ch. 47) quotes ~10" in longitude and 4" in latitude with all his terms; we drop
-    # his three planetary terms (largest 14") and use Kepler for the Sun (planetary terms ~20").
-    from ephem.ephemeris import barycentric
-
-    jd = np.arange(2447892.5, 2455197.5, 3.7)          # 1990-2010
-    a = tuple(L.delaunay_arguments(jd).T)
-    rot = np.stack([erfa.ecm06(J2000, x - J2000) for x in jd])   # ICRS -> ecliptic of date
-    au_km = 149597870.7
-    for name, naif in (("moon", 301), ("sun", 10)):
-        v = np.einsum("nij,nj->ni", rot, barycentric(naif, jd) - barycentric(399, jd))
-        lam, beta, r = (L.moon_position if name == "moon" else L.sun_position)(a, 0.0)
-        dlam = np.remainder(lam - np.arctan2(v[:, 1], v[:, 0]) + math.pi, 2 * math.pi) - math.pi
-        rr = np.linalg.norm(v, axis=1)
-        dbeta = beta - np.arcsin(v[:, 2] / rr)
-        if name == "moon":
-            assert np.abs(dlam).max() / ARCSEC < 35.0 and np.sqrt(np.mean(dlam**2)) / ARCSEC < 15.0
-            assert np.abs(dbeta).max() / ARCSEC < 10.0
-            assert np.abs(r - rr * au_km).max() < 20.0            # km
-            assert abs(np.mean(r - rr * au_km)) < 1.0            # the mean distance sets the precession
-        else:
-            assert np.abs(dlam).max() / ARCSEC < 40.0
-            assert np.abs(r / (rr * au_km) - 1).max() < 1.5e-4
-
-
-# Table A.4 of A&A 2017 (aa30490-17), "main orbital coefficients" (data/lunisolar.toml): the
-# zonal B0 = (a/r)^3 (1 - 3 sin^2 beta)/2, the B1 = (a/r)^3 y z and the B2 = (a/r)^3 (x^2 - y^2)
-# functions of each perturber (x, y, z its unit vector, ecliptic and equinox of date). Ratios to
-# the constant B0 remove the normalising distance.
-TABLE_A4 = {body: {tuple(int(v) for v in row[:5]): (row[5], row[6])
-                   for row in L.lunisolar_data()["orbital_coefficients_reference"][body]}
-            for body in ("moon", "sun")}
-
-
-@pytest.mark.parametrize("body", ["moon", "sun"])
-def test_forcing_spectrum_matches_published_orbital_coefficients(body):
-    # G1 = B0 - B2/2 and G2 = B1 in that normalisation; agreement to 2e-6 of the constant B0,
-    # i.e. < 0.04 mas on the 18.6-yr nutation (our Moon is Meeus's truncation of ELP-2000/82).
-    spec = L.orbital_spectrum((body,), 0.0)
-    g0 = spec.const[0]
-    table = TABLE_A4[body]
-    ref0 = table[(0, 0, 0, 0, 0)][1]
-    for k, (kind, value) in table.items():
-        if not any(k):
-            continue
-        row = [i for i, m in enumerate(spec.multipliers) if tuple(m) == k or tuple(-m) == k]
-        assert row, k
-        c = spec.cos_[row[0]]
-        ours = {"B0": c[0], "B1": c[1], "B2": -2.0 * c[0]}[kind]
-        assert ours / g0 == pytest.approx(value / ref0, abs=2e-6), (body, k)
-        assert abs(spec.sin_[row[0], 0]) < 1e-9 * abs(g0)        # symmetric forcing: no sin part in G1
-
+# ----------------------------------------------------------------------------- the forcing spectrum
 
 def test_fft_grid_resolves_every_kept_term():
     hd, omega, eps = L.hd_iers2010(), L.earth_spin_rate(), L.obliquity_arcsec() * ARCSEC
@@ -120,29 +53,6 @@ def test_fft_grid_resolves_every_kept_term():
 
 
 # ----------------------------------------------------------------------------- precession
-
-def test_first_order_precession_against_bourda_capitaine_2004(rigid):
-    # "Lunisolar first order 5494.062986 x cos eps0 = 5040.7047"/cy" for H = 3.27379492e-3.
-    ref = L.lunisolar_data()["precession_reference"]
-    ours = L.earth_lunisolar(hd=ref["lunisolar_first_order_hd"]).precession_rate_arcsec_per_century
-    # measured -0.27"/cy (-5.4e-5): constants (lunar distance/masses), not the method: DE421
-    # agrees with our rate to 0.04"/cy after second order (next tests). Stated bound 1e-4.
-    assert ours == pytest.approx(ref["lunisolar_first_order_arcsec_per_century"], rel=1e-4)
-    assert rigid.precession_rate_arcsec_per_year == pytest.approx(ours / 100.0, rel=1e-6)
-
-
-def test_precession_against_iau2006_with_the_p03_contributions(rigid):
-    # IAU 2006 psi_A rate = first-order lunisolar + P03 Table 3's other contributions (second
-    # order, J4, planetary, J2 tilt, non-linear, geodesic -1.919883"/cy).
-    ref = L.lunisolar_data()["precession_reference"]
-    other = sum(ref["p03_contributions_uas_per_century"].values()) * 1e-6
-    assert other == pytest.approx(-2.223176, abs=1e-6)                     # P03 Table 3 total
-    predicted = rigid.precession_rate_arcsec_per_century + other
-    assert predicted == pytest.approx(ref["psi_a_rate_arcsec_per_century"], rel=1e-4)
-    # the Newtonian rigid rate exceeds psi_A by about the geodesic precession
-    assert rigid.precession_rate_arcsec_per_century - ref["psi_a_rate_arcsec_per_century"] == \
-        pytest.approx(-ref["geodesic_arcsec_per_century"], abs=0.5)
-
 
 def test_catalogue_hd_is_the_default_and_scales_the_rates():
     assert L.earth_lunisolar().hd == get_body("earth").hd == L.hd_iers2010()   # the catalogue now gives IERS's
@@ -205,7 +115,7 @@ def test_de421_residual_is_the_precession_nutation_coupling(de421_run, rigid_l):
 
 def test_de421_contains_the_9_3_year_difference_from_iau2000a(de421_run, rigid_l):
     # Ours x the IERS 1996 transfer function meets IAU 2000A on every leading term but 18.6 yr and
-    # 9.3 yr (tests/test_nonrigid.py). The 9.3-yr remainder (IAU - ours x T: +1.37 mas in Δψ,
+    # 9.3 yr (tests/test_against_iau2006.py). The 9.3-yr remainder (IAU - ours x T: +1.37 mas in Δψ,
     # -0.32 in Δε) is rigid-Earth second order: the DE421 integration, which has every order of
     # the Newtonian torque, must show the same 2Ω term against our first-order series.
     from ephem import nonrigid as N
@@ -243,121 +153,6 @@ def test_sun_only_reproduces_the_existing_model():
     assert np.abs(mpsi).max() / MAS > 1300
     assert np.abs(dpsi - mpsi).max() / MAS < 0.15
     assert np.abs(deps - meps).max() / MAS < 0.05
-
-
-# ----------------------------------------------------------------------------- IAU 2000A
-
-def test_iau2000a_reference_terms_are_erfas(rigid):
-    # Harmonic least squares on erfa.nut00a over 1900-2100 recovers the stored coefficients of
-    # the terms it can separate: the short-period ones to 0.01 mas. The annual and semi-annual
-    # terms share their frequency with [0,-1,2,-2,2] and [0,2,0,0,0] to 1 part in 9000 years
-    # (no 200-year fit separates them), and the 18.6-yr term leaks into IAU 2000A's long-period
-    # planetary terms outside the basis (0.2 mas); those were checked by hand against nut00a.c.
-    jd = np.arange(2415020.5, 2488069.5, 2.1)
-    t = (jd - J2000) / CY
-    psi, eps = erfa.nut00a(jd, 0.0)
-    args = L.delaunay_arguments(jd)
-    ks = [tuple(x["delaunay_multipliers"]) for x in rigid.terms]
-    cols = [np.ones_like(t), t]
-    for n, k in enumerate(ks):
-        ph = args @ np.array(k, float)
-        cols += [np.sin(ph), np.cos(ph)] + ([t * np.sin(ph), t * np.cos(ph)] if n < 12 else [])
-    design = np.vstack(cols).T
-    # one least-squares solve for both right-hand sides: one factorisation of the 34786 x 190 design
-    coef = np.linalg.lstsq(design, np.stack([psi, eps], axis=1) / MAS, rcond=None)[0]
-    cpsi, ceps = coef[:, 0], coef[:, 1]
-
-    def col(i):   # index of the sin column of term i (the first 12 terms carry t-columns too)
-        return 2 + 4 * i if i < 12 else 2 + 4 * 12 + 2 * (i - 12)
-
-    checked = 0
-    for ref in L.iau2000a_terms():
-        i = ks.index(tuple(ref["delaunay_multipliers"]))
-        period = abs(rigid.terms[i]["period_days"])
-        if ref["name"] in ("annual", "semiannual", "122 d", "9.3 yr"):
-            continue
-        tol = 0.2 if period > 1000 else 0.01
-        assert cpsi[col(i)] == pytest.approx(ref["psi"][0], abs=tol), ref["name"]
-        assert cpsi[col(i) + 1] == pytest.approx(ref["psi"][2], abs=tol), ref["name"]
-        assert ceps[col(i) + 1] == pytest.approx(ref["eps"][0], abs=tol), ref["name"]
-        assert ceps[col(i)] == pytest.approx(ref["eps"][2], abs=tol), ref["name"]
-        checked += 1
-    assert checked == 6
-
-
-# Rigid (ours, figure axis, IERS H_d) minus IAU 2000A in-phase coefficients, mas, as documented
-# in docs/earth.md. Their explanation, the published non-rigid correction of each term (IERS 1996
-# transfer function: elastic mantle, fluid core, FCN resonance), is tested in test_nonrigid.py.
-# Margin 0.5 mas.
-DOCUMENTED_DIFFERENCE = {
-    "18.6 yr": (-76.97, 22.77), "9.3 yr": (0.21, -0.27), "annual": (-22.08, -7.52),
-    "semiannual": (39.61, -19.70), "122 d": (1.75, -0.82), "fortnightly 13.66 d": (6.13, -2.93),
-    "monthly 27.55 d": (-3.35, -0.30), "13.63 d": (0.89, -0.67), "9.13 d": (0.56, -0.29),
-    "evection 31.8 d": (-0.74, -0.06),
-}
-
-
-def test_leading_terms_against_iau2000a(rigid):
-    for ref in L.iau2000a_terms():
-        ours = rigid.term(ref["delaunay_multipliers"])
-        assert ours is not None, ref["name"]
-        dpsi, deps = DOCUMENTED_DIFFERENCE[ref["name"]]
-        assert ours["longitude_sin_mas"] - ref["psi"][0] == pytest.approx(dpsi, abs=0.5), ref["name"]
-        assert ours["obliquity_cos_mas"] - ref["eps"][0] == pytest.approx(deps, abs=0.5), ref["name"]
-        if abs(ref["psi"][0]) > 10:
-            assert np.sign(ours["longitude_sin_mas"]) == np.sign(ref["psi"][0])
-        # the Poisson terms come from eps_A(t) and e'(t): same sign and size as IAU 2000A's
-        if abs(ref["psi"][1]) > 0.1:
-            assert ours["longitude_sin_rate_mas_per_century"] == pytest.approx(ref["psi"][1], rel=0.25)
-
-
-def _circular(psi, eps, nu, sin_eps):
-    """Prograde and retrograde circular amplitudes of a term Δψ = psi sin φ, Δε = eps cos φ."""
-    s = math.copysign(1.0, nu)
-    return 0.5 * (psi * sin_eps - s * eps), 0.5 * (psi * sin_eps + s * eps)
-
-
-def test_non_rigid_ratios_show_the_fcn_resonance(rigid):
-    # IAU 2000A / rigid per circular component is MHB2000's transfer function. The free core
-    # nutation (retrograde, ~430 d in space) lies next to the retrograde annual nutation: that
-    # ratio must be the largest and well above the elastic-mantle level of the others.
-    se = math.sin(rigid.obliquity)
-    ratios = {}
-    for ref in L.iau2000a_terms():
-        ours = rigid.term(ref["delaunay_multipliers"])
-        nu = 2 * math.pi / ours["period_days"]
-        pro_r, ret_r = _circular(ours["longitude_sin_mas"], ours["obliquity_cos_mas"], nu, se)
-        pro_i, ret_i = _circular(ref["psi"][0], ref["eps"][0], nu, se)
-        if abs(pro_r) > 5:
-            ratios[(ref["name"], "prograde")] = pro_i / pro_r
-        if abs(ret_r) > 5:
-            ratios[(ref["name"], "retrograde")] = ret_i / ret_r
-    worst = max(ratios, key=lambda k: abs(ratios[k] - 1.0))
-    assert worst == ("annual", "retrograde")
-    assert ratios[worst] > 1.25
-    others = [v for k, v in ratios.items() if k != worst]
-    assert all(0.99 < v < 1.10 for v in others)
-    # the 18.6-yr term is nearly rigid: the MHB2000 transfer function -> 1 at low frequency
-    assert ratios[("18.6 yr", "retrograde")] == pytest.approx(1.0, abs=0.005)
-
-
-def test_whole_nutation_against_erfa_1900_2100(rigid):
-    jd = np.arange(2415020.5, 2488069.5, 2.0)
-    rpsi, reps = (x / MAS for x in L.residual_vs_iau2000a(rigid, jd))
-    # documented in docs/earth.md (chart docs/charts/earth_nutation_residual.*)
-    assert np.sqrt(np.mean(rpsi**2)) == pytest.approx(63.3, abs=1.0)
-    assert np.abs(rpsi).max() == pytest.approx(146.3, abs=3.0)
-    assert np.sqrt(np.mean(reps**2)) == pytest.approx(22.3, abs=1.0)
-    assert np.abs(reps).max() == pytest.approx(51.8, abs=3.0)
-    # ... and it is the term-by-term difference: removing the documented in-phase differences
-    # of the ten leading terms takes away most of it
-    args = L.delaunay_arguments(jd)
-    for ref in L.iau2000a_terms():
-        ph = args @ np.array(ref["delaunay_multipliers"], float)
-        dpsi, deps = DOCUMENTED_DIFFERENCE[ref["name"]]
-        rpsi = rpsi - dpsi * np.sin(ph)
-        reps = reps - deps * np.cos(ph)
-    assert np.sqrt(np.mean(rpsi**2)) < 4.0 and np.sqrt(np.mean(reps**2)) < 2.5      # measured 3.1, 2.1
 
 
 # ----------------------------------------------------------------------------- properties

@@ -2,7 +2,8 @@
 
 - UT1 takes UT1 - UTC from the IERS tables bundled with astropy (astropy-iers-data), never from
   astropy's auto-downloading IERS_Auto; inside their span it agrees with astropy's own conversion
-  through the same tables, outside it is refused naming the field and the span.
+  through the same tables (tests/test_against_astropy.py), outside it is refused naming the field and
+  the span.
 - A malformed date names the field, says what is wrong and lists the accepted forms, without
   astropy's or ERFA's text.
 - A service process whose network is cut, and whose clock is moved past the bundled leap-second
@@ -14,54 +15,18 @@ import os
 import subprocess
 import sys
 import textwrap
-from functools import lru_cache
 from pathlib import Path
 
 import pytest
 from astropy.time import Time
-from astropy.utils import iers
 
 from ephem.errors import InvalidInputError
 from ephem.timeparse import ACCEPTED, to_jd_tdb, ut1_span
 
 ROOT = Path(__file__).resolve().parent.parent
-#: agreement with astropy's conversion through the same bundled table: 0.1 ms. Both round the JD to one
-#: float64 (2.5e6 d carries ~40 µs), so this is the resolution, with margin; the conversions themselves
-#: agree to nanoseconds (the same linear interpolation of UT1 - UTC and the same ERFA chain).
-BUDGET_S = 1e-4
-#: against the other bundled series: where IERS-B (EOP C04) covers the date we use it, and astropy's default
-#: is the IERS-A file's Bulletin B column; the two differ by up to 4.1 ms in the 1970s, 0.25 ms since 1993
-CROSS_SERIES_BUDGET_S = 5e-3
 #: internals that must never reach a user
 INTERNALS = ("erfa", "dtf2d", "format class", "iers_auto", "offline", "auto_max_age", "astropy.utils",
              "traceback", "valueerror")
-
-
-def _astropy_bundled_tdb(text: str, table) -> Time:
-    """astropy's own UT1 -> TDB through a bundled table, told not to download: the independent route."""
-    with iers.conf.set_temp("auto_download", False), iers.earth_orientation_table.set(table):
-        return Time(text, scale="ut1").tdb
-
-
-@lru_cache(maxsize=1)
-def _bundled():
-    return iers.IERS_B.open(iers.IERS_B_FILE), iers.IERS_A.open(iers.IERS_A_FILE)
-
-
-def _seconds(jd: float, ref: Time) -> float:
-    return ((jd - ref.jd1) - ref.jd2) * 86400.0
-
-
-@pytest.mark.parametrize("text", ["1962-06-01T00:00:00", "1973-06-01T06:00:00", "1990-03-04T12:34:56",
-                                  "2000-01-01T12:00:00", "2016-12-31T23:59:59", "2017-01-01T00:00:30",
-                                  "2020-01-01T00:00:00", "2027-03-01T00:00:00"])
-def test_ut1_inside_the_bundled_span_agrees_with_astropy(text):
-    ours = to_jd_tdb(text + " UT1", "start")
-    b, a = _bundled()
-    same = b if Time(text, scale="utc").mjd <= b["MJD"][-1].value else a      # the series we use there
-    assert abs(_seconds(ours, _astropy_bundled_tdb(text, same))) < BUDGET_S
-    if Time(text, scale="utc").mjd >= a["MJD"][0].value:
-        assert abs(_seconds(ours, _astropy_bundled_tdb(text, a))) < CROSS_SERIES_BUDGET_S
 
 
 def test_ut1_differs_from_utc_by_the_tabulated_ut1_minus_utc():

@@ -1,7 +1,7 @@
 """The Earth's nutation residual chart (studies.earth_nutation_residual, the chart of docs/earth.md), coarsely.
 
-The numbers it draws are tested in tests/test_lunisolar.py and tests/test_nonrigid.py (every 2 days, as the
-committed chart); here the study writes its three files and its summary tells the two series apart.
+The numbers it draws are tested in tests/test_against_erfa.py, the rigid series and the non-rigid one (every 2
+days, as the committed chart); here the study writes its three files and its summary tells the two series apart.
 """
 import ast
 import csv

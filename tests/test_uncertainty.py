@@ -1,5 +1,6 @@
-"""Uncertainty propagation (ephem.uncertainty): the replica of the model, linear vs Monte Carlo,
-limit cases, and Petit et al.'s (2014) ±6.57″/yr for Itokawa. See docs/uncertainties.md."""
+"""Uncertainty propagation (ephem.uncertainty): the replica of the model, linear vs Monte Carlo, and
+limit cases. Petit et al.'s (2014) ±6.57″/yr for Itokawa: tests/test_against_petit2014.py. See
+docs/uncertainties.md."""
 import dataclasses
 import math
 import time
@@ -14,10 +15,6 @@ from ephem.uncertainty import SCALAR_KEYS, TERM_KEYS, _setup, monte_carlo, propa
 
 DATASETS = ("current", "petit2014")
 APPLICABLE = [(ds, b.name) for ds in DATASETS for b in load_catalogue(ds).bodies if b.name != "Moon"]
-#: Petit et al. (2014), abstract, Sect. 6.1 and conclusion: ψ̇ = −(461.52 ± 6.57)″/yr for Itokawa.
-PETIT_ITOKAWA_SIGMA = 6.57
-#: Demura et al. (2006): the Itokawa pole "with a 3.9° margin of error" (Petit Sect. 5.1: "±3.9° margin").
-DEMURA_MARGIN_DEG = 3.9
 
 # a σ on every input (made up), small enough for the model to be linear over ±1σ for a body whose pole
 # is far from its orbit normal (Vesta, ε = 27°), with several inputs contributing to the outputs
@@ -28,7 +25,7 @@ SYNTHETIC = {"orbit.a": 1e-5, "orbit.e": 1e-4, "orbit.i": 0.01, "orbit.node": 0.
 
 def _public_numbers(body, dataset, order):
     # the replica is the single-perturber (Sun) theory's: the Earth's default answer is the lunisolar one
-    # (ephem.earth), whose uncertainties are not propagated (tests/test_earth_api.py)
+    # (ephem.earth), whose uncertainties are not propagated (tests/test_earth.py)
     p = api.precession(body, dataset, order, perturbers="sun")
     nu = api.nutation(body, dataset, order, perturbers="sun")
     scalars = [p["obliquity_deg"], p["precession_rate_arcsec_per_year"], p["dynamical_ellipticity"],
@@ -66,7 +63,7 @@ def test_replica_reproduces_the_public_answers(dataset, name, order):
     scalars, terms = _public_numbers(name, dataset, order)
     ours = st.y0[:len(SCALAR_KEYS)]
     # the replica recomputes the model's formulas (measured: within 4.4e-4 of this bound, i.e. 2 ε); 1e-12
-    # covers ~10 roundings amplified by the outputs' condition number (≲ 400, as in tests/test_earth_api.py)
+    # covers ~10 roundings amplified by the outputs' condition number (≲ 400, as in tests/test_earth.py)
     np.testing.assert_allclose(ours, scalars, rtol=1e-12, atol=0)
     ours_terms = st.y0[len(SCALAR_KEYS):].reshape(-1, len(TERM_KEYS))
     assert ours_terms.shape[0] == terms.shape[0]
@@ -347,57 +344,3 @@ def test_linear_fails_for_a_5_degree_pole_near_the_orbit_normal():
     assert c["obliquity_deg"]["bias_sigma"] > 0.4                 # mean pushed up: ε is folded at 0
     k2_lin, k2_mc = mc["linear"]["terms"][1], mc["terms"][1]
     assert k2_mc["longitude_cos_arcsec_uncertainty"] < 0.6 * k2_lin["longitude_cos_arcsec_uncertainty"]
-
-
-# ----------------------------------------------------------------------------- Petit et al. (2014), Itokawa
-
-def test_itokawa_petit2014_precession_rate_uncertainty():
-    """Petit et al. give ψ̇ = −461.52 ± 6.57″/yr for Itokawa; they say the uncertainty comes from H_d and ε
-    (Sect. 3.3) and quote the pole's ±3.9° margin (Sect. 5.1), with no H_d uncertainty.
-
-    With their inputs (petit2014: pole ±3.9° in RA and Dec, nothing else uncertain) ψ̇ depends on the pole
-    through ε only, so σ_ψ̇ = |∂ψ̇/∂ε| σ_ε = |ψ̇ tan ε| σ_ε. Ours: σ_ε = 3.86°, σ_ψ̇ = 13.0″/yr, twice
-    theirs.
-    Their 6.57 is |ψ̇ tan ε| × 1.95°, half the 3.9° margin, to the last printed digit.
-    """
-    r = propagate("Itokawa", "petit2014", order=4)
-    assert set(r["inputs"]) == {"pole.ra", "pole.dec"}
-    psidot = r["values"]["precession_rate_arcsec_per_year"]
-    eps = math.radians(r["values"]["obliquity_deg"])
-    assert psidot == pytest.approx(-461.52, abs=0.2) and math.degrees(eps) == pytest.approx(157.30, abs=0.005)
-    sig_eps = math.radians(r["obliquity_deg_uncertainty"])
-    sig_psi = r["precession_rate_arcsec_per_year_uncertainty"]
-    slope = sig_psi / sig_eps
-    assert slope == pytest.approx(abs(psidot * math.tan(eps)), rel=1e-3)
-    # ours, from the inputs the paper states
-    assert r["obliquity_deg_uncertainty"] == pytest.approx(DEMURA_MARGIN_DEG, rel=0.02)
-    assert sig_psi == pytest.approx(13.0, abs=0.1)
-    assert sig_psi / PETIT_ITOKAWA_SIGMA == pytest.approx(2.0, abs=0.04)
-    # the Monte Carlo agrees with our linear value (the model is nearly linear over ±3.9° here)
-    mc = monte_carlo("Itokawa", 1000, 0, "petit2014", order=4)
-    assert mc["precession_rate_arcsec_per_year_uncertainty"] == pytest.approx(sig_psi, rel=0.10)
-    # theirs: the same slope times half the margin, 6.57 to the printed digit (with 3.9° itself: 13.1)
-    assert round(slope * math.radians(DEMURA_MARGIN_DEG / 2), 2) == PETIT_ITOKAWA_SIGMA
-    assert round(abs(-461.5208 * math.tan(math.radians(157.30))) * math.radians(DEMURA_MARGIN_DEG / 2), 2) \
-        == PETIT_ITOKAWA_SIGMA
-    assert slope * math.radians(DEMURA_MARGIN_DEG) == pytest.approx(13.1, abs=0.05)
-
-
-def test_itokawa_shape_uncertainty_is_not_in_petits_number():
-    """Their H_d comes from the shape (±1 m on each axis). For the uniform ellipsoid 535 × 294 × 209 m
-    that gives Table 4's H_d, H_d = 1/2 − c²/(a² + b²) (semi-axes); ±1 m on each full axis adds
-    1.4″/yr to ψ̇ in quadrature: with it, ε alone would have to be 1.88°, no round fraction of 3.9°."""
-    a, b, c = 267.5, 147.0, 104.5                      # semi-axes, m
-    hd = 0.5 - c * c / (a * a + b * b)
-    assert hd == pytest.approx(0.3828, abs=5e-5)
-    s = a * a + b * b
-    grad = np.array([2 * a * c * c / s**2, 2 * b * c * c / s**2, -2 * c / s])
-    sig_hd = 0.5 * float(np.linalg.norm(grad))           # ±1 m on a full axis = ±0.5 m on a semi-axis
-    r = propagate("Itokawa", "petit2014", order=4, uncertainties={"inertia.dynamical_ellipticity": sig_hd})
-    shape_part = abs(r["contributions"]["precession_rate_arcsec_per_year"]["inertia.dynamical_ellipticity"])
-    assert shape_part == pytest.approx(abs(r["values"]["precession_rate_arcsec_per_year"]) * sig_hd / 0.3828,
-                                       rel=1e-3)
-    assert shape_part == pytest.approx(1.44, abs=0.02)
-    pole_only = math.sqrt(PETIT_ITOKAWA_SIGMA**2 - shape_part**2)
-    slope = abs(r["values"]["precession_rate_arcsec_per_year"] * math.tan(math.radians(157.30)))
-    assert math.degrees(pole_only / slope) == pytest.approx(1.90, abs=0.02)

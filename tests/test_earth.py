@@ -1,14 +1,16 @@
 """The Earth under the Moon and the Sun, served (ephem.earth, issue 7): the catalogue's perturbers, the
-lunisolar answers of ephem.api, the CLI and the service, against ERFA's IAU 2006/2000A, and the Sun-only
-answer reproduced."""
+lunisolar answers of ephem.api, the CLI and the service, and the Sun-only answer reproduced.
+
+Against IAU 2006/2000A: as ERFA computes it (the rate, the track against the CIP within the estimate, the
+estimate's ingredients), tests/test_against_erfa.py; as published (ε_A, the leading terms),
+tests/test_against_iau2006.py.
+"""
 import csv
 import dataclasses
 import io
 import json
 import math
-from pathlib import Path
 
-import erfa
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
@@ -17,33 +19,16 @@ from typer.testing import CliRunner
 from ephem import api
 from ephem.catalogue import get_body, parse_catalogue, resolve_perturbers
 from ephem.cli import app as cli
-from ephem.constants import ARCSEC, J2000_JD, MAS
-from ephem.earth import estimate_terms, lunisolar_earth
 from ephem.errors import InvalidInputError, NotApplicableError
-from ephem.ladder import pole_vectors
-from ephem.lunisolar import earth_lunisolar, lunisolar_data, residual_vs_iau2000a
+from ephem.lunisolar import earth_lunisolar
 from ephem.tables import DELAUNAY_COLUMNS
 from service.app import app as web
 from tests.test_catalogue import GOOD
-
-ROOT = Path(__file__).resolve().parent.parent
-YEAR = 365.25
-CY = 36525.0
 
 
 @pytest.fixture(scope="module")
 def client():
     return TestClient(web)
-
-
-def angle(a, b):
-    return np.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.einsum("ij,ij->i", a, b))
-
-
-def cip(jd):
-    """ERFA's IAU 2006/2000A celestial intermediate pole (GCRS ≈ ICRF unit vectors), JD TT ≈ TDB."""
-    x, y = erfa.xy06(jd, 0.0)
-    return np.stack([x, y, np.sqrt(1.0 - x * x - y * y)], axis=-1)
 
 
 def without_cost(d: dict) -> dict:
@@ -179,24 +164,6 @@ def prec():
     return api.precession("earth")
 
 
-def test_lunisolar_precession_against_iau_2006(prec):
-    # IAU 2006 ψ_A rate at J2000 from ERFA (central difference over ±1 day)
-    h = 1.0
-    rate_iau = (erfa.p06e(J2000_JD + h, 0.0)[1] - erfa.p06e(J2000_JD - h, 0.0)[1]) / (2 * h) * CY / ARCSEC
-    assert rate_iau == pytest.approx(5038.481507, abs=1e-4)
-    ours = prec["precession_rate_arcsec_per_year"] * 100.0
-    # docs/earth.md: ours + P03 Table 3's contributions a first-order Newtonian rigid theory lacks (-2.223"/cy,
-    # mostly the geodesic -1.92"/cy) against ψ_A: 0.27"/cy (5e-5), the constants behind the first-order value
-    others = sum(lunisolar_data()["precession_reference"]["p03_contributions_uas_per_century"].values()) * 1e-6
-    assert others == pytest.approx(-2.223176, abs=1e-6)
-    assert abs(ours + others - rate_iau) < 0.5
-    assert ours - rate_iau == pytest.approx(1.95, abs=0.05)            # the documented difference
-    assert prec["perturbers"] == ["Moon", "Sun"] and prec["model"]["perturbers"] == ["Moon", "Sun"]
-    assert prec["model"]["name"] == "lunisolar" and "Kinoshita (1977) lunisolar" in prec["model"]["theory"]
-    # the answer copies the series' rate (same function, same inputs, one process): exact
-    assert prec["precession_rate_arcsec_per_year"] == earth_lunisolar(hd="iers2010").precession_rate_arcsec_per_year
-
-
 def test_the_moon_makes_two_thirds_of_it(prec):
     moon = api.precession("earth", perturbers="moon")["precession_rate_arcsec_per_year"]
     sun = earth_lunisolar(perturbers=("sun",)).precession_rate_arcsec_per_year
@@ -207,14 +174,6 @@ def test_the_moon_makes_two_thirds_of_it(prec):
     # the Sun alone, in the lunisolar theory and in the single-perturber one, agree (docs/earth.md: 6.5e-6)
     assert sun == pytest.approx(api.precession("earth", perturbers="sun")["precession_rate_arcsec_per_year"],
                                 rel=2e-5)
-
-
-def test_mean_obliquity_is_iau_2006s(prec):
-    # the catalogue pole (the CIP at J2000) minus our nutation there, on the catalogue orbit: IAU 2006's
-    # ε_A = 84381.406" to the residual of our nutation (5.7 mas in Δε at J2000) and the catalogue orbit's
-    # 55 mas tilt from the ecliptic; the Sun-only answer leaves the Moon's -5.7" in its "mean" obliquity
-    assert abs(prec["obliquity_deg"] * 3600.0 - 84381.406) < 0.1
-    assert abs(api.precession("earth", perturbers="sun")["obliquity_deg"] * 3600.0 - 84381.406) > 5.0
 
 
 def test_the_answer_says_which_hd_and_why(prec):
@@ -268,19 +227,6 @@ def test_nutation_terms_carry_delaunay_multipliers(nut):
             >= 0.1e-3 - 1e-15
 
 
-def test_leading_terms_against_iau_2000a(nut):
-    """The served coefficients against IAU 2000A (data/lunisolar.toml, = ERFA nut00a.c): the documented rigid
-    vs non-rigid differences of docs/earth.md, to 0.5 mas."""
-    documented = {(0, 0, 0, 0, 1): (-76.97, 22.77), (0, 0, 2, -2, 2): (39.61, -19.70), (0, 1, 0, 0, 0): (-22.08, -7.52),
-                  (0, 0, 2, 0, 2): (6.13, -2.93), (0, 0, 0, 0, 2): (0.21, -0.27)}
-    terms = {tuple(t["delaunay_multipliers"]): t for t in nut["terms"]}
-    iau = {tuple(t["delaunay_multipliers"]): t for t in lunisolar_data()["iau2000a_term"]}
-    for k, (dpsi, deps) in documented.items():
-        assert terms[k]["longitude_sin_arcsec"] * 1e3 - iau[k]["psi"][0] == pytest.approx(dpsi, abs=0.5)
-        assert terms[k]["obliquity_cos_arcsec"] * 1e3 - iau[k]["eps"][0] == pytest.approx(deps, abs=0.5)
-    # (tests/test_lunisolar.py recovers those IAU 2000A coefficients from erfa.nut00a)
-
-
 def test_the_cut_and_the_tolerance(nut):
     coarse = api.nutation("earth", cut_mas=1.0)
     assert len(coarse["terms"]) == 34 and coarse["model"]["cut_mas"] == 1.0
@@ -316,100 +262,7 @@ def test_a_cut_is_for_the_lunisolar_series_only():
         api.nutation("earth", tolerance_mas=1e-6)
 
 
-# ----------------------------------------------------------------------------- the track against ERFA
-
-@pytest.fixture(scope="module")
-def decades():
-    """2000-2030, every 2 days: our lunisolar figure-axis track, the Sun-only one, and ERFA's CIP."""
-    ans = api.track_arrays("earth", "2000-01-01", "2030-01-01", 2.0)
-    sun = api.track_arrays("earth", "2000-01-01", "2030-01-01", 2.0, perturbers="sun")
-    truth = cip(ans["jd_tdb"])
-
-    def err(a):
-        v = pole_vectors(type("T", (), {"pole_ra": np.radians(a["pole_ra_deg"]),
-                                        "pole_dec": np.radians(a["pole_dec_deg"])})())
-        return angle(v, truth) / MAS
-    return ans, err(ans), sun, err(sun)
-
-
-def test_track_against_erfas_cip_is_within_the_estimate(decades):
-    ans, err, _, _ = decades
-    info = ans["model"]
-    assert info["name"] == "lunisolar" and info["axis"] == "figure" and ans["perturbers"] == ["Moon", "Sun"]
-    terms = info["error_terms_mas"]
-    # the CIP is the forced figure axis: everything but the free wobble (the CIP leaves it to polar motion)
-    forced = sum(v for k, v in terms.items() if k != "free_wobble")
-    assert err.max() < forced < info["estimated_error_mas"]
-    assert terms["free_wobble"] == pytest.approx(1000.0)          # Lara (2014) J0 = 1" for the figure axis
-    assert 300.0 < err.max() < 400.0 and 350.0 < forced < 450.0   # measured: 357 mas against 396 (docs/earth.md)
-    assert err[0] < 1.0                                           # the catalogue pole is the CIP at J2000
-
-
-def test_the_moon_matters(decades):
-    ans, err, sun, sun_err = decades
-    assert sun_err.max() > 100 * ans["model"]["estimated_error_mas"]      # 423" over 30 years
-    assert sun_err.max() > 400_000.0
-    # and the Sun-only estimate is about a Sun-only Earth: it says so
-    assert sun_err.max() > 100 * sun["model"]["estimated_error_mas"]
-    assert any("leaves out the Moon" in w for w in sun["model"]["warnings"])
-
-
-def test_the_estimate_holds_over_the_whole_window():
-    ans = api.track_arrays("earth", "1900-01-01", "2099-12-31", 10.0)
-    v = np.stack([np.cos(np.radians(ans["pole_dec_deg"])) * np.cos(np.radians(ans["pole_ra_deg"])),
-                  np.cos(np.radians(ans["pole_dec_deg"])) * np.sin(np.radians(ans["pole_ra_deg"])),
-                  np.sin(np.radians(ans["pole_dec_deg"]))], axis=-1)
-    err = angle(v, cip(ans["jd_tdb"])) / MAS
-    forced = sum(v for k, v in ans["model"]["error_terms_mas"].items() if k != "free_wobble")
-    assert err.max() < forced and err.max() > 0.8 * forced       # an upper bound, and not a loose one
-
-
-def test_the_estimates_ingredients_against_erfa():
-    model = lunisolar_earth(get_body("earth"))
-    stored = lunisolar_data()["served_track"]["residual_envelope_mas"]
-    # the residual envelope: the chart's CSV and a fresh daily comparison both stay under the stored value
-    rows = list(csv.DictReader(open(ROOT / "docs" / "charts" / "earth_nutation_residual.csv")))
-    se = math.sin(model.obliquity)
-    chart = max(se * abs(float(r["dpsi_minus_iau2000a_mas"])) + abs(float(r["deps_minus_iau2000a_mas"]))
-                for r in rows)
-    jd = np.arange(2448000.5, 2463000.5, 1.0)
-    rp, re_ = residual_vs_iau2000a(model.series, jd)
-    fresh = float(np.max(se * np.abs(rp) + np.abs(re_))) / MAS
-    assert chart < stored < chart + 1.0 and fresh < stored
-    # the IAU 2006 polynomials the precession term uses are ERFA's
-    prec = lunisolar_data()["iau2006_precession"]
-    for T in (-1.0, 0.37, 1.0):
-        e = erfa.p06e(J2000_JD + T * CY, 0.0)
-        for key, idx in (("psi_a", 1), ("omega_a", 2), ("pi_a", 5)):
-            # ERFA's own coefficients, summed in another order: ~1e-17 rad of rounding; 1e-12 rad (0.2 µas)
-            # catches any coefficient wrong by more than 0.2 µas/cy^i
-            assert sum(c * T**i for i, c in enumerate(prec[key])) * ARCSEC == pytest.approx(e[idx], abs=1e-12)
-    # the mean pole's drift against ERFA's (bias-precession matrix) is within the precession term
-    t = np.linspace(J2000_JD, J2000_JD + 30 * YEAR, 31)
-    ours = model.track(t)
-    mean_ours = np.stack([np.sin(model.obliquity) * np.sin(model.precession_rate * (t - J2000_JD)),
-                          np.sin(model.obliquity) * np.cos(model.precession_rate * (t - J2000_JD)),
-                          np.full(t.size, np.cos(model.obliquity))], axis=-1) @ model.icrf_from_orbit.T
-    mean_iau = np.array([erfa.bp06(x, 0.0)[2][2] for x in t])
-    drift = angle(mean_ours - mean_ours[0] + mean_iau[0], mean_iau) / MAS
-    terms = estimate_terms(model, t)
-    assert drift.max() < (terms["precession"] + terms["ecliptic_motion"]) / MAS
-    assert drift.max() > 0.9 * terms["precession"] / MAS
-    assert ours.pole_dec.shape == t.shape
-
-
-def test_angular_momentum_axis():
-    fig = api.track_arrays("earth", "2010-01-01", "2012-01-01", 1.0)
-    mom = api.track_arrays("earth", "2010-01-01", "2012-01-01", 1.0, axis="angular_momentum")
-    v = [np.stack([np.cos(np.radians(a["pole_dec_deg"])) * np.cos(np.radians(a["pole_ra_deg"])),
-                   np.cos(np.radians(a["pole_dec_deg"])) * np.sin(np.radians(a["pole_ra_deg"])),
-                   np.sin(np.radians(a["pole_dec_deg"]))], axis=-1) for a in (fig, mom)]
-    oppolzer = angle(*v) / MAS                # the figure and momentum axes: the Oppolzer terms, ~20 mas
-    assert 5.0 < oppolzer.max() < mom["model"]["error_terms_mas"]["axis_relation"] / 2.5
-    assert "free_wobble" not in mom["model"]["error_terms_mas"] and mom["model"]["axis"] == "angular_momentum"
-    err = angle(v[1], cip(mom["jd_tdb"])) / MAS
-    assert err.max() < mom["model"]["estimated_error_mas"]
-
+# ----------------------------------------------------------------------------- the track
 
 def test_free_wobble_for_the_lunisolar_earth():
     near = dict(free_wobble_phase_deg=30.0, free_wobble_epoch="2020-01-15")

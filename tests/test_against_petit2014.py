@@ -1,5 +1,8 @@
 """Petit, Souchay & Lhotka (2014) in CI: Tables 3-10 reproduced, and every erratum asserted as recorded.
 
+Also the paper's other printed numbers: the Hansen coefficients of Eqs. 16-18 and 23-25 (ephem.hansen),
+Tables 9-10 in the amp-period layout of ephem.tables, and Itokawa's ±6.57″/yr (ephem.uncertainty).
+
 The printed tables live verbatim in data/petit2014/; the errata in data/errata.toml. Tolerances
 come from the printed precision: half a unit of the last printed digit (the paper rounds; only
 Table 4's obliquity column is truncated, erratum eros-precession-rate), plus the effect of the
@@ -13,6 +16,7 @@ import math
 import sys
 import tomllib
 from dataclasses import replace
+from fractions import Fraction as F
 from pathlib import Path
 
 import numpy as np
@@ -26,6 +30,10 @@ from ephem.hansen import hansen_series
 from ephem.kepler import orbit_normal
 from ephem.kinoshita import nutation_series
 from ephem.model import build_model
+from ephem.tables import render_nutation
+from ephem.uncertainty import monte_carlo, propagate
+from tests.test_hansen import _poly
+from tests.test_tables import parse
 
 TABLES = data_dir() / "petit2014"
 ERRATA = tomllib.loads((data_dir() / "errata.toml").read_text())["erratum"]
@@ -129,6 +137,11 @@ def test_dynamical_ellipticity_from_table3_where_consistent(body):
     assert hd == pytest.approx(TABLE4[body]["dynamical_ellipticity"], abs=5e-5)  # half a unit of the 4th decimal
 
 
+def test_dynamical_ellipticity_of_vesta_table3_is_table4():
+    # Petit et al. (2014): Table 3 moments 0.3433, 0.3546, 0.42 -> Table 4 H_d = 0.1692
+    assert dynamical_ellipticity(0.3433, 0.3546, 0.42) == pytest.approx(0.1692, abs=5e-5)
+
+
 @pytest.mark.parametrize("body", ["Vesta", "Ceres"])
 def test_nutation_semi_amplitudes_table4(body):
     # budget: half a unit of the 4th decimal, the 4-digit H_d and the truncated obliquity the dataset
@@ -202,6 +215,21 @@ def test_tables_9_10_our_model_and_rambaux(row):
     assert s.period_days[k - 1] == pytest.approx(float(row["rambaux_period_days"]), rel=3e-4)
 
 
+@pytest.fixture(scope="module")
+def vesta():
+    return api.nutation("vesta", "petit2014", order=4)
+
+
+def test_amp_period_layout_reproduces_petit_tables_9_and_10(vesta):
+    got = parse(render_nutation(vesta, "csv", layout="amp-period"), "csv", "amp-period")
+    for row in RAMBAUX:
+        comp = "longitude" if row["component"].startswith("longitude") else "obliquity"
+        cell = got[(comp, int(row["multiple"]))]
+        # the tolerance of test_tables_9_10_our_model_and_rambaux (above)
+        assert cell["amp_mas"] == pytest.approx(float(row["petit_amp_mas"]), abs=0.05 + HD_ROUNDING * cell["amp_mas"])
+        assert cell["period_days"] == pytest.approx(float(row["petit_period_days"]), abs=1e-4)
+
+
 def test_effective_inputs_are_reproduced_by_the_derivation_tool():
     # no hand-tuned number in the petit2014 dataset: tools/derive_petit2014.py re-derives them.
     # Budget: half a unit of the digits the toml carries (a 8-9 decimals, e 7, angles 6), with margin
@@ -216,6 +244,60 @@ def test_effective_inputs_are_reproduced_by_the_derivation_tool():
             assert b.orbit.peri_deg == pytest.approx(vals["peri_deg"], abs=1e-6)
         assert b.pole.ra_deg == pytest.approx(vals["pole_ra_deg"], abs=1e-6)
         assert b.pole.dec_deg == pytest.approx(vals["pole_dec_deg"], abs=1e-6)
+
+
+# ----------------------------------------------------------------------------- Eqs. 16-18, 23-25
+
+# Petit et al. (2014), Eqs. 16-18 and 23-25 (as given in the brief).  Every
+# value below agrees exactly with the engine.  Typos found in the (extracted)
+# Eqs. 23-24 of the paper, none of which affects the coefficient values:
+#   * Eq. 23 contains a spurious extra pair "- C' 62/48 e^3 sin5M/5n
+#     - C' 533/16 e^4 sin6M/6n" (no coefficient 62/48 exists; the correct
+#     k = 5 term is 845/48 e^3, which is also printed);
+#   * Eq. 23 prints "S' (7/2 e - 115/6 e^4) cos4M/4n": the k = 4 coefficient
+#     is S2_4 = 17/2 e^2 - 115/6 e^4 (7/2 e belongs to k = 3);
+#   * Eq. 23 divides the k = 2 terms by n instead of 2n (Eq. 24 has 2n);
+#   * Eq. 24 repeats the (17/2 e^2 - 115/6 e^4) term three times with the
+#     arguments 3M and 5M; it belongs once, with 4M / 4n; "S sin 3M" lacks
+#     the prime of S'.
+PUBLISHED = {
+    "c0": {
+        0: {0: F(1), 2: F(3, 2), 4: F(15, 8)},
+        1: {1: F(3), 3: F(27, 8)},
+        2: {2: F(9, 2), 4: F(7, 2)},
+        3: {3: F(53, 8)},
+        4: {4: F(77, 8)},
+        5: {},
+        6: {},
+    },
+    "c2": {
+        0: {},
+        1: {1: F(-1, 2), 3: F(1, 12)},
+        2: {0: F(1), 2: F(-5, 2), 4: F(41, 48)},
+        3: {1: F(7, 2), 3: F(-123, 16)},
+        4: {2: F(17, 2), 4: F(-115, 6)},
+        5: {3: F(845, 48)},
+        6: {4: F(533, 16)},
+    },
+    "s2": {
+        0: {},
+        1: {1: F(-1, 2), 3: F(1, 24)},
+        2: {0: F(1), 2: F(-5, 2), 4: F(37, 48)},
+        3: {1: F(7, 2), 3: F(-123, 16)},   # no e^4 term (parity)
+        4: {2: F(17, 2), 4: F(-115, 6)},
+        5: {3: F(845, 48)},
+        6: {4: F(533, 16)},
+    },
+}
+
+
+@pytest.mark.parametrize("family", ["c0", "c2", "s2"])
+def test_order4_series_equals_published(family):
+    series = hansen_series(4)
+    got = getattr(series, family)
+    assert sorted(got) == list(range(7))            # k = 0 .. order + 2
+    for k, terms in PUBLISHED[family].items():
+        assert got[k] == _poly(4, terms), (family, k, got[k])
 
 
 # ----------------------------------------------------------------------------- errata, one test each
@@ -238,6 +320,19 @@ def test_erratum_eq26_orbit_normal():
     # budget: floating point (an identity)
     assert abs(printed @ nodes) == pytest.approx(abs(math.sin(i) * math.sin(2 * node)), rel=1e-12)
     assert abs(orbit_normal(i, node) @ nodes) < 1e-15
+
+
+def test_paper_eq26_sign_slip():
+    """Erratum: Petit et al. eq. 26 prints z = (sin i sin Ω, cos Ω sin i, cos i).
+
+    The orbit normal must be orthogonal to the line of nodes (cos Ω, sin Ω, 0);
+    the printed vector is not (unless sin 2Ω = 0), ours is.
+    """
+    i, node = math.radians(7.14), math.radians(103.7)
+    nodes = np.array([math.cos(node), math.sin(node), 0.0])
+    printed = np.array([math.sin(i) * math.sin(node), math.cos(node) * math.sin(i), math.cos(i)])
+    assert abs(np.dot(printed, nodes)) > 0.02
+    assert abs(np.dot(orbit_normal(i, node), nodes)) < 1e-15   # a 3-term dot product of unit vectors: ≲ 3 ε
 
 
 def test_erratum_eq27_pole_vector():
@@ -368,8 +463,6 @@ def test_erratum_ceres_table4_delta_epsilon():
     ours = api.nutation("ceres", "petit2014", order=4)["delta_epsilon_half_peak_to_peak_arcsec"]
     assert ours == pytest.approx(0.1829, abs=5e-5)
     assert abs(ours - 0.1813) > 1e-3
-
-
 
 
 def _hd_from_table3(body):
@@ -518,3 +611,63 @@ def test_erratum_itokawa_precession_uncertainty():
     # twice, but for σ_ε = 3.86° (not 3.9°): 2 × 3.86/3.9 = 1.98; budget: half a unit of the 2 decimals
     # plus 6.57's own rounding (0.0015)
     assert ours / 6.57 == pytest.approx(1.98, abs=0.0065)
+
+
+# ----------------------------------------------------------------------------- Itokawa's σ
+
+#: Petit et al. (2014), abstract, Sect. 6.1 and conclusion: ψ̇ = −(461.52 ± 6.57)″/yr for Itokawa.
+PETIT_ITOKAWA_SIGMA = 6.57
+#: Demura et al. (2006): the Itokawa pole "with a 3.9° margin of error" (Petit Sect. 5.1: "±3.9° margin").
+DEMURA_MARGIN_DEG = 3.9
+
+
+def test_itokawa_petit2014_precession_rate_uncertainty():
+    """Petit et al. give ψ̇ = −461.52 ± 6.57″/yr for Itokawa; they say the uncertainty comes from H_d and ε
+    (Sect. 3.3) and quote the pole's ±3.9° margin (Sect. 5.1), with no H_d uncertainty.
+
+    With their inputs (petit2014: pole ±3.9° in RA and Dec, nothing else uncertain) ψ̇ depends on the pole
+    through ε only, so σ_ψ̇ = |∂ψ̇/∂ε| σ_ε = |ψ̇ tan ε| σ_ε. Ours: σ_ε = 3.86°, σ_ψ̇ = 13.0″/yr, twice
+    theirs.
+    Their 6.57 is |ψ̇ tan ε| × 1.95°, half the 3.9° margin, to the last printed digit.
+    """
+    r = propagate("Itokawa", "petit2014", order=4)
+    assert set(r["inputs"]) == {"pole.ra", "pole.dec"}
+    psidot = r["values"]["precession_rate_arcsec_per_year"]
+    eps = math.radians(r["values"]["obliquity_deg"])
+    assert psidot == pytest.approx(-461.52, abs=0.2) and math.degrees(eps) == pytest.approx(157.30, abs=0.005)
+    sig_eps = math.radians(r["obliquity_deg_uncertainty"])
+    sig_psi = r["precession_rate_arcsec_per_year_uncertainty"]
+    slope = sig_psi / sig_eps
+    assert slope == pytest.approx(abs(psidot * math.tan(eps)), rel=1e-3)
+    # ours, from the inputs the paper states
+    assert r["obliquity_deg_uncertainty"] == pytest.approx(DEMURA_MARGIN_DEG, rel=0.02)
+    assert sig_psi == pytest.approx(13.0, abs=0.1)
+    assert sig_psi / PETIT_ITOKAWA_SIGMA == pytest.approx(2.0, abs=0.04)
+    # the Monte Carlo agrees with our linear value (the model is nearly linear over ±3.9° here)
+    mc = monte_carlo("Itokawa", 1000, 0, "petit2014", order=4)
+    assert mc["precession_rate_arcsec_per_year_uncertainty"] == pytest.approx(sig_psi, rel=0.10)
+    # theirs: the same slope times half the margin, 6.57 to the printed digit (with 3.9° itself: 13.1)
+    assert round(slope * math.radians(DEMURA_MARGIN_DEG / 2), 2) == PETIT_ITOKAWA_SIGMA
+    assert round(abs(-461.5208 * math.tan(math.radians(157.30))) * math.radians(DEMURA_MARGIN_DEG / 2), 2) \
+        == PETIT_ITOKAWA_SIGMA
+    assert slope * math.radians(DEMURA_MARGIN_DEG) == pytest.approx(13.1, abs=0.05)
+
+
+def test_itokawa_shape_uncertainty_is_not_in_petits_number():
+    """Their H_d comes from the shape (±1 m on each axis). For the uniform ellipsoid 535 × 294 × 209 m
+    that gives Table 4's H_d, H_d = 1/2 − c²/(a² + b²) (semi-axes); ±1 m on each full axis adds
+    1.4″/yr to ψ̇ in quadrature: with it, ε alone would have to be 1.88°, no round fraction of 3.9°."""
+    a, b, c = 267.5, 147.0, 104.5                      # semi-axes, m
+    hd = 0.5 - c * c / (a * a + b * b)
+    assert hd == pytest.approx(0.3828, abs=5e-5)
+    s = a * a + b * b
+    grad = np.array([2 * a * c * c / s**2, 2 * b * c * c / s**2, -2 * c / s])
+    sig_hd = 0.5 * float(np.linalg.norm(grad))           # ±1 m on a full axis = ±0.5 m on a semi-axis
+    r = propagate("Itokawa", "petit2014", order=4, uncertainties={"inertia.dynamical_ellipticity": sig_hd})
+    shape_part = abs(r["contributions"]["precession_rate_arcsec_per_year"]["inertia.dynamical_ellipticity"])
+    assert shape_part == pytest.approx(abs(r["values"]["precession_rate_arcsec_per_year"]) * sig_hd / 0.3828,
+                                       rel=1e-3)
+    assert shape_part == pytest.approx(1.44, abs=0.02)
+    pole_only = math.sqrt(PETIT_ITOKAWA_SIGMA**2 - shape_part**2)
+    slope = abs(r["values"]["precession_rate_arcsec_per_year"] * math.tan(math.radians(157.30)))
+    assert math.degrees(pole_only / slope) == pytest.approx(1.90, abs=0.02)
