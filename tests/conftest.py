@@ -33,3 +33,28 @@ def vesta_like():
     """A Vesta-like body built in code (independent of the catalogue files)."""
     return Body("Vesta-like", Orbit(2.3615413, 0.0901676, 7.14406, 103.70232, 151.53711, 26.80969, 2461000.5),
                 Pole(309.031, 42.2264), 5.3421, moments=(0.3433, 0.3546, 0.42))
+
+
+# --- fixtures several suites share (one definition each; the library caches the objects as well)
+
+@pytest.fixture(scope="session")
+def nf():
+    """Lara's normal form of the free rigid body at the order the Lie-series suites use."""
+    from ephem.lie_series import sam_normal_form
+    from tests.test_lie_series import ORDER
+
+    return sam_normal_form(ORDER)
+
+
+@pytest.fixture(scope="session")
+def generated(nf):
+    """Lara (2014) Tables 2-5 as our normal form generates them."""
+    return nf.lara2014_tables()
+
+
+@pytest.fixture(scope="session")
+def rigid():
+    """The Earth's rigid lunisolar series: figure axis, IERS 2010 H_d, 0.1 mas cut (compared with IAU 2000A)."""
+    from ephem import lunisolar
+
+    return lunisolar.earth_lunisolar(cut_mas=0.1, hd="iers2010")

@@ -5,12 +5,6 @@ import pytest
 from ephem import lunisolar as L
 
 
-@pytest.fixture(scope="module")
-def rigid():
-    """Figure axis, IERS 2010 H_d, 0.1 mas cut: the series compared with IAU 2000A."""
-    return L.earth_lunisolar(hd="iers2010")
-
-
 def test_first_order_precession_against_bourda_capitaine_2004(rigid):
     # "Lunisolar first order 5494.062986 x cos eps0 = 5040.7047"/cy" for H = 3.27379492e-3.
     ref = L.lunisolar_data()["precession_reference"]

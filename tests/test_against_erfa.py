@@ -62,12 +62,6 @@ def test_earth_pole_is_the_cip_at_j2000():
 
 # ----------------------------------------------------------------------------- ephem.lunisolar
 
-@pytest.fixture(scope="module")
-def rigid():
-    """Figure axis, IERS 2010 H_d, 0.1 mas cut: the series compared with IAU 2000A."""
-    return L.earth_lunisolar(hd="iers2010")
-
-
 def test_delaunay_arguments_are_erfas():
     jd = np.array([2415020.5, 2444239.5, J2000, 2460000.5, 2488069.5])
     t = (jd - J2000) / CY

@@ -99,12 +99,6 @@ def test_earth_orbit_normal_turns_with_the_iau2006_ecliptic_precession():
 
 # ----------------------------------------------------------------------------- ephem.lunisolar
 
-@pytest.fixture(scope="module")
-def rigid():
-    """Figure axis, IERS 2010 H_d, 0.1 mas cut: the series compared with IAU 2000A."""
-    return L.earth_lunisolar(hd="iers2010")
-
-
 def test_precession_against_iau2006_with_the_p03_contributions(rigid):
     # IAU 2006 psi_A rate = first-order lunisolar + P03 Table 3's other contributions (second
     # order, J4, planetary, J2 tilt, non-linear, geodesic -1.919883"/cy).

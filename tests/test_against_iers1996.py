@@ -2,13 +2,7 @@
 IERS 1996 transfer function (ephem.nonrigid) gives its coefficients."""
 import pytest
 
-from ephem import lunisolar as L
 from ephem import nonrigid as N
-
-
-@pytest.fixture(scope="module")
-def rigid():
-    return L.earth_lunisolar(cut_mas=0.1, hd="iers2010")
 
 
 def test_rigid_times_transfer_function_is_the_iers_1996_series(rigid):

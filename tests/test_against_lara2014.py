@@ -17,7 +17,7 @@ import pytest
 
 from ephem import andoyer as an
 from ephem.catalogue import data_dir, get_body
-from ephem.lie_series import Lara2014Series, Lara2014Tables, SamNormalForm, SamParameters, sam_normal_form
+from ephem.lie_series import Lara2014Series, Lara2014Tables, SamParameters
 from ephem.polynomials import beta_poly, parse_polynomial
 from tests.test_lie_series import MODERATE, ORDER, _initial_m, _reference_quaternion
 
@@ -91,16 +91,6 @@ def test_lara2014_delta_for_printed_j():
 
 
 # ----------------------------------------------------------------------------- Tables 2-5
-
-@pytest.fixture(scope="module")
-def nf() -> SamNormalForm:
-    return sam_normal_form(ORDER)
-
-
-@pytest.fixture(scope="module")
-def generated(nf) -> Lara2014Tables:
-    return nf.lara2014_tables()
-
 
 def _latex_to_expr(cell: str) -> str:
     """The mechanical LaTeX → Python conversion the CSV's expr column was made with."""

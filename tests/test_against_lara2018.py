@@ -12,18 +12,13 @@ import pytest
 from scipy.special import ellipk
 
 from ephem.euler_poinsot import FreeRotation, sadov_action_angle
-from ephem.lie_series import SamNormalForm, SamSeriesSolution, body_to_action_angle, sam_normal_form
+from ephem.lie_series import SamSeriesSolution, body_to_action_angle
 from ephem.polynomials import beta_poly, parse_polynomial
 from tests.test_against_lara2014 import ERRATA, LARA, _as_beta_poly, _printed_2014
 from tests.test_euler_poinsot import TRIAXIAL
 from tests.test_lie_series import EROS, MODERATE, ORDER, _initial_m, _quadrature
 
 L18 = tomllib.loads((LARA / "lara2018_polynomials.toml").read_text())
-
-
-@pytest.fixture(scope="module")
-def nf() -> SamNormalForm:
-    return sam_normal_form(ORDER)
 
 
 # ----------------------------------------------------------------------------- the polynomials

@@ -5,18 +5,11 @@ products to the truncation order, and an angle's seed (a first bracket) stands i
 import math
 from fractions import Fraction
 
-import pytest
-
 from ephem.deprit import deprit_transform
-from ephem.lie_series import SamNormalForm, sam_normal_form
+from ephem.lie_series import sam_normal_form
 from ephem.polynomials import GaussianPoly, parse_polynomial
+from tests.test_lie_series import ORDER  # the normal form (sam_normal_form's cache) the suites share
 
-ORDER = 16  # as tests/test_lie_series.py, whose normal form (sam_normal_form's cache) this shares in one worker
-
-
-@pytest.fixture(scope="module")
-def nf() -> SamNormalForm:
-    return sam_normal_form(ORDER)
 
 
 def _series_mul(a, b, order):

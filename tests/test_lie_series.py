@@ -18,14 +18,11 @@ from scipy.spatial.transform import Rotation
 from ephem.catalogue import get_body
 from ephem.lie_series import (
     Lara2014Series,
-    Lara2014Tables,
-    SamNormalForm,
     SamParameters,
     SamSeriesSolution,
     body_to_action_angle,
     body_to_poincare,
     poincare_to_body,
-    sam_normal_form,
 )
 from ephem.polynomials import parse_polynomial
 
@@ -33,16 +30,6 @@ ORDER = 16  # high enough for the g_{6,3} erratum to stand out of the truncation
 EROS = get_body("eros").moments           # Lara 2014 Table 1: A/C = 0.229427, B/C = 0.963754
 EARTH = get_body("earth").moments         # A/C = 0.99672, B/C = 0.9967222
 MODERATE = (0.5, 0.75, 1.0)               # β = 1/2: every power of β in the tables matters
-
-
-@pytest.fixture(scope="module")
-def nf() -> SamNormalForm:
-    return sam_normal_form(ORDER)
-
-
-@pytest.fixture(scope="module")
-def generated(nf) -> Lara2014Tables:
-    return nf.lara2014_tables()
 
 
 @pytest.fixture(scope="module")

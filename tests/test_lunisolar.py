@@ -24,12 +24,6 @@ CY = 36525.0
 
 
 @pytest.fixture(scope="module")
-def rigid():
-    """Figure axis, IERS 2010 H_d, 0.1 mas cut: the series compared with IAU 2000A."""
-    return L.earth_lunisolar(hd="iers2010")
-
-
-@pytest.fixture(scope="module")
 def rigid_l():
     """Angular-momentum axis (what the torque equations move), IERS 2010 H_d."""
     return L.earth_lunisolar(hd="iers2010", axis="angular_momentum")

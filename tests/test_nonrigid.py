@@ -15,11 +15,6 @@ from ephem import nonrigid as N
 from ephem.errors import InvalidInputError
 
 
-@pytest.fixture(scope="module")
-def rigid():
-    return L.earth_lunisolar(cut_mas=0.1, hd="iers2010")
-
-
 def _reference(name):
     return next(r for r in L.iau2000a_terms() if r["name"] == name)
 
