@@ -54,7 +54,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 
 import numpy as np
 
@@ -531,9 +531,9 @@ class SunLadder(SpinAxisTheory):
     def serves(cls, body: Body, perturbers: tuple[str, ...]) -> bool:
         return tuple(perturbers) == (body.orbit.center,)
 
-    @property
+    @cached_property
     def ladder(self) -> Ladder:
-        return Ladder(self.body, self.axis, self.wobble)
+        return Ladder(self.body, self.axis, self.wobble)      # one per request (with_wobble makes a new family)
 
     @classmethod
     def how_to_reach(cls, body: Body) -> str:
