@@ -63,6 +63,7 @@ import numpy as np
 
 from .kepler import solve_kepler_scalar, true_anomaly
 from .model import PrecessionNutation
+from .rotation_scale import SunGeometry, forced_angular_velocity
 
 # --------------------------------------------------------------------------- inputs
 
@@ -331,21 +332,35 @@ class RigidTrack:
 
 def integrate_rigid_body(model: PrecessionNutation, jd_tdb, moments=None, initial_angle: float = 0.0,
                          initial_omega_body=None, solar_torque: bool = True, rtol: float = 1e-12,
-                         atol: float = 1e-14) -> RigidTrack:
+                         atol: float = 1e-14, start: str = "aligned") -> RigidTrack:
     """Rung 7 at ``jd_tdb`` (JD TDB, either side of the pole epoch): see the module docstring.
 
     ``moments`` (A, B, C) in any common unit, default the catalogue body's;
-    ``initial_angle`` (rad) places the A axis; ``initial_omega_body`` (rad/day,
-    body frame) overrides the default (0, 0, ω); ``solar_torque`` False is the
-    torque-free body (GM = 0).
+    ``initial_angle`` (rad) places the A axis; ``solar_torque`` False is the
+    torque-free body (GM = 0). The C axis starts on the model's pole. ``start``
+    sets the angular velocity there: "aligned" (default) ω = (0, 0, ω), which
+    puts L on the C axis and excites a free wobble of the size of the forced
+    offset; "forced" the forced solution of
+    :func:`ephem.rotation_scale.forced_angular_velocity`, so the body starts
+    without that free wobble (to first order). ``initial_omega_body`` (rad/day,
+    body frame) overrides both.
     """
+    if start not in ("forced", "aligned"):
+        raise ValueError(f"start must be 'forced' or 'aligned', got {start!r}")
     mom = model_moments(model) if moments is None else normalised_moments(moments)
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     w0 = model.spin_rate
     dpsi0, deps0 = model.nutation_at_pole_epoch
     s0 = model.pole_orbit_frame(dpsi0, model.obliquity + deps0)
     q0 = initial_attitude(s0, initial_angle)
-    w_init = np.array([0.0, 0.0, w0]) if initial_omega_body is None else np.asarray(initial_omega_body, dtype=float)
+    if initial_omega_body is not None:
+        w_init = np.asarray(initial_omega_body, dtype=float)
+    elif start == "forced" and solar_torque:
+        sun = SunGeometry.at(model, [model.pole_epoch])
+        sun_body = rotation_matrices(q0[None])[0].T @ sun.direction[0]
+        w_init = forced_angular_velocity(mom, w0, sun_body, float(sun.torque_strength[0]))
+    else:
+        w_init = np.array([0.0, 0.0, w0])
     y0 = np.concatenate([w_init / w0, q0])
     sun = SunOrbit.from_model(model) if solar_torque else None
     states, nfev = integrate_states(mom, w0, y0, model.pole_epoch, t, sun, rtol, atol)
