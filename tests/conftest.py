@@ -53,6 +53,33 @@ def generated(nf):
 
 
 @pytest.fixture(scope="session")
+def moderate_reference():
+    """β = 1/2, J = 35° (δ = 0.139), two polhode periods: quaternion route (m and g)."""
+    import math
+
+    import numpy as np
+
+    from ephem.lie_series import SamParameters
+    from tests.test_lie_series import MODERATE, _initial_m, _reference_quaternion
+
+    p = SamParameters(*MODERATE)
+    t = np.linspace(0.0, 2 * 2 * math.pi / p.kappa, 400)
+    m0 = _initial_m(math.radians(35.0), 0.3)
+    m, g = _reference_quaternion(MODERATE, m0, t)
+    return m0, t, m, g
+
+
+def run_quick_charts(tasks, out, count: int):
+    """Run a study's ``tasks(out, quick=True)`` into ``out``: ``count`` labelled jobs, each run once."""
+    jobs = tasks(out, quick=True)
+    assert len(jobs) == count
+    for label, job in jobs:
+        assert isinstance(label, str) and label
+        job()
+    return out
+
+
+@pytest.fixture(scope="session")
 def rigid():
     """The Earth's rigid lunisolar series: figure axis, IERS 2010 H_d, 0.1 mas cut (compared with IAU 2000A)."""
     from ephem import lunisolar

@@ -17,9 +17,9 @@ import pytest
 
 from ephem import andoyer as an
 from ephem.catalogue import data_dir, get_body
-from ephem.lie_series import Lara2014Series, Lara2014Tables, SamParameters
+from ephem.lie_series import Lara2014Series, Lara2014Tables
 from ephem.polynomials import beta_poly, parse_polynomial
-from tests.test_lie_series import MODERATE, ORDER, _initial_m, _reference_quaternion
+from tests.test_lie_series import MODERATE, ORDER
 
 LARA = data_dir() / "lara"
 ERRATA = {e["id"]: e for e in tomllib.loads((LARA / "errata.toml").read_text())["erratum"]}
@@ -162,16 +162,6 @@ def _swap(generated: Lara2014Tables, symbol: str, i: int, m: int) -> Lara2014Tab
     cells = dict(getattr(generated, symbol))
     cells[(i, m)] = _as_beta_poly(_erratum_cell(symbol, i, m)["expr"])
     return dataclasses.replace(generated, **{symbol: cells})
-
-
-@pytest.fixture(scope="module")
-def moderate_reference():
-    """β = 1/2, J = 35° (δ = 0.139), two polhode periods: quaternion route (m and g)."""
-    p = SamParameters(*MODERATE)
-    t = np.linspace(0.0, 2 * 2 * math.pi / p.kappa, 400)
-    m0 = _initial_m(math.radians(35.0), 0.3)
-    m, g = _reference_quaternion(MODERATE, m0, t)
-    return m0, t, m, g
 
 
 def test_erratum_lara2014_table4_ell11(generated, moderate_reference):

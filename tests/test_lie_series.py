@@ -32,16 +32,6 @@ EARTH = get_body("earth").moments         # A/C = 0.99672, B/C = 0.9967222
 MODERATE = (0.5, 0.75, 1.0)               # β = 1/2: every power of β in the tables matters
 
 
-@pytest.fixture(scope="module")
-def moderate_reference():
-    """β = 1/2, J = 35° (δ = 0.139), two polhode periods: quaternion route (m and g)."""
-    p = SamParameters(*MODERATE)
-    t = np.linspace(0.0, 2 * 2 * math.pi / p.kappa, 400)
-    m0 = _initial_m(math.radians(35.0), 0.3)
-    m, g = _reference_quaternion(MODERATE, m0, t)
-    return m0, t, m, g
-
-
 # ----------------------------------------------------------------------------- exactness
 
 def test_normal_form_has_only_kernel_terms_and_generator_none(nf):
