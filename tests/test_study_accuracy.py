@@ -17,19 +17,14 @@ import pytest
 from ephem.hansen import LAPLACE_LIMIT
 from ephem.model import MIN_SPIN_ORBIT_RATIO
 from studies import accuracy as ab
+from tests.conftest import run_quick_charts
 
 CHARTS = ("work_precision", "error_vs_order", "error_vs_span", "averaging_vs_spin")
 
 
 @pytest.fixture(scope="module")
 def out_dir(tmp_path_factory):
-    out = tmp_path_factory.mktemp("charts")
-    jobs = ab.tasks(out, quick=True)
-    assert len(jobs) == len(CHARTS)
-    for label, job in jobs:
-        assert isinstance(label, str) and label
-        job()
-    return out
+    return run_quick_charts(ab.tasks, tmp_path_factory.mktemp("charts"), len(CHARTS))
 
 
 def _rows(out_dir, name):

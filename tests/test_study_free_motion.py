@@ -14,19 +14,14 @@ import pytest
 
 from ephem.free_motion import SERIES_MAX_DELTA
 from studies import free_motion as fb
+from tests.conftest import run_quick_charts
 
 CHARTS = ("free_motion_work_precision", "free_motion_series_failure")
 
 
 @pytest.fixture(scope="module")
 def out_dir(tmp_path_factory):
-    out = tmp_path_factory.mktemp("charts")
-    jobs = fb.tasks(out, quick=True)
-    assert len(jobs) == len(CHARTS)
-    for label, job in jobs:
-        assert isinstance(label, str) and label
-        job()
-    return out
+    return run_quick_charts(fb.tasks, tmp_path_factory.mktemp("charts"), len(CHARTS))
 
 
 def _f(value: str) -> float:
