@@ -16,6 +16,7 @@ import pytest
 from ephem import rotation_scale as rs
 from ephem.catalogue import Body, Pole, get_body
 from ephem.constants import MAS
+from ephem.geometry import ecliptic_to_icrf
 from ephem.model import cached_model
 from ephem.numerical import angular_separation, integrate_spin_axis
 from ephem.rigid import integrate_rigid_body, normalised_moments, rotation_matrices, study_epochs
@@ -151,12 +152,7 @@ def generated_population(count, seed):
         orbits = float(np.exp(rng.uniform(math.log(0.01), math.log(3.0))))
         orbits = min(orbits, 400.0 / ratio) * float(rng.choice([1, -1]))
         # the pole at ecliptic latitude 90° - obliquity (the orbit lies in the ecliptic: i = 0)
-        lon = math.radians(float(rng.uniform(0, 360)))
-        lat = math.radians(90.0 - obliquity)
-        ecl = np.array([math.cos(lat) * math.cos(lon), math.cos(lat) * math.sin(lon), math.sin(lat)])
-        eps0 = math.radians(23.439279444)   # the IAU 2006 obliquity at J2000: ecliptic to equatorial
-        ce, se = math.cos(eps0), math.sin(eps0)
-        v = np.array([ecl[0], ce * ecl[1] - se * ecl[2], se * ecl[1] + ce * ecl[2]])
+        v = ecliptic_to_icrf(math.radians(float(rng.uniform(0, 360))), math.radians(90.0 - obliquity))
         b = Body(name=f"pop{len(out)}", orbit=replace(ito.orbit, a_au=a, e=e, i_deg=0.0, node_deg=0.0),
                  pole=Pole(math.degrees(math.atan2(v[1], v[0])) % 360.0, math.degrees(math.asin(v[2])),
                            ito.pole.epoch_jd_tdb),
