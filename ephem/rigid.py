@@ -332,18 +332,17 @@ class RigidTrack:
 
 def integrate_rigid_body(model: PrecessionNutation, jd_tdb, moments=None, initial_angle: float = 0.0,
                          initial_omega_body=None, solar_torque: bool = True, rtol: float = 1e-12,
-                         atol: float = 1e-14, start: str = "aligned") -> RigidTrack:
+                         atol: float = 1e-14, start: str = "forced") -> RigidTrack:
     """Rung 7 at ``jd_tdb`` (JD TDB, either side of the pole epoch): see the module docstring.
 
     ``moments`` (A, B, C) in any common unit, default the catalogue body's;
     ``initial_angle`` (rad) places the A axis; ``solar_torque`` False is the
     torque-free body (GM = 0). The C axis starts on the model's pole. ``start``
-    sets the angular velocity there: "aligned" (default) ω = (0, 0, ω), which
-    puts L on the C axis and excites a free wobble of the size of the forced
-    offset; "forced" the forced solution of
+    sets the angular velocity there: "forced" (default) the forced solution of
     :func:`ephem.rotation_scale.forced_angular_velocity`, so the body starts
-    without that free wobble (to first order). ``initial_omega_body`` (rad/day,
-    body frame) overrides both.
+    without free wobble (to relative order ν̇/ω); "aligned" ω = (0, 0, ω), which
+    puts L on the C axis and excites a free wobble of the size of the forced
+    offset. ``initial_omega_body`` (rad/day, body frame) overrides both.
     """
     if start not in ("forced", "aligned"):
         raise ValueError(f"start must be 'forced' or 'aligned', got {start!r}")
@@ -414,11 +413,15 @@ class AveragingComparison:
 
 def compare_with_averaged(model: PrecessionNutation, jd_tdb, moments=None, initial_angle: float = 0.0,
                           rtol: float = 1e-12) -> AveragingComparison:
-    """Run rung 7 and rung 5 (:func:`ephem.numerical.integrate_spin_axis`) from the same pole and compare."""
+    """Run rung 7 and rung 5 (:func:`ephem.numerical.integrate_spin_axis`) from the same pole and compare.
+
+    Both start with L on the pole (rung 7 with ``start="aligned"``), the comparison the averaged theory's
+    convergence and :func:`averaging_error_estimate` are about; the forced start and the rotation-scale
+    terms are compared in :mod:`ephem.rotation_scale`'s tests."""
     from .numerical import angular_separation, integrate_spin_axis
 
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
-    rig = integrate_rigid_body(model, t, moments, initial_angle, rtol=rtol)
+    rig = integrate_rigid_body(model, t, moments, initial_angle, rtol=rtol, start="aligned")
     avg = integrate_spin_axis(model, t, rtol=rtol)
     s0 = integrate_spin_axis(model, [model.pole_epoch])[0]
     return AveragingComparison(t, angular_separation(rig.angular_momentum, avg),

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kepler import true_anomaly
+from .kepler import solve_kepler, true_anomaly
 from .model import PrecessionNutation
 
 
@@ -146,12 +146,16 @@ def rotation_terms(moments, spin_rate: float, axis: np.ndarray, sun: SunGeometry
 
 
 def forced_angular_velocity(moments, spin_rate: float, sun_body: np.ndarray, g: float) -> np.ndarray:
-    """The body-frame angular velocity (rad/day) of the forced solution with no free wobble:
-    (g z (C - B) x / (C ω), g z (C - A) y / (C ω), ω) for the Sun at (x, y, z) in the body frame."""
+    """The body-frame angular velocity (rad/day) of the forced solution with no free wobble, for the Sun at
+    (x, y, z) in the body frame: (g z (C - B) x / (C ω), g z (C - A) y / (C ω), ω + g (B - A)(x² - y²) / (4 C ω)).
+
+    The transverse part solves Euler's equations exactly for a Sun fixed in space; the third component is the
+    semi-diurnal oscillation of the spin rate that the (B - A) torque drives about its mean ω, so that the mean
+    spin is the catalogue's (starting at ω exactly would shift it by up to g (B - A)/(4 C ω))."""
     A, B, C = moments
     x, y, z = (float(c) for c in sun_body)
     k = g * z / (C * spin_rate)
-    return np.array([k * (C - B) * x, k * (C - A) * y, spin_rate])
+    return np.array([k * (C - B) * x, k * (C - A) * y, spin_rate + g * (B - A) * (x * x - y * y) / (4.0 * C * spin_rate)])
 
 
 def apply(axis: np.ndarray, offset: np.ndarray) -> np.ndarray:
@@ -161,16 +165,15 @@ def apply(axis: np.ndarray, offset: np.ndarray) -> np.ndarray:
 
 # --------------------------------------------------------------------------- the error estimate
 
-#: The rotation-scale terms drop terms of relative order ν̇/ω (the forcing frequency is shifted by the
-#: Sun's motion). This factor times max (ν̇/ω)(|offset| + 2 × semi-diurnal radius) over the span bounds
-#: what is left; measured on the rigid integrations of ``studies.rotation_scale`` (docs/accuracy.md).
-NEXT_ORDER = 3.0
-#: The figure axis of the integrated rigid body keeps a part that does not grow with the span and that neither
-#: the first-order terms nor ``next_order`` explain: up to 0.47 × max(|O| + 2R) over 252 integrated cases
-#: (median 0.017; largest for nearly spherical bodies and obliquities near 0° or 180°). Most likely a free
-#: wobble the forced start leaves (L does not show it). Until it is derived, this factor times max(|O| + 2R)
-#: stands for it in every figure-axis estimate (with the other terms it covers the worst case by 1.8×).
-FIGURE_RESIDUAL = 0.3
+#: The first-order terms take the forcing as steady. The forcing vector F = g z u⊥ changes as the Sun moves
+#: (and the pole precesses), at a rate |dF/dt| up to ~ ν̇ g; the response to a forcing that changes shifts the
+#: figure axis by ~ |dF/dt| / ω³ times its factors, amplified by the body's resonance (:func:`resonance_factor`)
+#: when the free wobble's body-frame frequency nears ω (A + B → C), and the start leaves a free wobble of that
+#: size. This constant times max (1 + Γ) |dF/dt| (M/C² + (B - A)/(2C)) / ω³ over the span bounds what is left.
+#: Measured on 333 rigid integrations (e to 0.95, obliquities near 0°, 30°, 60°, 90°, 120° and 180°, ω/n 30 to
+#: 18 000, A + B - C from 0.005 to 0.95, 0.01 to 30 orbits; docs/accuracy.md): the largest constant any case
+#: needed was 0.955 (the figure axis with every term modelled); 1.5 keeps a margin of 1.6.
+NEXT_ORDER = 1.5
 #: Beyond this many orbits the estimate uses orientation-free bounds instead of sampling the span.
 MAX_SAMPLED_ORBITS = 20.0
 #: What a track includes: nothing of the rotation scale, the Oppolzer offset (the phase unknown), or all.
@@ -184,26 +187,43 @@ def _sun_rate(model: PrecessionNutation, jd_tdb: np.ndarray) -> np.ndarray:
     return model.mean_motion * (1.0 + e * np.cos(nu)) ** 2 / (1.0 - e * e) ** 1.5
 
 
+def _span_grid(model: PrecessionNutation, span_days: float, count: int) -> np.ndarray:
+    """``count`` epochs over [t₀, t₀ + span], even in the eccentric anomaly: the torque peaks at pericentre over
+    a time ∝ (1 - e)^(3/2) of the orbit, which an even grid in time misses at high e (30 % low at e = 0.94
+    with 512 epochs an orbit), but over a range ∝ (1 - e)^(1/2) of the eccentric anomaly."""
+    e, n, t0 = model.eccentricity, model.mean_motion, model.pole_epoch
+    ends = float(model.mean_anomaly(t0)) + np.array([0.0, n * span_days])
+    reduced = solve_kepler(ends, e)
+    ecc = reduced + (ends - (reduced - e * np.sin(reduced)))     # E unwrapped: M - M(E reduced) is a whole turn
+    grid = np.linspace(ecc[0], ecc[1], count)
+    return t0 + (grid - e * np.sin(grid) - ends[0]) / n
+
+
 def error_terms(model: PrecessionNutation, moments, span_days: float, axis: str = "figure",
-                modelled: str = "none") -> dict[str, float]:
+                modelled: str = "none", pole: str = "figure") -> dict[str, float]:
     """Upper bounds (radians) on what a rotation-averaged track leaves out against the rigid body over
     [t₀, t₀ + span], by named piece, for the pole ``axis`` ("figure" or "momentum") when the track
     includes ``modelled`` (:data:`MODELLED`) of the rotation-scale terms.
 
-    The catalogue pole is the figure axis at t₀, so the mean L̄ starts from it less the figure's offset
-    there; a track that starts L̄ on the pole (``modelled`` "none") or without the semi-diurnal part
-    carries that start error ``δ₀`` along. Pieces:
+    ``pole`` says what the catalogue pole is at t₀. "figure" (default): the figure axis, so the mean L̄
+    starts from it less the figure's offset there; a track that starts L̄ on the pole (``modelled`` "none")
+    or without the semi-diurnal part carries that start error ``δ₀`` along. "momentum": L, as a track with a
+    modelled free wobble takes it (:mod:`ephem.free_motion`); then only L's semi-diurnal part is a start
+    error, and the figure axis carries the whole Oppolzer offset (``modelled`` "none" only). Pieces:
 
     ``oppolzer``      the Oppolzer offset not modelled: max |O(t) - O₀'| for the figure axis (O₀' the
-                      offset at t₀ carried by the precession), |O₀| for L;
+                      offset at t₀ carried by the precession; max |O(t)| when the pole is L), |O₀| for L
+                      (0 when the pole is L);
     ``semi_diurnal``  the semi-diurnal terms without the phase: max R(t) + R(t₀);
     ``start``         the start error's own drift: the precession rate's dependence on the obliquity,
                       (K f(e) / 2) sin²ε δ₀ |span|;
     ``drift``         second order: the torque acting on the offset figure axis changes it by the
                       factor 1 + (g M / C² ω²) cos 2δ (δ the Sun's declination), integrated along the
                       track and doubled, and the (B - A) torque acting on the semi-diurnal circles;
-    ``next_order``    :data:`NEXT_ORDER` × max (ν̇/ω)(|O| + 2R) over the span;
-    ``figure_residual`` (figure axis) :data:`FIGURE_RESIDUAL` × max(|O| + 2R), measured, not derived.
+    ``next_order``    the response to the forcing's change and the free wobble the start leaves:
+                      :data:`NEXT_ORDER` × max (1 + Γ) |dF/dt| (M/C² + (B - A)/(2C)) / ω³ over the span,
+                      F = g z u⊥ the forcing, Γ the :func:`resonance_factor`; for L, that factor at t₀
+                      only (the start) and :data:`NEXT_ORDER` × max |dF/dt| (B - A)/(2C) / ω³ (its own terms).
 
     ``moments`` (A, B, C) in any normalisation. Perturbative in ν̇/ω: meant for ω/n >= 30 with the Sun's
     peak rate well below ω (:func:`sun_rate_ratio`).
@@ -212,6 +232,8 @@ def error_terms(model: PrecessionNutation, moments, span_days: float, axis: str 
         raise ValueError(f"axis must be 'figure' or 'momentum', got {axis!r}")
     if modelled not in MODELLED:
         raise ValueError(f"modelled must be one of {MODELLED}, got {modelled!r}")
+    if pole not in ("figure", "momentum") or (pole == "momentum" and modelled != "none"):
+        raise ValueError(f"pole must be 'figure', or 'momentum' with nothing modelled, got {pole!r} with {modelled!r}")
     A, B, C = (float(x) / float(moments[2]) for x in moments)
     mom = (A, B, 1.0)
     n, w, e = model.mean_motion, model.spin_rate, model.eccentricity
@@ -226,8 +248,7 @@ def error_terms(model: PrecessionNutation, moments, span_days: float, axis: str 
     first = rotation_terms(mom, w, s0, sun0)
     o0, r0 = float(np.linalg.norm(first.oppolzer[0])), float(first.semi_diurnal_radius[0])
     if orbits <= MAX_SAMPLED_ORBITS:
-        count = max(65, int(512 * orbits) + 2)
-        t = t0 + np.linspace(0.0, span, count)
+        t = _span_grid(model, span, max(65, int(512 * orbits) + 2))
         sun = SunGeometry.at(model, t)
         psi, _, _, eps = model.angles(t)
         s = model.pole_orbit_frame(psi, eps)
@@ -239,7 +260,10 @@ def error_terms(model: PrecessionNutation, moments, span_days: float, axis: str 
         ox, oy, oz = first.oppolzer[0]
         carried = np.stack([c * ox - sn * oy, sn * ox + c * oy, np.full_like(c, oz)], axis=-1)
         figure_change = float(np.max(np.linalg.norm(here.oppolzer - carried, axis=-1)))
-        next_order = float(np.max(_sun_rate(model, t) / w * (offset + 2.0 * radius)))
+        forcing = (sun.torque_strength * np.sum(s * sun.direction, axis=-1))[:, None] \
+            * (sun.direction - np.sum(s * sun.direction, axis=-1)[:, None] * s)
+        rates = np.linalg.norm(np.gradient(forcing, t, axis=0), axis=-1)
+        forcing_rate, forcing_rate0 = float(np.max(rates)), float(rates[0])
         sd = np.sum(s * sun.direction, axis=-1)
         rate = (model.scaling_factor * sun.torque_strength / (3.0 * n * n) * sd)[:, None] * np.cross(sun.direction, s)
         weight = sun.torque_strength / w**2 * oppolzer_factor(mom) * (1.0 - 2.0 * sd * sd)
@@ -256,22 +280,37 @@ def error_terms(model: PrecessionNutation, moments, span_days: float, axis: str 
         o_max = g_max * geo * oppolzer_factor(mom) / w**2
         r_max = g_max * geo * semi_diurnal_factor(mom) / w**2
         figure_change = o_max + o0
-        next_order = n * (1.0 + e) ** 2 / (1.0 - e * e) ** 1.5 / w * (o_max + 2.0 * r_max)
+        # |d(z u⊥)/dλ| <= 2 sin(tilt) as the Sun's longitude λ turns at ν̇, and g changes at |ġ| <= 3 ν̇ e g/(1 - e)
+        nu_dot = n * (1.0 + e) ** 2 / (1.0 - e * e) ** 1.5
+        forcing_rate = forcing_rate0 = g_max * nu_dot * (2.0 * math.sin(tilt) + 3.0 * e / (1.0 - e) * geo)
         drift = 2.0 * g_max * oppolzer_factor(mom) / w**2 * model.scaling_factor * ar3_max * geo * abs(span)
     drift += 3.0 * math.sqrt(2.0) * ar3_max * k2 * r_max * abs(span)
-    start_offset = {"none": o0 + r0, "oppolzer": r0, "all": 0.0}[modelled]
+    start_offset = r0 if pole == "momentum" else {"none": o0 + r0, "oppolzer": r0, "all": 0.0}[modelled]
     out = {}
     if modelled == "none":
-        out["oppolzer"] = figure_change if axis == "figure" else o0
+        if pole == "momentum":
+            out["oppolzer"] = o_max if axis == "figure" else 0.0
+        else:
+            out["oppolzer"] = figure_change if axis == "figure" else o0
     if modelled != "all":
         out["semi_diurnal"] = r_max + r0
     out["start"] = 0.5 * model.scaling_factor * (1.0 - e * e) ** -1.5 * math.sin(model.obliquity) ** 2 \
         * start_offset * abs(span)
     out["drift"] = drift
-    out["next_order"] = NEXT_ORDER * next_order
+    figure = (1.0 + resonance_factor(mom)) * (oppolzer_factor(mom) + 2.0 * semi_diurnal_factor(mom))
     if axis == "figure":
-        out["figure_residual"] = FIGURE_RESIDUAL * (o_max + 2.0 * r_max)
+        out["next_order"] = NEXT_ORDER * figure * forcing_rate / w**3
+    else:   # L's own terms do not depend on the body's response; the figure's enters through the start
+        out["next_order"] = NEXT_ORDER * (figure * forcing_rate0 + 2.0 * semi_diurnal_factor(mom) * forcing_rate) / w**3
     return out
+
+
+def resonance_factor(moments) -> float:
+    """Γ = max(B |C - 2A|, A |C - 2B|) / (C (A + B - C)): how much the forced transverse spin changes, relative
+    to itself, per relative change of the forcing frequency. It grows without bound as A + B → C, where the free
+    wobble's body-frame frequency ω √((C - A)(C - B)/(A B)) reaches the forcing's ω."""
+    A, B, C = moments
+    return max(B * abs(C - 2.0 * A), A * abs(C - 2.0 * B)) / (C * (A + B - C))
 
 
 def sun_rate_ratio(model: PrecessionNutation) -> float:

@@ -19,6 +19,7 @@ from ephem.free_motion import free_motion, free_wobble_bound, observed_wobble_pe
 from ephem.ladder import Ladder, cached_model
 from ephem.numerical import angular_separation
 from ephem.rigid import SunOrbit, integrate_states, model_moments, quaternion_from_matrix, rotation_matrices
+from ephem.rotation_scale import SunGeometry, forced_angular_velocity
 
 J2000 = 2451545.0
 
@@ -46,7 +47,9 @@ def test_the_published_amplitude_is_the_largest_offset_over_a_wobble(name):
 
 def rigid_figure_axis(name, phase_deg, t):
     """The C axis of the full rigid body started at the pole epoch with L along the catalogue pole and the
-    C axis J0 away from it at position angle ``phase_deg`` (north through east), L in the b2-b3 plane."""
+    C axis J0 away from it at position angle ``phase_deg`` (north through east), L in the b2-b3 plane, on top
+    of the forced motion (the forced transverse spin of :func:`ephem.rotation_scale.forced_angular_velocity`
+    added, to first order a superposition), so that the body's free wobble is the one asked for."""
     body = get_body(name)
     m = cached_model(body)
     dpsi0, deps0 = m.nutation_at_pole_epoch
@@ -66,6 +69,9 @@ def rigid_figure_axis(name, phase_deg, t):
     L_body = np.array([0.0, math.sin(J), math.cos(J)])       # direction; |L| = C ω
     w0 = m.spin_rate
     omega = L_body * C / np.array([A, B, C])                  # ω_b / ω0
+    sun = SunGeometry.at(m, [m.pole_epoch])
+    sun_body = rotation_matrices(q0[None])[0].T @ sun.direction[0]
+    omega += forced_angular_velocity(moments, w0, sun_body, float(sun.torque_strength[0])) / w0 - [0.0, 0.0, 1.0]
     states, _ = integrate_states(moments, w0, np.concatenate([omega, q0]), m.pole_epoch, t, SunOrbit.from_model(m))
     rot = rotation_matrices(states[:, 3:])
     return rot[:, :, 2] @ m.icrf_from_orbit.T
