@@ -250,7 +250,8 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
                  order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES,
                  tolerance_mas: float | None = None, model: str | None = None, axis: str = "figure",
                  free_wobble_phase_deg: float | None = None, free_wobble_J_arcsec: float | None = None,
-                 free_wobble_epoch=None, perturbers=None, output: str = "json") -> dict:
+                 free_wobble_epoch=None, perturbers=None, output: str = "json",
+                 rotation_phase_deg: float | None = None) -> dict:
     """As :func:`track`, with numpy arrays instead of lists (for streaming and numerical use).
 
     ``output``: how the caller will write the answer out (``json`` or ``csv``), which its cost includes."""
@@ -272,17 +273,29 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     wobble = _wobble_request(b, axis, in_unit(free_wobble_phase_deg, "deg", "free_wobble_phase_deg"),
                              in_unit(free_wobble_J_arcsec, "arcsec", "free_wobble_J_arcsec"), free_wobble_epoch)
     theory = theory.with_wobble(wobble)
+    phase = in_unit(rotation_phase_deg, "deg", "rotation_phase_deg")
+    if phase is not None:
+        if not math.isfinite(phase):
+            raise InvalidInputError("rotation_phase_deg", f"must be a finite angle, got {phase!r}", b.name)
+        if wobble is not None:
+            raise InvalidInputError("rotation_phase_deg", "the rotation-scale terms and a modelled free wobble are "
+                                    "not combined: give the rotation phase or the wobble's phase, not both", b.name)
+        if not theory.models_rotation_scale:
+            raise InvalidInputError("rotation_phase_deg", f"the {theory.summary} does not model the rotation "
+                                    "scale: leave it out", b.name)
+        theory = theory.with_rotation_phase(math.radians(phase))
     t_end = t0 + step * (count - 1)
     output = cost.Cost((cost.serialised(count, len(TRACK_KEYS), output),))
     # the estimates, and the named model's own cost, charged before anything is built
     charge(theory.choice_cost(t0, t_end, count)
-           + (cost.FREE if tol is not None else theory.track_cost(name, order, t0, t_end, count, wobble is not None)
+           + (cost.FREE if tol is not None else theory.track_cost(name, order, t0, t_end, count, wobble is not None, phase is not None)
               + output), b.name)
     t = t0 + step * np.arange(count)
     if tol is not None:
         est = cheapest_within([e for e in theory.estimates(t) if e.available], tol, b.name, wobble is not None)
         name, order = est.rung, est.order
-        charge(theory.track_cost(name, order, t0, t_end, count, est.free_wobble) + output, b.name)
+        charge(theory.track_cost(name, order, t0, t_end, count, est.free_wobble, est.rotation_scale is not None)
+               + output, b.name)
     else:
         est = theory.named(t, name, order)
         name = name or theory.default_model(order)
@@ -295,6 +308,8 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     _meaningful(b, estimate, info)
     selection = selection_info(theory, name, order, estimate, 1e3 * (time.perf_counter() - begin), tol,
                                 None if est is None else est.terms)
+    if est is not None and est.rotation_scale is not None:
+        selection["rotation_scale"] = {"modelled": est.rotation_scale, "rotation_phase_deg": phase}
     # the mean obliquity's 1σ from the catalogue's uncertainties (null: unknown), as in precession()
     sigma = propagated(b, order)["obliquity_deg_uncertainty"] if theory.propagates_uncertainty else None
     ans = _track_answer(b, tr, info, selection, axis, wobble if with_wobble else None, sigma,
@@ -359,7 +374,7 @@ def track(body: str | int | Body, start, stop, step_days: float, dataset: str = 
           order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES, tolerance_mas: float | None = None,
           model: str | None = None, axis: str = "figure", free_wobble_phase_deg: float | None = None,
           free_wobble_J_arcsec: float | None = None, free_wobble_epoch=None, quantities: bool = False,
-          perturbers=None) -> dict:
+          perturbers=None, rotation_phase_deg: float | None = None) -> dict:
     """Spin-axis track: ψ, Δψ, Δε (arcsec), obliquity and pole RA/Dec (deg) at each epoch.
 
     ``tolerance_mas`` lets the fidelity ladder (:mod:`ephem.ladder`) pick the cheapest model
@@ -374,6 +389,12 @@ def track(body: str | int | Body, start, stop, step_days: float, dataset: str = 
     then) lets the track add the free wobble when the tolerance needs it (or always, with a named
     model); ``free_wobble_J_arcsec`` overrides the published amplitude.
 
+    ``rotation_phase_deg``: the angle of the body's long (A, least-inertia) axis in its equator from the
+    ascending node of the orbit on the equator at the pole epoch (counted towards the pole's right-hand
+    sense). With it a track can add the semi-diurnal terms of :mod:`ephem.rotation_scale` (and does, with a
+    named model); without it the ladder can add the Oppolzer offset alone, and the semi-diurnal terms stay
+    in ``rotation_averaging``.
+
     ``perturbers`` as :func:`precession`. The Earth with the Moon (its default) is served by the
     ``lunisolar`` model (:mod:`ephem.earth`), whose estimate holds against IAU 2006/2000A over
     1900-2100 (outside, not applicable); ``perturbers="sun"`` gives the single-perturber ladder.
@@ -382,7 +403,8 @@ def track(body: str | int | Body, start, stop, step_days: float, dataset: str = 
     ``quantities=True`` returns Quantity arrays and a TDB ``Time`` for ``jd_tdb``.
     """
     ans = track_arrays(body, start, stop, step_days, dataset, order, max_samples, tolerance_mas, model, axis,
-                       free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch, perturbers)
+                       free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch, perturbers,
+                       rotation_phase_deg=rotation_phase_deg)
     if quantities:
         return with_units(ans)
     for key in TRACK_KEYS:

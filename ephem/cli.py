@@ -399,6 +399,10 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
                                                    "(default: the published one)."),
           wobble_epoch: Optional[str] = typer.Option(None, "--free-wobble-epoch", help="Epoch of the phase "
                                                      "(default: the pole epoch)."),
+          rotation_phase: Optional[float] = typer.Option(None, "--rotation-phase-deg", help="Angle of the long "
+                                                         "(least-inertia) axis in the equator from the orbit's "
+                                                         "ascending node on it at the pole epoch: lets the track add "
+                                                         "the semi-diurnal terms of the rotation scale."),
           perturbers: Optional[str] = typer.Option(None, "--perturbers", help="The torquing bodies, comma-separated: default the "
                                           "catalogue's (the Earth: moon,sun, the lunisolar theory); sun for the "
                                           "single-perturber answer.")):
@@ -411,7 +415,7 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
     try:
         ans = api.track(name, start, stop, step_days, dataset, order, tolerance_mas=tolerance_mas, model=model,
                         axis=axis, free_wobble_phase_deg=wobble_phase, free_wobble_J_arcsec=wobble_j,
-                        free_wobble_epoch=wobble_epoch, perturbers=perturbers)
+                        free_wobble_epoch=wobble_epoch, perturbers=perturbers, rotation_phase_deg=rotation_phase)
     except EphemError as exc:
         _fail(exc)
     if fmt is not Format.json:
@@ -420,6 +424,8 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
         typer.echo(f"model: {info['name']}" + (f" (order {info['order']})" if info["order"] is not None else "")
                    + (f", estimated error {err:.4g} mas" if err is not None else "")
                    + (", with the free wobble" if info["free_wobble"] else "")
+                   + (f", with the rotation-scale terms ({info['rotation_scale']['modelled']})"
+                      if info["rotation_scale"] else "")
                    + f", {info['cost_ms']:.1f} ms", err=True)
     keys = ["jd_tdb", "psi_arcsec", "delta_psi_arcsec", "delta_epsilon_arcsec", "obliquity_deg",
             "pole_ra_deg", "pole_dec_deg"]

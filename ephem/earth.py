@@ -437,7 +437,7 @@ class LunisolarTheory(SpinAxisTheory):
     def choice_cost(self, start: float, stop: float, count: int) -> Cost:
         return Cost((cost.lunisolar_answer(),))
 
-    def track_cost(self, model, order, start, stop, count, free_wobble) -> Cost:
+    def track_cost(self, model, order, start, stop, count, free_wobble, rotation_scale=False) -> Cost:
         return Cost((cost.lunisolar_sum(count),) + ((cost.free_rotation("exact", count, 0.0),) if free_wobble else ()))
 
     def estimates(self, jd_tdb) -> list[Estimate]:

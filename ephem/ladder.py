@@ -53,7 +53,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property, lru_cache
 
 import numpy as np
@@ -70,8 +70,10 @@ from .kinoshita import eccentricity_factor, nutation_coefficients, pole_displace
 from .model import (MAX_ORDER, MIN_SPIN_ORBIT_RATIO, PrecessionNutation, Track, cached_model, check_domain,
                     model_for)
 from .free_motion import Wobble, add_free_wobble, free_wobble_bound, wobble_model_bound
+from . import rotation_scale
 from .physics_errors import (ephemeris_bound, orbit_motion_bound, real_orbit_unavailable, rotation_averaging_bound,
                              sun_path_for)
+from .rigid import normalised_moments, worst_case_moments
 from .second_order import SecondOrderTheory, second_order_theory
 from .theory import Estimate, SpinAxisTheory, Spectrum, cheapest_within, rate_values, selection_info
 from .uncertainty import input_sigmas, propagated, summary
@@ -267,6 +269,9 @@ class Ladder:
     body: Body
     axis: str = "figure"
     wobble: Wobble | None = None
+    #: the A axis's angle (radians) from the orbit's ascending node on the equator at the pole epoch
+    #: (:mod:`ephem.rotation_scale`); None: unknown, the semi-diurnal terms stay an error term
+    rotation_phase: float | None = None
 
     def __post_init__(self):
         if self.axis not in AXES:
@@ -283,20 +288,44 @@ class Ladder:
     def theory(self) -> SecondOrderTheory:
         return cached_theory(self.body)
 
-    def physics_terms(self, jd_tdb: np.ndarray) -> dict:
-        """Error terms every fixed-orbit rung shares: the orbit's motion and rotation averaging
-        (the real-orbit rung drops the first). A user's body has no measured orbit motion."""
-        terms = {"rotation_averaging": rotation_averaging_bound(self.body, self.model, _span(self.model, jd_tdb))}
+    @property
+    def rotation_modelled(self) -> str:
+        """What of the rotation-scale terms a track that adds them includes (:data:`ephem.rotation_scale.MODELLED`)."""
+        return "oppolzer" if self.rotation_phase is None else "all"
+
+    def physics_terms(self, jd_tdb: np.ndarray, modelled: str = "none") -> dict:
+        """Error terms every fixed-orbit rung shares: the orbit's motion and rotation averaging, with ``modelled``
+        of the rotation-scale terms in the track (the real-orbit rung drops the first). A user's body has no
+        measured orbit motion."""
+        terms = {"rotation_averaging": rotation_averaging_bound(self.body, self.model, _span(self.model, jd_tdb),
+                                                                self.axis, modelled)}
         orbit = orbit_motion_bound(self.body, self.model, jd_tdb)
         if orbit is not None:
             terms["orbit_motion"] = orbit
         return terms
 
     @staticmethod
-    def _estimate(rung: str, order: int | None, terms: dict, physics: dict) -> Estimate:
+    def _estimate(rung: str, order: int | None, terms: dict, physics: dict, rotation_scale: str | None = None
+                  ) -> Estimate:
         shared = {k: v for k, v in physics.items() if not (rung == "real_orbit" and k == "orbit_motion")}
         missing = () if rung == "real_orbit" or "orbit_motion" in physics else ("orbit_motion",)
-        return Estimate(rung, order, {**terms, **shared, "rounding": ROUNDING}, unestimated=missing)
+        return Estimate(rung, order, {**terms, **shared, "rounding": ROUNDING}, unestimated=missing,
+                        rotation_scale=rotation_scale)
+
+    def _with_rotation_scale(self, estimates: list[Estimate], t: np.ndarray) -> list[Estimate]:
+        """Each available rung followed by the same rung with the rotation-scale terms added (a little dearer,
+        and its ``rotation_averaging`` term is what they leave)."""
+        if self.model.hd == 0.0:
+            return estimates
+        modelled = self.rotation_modelled
+        averaging = self.physics_terms(t, modelled)["rotation_averaging"]
+        out = []
+        for e in estimates:
+            out.append(e)
+            if e.available and "rotation_averaging" in e.terms:
+                out.append(Estimate(e.rung, e.order, {**e.terms, "rotation_averaging": averaging},
+                                    unestimated=e.unestimated, rotation_scale=modelled))
+        return out
 
     def estimates(self, jd_tdb) -> list[Estimate]:
         """Every rung's estimate for these epochs, cheapest first (rung 2 once per order)."""
@@ -331,6 +360,7 @@ class Ladder:
                                                            "ephemeris": ephemeris_bound(self.body, m, T)}, physics))
         else:
             out.append(Estimate("real_orbit", None, {}, available=False, why_not=why))
+        out = self._with_rotation_scale(out, t)
         return self._wobble_estimates(out, t) if self.axis == "figure" else out
 
     def _wobble_estimates(self, estimates: list[Estimate], t: np.ndarray) -> list[Estimate]:
@@ -341,22 +371,30 @@ class Ladder:
         if self.wobble is not None:
             modelled = wobble_model_bound(self.body, self.wobble, t, pole_vectors(self.model.track(t)),
                                           self._pole_at_wobble_epoch()) + ROUNDING
+        # a modelled wobble takes the catalogue pole as L (ephem.free_motion): the figure axis then carries the
+        # whole Oppolzer offset
+        averaging = None if modelled is None else rotation_averaging_bound(
+            self.body, self.model, _span(self.model, t), self.axis, "none", pole="momentum")
         out = []
         for e in estimates:
             if not e.available:
                 out.append(e)
                 continue
             if left_out is None:
-                out.append(Estimate(e.rung, e.order, e.terms, unestimated=e.unestimated + ("free_wobble",)))
+                out.append(Estimate(e.rung, e.order, e.terms, unestimated=e.unestimated + ("free_wobble",),
+                                    rotation_scale=e.rotation_scale))
             else:
-                out.append(Estimate(e.rung, e.order, {**e.terms, "free_wobble": left_out}, unestimated=e.unestimated))
-            if modelled is not None:
-                out.append(Estimate(e.rung, e.order, {**e.terms, "free_wobble_model": modelled},
-                                    unestimated=e.unestimated, free_wobble=True))
+                out.append(Estimate(e.rung, e.order, {**e.terms, "free_wobble": left_out}, unestimated=e.unestimated,
+                                    rotation_scale=e.rotation_scale))
+            if modelled is not None and e.rotation_scale is None:    # the two are not combined
+                terms = {**e.terms, "free_wobble_model": modelled}
+                if "rotation_averaging" in terms:
+                    terms["rotation_averaging"] = averaging
+                out.append(Estimate(e.rung, e.order, terms, unestimated=e.unestimated, free_wobble=True))
         return out
 
     def cost(self, rung: str | None, start: float, stop: float, count: int, order: int | None = None,
-             free_wobble: bool = False) -> Cost:
+             free_wobble: bool = False, rotation_scale: bool = False) -> Cost:
         """What a track of ``count`` epochs from ``start`` to ``stop`` (JD TDB) will cost (:mod:`ephem.cost`),
         from the body's parameters alone, before anything is built. ``rung`` None: the estimates that
         choose a rung by tolerance (the chosen rung's own cost is charged once it is known)."""
@@ -389,6 +427,8 @@ class Ladder:
                 parts.append(cost.orbit_integration(max(epochs_jd) - min(epochs_jd)))
         if free_wobble:
             parts.append(cost.free_rotation("exact", count, 0.0))
+        if rotation_scale:   # the rung again from the mean pole, and the closed-form terms at every epoch
+            parts += [build, cost.harmonic_sum(count, 8, "step_days", "the rotation-scale terms")]
         return Cost(tuple(parts))
 
     def choose(self, jd_tdb, tolerance: float) -> Estimate:
@@ -403,12 +443,50 @@ class Ladder:
         return cheapest_within([e for e in self.estimates(jd_tdb) if e.available], tolerance, self.body.name,
                                self.wobble is not None)
 
-    def track(self, rung: str, jd_tdb, order: int | None = None, free_wobble: bool = False) -> Track:
-        """The pole track of one rung at the epochs (JD TDB); with ``free_wobble``, the figure axis with the
-        ladder's wobble added."""
+    def track(self, rung: str, jd_tdb, order: int | None = None, free_wobble: bool = False,
+              rotation_scale: bool = False) -> Track:
+        """The pole track of one rung at the epochs (JD TDB); with ``rotation_scale``, with the rotation-scale
+        terms added (:meth:`rotation_scale_track`); with ``free_wobble``, the figure axis with the ladder's
+        wobble added."""
         t = np.asarray(jd_tdb, dtype=float)
-        track = self._rung_track(rung, t, order)
+        track = self.rotation_scale_track(rung, t, order) if rotation_scale else self._rung_track(rung, t, order)
         return self.add_wobble(track) if free_wobble else track
+
+    def mean_pole_body(self) -> Body:
+        """The body with its pole moved from the figure axis at the pole epoch (the catalogue's pole) to the mean
+        angular momentum L̄ there: less the Oppolzer offset, and the semi-diurnal term when the phase is known."""
+        m = self.model
+        dpsi0, deps0 = m.nutation_at_pole_epoch
+        s0 = m.pole_orbit_frame(dpsi0, m.obliquity + deps0)[None]
+        terms = rotation_scale.rotation_terms(self._moments, m.spin_rate, s0, rotation_scale.SunGeometry.at(
+            m, [m.pole_epoch]), None if self.rotation_phase is None else np.array([self.rotation_phase]))
+        mean = m.icrf_from_orbit @ rotation_scale.apply(s0, -terms.figure_offset())[0]
+        ra = math.degrees(math.atan2(mean[1], mean[0])) % 360.0
+        dec = math.degrees(math.atan2(mean[2], math.hypot(mean[0], mean[1])))
+        return replace(self.body, pole=replace(self.body.pole, ra_deg=ra, dec_deg=dec))
+
+    @property
+    def _moments(self) -> tuple[float, float, float]:
+        b = self.body
+        return normalised_moments(b.moments) if b.moments is not None else worst_case_moments(self.model.hd)
+
+    def rotation_scale_track(self, rung: str, jd_tdb, order: int | None = None) -> Track:
+        """A rung's track with the rotation-scale terms of :mod:`ephem.rotation_scale`: the rung run from the mean
+        pole (:meth:`mean_pole_body`), then moved by the figure axis's offset (or, for the angular momentum, by
+        its semi-diurnal term) at every epoch."""
+        t = np.asarray(jd_tdb, dtype=float)
+        mean = Ladder(self.mean_pole_body(), "angular_momentum")._rung_track(rung, t, order)
+        m = self.model
+        pole = pole_vectors(mean) @ m.icrf_from_orbit
+        phase = None
+        if self.rotation_phase is not None:
+            psi = np.arctan2(pole[:, 0], pole[:, 1])
+            phase = rotation_scale.rotation_phase(m, t, self.rotation_phase, psi + np.round(
+                (mean.psi - psi) / (2.0 * math.pi)) * 2.0 * math.pi)
+        terms = rotation_scale.rotation_terms(self._moments, m.spin_rate, pole, rotation_scale.SunGeometry.at(m, t),
+                                              phase)
+        offset = terms.figure_offset() if self.axis == "figure" else terms.momentum_offset()
+        return with_free_wobble(m, mean, rotation_scale.apply(pole, offset) @ m.icrf_from_orbit.T)
 
     def add_wobble(self, track: Track) -> Track:
         """A rung's track with the free wobble of the figure axis added (needs the ladder's ``wobble``)."""
@@ -526,6 +604,7 @@ class SunLadder(SpinAxisTheory):
     models = RUNGS
     descriptions = RUNG_DESCRIPTIONS
     propagates_uncertainty = True
+    models_rotation_scale = True
 
     @classmethod
     def serves(cls, body: Body, perturbers: tuple[str, ...]) -> bool:
@@ -533,7 +612,7 @@ class SunLadder(SpinAxisTheory):
 
     @cached_property
     def ladder(self) -> Ladder:
-        return Ladder(self.body, self.axis, self.wobble)      # one per request (with_wobble makes a new family)
+        return Ladder(self.body, self.axis, self.wobble, self.rotation_phase)   # one per request
 
     @classmethod
     def how_to_reach(cls, body: Body) -> str:
@@ -554,28 +633,33 @@ class SunLadder(SpinAxisTheory):
     def choice_cost(self, start: float, stop: float, count: int) -> Cost:
         return self.ladder.cost(None, start, stop, count, free_wobble=self.wobble is not None)
 
-    def track_cost(self, model, order, start, stop, count, free_wobble) -> Cost:
-        return self.ladder.cost(model or self.default_model(order), start, stop, count, order, free_wobble)
+    def track_cost(self, model, order, start, stop, count, free_wobble, rotation_scale=False) -> Cost:
+        return self.ladder.cost(model or self.default_model(order), start, stop, count, order, free_wobble,
+                                rotation_scale)
 
     def estimates(self, jd_tdb) -> list[Estimate]:
         return self.ladder.estimates(jd_tdb)
 
     def named(self, jd_tdb, model, order):
         rung = model or self.default_model(order)
+        # a named rung adds the rotation-scale terms when the request gave the rotation phase
+        scale = None if self.rotation_phase is None else self.ladder.rotation_modelled
         return next((e for e in self.estimates(jd_tdb) if e.rung == rung and e.order == order
-                     and e.free_wobble == (self.wobble is not None)), None)
+                     and e.free_wobble == (self.wobble is not None) and e.rotation_scale == scale), None)
 
     def track(self, est, model, order, t0, step, count) -> Track:
-        if model in ("hansen", "series"):   # the fast evaluation on an even grid
+        scale = est.rotation_scale is not None if est is not None else self.rotation_phase is not None
+        if model in ("hansen", "series") and not scale:   # the fast evaluation on an even grid
             tr = cached_model(self.body, order).track_grid(t0, step, count)
         else:
-            tr = self.ladder.track(model, self.grid(t0, step, count), order)
+            tr = self.ladder.track(model, self.grid(t0, step, count), order, rotation_scale=scale)
         if self.wobble is not None and (est is None or est.free_wobble):
             tr = self.ladder.add_wobble(tr)
         return tr
 
     def track_at(self, model, order, jd_tdb, free_wobble=False) -> Track:
-        return self.ladder.track(model or self.default_model(order), jd_tdb, order, free_wobble)
+        return self.ladder.track(model or self.default_model(order), jd_tdb, order, free_wobble,
+                                 rotation_scale=self.rotation_phase is not None)
 
     def describe(self, est, model, order, with_wobble) -> dict:
         info = model_info(cached_model(self.body, order), self.body)

@@ -17,7 +17,7 @@ pole epoch; a phase error δλ moves the nutation by at most Σ_k k A_k δλ (A_
 displacement of harmonic k) at t and at t0, where both rungs start from the same pole;
 κ changes ψ̇ by κ ψ̇. The sum is checked against rung 6 minus rung 5 in the tests.
 
-Rotation averaging (every rung): see :func:`rotation_averaging_bound`.
+Rotation averaging (every rung): see :func:`rotation_averaging_bound` and :mod:`ephem.rotation_scale`.
 
 Radians and days.
 """
@@ -35,6 +35,8 @@ from .constants import ARCSEC
 from .kepler import solve_kepler, true_anomaly
 from .kinoshita import eccentricity_factor, pole_displacements
 from .model import PrecessionNutation
+from .rigid import normalised_moments, worst_case_moments
+from .rotation_scale import error_terms
 
 
 
@@ -157,22 +159,20 @@ def orbit_motion_bound(body: Body, model: PrecessionNutation, jd_tdb: np.ndarray
     return float(np.max(plane + phase + rate))
 
 
-def rotation_averaging_bound(body: Body, model: PrecessionNutation, span_days: float) -> float:
-    """What averaging over the rotation leaves out (radians): rung 5 against the full rigid body
-    (rung 7, :mod:`ephem.rigid`) for the figure axis, the pole a body-fixed frame shows.
+def rotation_averaging_bound(body: Body, model: PrecessionNutation, span_days: float, axis: str = "figure",
+                             modelled: str = "none", pole: str = "figure") -> float:
+    """What averaging over the rotation leaves out (radians) for the pole ``axis`` ("figure" or
+    "angular_momentum") when a track includes ``modelled`` of the rotation-scale terms
+    (:data:`ephem.rotation_scale.MODELLED`), the catalogue pole being ``pole`` at t₀: the sum of
+    :func:`ephem.rotation_scale.error_terms` over ±span.
 
-    :func:`ephem.rigid.averaging_error_estimate` over ±span (the 2ω circle of a triaxial body,
-    the figure axis's offset from the angular momentum, a second-order drift); a body known only
-    by H_d gets the worst triaxiality its H_d allows. Never exceeded in the rigid-body runs
-    (1.0-3.6x conservative for the catalogue bodies, docs/rigid_body_study.md).
+    A body known only by H_d gets the worst triaxiality its H_d allows (:func:`ephem.rigid.worst_case_moments`).
     """
-    from .rigid import averaging_error_estimate, normalised_moments, worst_case_moments
-
     if model.hd == 0.0:  # a sphere: no torque to average
         return 0.0
     moments = normalised_moments(body.moments) if body.moments is not None else worst_case_moments(model.hd)
-    return max(averaging_error_estimate(model, span_days, moments),
-               averaging_error_estimate(model, -span_days, moments))
+    which = "figure" if axis == "figure" else "momentum"
+    return max(sum(error_terms(model, moments, s, which, modelled, pole).values()) for s in (span_days, -span_days))
 
 
 def real_orbit_unavailable(body: Body, jd_tdb: np.ndarray) -> str | None:

@@ -51,6 +51,8 @@ class Estimate:
     unestimated: tuple = ()
     #: the track adds the free wobble of the figure axis (:func:`ephem.free_motion.add_free_wobble`)
     free_wobble: bool = False
+    #: the track adds the rotation-scale terms (:mod:`ephem.rotation_scale`): "oppolzer" or "all"; None: not
+    rotation_scale: str | None = None
 
     @property
     def total(self) -> float:
@@ -101,7 +103,7 @@ def selection_info(theory, name: str, order: int | None, estimate: float | None,
             "estimated_error_mas": None if estimate is None else estimate / MAS,
             "error_terms_mas": None if terms is None else {k: v / MAS for k, v in terms.items()},
             "tolerance_mas": None if tolerance is None else float(f"{tolerance / MAS:.12g}"), "cost_ms": cost_ms,
-            "axis": None, "free_wobble": None,   # tracks only
+            "axis": None, "free_wobble": None, "rotation_scale": None,   # tracks only
             "cut_mas": None}                     # the lunisolar series only
 
 
@@ -163,11 +165,18 @@ class SpinAxisTheory(ABC):
     #: replicates the single-perturber theory only)
     propagates_uncertainty: ClassVar[bool] = False
 
-    def __init__(self, body: Body, perturbers: tuple[str, ...], axis: str = "figure", wobble=None):
+    #: whether the family's tracks can add the rotation-scale terms (:mod:`ephem.rotation_scale`) and so take
+    #: a rotation phase
+    models_rotation_scale: ClassVar[bool] = False
+
+    def __init__(self, body: Body, perturbers: tuple[str, ...], axis: str = "figure", wobble=None,
+                 rotation_phase: float | None = None):
         self.body = body
         self.perturbers = tuple(perturbers)
         self.axis = axis
         self.wobble = wobble
+        #: the long (A) axis's angle at the pole epoch, radians (:mod:`ephem.rotation_scale`), or None
+        self.rotation_phase = rotation_phase
 
     @classmethod
     @abstractmethod
@@ -177,7 +186,11 @@ class SpinAxisTheory(ABC):
 
     def with_wobble(self, wobble) -> "SpinAxisTheory":
         """The same family for the same request, with the free wobble a track of the figure axis may add."""
-        return type(self)(self.body, self.perturbers, self.axis, wobble)
+        return type(self)(self.body, self.perturbers, self.axis, wobble, self.rotation_phase)
+
+    def with_rotation_phase(self, rotation_phase: float | None) -> "SpinAxisTheory":
+        """The same family with the body's rotation phase (radians; :mod:`ephem.rotation_scale`)."""
+        return type(self)(self.body, self.perturbers, self.axis, self.wobble, rotation_phase)
 
     @classmethod
     @abstractmethod
@@ -199,8 +212,9 @@ class SpinAxisTheory(ABC):
 
     @abstractmethod
     def track_cost(self, model: str | None, order: int | None, start: float, stop: float, count: int,
-                   free_wobble: bool) -> Cost:
-        """The cost of one model's track (``model`` None: the family's default) over ``count`` epochs."""
+                   free_wobble: bool, rotation_scale: bool = False) -> Cost:
+        """The cost of one model's track (``model`` None: the family's default) over ``count`` epochs, with the
+        free wobble and the rotation-scale terms if asked."""
 
     @abstractmethod
     def estimates(self, jd_tdb) -> list[Estimate]:

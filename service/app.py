@@ -232,6 +232,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                   ge=0, le=3600, description="the wobble's amplitude (default: the published one)")] = None,
               free_wobble_epoch: Annotated[Optional[str], Query(
                   description="epoch of the phase, ISO 8601 or JD TDB (default: the pole epoch)")] = None,
+              rotation_phase_deg: Annotated[Optional[float], Query(description=schemas.RotationPhase)] = None,
               format: Annotated[TrackFormat, Query(description="json or csv (streamed)")] = TrackFormat.json,
               perturbers: Annotated[Optional[str], Query(
                        description="the torquing bodies: default the catalogue's (the Earth: the Moon and the Sun, "
@@ -240,7 +241,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         arrays = api.track_arrays(body, start, stop, step_days, dataset.value, order,
                                   settings.max_track_samples, tolerance_mas, None if model is None else model.value,
                                   axis.value, free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch,
-                                  perturbers=perturbers, output=format.value)
+                                  perturbers=perturbers, output=format.value, rotation_phase_deg=rotation_phase_deg)
         if format is TrackFormat.csv:
             return StreamingResponse(_csv_rows(arrays), media_type="text/csv; charset=utf-8")
         return finite_json(arrays)

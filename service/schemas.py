@@ -18,12 +18,24 @@ Perturbers = Field(None, description="the bodies whose torque the answer include
 AxisName = Literal[AXES]
 
 
+RotationPhase = ("the angle of the long (least-inertia) axis in the body's equator from the ascending node of the "
+                 "orbit on it at the pole epoch, deg: lets the track add the semi-diurnal terms of the rotation "
+                 "scale (without it the tolerance can add the Oppolzer offset alone)")
+
+
 class FreeWobbleInfo(BaseModel):
     J_arcsec: float = Field(description="the wobble's amplitude: the angle between the figure axis and the angular "
                                         "momentum at its epoch, arcsec")
     phase_deg: float = Field(description="the figure axis's position angle about the angular momentum at the epoch, "
                                          "from the ICRF north through east, deg")
     epoch_jd_tdb: float
+
+
+class RotationScaleInfo(BaseModel):
+    modelled: Literal["oppolzer", "all"] = Field(description="the rotation-scale terms the track adds: the figure "
+                                                             "axis's Oppolzer offset, or with the semi-diurnal terms "
+                                                             "too (needs the rotation phase)")
+    rotation_phase_deg: Optional[float] = Field(description="the rotation phase the request gave, deg, or null")
 
 
 class ModelInfo(BaseModel):
@@ -50,6 +62,8 @@ class ModelInfo(BaseModel):
                                                        "angular momentum")
     free_wobble: Optional[FreeWobbleInfo] = Field(None, description="tracks: the free wobble added to the figure "
                                                                     "axis, or null when it is left out")
+    rotation_scale: Optional[RotationScaleInfo] = Field(None, description="tracks: the rotation-scale terms added "
+                                                        "(ephem.rotation_scale), or null when none are")
     perturbers: Optional[list[str]] = Perturbers
     cut_mas: Optional[float] = Field(None, description="the lunisolar theory (name \"lunisolar\"): the amplitude cut "
                                                        "of its nutation series, mas")
@@ -223,6 +237,7 @@ class TrackIn(BaseModel):
                                                   "(a body of your own has no published one)")
     free_wobble_epoch: Optional[Union[float, str]] = Field(None, description="epoch of the phase (default: the "
                                                            "pole epoch), ISO 8601 or JD TDB")
+    rotation_phase_deg: Optional[float] = Field(None, description=RotationPhase)
 
 
 class UserBody(BaseModel):
