@@ -232,3 +232,30 @@ def test_error_terms_refuse_unknown_options():
         rs.error_terms(m, (0.5, 0.8, 1.0), 10.0, "rotation")
     with pytest.raises(ValueError, match="modelled"):
         rs.error_terms(m, (0.5, 0.8, 1.0), 10.0, "figure", "some")
+
+
+def test_the_rotation_phase_at_the_interfaces():
+    from fastapi.testclient import TestClient
+
+    from ephem import api
+    from ephem.errors import InvalidInputError
+    from service.app import app
+
+    q = dict(start="2020-01-01", stop="2020-01-03", step_days=0.25)
+    ans = api.track("eros", **q, model="numerical", rotation_phase_deg=30.0)
+    assert ans["model"]["rotation_scale"] == {"modelled": "all", "rotation_phase_deg": 30.0}
+    bare = api.track("eros", **q, model="numerical")
+    assert bare["model"]["rotation_scale"] is None
+    # the served figure axis moves by the closed-form terms: Eros' offset is tens of mas, far above rounding
+    gap = np.hypot(np.subtract(ans["pole_dec_deg"], bare["pole_dec_deg"]),
+                   np.subtract(ans["pole_ra_deg"], bare["pole_ra_deg"]) * np.cos(np.radians(bare["pole_dec_deg"])))
+    assert gap.max() * 3.6e6 > 1.0
+    for bad, why in ((dict(rotation_phase_deg=float("nan")), "finite"),
+                     (dict(rotation_phase_deg=10.0, free_wobble_phase_deg=5.0, free_wobble_J_arcsec=0.1), "not combined")):
+        with pytest.raises(InvalidInputError, match=why) as err:
+            api.track("eros", **q, **bad)
+        assert err.value.field == "rotation_phase_deg"
+    with pytest.raises(InvalidInputError, match="does not model the rotation scale"):
+        api.track("earth", **q, rotation_phase_deg=10.0)
+    r = TestClient(app).get("/v1/bodies/eros/track", params={**q, "model": "numerical", "rotation_phase_deg": 30.0})
+    assert r.status_code == 200 and r.json()["model"]["rotation_scale"]["modelled"] == "all"
