@@ -73,7 +73,7 @@ from .free_motion import Wobble, add_free_wobble, free_wobble_bound, wobble_mode
 from . import rotation_scale
 from .physics_errors import (ephemeris_bound, orbit_motion_bound, real_orbit_unavailable, rotation_averaging_bound,
                              sun_path_for)
-from .rigid import normalised_moments, worst_case_moments
+from .rigid import body_moments
 from .second_order import SecondOrderTheory, second_order_theory
 from .theory import Estimate, SpinAxisTheory, Spectrum, cheapest_within, rate_values, selection_info
 from .uncertainty import input_sigmas, propagated, summary
@@ -456,8 +456,7 @@ class Ladder:
         """The body with its pole moved from the figure axis at the pole epoch (the catalogue's pole) to the mean
         angular momentum L̄ there: less the Oppolzer offset, and the semi-diurnal term when the phase is known."""
         m = self.model
-        dpsi0, deps0 = m.nutation_at_pole_epoch
-        s0 = m.pole_orbit_frame(dpsi0, m.obliquity + deps0)[None]
+        s0 = m.catalogue_pole_orbit[None]
         terms = rotation_scale.rotation_terms(self._moments, m.spin_rate, s0, rotation_scale.SunGeometry.at(
             m, [m.pole_epoch]), None if self.rotation_phase is None else np.array([self.rotation_phase]))
         mean = m.icrf_from_orbit @ rotation_scale.apply(s0, -terms.figure_offset())[0]
@@ -467,8 +466,7 @@ class Ladder:
 
     @property
     def _moments(self) -> tuple[float, float, float]:
-        b = self.body
-        return normalised_moments(b.moments) if b.moments is not None else worst_case_moments(self.model.hd)
+        return body_moments(self.body, self.model)
 
     def rotation_scale_track(self, rung: str, jd_tdb, order: int | None = None) -> Track:
         """A rung's track with the rotation-scale terms of :mod:`ephem.rotation_scale`: the rung run from the mean

@@ -118,6 +118,13 @@ class PrecessionNutation:
         rate = 2.0 * amp * abs(self.precession_rate) + self.scaling_factor**2 * f * f / (8.0 * self.mean_motion)
         return abs(span_days) * rate
 
+    @property
+    def catalogue_pole_orbit(self) -> np.ndarray:
+        """The catalogue pole (the spin axis at the pole epoch, mean pole plus nutation there), a unit vector (3,)
+        in the orbit frame: where every integration and offset starts."""
+        dpsi0, deps0 = self.nutation_at_pole_epoch
+        return self.pole_orbit_frame(dpsi0, self.obliquity + deps0)
+
     def pole_orbit_frame(self, psi, eps) -> np.ndarray:
         """Spin-axis unit vectors (..., 3) in the frame of the orbit and mean equinox at t0."""
         se = np.sin(eps)

@@ -70,8 +70,7 @@ def integrate_spin_axis(model: PrecessionNutation, jd_tdb, rtol: float = 1e-12,
         # r̂ × s with r̂ = (rx, ry, 0)
         return [f * (ry * s[2]), f * (-rx * s[2]), f * (rx * s[1] - ry * s[0])]
 
-    dpsi0, deps0 = model.nutation_at_pole_epoch
-    s0 = model.pole_orbit_frame(dpsi0, model.obliquity + deps0)
+    s0 = model.catalogue_pole_orbit
     out = np.empty((t.size, 3))
     for mask in (t >= t0, t < t0):
         if not mask.any():

@@ -35,7 +35,7 @@ from .constants import ARCSEC
 from .kepler import solve_kepler, true_anomaly
 from .kinoshita import eccentricity_factor, pole_displacements
 from .model import PrecessionNutation
-from .rigid import normalised_moments, worst_case_moments
+from .rigid import body_moments
 from .rotation_scale import error_terms
 
 
@@ -170,7 +170,7 @@ def rotation_averaging_bound(body: Body, model: PrecessionNutation, span_days: f
     """
     if model.hd == 0.0:  # a sphere: no torque to average
         return 0.0
-    moments = normalised_moments(body.moments) if body.moments is not None else worst_case_moments(model.hd)
+    moments = body_moments(body, model)
     which = "figure" if axis == "figure" else "momentum"
     return max(sum(error_terms(model, moments, s, which, modelled, pole).values()) for s in (span_days, -span_days))
 

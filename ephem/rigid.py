@@ -135,6 +135,12 @@ def worst_case_moments(hd: float) -> tuple[float, float, float]:
     return max(1.0 - 2.0 * hd, 1e-9), 1.0, 1.0
 
 
+def body_moments(body, model: PrecessionNutation) -> tuple[float, float, float]:
+    """A body's (A/C, B/C, 1): its own moments, or for a body known only by H_d the worst case its H_d allows
+    (:func:`worst_case_moments`), which the error estimates take."""
+    return normalised_moments(body.moments) if body.moments is not None else worst_case_moments(model.hd)
+
+
 # --------------------------------------------------------------------------- attitude helpers
 
 
@@ -349,8 +355,7 @@ def integrate_rigid_body(model: PrecessionNutation, jd_tdb, moments=None, initia
     mom = model_moments(model) if moments is None else normalised_moments(moments)
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     w0 = model.spin_rate
-    dpsi0, deps0 = model.nutation_at_pole_epoch
-    s0 = model.pole_orbit_frame(dpsi0, model.obliquity + deps0)
+    s0 = model.catalogue_pole_orbit
     q0 = initial_attitude(s0, initial_angle)
     if initial_omega_body is not None:
         w_init = np.asarray(initial_omega_body, dtype=float)

@@ -180,13 +180,6 @@ MAX_SAMPLED_ORBITS = 20.0
 MODELLED = ("none", "oppolzer", "all")
 
 
-def _sun_rate(model: PrecessionNutation, jd_tdb: np.ndarray) -> np.ndarray:
-    """ν̇ = n (1 + e cos ν)² / (1 - e²)^(3/2), the Sun's angular rate (rad/day)."""
-    e = model.eccentricity
-    nu = true_anomaly(model.mean_anomaly(jd_tdb), e)
-    return model.mean_motion * (1.0 + e * np.cos(nu)) ** 2 / (1.0 - e * e) ** 1.5
-
-
 def _span_grid(model: PrecessionNutation, span_days: float, count: int) -> np.ndarray:
     """``count`` epochs over [t₀, t₀ + span], even in the eccentric anomaly: the torque peaks at pericentre over
     a time ∝ (1 - e)^(3/2) of the orbit, which an even grid in time misses at high e (30 % low at e = 0.94
@@ -243,8 +236,7 @@ def error_terms(model: PrecessionNutation, moments, span_days: float, axis: str 
     orbits = abs(span) * n / (2.0 * math.pi)
     t0 = model.pole_epoch
     sun0 = SunGeometry.at(model, [t0])
-    s0 = model.pole_orbit_frame(*[np.atleast_1d(x) for x in (model.nutation_at_pole_epoch[0],
-                                                              model.obliquity + model.nutation_at_pole_epoch[1])])
+    s0 = model.catalogue_pole_orbit[None]
     first = rotation_terms(mom, w, s0, sun0)
     o0, r0 = float(np.linalg.norm(first.oppolzer[0])), float(first.semi_diurnal_radius[0])
     if orbits <= MAX_SAMPLED_ORBITS:
@@ -260,11 +252,10 @@ def error_terms(model: PrecessionNutation, moments, span_days: float, axis: str 
         ox, oy, oz = first.oppolzer[0]
         carried = np.stack([c * ox - sn * oy, sn * ox + c * oy, np.full_like(c, oz)], axis=-1)
         figure_change = float(np.max(np.linalg.norm(here.oppolzer - carried, axis=-1)))
-        forcing = (sun.torque_strength * np.sum(s * sun.direction, axis=-1))[:, None] \
-            * (sun.direction - np.sum(s * sun.direction, axis=-1)[:, None] * s)
+        sd = np.sum(s * sun.direction, axis=-1)          # z, the sine of the Sun's declination
+        forcing = (sun.torque_strength * sd)[:, None] * (sun.direction - sd[:, None] * s)   # F = g z u⊥
         rates = np.linalg.norm(np.gradient(forcing, t, axis=0), axis=-1)
         forcing_rate, forcing_rate0 = float(np.max(rates)), float(rates[0])
-        sd = np.sum(s * sun.direction, axis=-1)
         rate = (model.scaling_factor * sun.torque_strength / (3.0 * n * n) * sd)[:, None] * np.cross(sun.direction, s)
         weight = sun.torque_strength / w**2 * oppolzer_factor(mom) * (1.0 - 2.0 * sd * sd)
         f = weight[:, None] * rate
@@ -281,7 +272,7 @@ def error_terms(model: PrecessionNutation, moments, span_days: float, axis: str 
         r_max = g_max * geo * semi_diurnal_factor(mom) / w**2
         figure_change = o_max + o0
         # |d(z u⊥)/dλ| <= 2 sin(tilt) as the Sun's longitude λ turns at ν̇, and g changes at |ġ| <= 3 ν̇ e g/(1 - e)
-        nu_dot = n * (1.0 + e) ** 2 / (1.0 - e * e) ** 1.5
+        nu_dot = sun_rate_ratio(model) * w
         forcing_rate = forcing_rate0 = g_max * nu_dot * (2.0 * math.sin(tilt) + 3.0 * e / (1.0 - e) * geo)
         drift = 2.0 * g_max * oppolzer_factor(mom) / w**2 * model.scaling_factor * ar3_max * geo * abs(span)
     drift += 3.0 * math.sqrt(2.0) * ar3_max * k2 * r_max * abs(span)
