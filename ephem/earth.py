@@ -28,9 +28,10 @@ the real Earth's, taking IAU 2006/2000A (ERFA) as the real Earth to within its p
 * ``axis_relation`` (angular-momentum axis only): IAU 2000A gives the CIP, the figure axis's forced
   motion; the real angular momentum differs from it by the Earth's own Oppolzer offsets, taken no
   larger than 1.5 times the rigid ones, to which ours are added (2.5 times the rigid sum);
-* ``rotation_averaging``: the 2ω circle and second-order drift of :func:`ephem.rigid.averaging_error_terms`
-  for the Sun, scaled by the lunisolar-to-solar torque (the Oppolzer offsets it also bounds are in the
-  figure series or in ``axis_relation``);
+* ``rotation_averaging``: what averaging over the rotation leaves out for the Sun alone
+  (:func:`ephem.physics_errors.rotation_averaging_bound` with the Oppolzer offset modelled: the semi-diurnal
+  terms, the start, the second-order drift and the next order), scaled by the lunisolar-to-solar torque (the
+  Oppolzer offsets are in the figure series or in ``axis_relation``);
 * ``free_wobble`` / ``free_wobble_model`` (figure axis) as the ladder's; ``rounding``.
 
 Outside 1900–2100 (where the residual was measured) the track is refused as not applicable.
@@ -58,6 +59,7 @@ from .ladder import ROUNDING, model_info, pole_vectors, with_free_wobble
 from .lunisolar import (delaunay_arguments, delaunay_rates, earth_lunisolar, lunisolar_data, obliquity_arcsec,
                         term_amplitudes)
 from .model import Track, cached_model, model_for
+from .physics_errors import rotation_averaging_bound
 from .theory import Estimate, SpinAxisTheory, Spectrum, cheapest_within, rate_values, selection_info
 from .uncertainty import SCALAR_KEYS
 from .units import in_unit
@@ -259,8 +261,6 @@ def unavailable(model: LunisolarEarth, jd_tdb: np.ndarray) -> str | None:
 def estimate_terms(model: LunisolarEarth, jd_tdb) -> dict:
     """The named error terms (radians) of the track at the epochs: see the module docstring. Raises
     :class:`NotApplicableError` outside the window the residual was measured over."""
-    from .rigid import averaging_error_terms, normalised_moments   # scipy's integrators: on first estimate only
-
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     why = unavailable(model, t)
     if why is not None:
@@ -289,12 +289,9 @@ def estimate_terms(model: LunisolarEarth, jd_tdb) -> dict:
         terms["axis_relation"] = 2.5 * _oppolzer_sum(model)
     sun = cached_model(model.body)
     span = float(np.max(np.abs(grid - t0)))
-    moments = normalised_moments(model.body.moments) if model.body.moments is not None else None
-    if moments is not None:
+    if model.body.moments is not None:
         ratio = abs(model.precession_rate / sun.precession_rate)
-        av = max(sum(v for k, v in averaging_error_terms(sun, s, moments).items() if k != "wobble")
-                 for s in (span, -span))
-        terms["rotation_averaging"] = float(ratio * av)
+        terms["rotation_averaging"] = ratio * rotation_averaging_bound(model.body, sun, span, model.axis, "oppolzer")
     terms["rounding"] = ROUNDING
     return terms
 

@@ -21,7 +21,7 @@ SVG, with the plotted numbers as CSV beside it:
    ``numerical``) against the full rigid body (rung 7, :mod:`ephem.rigid`) over one orbit, as
    a fraction of the pole's largest displacement, against ω/n, for the synthetic rotators of
    :func:`studies.rigid_body.averaging_error_study` (figure axis and angular momentum, one panel
-   each), with :func:`ephem.rigid.averaging_error_estimate`, the 10% criterion, the product's
+   each), with the 10% criterion, the product's
    refusal threshold ``MIN_SPIN_ORBIT_RATIO`` and the catalogue bodies' own ω/n; where each
    case crosses 10% (``averaging_vs_spin_crossings.csv``) and the bodies' ω/n
    (``averaging_vs_spin_bodies.csv``). Rung 7 costs ~2 ms CPU per rotation, so the run is
@@ -599,8 +599,6 @@ def error_vs_span(out_dir: Path, s: Settings) -> None:
 AVERAGING_LEVEL = 0.1
 #: Chart 4 compares over this many orbits from the pole epoch (the study's span).
 AVERAGING_SPAN_ORBITS = 1.0
-#: The rigid-body study claims ``averaging_error_estimate`` only from this ω/n up; chart 4 plots it there.
-ESTIMATE_MIN_RATIO = 10.0
 
 AVERAGING_COLOURS = {"Vesta": "tab:blue", "Eros": "tab:red", "Itokawa": "tab:green", "Earth": "tab:purple"}
 
@@ -639,15 +637,11 @@ def averaging_rows(s: Settings) -> list[dict]:
         body, kind = _case_key(r.case)
         A, B, C = shape[r.case]
         rel_l, rel_c = r.relative
-        valid = r.ratio >= ESTIMATE_MIN_RATIO
         rows.append({"case": r.case, "body": body, "moments": kind, "b_minus_a_over_c": (B - A) / C,
                      "hd": 1.0 - 0.5 * (A + B) / C, "spin_orbit_ratio": r.ratio, "k_over_n": r.k_over_n,
                      "span_orbits": AVERAGING_SPAN_ORBITS, "displacement_mas": r.displacement / MAS,
                      "momentum_error_mas": r.momentum_error / MAS, "figure_error_mas": r.figure_error / MAS,
                      "relative_momentum": rel_l, "relative_figure": rel_c,
-                     "estimate_mas": r.estimate / MAS, "relative_estimate": r.estimate / r.displacement,
-                     "estimate_claimed": valid,
-                     "estimate_ge_figure": bool(r.estimate >= r.figure_error) if valid else None,
                      "refused_by_product": r.ratio < MIN_SPIN_ORBIT_RATIO, "cpu_s": r.cpu})
     return rows
 
@@ -660,15 +654,10 @@ def averaging_crossing_rows(rows: list[dict]) -> list[dict]:
     for case in dict.fromkeys(r["case"] for r in rows):
         sub = [r for r in rows if r["case"] == case]
         ratios = [r["spin_orbit_ratio"] for r in sub]
-        claimed = [r for r in sub if r["estimate_claimed"]]
         figure = falls_below(ratios, [r["relative_figure"] for r in sub], AVERAGING_LEVEL)
         out.append({"case": case, "body": sub[0]["body"], "moments": sub[0]["moments"], "level": AVERAGING_LEVEL,
                     "momentum_crossing": falls_below(ratios, [r["relative_momentum"] for r in sub], AVERAGING_LEVEL),
                     "figure_crossing": figure,
-                    # where a per-body test on the estimate would draw the line (only where it is claimed)
-                    "estimate_crossing": falls_below([r["spin_orbit_ratio"] for r in claimed],
-                                                     [r["relative_estimate"] for r in claimed], AVERAGING_LEVEL)
-                    if claimed else math.nan,
                     "product_threshold": MIN_SPIN_ORBIT_RATIO, "threshold_covers": figure < MIN_SPIN_ORBIT_RATIO,
                     "first_ratio": min(ratios), "last_ratio": max(ratios)})
     return out
@@ -715,8 +704,7 @@ def _draw_averaging_vs_spin(rows: list[dict], crossings: list[dict], bodies: lis
               ("relative_momentum", "angular-momentum axis L"))
     lo = min(min(r["spin_orbit_ratio"] for r in rows), min(b["spin_orbit_ratio"] for b in bodies)) / 1.25
     hi = max(max(r["spin_orbit_ratio"] for r in rows), max(b["spin_orbit_ratio"] for b in bodies)) * 1.4
-    values = [r[k] for r in rows for k in ("relative_figure", "relative_momentum")] \
-        + [r["relative_estimate"] for r in rows if r["estimate_claimed"]]
+    values = [r[k] for r in rows for k in ("relative_figure", "relative_momentum")]
     ylo, yhi = min(values) / 3.0, max(values) * 40.0   # headroom for the body names
     for ax, (key, title) in zip(axes, panels):
         ax.axvspan(lo, MIN_SPIN_ORBIT_RATIO, color="0.9", zorder=0, lw=0)
@@ -730,10 +718,6 @@ def _draw_averaging_vs_spin(rows: list[dict], crossings: list[dict], bodies: lis
             axisym = sub[0]["moments"] == "axisymmetric"
             ax.plot([r["spin_orbit_ratio"] for r in sub], [r[key] for r in sub], ls=":" if axisym else "-",
                     marker="o", ms=3.0 if axisym else 3.5, lw=1.3 if axisym else 1.6, color=colour, zorder=3)
-            if key == "relative_figure" and not axisym:   # the axisymmetric variants' are in the CSV
-                est = [r for r in sub if r["estimate_claimed"]]
-                ax.plot([r["spin_orbit_ratio"] for r in est], [r["relative_estimate"] for r in est], ls="none",
-                        marker="o", ms=5, mfc="none", mec=colour, mew=1.0, alpha=0.8, zorder=2)
             c = next(c for c in crossings if c["case"] == case)
             x = c["figure_crossing" if key == "relative_figure" else "momentum_crossing"]
             if math.isfinite(x):
@@ -765,10 +749,7 @@ def _draw_averaging_vs_spin(rows: list[dict], crossings: list[dict], bodies: lis
         axisym = sub[0]["moments"] == "axisymmetric"
         handles.append(Line2D([], [], color=AVERAGING_COLOURS.get(sub[0]["body"], "0.3"), ls=":" if axisym else "-",
                               marker="o", ms=3.5, label=case.replace("(B-A)/C", "(B−A)/C")))
-    handles += [Line2D([], [], color="0.3", marker="o", mfc="none", ls="none", ms=5,
-                       label="estimate: averaging_error_estimate / displacement\n"
-                             f"(figure axis, catalogue moments, ω/n ≥ {ESTIMATE_MIN_RATIO:g})"),
-                Line2D([], [], color="0.3", marker="|", ls="none", ms=9, mew=1.6, label="crosses 10%"),
+    handles += [Line2D([], [], color="0.3", marker="|", ls="none", ms=9, mew=1.6, label="crosses 10%"),
                 Line2D([], [], color="0.15", marker="v", ls="none", ms=5, label="catalogue bodies' ω/n"),
                 Patch(color="0.9", label=f"refused by the product (ω/n < {MIN_SPIN_ORBIT_RATIO:g})")]
     fig.legend(handles=handles, loc="outside lower center", ncol=4, fontsize=8, frameon=False)

@@ -195,10 +195,6 @@ def test_averaging_vs_spin_fails_below_the_threshold_only(out_dir):
     assert all(f < ab.AVERAGING_LEVEL for x, f in zip(ratios, figure) if x >= MIN_SPIN_ORBIT_RATIO)
     assert all((r["refused_by_product"] == "True") == (_f(r["spin_orbit_ratio"]) < MIN_SPIN_ORBIT_RATIO)
                for r in rows)
-    claimed = [r for r in rows if r["estimate_claimed"] == "True"]
-    assert claimed and all(_f(r["spin_orbit_ratio"]) >= ab.ESTIMATE_MIN_RATIO for r in claimed)
-    assert all(_f(r["estimate_mas"]) >= _f(r["figure_error_mas"]) and r["estimate_ge_figure"] == "True"
-               for r in claimed)
     (c,) = ab.read_csv(out_dir / "averaging_vs_spin_crossings.csv")
     x = _f(c["figure_crossing"])
     assert x == pytest.approx(ab.falls_below(ratios, figure, ab.AVERAGING_LEVEL), rel=1e-5)   # CSV: 6 digits
