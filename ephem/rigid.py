@@ -44,7 +44,7 @@ theory drops because it averages to zero over a rotation, and the free and
 forced wobble of the figure axis about L, which it removes by taking L, ω and
 the figure axis as one. The rung-5 error these cause is studied by
 :func:`studies.rigid_body.averaging_error_study` (docs/rigid_body_study.md; a study of the
-checkout, not part of the library) and bounded by :func:`averaging_error_estimate`.
+checkout, not part of the library), modelled in closed form and bounded by :mod:`ephem.rotation_scale`.
 
 Validity: a rigid body (no elasticity, no dissipation, no core), a point-mass
 Sun on a fixed Keplerian orbit, the quadrupole (second-degree) potential only;
@@ -61,9 +61,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kepler import solve_kepler_scalar, true_anomaly
+from .kepler import solve_kepler_scalar
 from .model import PrecessionNutation
-from .rotation_scale import SunGeometry, forced_angular_velocity
+from .rotation_scale import SunGeometry, forced_angular_velocity, sun_azimuth_rate
 
 # --------------------------------------------------------------------------- inputs
 
@@ -82,15 +82,6 @@ class SunOrbit:
     def from_model(cls, model: PrecessionNutation) -> SunOrbit:
         return cls(model.mean_motion, model.eccentricity, model.mean_anomaly_at_epoch, model.orbit_epoch,
                    model.equinox_to_pericentre)
-
-    def direction(self, jd_tdb) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """cos λ, sin λ and (a/r)³ at epochs (vectorised; for estimates and plots)."""
-        m = self.mean_anomaly_at_epoch + self.mean_motion * (np.asarray(jd_tdb, dtype=float) - self.orbit_epoch)
-        nu = true_anomaly(m, self.eccentricity)
-        e = self.eccentricity
-        a_over_r = (1.0 + e * np.cos(nu)) / (1.0 - e * e)
-        lam = self.equinox_to_pericentre + nu
-        return np.cos(lam), np.sin(lam), a_over_r**3
 
 
 def normalised_moments(moments=None, hd: float | None = None) -> tuple[float, float, float]:
@@ -126,9 +117,9 @@ def model_moments(model: PrecessionNutation) -> tuple[float, float, float]:
 
 
 def worst_case_moments(hd: float) -> tuple[float, float, float]:
-    """(1 - 2 H_d, 1, 1): of all rigid bodies with this H_d, the one that maximises every term of
-    :func:`averaging_error_terms` ((B - A)/C, B(C - A)/C² and A(C - B) + B(C - A) all reach 2 H_d),
-    for an error bound when the shape is unknown."""
+    """(1 - 2 H_d, 1, 1): of all rigid bodies with this H_d, the one with the largest triaxiality, (B - A)/C =
+    2 H_d, which drives the semi-diurnal terms of :mod:`ephem.rotation_scale`, for an error bound when the shape is
+    unknown (tests/test_rigid.py checks that it bounds the catalogue shapes)."""
     if not 0.0 < hd <= 0.5:
         raise ValueError(f"H_d must lie in (0, 0.5], got {hd!r}")
     # H_d = 0.5 is the needle A = 0, a limit no body reaches: keep A positive for the moment checks
@@ -362,7 +353,8 @@ def integrate_rigid_body(model: PrecessionNutation, jd_tdb, moments=None, initia
     elif start == "forced" and solar_torque:
         sun = SunGeometry.at(model, [model.pole_epoch])
         sun_body = rotation_matrices(q0[None])[0].T @ sun.direction[0]
-        w_init = forced_angular_velocity(mom, w0, sun_body, float(sun.torque_strength[0]))
+        w_init = forced_angular_velocity(mom, w0, sun_body, float(sun.torque_strength[0]),
+                                         sun_azimuth_rate(model, s0, model.pole_epoch))
     else:
         w_init = np.array([0.0, 0.0, w0])
     y0 = np.concatenate([w_init / w0, q0])
@@ -421,8 +413,8 @@ def compare_with_averaged(model: PrecessionNutation, jd_tdb, moments=None, initi
     """Run rung 7 and rung 5 (:func:`ephem.numerical.integrate_spin_axis`) from the same pole and compare.
 
     Both start with L on the pole (rung 7 with ``start="aligned"``), the comparison the averaged theory's
-    convergence and :func:`averaging_error_estimate` are about; the forced start and the rotation-scale
-    terms are compared in :mod:`ephem.rotation_scale`'s tests."""
+    convergence as ω/n falls is about; the forced start, the rotation-scale terms and their error estimate are
+    compared in :mod:`studies.rotation_scale` and tests/test_rotation_scale.py."""
     from .numerical import angular_separation, integrate_spin_axis
 
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
@@ -439,116 +431,6 @@ def study_epochs(model: PrecessionNutation, span_days: float, per_rotation: int 
     rotations = abs(span_days) * model.spin_rate / (2.0 * math.pi)
     count = max(minimum, int(per_rotation * rotations) + 1)
     return model.pole_epoch + np.linspace(0.0, span_days, count)
-
-
-# --------------------------------------------------------------------------- the error estimate
-
-
-@dataclass(frozen=True)
-class SpanGeometry:
-    """The Sun seen from the model's pole over [t0, t0 + span], on a grid (times JD TDB, angles rad)."""
-
-    jd_tdb: np.ndarray
-    a_over_r_cubed: np.ndarray
-    sin_declination: np.ndarray   # r̂·s, the Sun's declination over the body's equator
-    pole_rate: np.ndarray         # (N, 3) ds/dt = K (a/r)³ (r̂·s)(r̂ × s), rad/day, orbit frame
-
-    @classmethod
-    def sample(cls, model: PrecessionNutation, span_days: float, per_orbit: int = 512) -> SpanGeometry:
-        """The pole follows the model's analytic track; ``per_orbit`` points per orbit (the
-        functions sampled vary on time scales >= 1/(4n), so a sampled max is within ~1e-4 of the
-        true one), at least 65."""
-        count = max(65, int(per_orbit * abs(span_days) * model.mean_motion / (2.0 * math.pi)) + 2)
-        t = model.pole_epoch + np.linspace(0.0, span_days, count)
-        cl, sl, ar3 = SunOrbit.from_model(model).direction(t)
-        psi, _, _, eps = model.angles(t)
-        s = model.pole_orbit_frame(psi, eps)
-        r = np.stack([cl, sl, np.zeros_like(cl)], axis=-1)
-        sin_dec = np.sum(s * r, axis=-1)
-        rate = (model.scaling_factor * ar3 * sin_dec)[:, None] * np.cross(r, s)
-        return cls(t, ar3, sin_dec, rate)
-
-    def declination_factor(self) -> float:
-        """G = max (a/r)³ |sin δ cos δ|."""
-        sd = self.sin_declination
-        return float(np.max(self.a_over_r_cubed * np.abs(sd) * np.sqrt(np.clip(1.0 - sd * sd, 0.0, None))))
-
-    def max_cumulative(self, weight: np.ndarray) -> float:
-        """max over t of |∫_t0^t weight ds/dt dt| (trapezoids)."""
-        f = weight[:, None] * self.pole_rate
-        steps = 0.5 * (f[1:] + f[:-1]) * np.diff(self.jd_tdb)[:, None]
-        return float(np.max(np.linalg.norm(np.cumsum(steps, axis=0), axis=1), initial=0.0))
-
-
-#: Beyond this many orbits the averaging estimate uses orientation-free bounds instead of sampling the span.
-MAX_SAMPLED_ORBITS = 20.0
-
-
-def averaging_error_terms(model: PrecessionNutation, span_days: float, moments=None) -> dict[str, float]:
-    """The pieces of :func:`averaging_error_estimate` (radians); ρ = n/ω, G = max (a/r)³|sin δ cos δ|.
-
-    ``two_omega``  L's circle at ~2ω driven by the P₂² torque: its rate is
-                   3 n² (a/r)³ (B - A)/(2 C ω) sin δ cos δ on a vector turning at 2ω,
-                   so its radius R = (3/4) ρ² (B - A)/C G; L - s reaches 2R.
-    ``wobble``     the figure axis's offset from L: the forced (Oppolzer) offset,
-                   ω_b1 = (C - B) g/C, ω_b2 = (C - A) g/C with g = 3 n² (a/r)³ sin δ cos δ/ω
-                   (Euler's equations forced at the rotation frequency), and the free
-                   wobble the start (C axis along L) excites, each at most
-                   u = 3 ρ² B (C - A)/C² G. For A = B that is the gyroscope's lag (A/Cω)|dL̂/dt|.
-    ``secular``    second order. The forced offset's mean part tilts the C axis towards the Sun,
-                   which multiplies the torque by 1 + ε cos 2δ with
-                   ε = 3 ρ² (a/r)³ (A(C - B) + B(C - A))/(2C²); the error is |∫ ε cos 2δ ds/dt dt|
-                   along the track, doubled. The P₂² torque (K₂ = 3 n² (B - A)/(2 C ω)) acting on
-                   L's 2ω circle and on the offset's 2ω part adds at most 3√2 (a/r)³max K₂ R per day.
-
-    ``two_omega`` and ``wobble`` carry the factor 1/(1 - 2ρ')², ρ' = ν̇max/ω: the forcing is at
-    ω or 2ω shifted by up to twice the Sun's angular rate, a first-order correction in ρ.
-    """
-    A, B, C = model_moments(model) if moments is None else normalised_moments(moments)
-    n, w, e = model.mean_motion, model.spin_rate, model.eccentricity
-    rho = n / w
-    rho_sun = rho * (1.0 + e) ** 2 / (1.0 - e * e) ** 1.5   # the true anomaly's max rate over ω
-    shift = 1.0 / (1.0 - 2.0 * rho_sun) ** 2
-    k2 = 1.5 * n * n * (B - A) / (C * w)
-    ar3_max = 1.0 / (1.0 - e) ** 3
-    orbits = abs(span_days) * n / (2.0 * math.pi)
-    if orbits <= MAX_SAMPLED_ORBITS:
-        geo = SpanGeometry.sample(model, span_days)
-        g = geo.declination_factor()
-        sd = geo.sin_declination
-        eps = 3.0 * rho * rho * geo.a_over_r_cubed * (A * (C - B) + B * (C - A)) / (2.0 * C * C)
-        drift = 2.0 * geo.max_cumulative(eps * (1.0 - 2.0 * sd * sd))
-    else:
-        # long spans: bounds that hold for any orientation of the Sun over the equator, instead of
-        # sampling hundreds of points per orbit (|δ| <= ε, so |sin δ cos δ| <= sin(2 min(ε, 45°))/2)
-        tilt = min(model.obliquity, math.pi - model.obliquity)
-        g = ar3_max * 0.5 * math.sin(2.0 * min(tilt, 0.25 * math.pi)) * 1.01
-        eps_max = 3.0 * rho * rho * ar3_max * (A * (C - B) + B * (C - A)) / (2.0 * C * C)
-        drift = 2.0 * eps_max * model.scaling_factor * g * abs(span_days)
-    R = 0.75 * rho * rho * (B - A) / C * g
-    u = 3.0 * rho * rho * B * (C - A) / (C * C) * g
-    secular = drift + 3.0 * math.sqrt(2.0) * ar3_max * k2 * R * abs(span_days)
-    return {"two_omega": 2.0 * R * shift, "wobble": 2.0 * u * shift, "secular": secular}
-
-
-def averaging_error_estimate(model: PrecessionNutation, span_days: float, moments=None,
-                             axis: str = "figure") -> float:
-    """Upper bound (radians) on rung 5's error against rung 7 over [t0, t0 + span_days].
-
-    ``axis`` "momentum" bounds the angle between rung 5's axis and rung 7's
-    angular momentum, "figure" (default) that to rung 7's C axis, the pole a
-    body-fixed frame would show. The sum of the :func:`averaging_error_terms`,
-    perturbative in ρ = n/ω: meant for ω/n >= ``RECOMMENDED_MIN_SPIN_ORBIT_RATIO``.
-    ``moments`` default the catalogue body's. Rung 7's own integration error
-    (~1e-12 rad) is not included.
-    """
-    terms = averaging_error_terms(model, span_days, moments)
-    bound = terms["two_omega"] + terms["secular"]
-    if axis == "figure":
-        return bound + terms["wobble"]
-    if axis != "momentum":
-        raise ValueError(f"axis must be 'figure' or 'momentum', got {axis!r}")
-    return bound
 
 
 # --------------------------------------------------------------------------- the recommended threshold

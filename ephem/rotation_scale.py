@@ -145,17 +145,36 @@ def rotation_terms(moments, spin_rate: float, axis: np.ndarray, sun: SunGeometry
     return RotationTerms(oppolzer, sd, radius)
 
 
-def forced_angular_velocity(moments, spin_rate: float, sun_body: np.ndarray, g: float) -> np.ndarray:
+def forced_angular_velocity(moments, spin_rate: float, sun_body: np.ndarray, g: float,
+                            sun_rate: float = 0.0) -> np.ndarray:
     """The body-frame angular velocity (rad/day) of the forced solution with no free wobble, for the Sun at
-    (x, y, z) in the body frame: (g z (C - B) x / (C ω), g z (C - A) y / (C ω), ω + g (B - A)(x² - y²) / (4 C ω)).
+    (x, y, z) in the body frame whose azimuth about the spin axis turns at ``sun_rate`` λ̇ (rad/day):
+    (g z (C - B) x / (C ω), g z (C - A) y / (C ω), ω + g (B - A)(x² - y²) / (4 C (ω - λ̇))).
 
-    The transverse part solves Euler's equations exactly for a Sun fixed in space; the third component is the
-    semi-diurnal oscillation of the spin rate that the (B - A) torque drives about its mean ω, so that the mean
-    spin is the catalogue's (starting at ω exactly would shift it by up to g (B - A)/(4 C ω))."""
+    The transverse part solves Euler's equations exactly for a Sun fixed in space. The third component is the
+    oscillation of the spin rate that the (B - A) torque drives about its mean ω, so that the mean spin is the
+    catalogue's: starting at ω exactly would shift the mean by up to g (B - A)/(4 C ω). The forcing turns in the
+    body frame at ω - λ̇, not ω: with ω there the mean is still off by that amount times λ̇/ω (measured 3·10⁻⁶ of
+    ω at ω/n = 45, which over 4000 rotations turned the long axis's phase by 0.012 rad; with ω - λ̇, 9·10⁻⁴ rad).
+    The same shift in the transverse part (a forcing at ω - λ̇ rather than ω) made the start no better on the
+    cases measured: there the Sun's declination and distance change as fast, which a steady forcing leaves out."""
     A, B, C = moments
     x, y, z = (float(c) for c in sun_body)
     k = g * z / (C * spin_rate)
-    return np.array([k * (C - B) * x, k * (C - A) * y, spin_rate + g * (B - A) * (x * x - y * y) / (4.0 * C * spin_rate)])
+    return np.array([k * (C - B) * x, k * (C - A) * y,
+                     spin_rate + g * (B - A) * (x * x - y * y) / (4.0 * C * (spin_rate - sun_rate))])
+
+
+def sun_azimuth_rate(model: PrecessionNutation, axis: np.ndarray, jd_tdb: float) -> float:
+    """λ̇ (rad/day): the rate at which the Sun's azimuth about the spin ``axis`` (orbit frame) turns, ν̇ (W·s)/|u⊥|²,
+    W the orbit normal and ν̇ = n (1 + e cos ν)² / (1 - e²)^(3/2) the Sun's angular rate along the orbit."""
+    e = model.eccentricity
+    nu = float(true_anomaly(model.mean_anomaly(np.array([jd_tdb])), e)[0])
+    nu_dot = model.mean_motion * (1.0 + e * math.cos(nu)) ** 2 / (1.0 - e * e) ** 1.5
+    u = SunGeometry.at(model, [jd_tdb]).direction[0]
+    s = np.asarray(axis, dtype=float)
+    perp2 = 1.0 - float(s @ u) ** 2
+    return nu_dot * float(s[2]) / perp2
 
 
 def apply(axis: np.ndarray, offset: np.ndarray) -> np.ndarray:
@@ -165,17 +184,42 @@ def apply(axis: np.ndarray, offset: np.ndarray) -> np.ndarray:
 
 # --------------------------------------------------------------------------- the error estimate
 
-#: The first-order terms take the forcing as steady. The forcing vector F = g z u⊥ changes as the Sun moves
-#: (and the pole precesses), at a rate |dF/dt| up to ~ ν̇ g; the response to a forcing that changes shifts the
-#: figure axis by ~ |dF/dt| / ω³ times its factors, amplified by the body's resonance (:func:`resonance_factor`)
-#: when the free wobble's body-frame frequency nears ω (A + B → C), and the start leaves a free wobble of that
-#: size. This constant times max (1 + Γ) |dF/dt| (M/C² + (B - A)/(2C)) / ω³ over the span bounds what is left.
-#: Measured on 333 rigid integrations (e to 0.95, obliquities near 0°, 30°, 60°, 90°, 120° and 180°, ω/n 30 to
-#: 18 000, A + B - C from 0.005 to 0.95, 0.01 to 30 orbits; docs/accuracy.md): the largest constant any case
-#: needed was 0.955 (the figure axis with every term modelled); 1.5 keeps a margin of 1.6.
+#: The second-order drift. The mean torque acts on the figure axis, which stands off L by the Oppolzer offset:
+#: the averaged torque g (C - (A+B)/2) z (u × f) evaluated at f = L̂ + O is the rungs' torque at L̂ times
+#: 1 - ε cos 2δ, ε = g M / (C² ω²) (δ the Sun's declination over the equator, z = sin δ). Integrated along the
+#: track, |∫ ε cos 2δ dL̂/dt dt| is what the averaged pole drifts from the rigid body's. This factor over it is
+#: measured: on 160 rigid integrations (docs/accuracy.md) the track with every term modelled left
+#: 0.90-1.14 times that integral where it dominated (1.14 at ω/n = 120, e = 0.64 over 10 orbits: the next order
+#: in ν̇/ω); 1.5 keeps a margin of 1.3. A drift from the (B - A) torque acting on the semi-diurnal circles
+#: (∝ (B - A)² g² / ω³), which the earlier estimate bounded at its peak rate over the whole span, was not seen:
+#: where it would dominate the residual stays within the next-order piece.
+DRIFT_FACTOR = 1.5
+#: The first-order terms take the forcing F = g z u⊥ as steady. It changes as the Sun moves (and the pole
+#: precesses), at a rate |dF/dt| up to ~ ν̇ g; the response to a forcing that changes shifts the figure axis by
+#: ~ |dF/dt| / ω³ times its factors, amplified by the body's resonance (:func:`resonance_factor`) when the free
+#: wobble's body-frame frequency nears ω (A + B → C), and the start leaves a free wobble of that size. This
+#: constant times max (1 + Γ) |dF/dt| (M/C² + (B - A)/(2C)) / ω³ over the span bounds what is left of the figure
+#: axis. Measured on the same 160 integrations with the drift above: the largest constant any case needed was
+#: 0.94 (the figure axis, every term modelled); 1.5 keeps a margin of 1.6.
 NEXT_ORDER = 1.5
+#: L is not moved by the free wobble the start leaves (the figure axis circles L), nor amplified by the resonance:
+#: its next order is that of its own semi-diurnal circle, |dF/dt| (B - A)/(2 C ω³). Measured: the largest constant
+#: any of the 160 cases needed was 0.92 with every term modelled (cases whose residual is at the reference's
+#: noise, below 1e-12 rad, aside); for axisymmetric bodies, where this piece vanishes, L's residual with every
+#: term modelled was the drift integral itself to 1 % (five bodies, e 0-0.9, ω/n 35-300), so the start leaves L
+#: no offset of this order. 1.5 as above.
+NEXT_ORDER_MOMENTUM = 1.5
+#: The rotation phase model φ = φ₀ + ω τ + cos ε Δψ (:func:`rotation_phase`) follows the mean pole L̄, not the
+#: figure axis, and counts φ from the orbit's node on the equator, a reference that twists as the pole moves: its
+#: error grows with how far the pole moves. Measured on 160 rigid integrations (the integrated A axis's angle from
+#: the node): at most 0.15 × (the largest nutation in ψ or ε + |ψ̇| × span); 0.25 keeps a margin of 1.7. A phase
+#: error δφ moves the semi-diurnal terms by 2 R δφ.
+PHASE_FACTOR = 0.25
 #: Beyond this many orbits the estimate uses orientation-free bounds instead of sampling the span.
 MAX_SAMPLED_ORBITS = 20.0
+#: Pole azimuths (ψ, evenly over a turn) at which a long span's drift rate is sampled: the rate's orbit mean
+#: depends on where the pole leans relative to the pericentre, through harmonics 1 and 2 of ψ.
+LONG_SPAN_AZIMUTHS = 24
 #: What a track includes: nothing of the rotation scale, the Oppolzer offset (the phase unknown), or all.
 MODELLED = ("none", "oppolzer", "all")
 
@@ -190,6 +234,39 @@ def _span_grid(model: PrecessionNutation, span_days: float, count: int) -> np.nd
     ecc = reduced + (ends - (reduced - e * np.sin(reduced)))     # E unwrapped: M - M(E reduced) is a whole turn
     grid = np.linspace(ecc[0], ecc[1], count)
     return t0 + (grid - e * np.sin(grid) - ends[0]) / n
+
+
+def _drift_rate(model: PrecessionNutation, moments, s: np.ndarray, sun: SunGeometry) -> np.ndarray:
+    """ε cos 2δ dL̂/dt (rad/day, (N, 3)) for poles ``s``: the rate at which the averaged pole departs from the
+    rigid body's because the torque acts on the offset figure axis (:data:`DRIFT_FACTOR`)."""
+    g, u = sun.torque_strength, sun.direction
+    z = np.sum(s * u, axis=-1)
+    rate = (model.scaling_factor * g / (3.0 * model.mean_motion**2) * z)[:, None] * np.cross(u, s)
+    return (g / model.spin_rate**2 * oppolzer_factor(moments) * (1.0 - 2.0 * z * z))[:, None] * rate
+
+
+def _cumulative(f: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """∫_{t₀}^t f dt at every sample (trapezoids), (N, 3)."""
+    steps = 0.5 * (f[1:] + f[:-1]) * np.diff(t)[:, None]
+    return np.vstack([np.zeros((1, f.shape[1])), np.cumsum(steps, axis=0)])
+
+
+def _long_span_drift(model: PrecessionNutation, moments, span: float) -> float:
+    """max |∫ ε cos 2δ dL̂/dt| over a span of many orbits: the orbit-mean rate, largest over the pole's azimuths
+    (:data:`LONG_SPAN_AZIMUTHS`), times the span, plus the largest departure within an orbit from that mean."""
+    period = 2.0 * math.pi / model.mean_motion
+    t = _span_grid(model, period, 1025)
+    sun = SunGeometry.at(model, t)
+    eps = model.obliquity
+    worst_rate, worst_wiggle = 0.0, 0.0
+    for psi in np.linspace(0.0, 2.0 * math.pi, LONG_SPAN_AZIMUTHS, endpoint=False):
+        s = np.broadcast_to(model.pole_orbit_frame(np.array([psi]), np.array([eps])), (t.size, 3))
+        c = _cumulative(_drift_rate(model, moments, s, sun), t)
+        mean = c[-1] / period
+        worst_rate = max(worst_rate, float(np.linalg.norm(mean)))
+        worst_wiggle = max(worst_wiggle, float(np.max(np.linalg.norm(c - np.outer(t - t[0], mean), axis=1))))
+    # a sampled azimuth can miss the largest rate by the harmonic's curvature: (π / N)² / 2 of it for harmonic 2
+    return worst_rate * (1.0 + 0.5 * (2.0 * math.pi / LONG_SPAN_AZIMUTHS) ** 2) * abs(span) + worst_wiggle
 
 
 def error_terms(model: PrecessionNutation, moments, span_days: float, axis: str = "figure",
@@ -210,13 +287,14 @@ def error_terms(model: PrecessionNutation, moments, span_days: float, axis: str 
     ``semi_diurnal``  the semi-diurnal terms without the phase: max R(t) + R(t₀);
     ``start``         the start error's own drift: the precession rate's dependence on the obliquity,
                       (K f(e) / 2) sin²ε δ₀ |span|;
-    ``drift``         second order: the torque acting on the offset figure axis changes it by the
-                      factor 1 + (g M / C² ω²) cos 2δ (δ the Sun's declination), integrated along the
-                      track and doubled, and the (B - A) torque acting on the semi-diurnal circles;
+    ``drift``         second order: the torque acting on the offset figure axis,
+                      :data:`DRIFT_FACTOR` × max |∫ ε cos 2δ dL̂/dt dt| along the track;
+    ``phase``         ("all" only) the rotation phase model's error δφ moving the semi-diurnal terms:
+                      2 max R × :data:`PHASE_FACTOR` × (Σ|Δψ_k| + Σ|Δε_k| + |ψ̇ span|);
     ``next_order``    the response to the forcing's change and the free wobble the start leaves:
                       :data:`NEXT_ORDER` × max (1 + Γ) |dF/dt| (M/C² + (B - A)/(2C)) / ω³ over the span,
-                      F = g z u⊥ the forcing, Γ the :func:`resonance_factor`; for L, that factor at t₀
-                      only (the start) and :data:`NEXT_ORDER` × max |dF/dt| (B - A)/(2C) / ω³ (its own terms).
+                      F = g z u⊥ the forcing, Γ the :func:`resonance_factor`; for L,
+                      :data:`NEXT_ORDER_MOMENTUM` × max |dF/dt| (B - A)/(2C) / ω³.
 
     ``moments`` (A, B, C) in any normalisation. Perturbative in ν̇/ω: meant for ω/n >= 30 with the Sun's
     peak rate well below ω (:func:`sun_rate_ratio`).
@@ -231,8 +309,6 @@ def error_terms(model: PrecessionNutation, moments, span_days: float, axis: str 
     mom = (A, B, 1.0)
     n, w, e = model.mean_motion, model.spin_rate, model.eccentricity
     span = float(span_days)
-    k2 = 1.5 * n * n * (B - A) / w
-    ar3_max = 1.0 / (1.0 - e) ** 3
     orbits = abs(span) * n / (2.0 * math.pi)
     t0 = model.pole_epoch
     sun0 = SunGeometry.at(model, [t0])
@@ -255,27 +331,22 @@ def error_terms(model: PrecessionNutation, moments, span_days: float, axis: str 
         sd = np.sum(s * sun.direction, axis=-1)          # z, the sine of the Sun's declination
         forcing = (sun.torque_strength * sd)[:, None] * (sun.direction - sd[:, None] * s)   # F = g z u⊥
         rates = np.linalg.norm(np.gradient(forcing, t, axis=0), axis=-1)
-        forcing_rate, forcing_rate0 = float(np.max(rates)), float(rates[0])
-        rate = (model.scaling_factor * sun.torque_strength / (3.0 * n * n) * sd)[:, None] * np.cross(sun.direction, s)
-        weight = sun.torque_strength / w**2 * oppolzer_factor(mom) * (1.0 - 2.0 * sd * sd)
-        f = weight[:, None] * rate
-        steps = 0.5 * (f[1:] + f[:-1]) * np.diff(t)[:, None]
-        drift = 2.0 * float(np.max(np.linalg.norm(np.cumsum(steps, axis=0), axis=1), initial=0.0))
+        forcing_rate = float(np.max(rates))
+        drift = float(np.max(np.linalg.norm(_cumulative(_drift_rate(model, mom, s, sun), t), axis=1)))
         r_max, o_max = float(radius.max()), float(offset.max())
     else:
         # long spans: bounds for any orientation of the Sun over the equator (|δ| <= ε, so
         # |sin δ cos δ| <= sin(2 min(ε, 45°))/2), instead of sampling hundreds of points per orbit
         tilt = min(model.obliquity, math.pi - model.obliquity)
         geo = 0.5 * math.sin(2.0 * min(tilt, 0.25 * math.pi)) * 1.01
-        g_max = 3.0 * n * n * ar3_max
+        g_max = 3.0 * n * n / (1.0 - e) ** 3
         o_max = g_max * geo * oppolzer_factor(mom) / w**2
         r_max = g_max * geo * semi_diurnal_factor(mom) / w**2
         figure_change = o_max + o0
         # |d(z u⊥)/dλ| <= 2 sin(tilt) as the Sun's longitude λ turns at ν̇, and g changes at |ġ| <= 3 ν̇ e g/(1 - e)
         nu_dot = sun_rate_ratio(model) * w
-        forcing_rate = forcing_rate0 = g_max * nu_dot * (2.0 * math.sin(tilt) + 3.0 * e / (1.0 - e) * geo)
-        drift = 2.0 * g_max * oppolzer_factor(mom) / w**2 * model.scaling_factor * ar3_max * geo * abs(span)
-    drift += 3.0 * math.sqrt(2.0) * ar3_max * k2 * r_max * abs(span)
+        forcing_rate = g_max * nu_dot * (2.0 * math.sin(tilt) + 3.0 * e / (1.0 - e) * geo)
+        drift = _long_span_drift(model, mom, span)
     start_offset = r0 if pole == "momentum" else {"none": o0 + r0, "oppolzer": r0, "all": 0.0}[modelled]
     out = {}
     if modelled == "none":
@@ -287,12 +358,17 @@ def error_terms(model: PrecessionNutation, moments, span_days: float, axis: str 
         out["semi_diurnal"] = r_max + r0
     out["start"] = 0.5 * model.scaling_factor * (1.0 - e * e) ** -1.5 * math.sin(model.obliquity) ** 2 \
         * start_offset * abs(span)
-    out["drift"] = drift
-    figure = (1.0 + resonance_factor(mom)) * (oppolzer_factor(mom) + 2.0 * semi_diurnal_factor(mom))
+    out["drift"] = DRIFT_FACTOR * drift
+    if modelled == "all":
+        nut = model.nutation
+        moved = float(np.sum(np.hypot(nut.lon_sin, nut.lon_cos)) + np.sum(np.hypot(nut.obl_sin, nut.obl_cos))) \
+            + abs(model.precession_rate * span)
+        out["phase"] = 2.0 * r_max * PHASE_FACTOR * moved
     if axis == "figure":
+        figure = (1.0 + resonance_factor(mom)) * (oppolzer_factor(mom) + 2.0 * semi_diurnal_factor(mom))
         out["next_order"] = NEXT_ORDER * figure * forcing_rate / w**3
-    else:   # L's own terms do not depend on the body's response; the figure's enters through the start
-        out["next_order"] = NEXT_ORDER * (figure * forcing_rate0 + 2.0 * semi_diurnal_factor(mom) * forcing_rate) / w**3
+    else:
+        out["next_order"] = NEXT_ORDER_MOMENTUM * 2.0 * semi_diurnal_factor(mom) * forcing_rate / w**3
     return out
 
 

@@ -16,10 +16,11 @@ import pytest
 from ephem import rotation_scale as rs
 from ephem.catalogue import Body, Pole, get_body
 from ephem.constants import MAS
-from ephem.geometry import ecliptic_to_icrf
 from ephem.model import cached_model
 from ephem.numerical import angular_separation, integrate_spin_axis
-from ephem.rigid import integrate_rigid_body, normalised_moments, rotation_matrices, study_epochs
+from ephem.rigid import integrate_rigid_body, normalised_moments, rotation_matrices
+from studies.rotation_scale import compare, generated_population
+from studies.rung_choice import issue_bodies
 
 
 def make_body(a=1.3241, e=0.2801, period_h=12.132, moments=(0.06, 0.16, 0.19), ra=90.0, dec=21.56, name="test"):
@@ -27,46 +28,6 @@ def make_body(a=1.3241, e=0.2801, period_h=12.132, moments=(0.06, 0.16, 0.19), r
     ito = get_body("itokawa")
     return Body(name=name, orbit=replace(ito.orbit, a_au=a, e=e, i_deg=0.0),
                 pole=Pole(ra, dec, ito.pole.epoch_jd_tdb), rotation_period_hours=period_h, moments=moments)
-
-
-def initial_pole(m):
-    dpsi0, deps0 = m.nutation_at_pole_epoch
-    return m.pole_orbit_frame(dpsi0, m.obliquity + deps0)
-
-
-def from_pole(b, m, s_orbit):
-    """``b`` with its pole moved to the orbit-frame vector ``s_orbit`` of model ``m``."""
-    v = m.icrf_from_orbit @ s_orbit
-    return replace(b, pole=Pole(math.degrees(math.atan2(v[1], v[0])) % 360.0, math.degrees(math.asin(v[2])),
-                                b.pole.epoch_jd_tdb))
-
-
-def compare(b, span, phase0, start="forced"):
-    """Rigid body against rung 5 with and without the rotation-scale terms: max errors (rad) by name."""
-    m = cached_model(b)
-    mom = normalised_moments(b.moments)
-    t = study_epochs(m, span, per_rotation=16)
-    s0 = initial_pole(m)
-    rig = integrate_rigid_body(m, t, moments=b.moments, initial_angle=phase0, start=start)
-    first = rs.rotation_terms(mom, m.spin_rate, s0[None], rs.SunGeometry.at(m, [m.pole_epoch]), np.array([phase0]))
-    sun = rs.SunGeometry.at(m, t)
-    out = {"rigid": rig, "t": t}
-    for label, start_offset in (("bare", None), ("oppolzer", first.oppolzer), ("all", first.figure_offset())):
-        body = b if start_offset is None else from_pole(b, m, rs.apply(s0[None], -start_offset)[0])
-        mean_icrf = integrate_spin_axis(cached_model(body), t, rtol=1e-12)
-        mean = mean_icrf @ m.icrf_from_orbit
-        psi = np.unwrap(np.arctan2(mean[:, 0], mean[:, 1]))
-        phase = rs.rotation_phase(m, t, phase0, psi) if label == "all" else None
-        terms = rs.rotation_terms(mom, m.spin_rate, mean, sun, phase)
-        if label == "bare":
-            L = F = mean_icrf
-            out["terms"], out["phase"] = terms, rs.rotation_phase(m, t, phase0, psi)
-        else:
-            L = rs.apply(mean, terms.momentum_offset()) @ m.icrf_from_orbit.T
-            F = rs.apply(mean, terms.figure_offset()) @ m.icrf_from_orbit.T
-        out[f"momentum_{label}"] = float(angular_separation(rig.angular_momentum, L).max())
-        out[f"figure_{label}"] = float(angular_separation(rig.figure_axis, F).max())
-    return out
 
 
 @pytest.fixture(scope="module")
@@ -157,61 +118,42 @@ def test_the_forced_start_keeps_the_catalogue_spin_rate():
         assert abs(offset["forced"]) < 0.1 * abs(oscillation)
 
 
-def test_the_issue_s_itokawa_like_request_is_served_within_its_tolerance_of_the_rigid_body():
-    # a = 1.3241 AU, e = 0.2801, P = 12.132 h, H_d = 0.38 and no moments (the worst triaxiality its H_d allows):
-    # refused at 20 mas over 2000-2020 before the rotation-scale terms (the best estimated 81.973 mas)
+#: The issue's requests (studies.rotation_scale.issue_bodies) at 20 mas: (span, step in days). Before issue 15 every
+#: one was refused, the best rung estimated at 53.4, 47.7 / 134 and 117 mas (for these spans, commit 93e801e); the
+#: rigid body shows the bare averaged track off by at most ~11 (figure) and 3.5 mas (L) for the Itokawa-like body,
+#: 58 and 9.7 for the Eros-like and 37 and 16.6 for the 4-hour rotator (the issue's integrations), so 20 mas is what
+#: the rotation-scale terms make possible for all three.
+ISSUE_REQUESTS = {"itokawa-like": ("2000-01-01", "2020-01-01", 365.25), "eros-like": ("2000-01-01", "2002-01-01", 5.0),
+                  "4h-e0.75": ("2000-01-01", "2002-01-01", 5.0)}
+
+
+@pytest.mark.parametrize("name", ISSUE_REQUESTS)
+def test_the_issue_s_requests_are_served_within_their_tolerance_of_the_rigid_body(name):
     from ephem import api
-    from ephem.rigid import worst_case_moments
+    from ephem.rigid import body_moments
 
-    ito = get_body("itokawa")
-    b = Body(name="itokawa-like", orbit=replace(ito.orbit, a_au=1.3241, e=0.2801), pole=ito.pole,
-             rotation_period_hours=12.132, dynamical_ellipticity=0.38)
-    ans = api.track(b, "2000-01-01", "2020-01-01", 365.25, tolerance_mas=20.0)
-    assert ans["model"]["rotation_scale"]["modelled"] == "oppolzer"
-    assert ans["model"]["estimated_error_mas"] <= 20.0
+    b = issue_bodies()[name]
     m = cached_model(b)
-    # the independent reference: the full rigid body from the forced start (DOP853 at 1e-10, 8 s; at 1e-12 it
-    # moves by 0.0006 mas, measured)
-    rig = integrate_rigid_body(m, np.array(ans["jd_tdb"]), moments=worst_case_moments(m.hd), rtol=1e-10, atol=1e-12)
-    ra, dec = np.radians(ans["pole_ra_deg"]), np.radians(ans["pole_dec_deg"])
-    served = np.stack([np.cos(dec) * np.cos(ra), np.cos(dec) * np.sin(ra), np.sin(dec)], axis=-1)
-    error = angular_separation(served, rig.figure_axis)
-    # measured 5.3 mas; the estimate (13.0 mas) and the tolerance bound it
-    assert error.max() <= ans["model"]["estimated_error_mas"] * MAS
-
-
-def generated_population(count, seed):
-    """Bodies across the extremes: e to 0.9, obliquities near 0°, 90° and 180°, spin-orbit ratios where the Sun's
-    peak rate is at most 5% of the spin, spans of 1% of an orbit to a few orbits (at most ~400 rotations, so
-    the test stays cheap)."""
-    rng = np.random.default_rng(seed)
-    out = []
-    ito = get_body("itokawa")
-    while len(out) < count:
-        e = float(rng.choice([0.0, 0.3, 0.6, 0.9]) + rng.uniform(0, 0.04))
-        obliquity = float(rng.choice([0.5, 45.0, 89.6, 135.0, 179.5]) + rng.uniform(-0.3, 0.3))
-        a = float(rng.uniform(0.8, 3.0))
-        n = 0.01720209895 / a**1.5
-        peak = (1 + e) ** 2 / (1 - e * e) ** 1.5
-        ratio = max(30.0, peak / 0.05) * float(np.exp(rng.uniform(0, 1.5)))
-        A = float(rng.uniform(0.45, 0.95))
-        B = float(rng.uniform(max(A, 1.0 - A), 1.0))
-        orbits = float(np.exp(rng.uniform(math.log(0.01), math.log(3.0))))
-        orbits = min(orbits, 400.0 / ratio) * float(rng.choice([1, -1]))
-        # the pole at ecliptic latitude 90° - obliquity (the orbit lies in the ecliptic: i = 0)
-        v = ecliptic_to_icrf(math.radians(float(rng.uniform(0, 360))), math.radians(90.0 - obliquity))
-        b = Body(name=f"pop{len(out)}", orbit=replace(ito.orbit, a_au=a, e=e, i_deg=0.0, node_deg=0.0),
-                 pole=Pole(math.degrees(math.atan2(v[1], v[0])) % 360.0, math.degrees(math.asin(v[2])),
-                           ito.pole.epoch_jd_tdb),
-                 rotation_period_hours=2 * math.pi / (ratio * n) * 24, moments=(A, B, 1.0))
-        out.append((b, orbits * 2 * math.pi / n, float(rng.uniform(0, 2 * math.pi))))
-    return out
+    answers = {axis: api.track(b, *ISSUE_REQUESTS[name], tolerance_mas=20.0, axis=axis)
+               for axis in ("figure", "angular_momentum")}
+    t = np.array(answers["figure"]["jd_tdb"])
+    # the independent reference: the full rigid body from the forced start (DOP853 at 1e-10: at 1e-12 the
+    # Itokawa-like figure axis moves by 0.0006 mas, measured), with the shape the estimate assumes
+    rig = integrate_rigid_body(m, t, moments=body_moments(b, m), rtol=1e-10, atol=1e-12)
+    for axis, ans in answers.items():
+        assert ans["model"]["estimated_error_mas"] <= 20.0
+        ra, dec = np.radians(ans["pole_ra_deg"]), np.radians(ans["pole_dec_deg"])
+        served = np.stack([np.cos(dec) * np.cos(ra), np.cos(dec) * np.sin(ra), np.sin(dec)], axis=-1)
+        error = angular_separation(served, rig.figure_axis if axis == "figure" else rig.angular_momentum)
+        # the estimate is a bound: the served pole within it of the rigid body (and so within the tolerance)
+        assert error.max() <= ans["model"]["estimated_error_mas"] * MAS, (axis, error.max() / MAS, ans["model"])
 
 
 @pytest.mark.parametrize("seed", [11, 12])
 def test_error_terms_bound_the_rigid_body_on_a_generated_population(seed):
     ratios = []
-    for b, span, phase0 in generated_population(6, seed):
+    for case in generated_population(6, seed):
+        b, span, phase0 = case.body(), case.span_days(), case.phase
         r = compare(b, span, phase0)
         m = cached_model(b)
         for modelled in rs.MODELLED:
