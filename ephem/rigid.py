@@ -63,7 +63,7 @@ import numpy as np
 
 from .kepler import solve_kepler_scalar
 from .model import PrecessionNutation
-from .rotation_scale import SunGeometry, forced_angular_velocity, sun_azimuth_rate
+from .rotation_scale import SunGeometry, forced_angular_velocity, forcing_amplitude_rate, sun_azimuth_rate
 
 # --------------------------------------------------------------------------- inputs
 
@@ -354,7 +354,8 @@ def integrate_rigid_body(model: PrecessionNutation, jd_tdb, moments=None, initia
         sun = SunGeometry.at(model, [model.pole_epoch])
         sun_body = rotation_matrices(q0[None])[0].T @ sun.direction[0]
         w_init = forced_angular_velocity(mom, w0, sun_body, float(sun.torque_strength[0]),
-                                         sun_azimuth_rate(model, s0, model.pole_epoch))
+                                         sun_azimuth_rate(model, s0, model.pole_epoch),
+                                         forcing_amplitude_rate(model, s0, model.pole_epoch))
     else:
         w_init = np.array([0.0, 0.0, w0])
     y0 = np.concatenate([w_init / w0, q0])

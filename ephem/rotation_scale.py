@@ -146,23 +146,43 @@ def rotation_terms(moments, spin_rate: float, axis: np.ndarray, sun: SunGeometry
 
 
 def forced_angular_velocity(moments, spin_rate: float, sun_body: np.ndarray, g: float,
-                            sun_rate: float = 0.0) -> np.ndarray:
+                            sun_rate: float = 0.0, forcing_rate: float = 0.0) -> np.ndarray:
     """The body-frame angular velocity (rad/day) of the forced solution with no free wobble, for the Sun at
-    (x, y, z) in the body frame whose azimuth about the spin axis turns at ``sun_rate`` λ̇ (rad/day):
-    (g z (C - B) x / (C ω), g z (C - A) y / (C ω), ω + g (B - A)(x² - y²) / (4 C (ω - λ̇))).
+    (x, y, z) in the body frame whose azimuth about the spin axis turns at ``sun_rate`` λ̇ (rad/day), with
+    ``forcing_rate`` the rate of change of g (x² + y²) (rad²/day³):
+
+        (g z (C - B) x / (C ω),  g z (C - A) y / (C ω),
+         ω + (B - A) / (4 C Ω) [g (x² - y²) + (d(g p²)/dt) x y / (p² Ω)]),   Ω = ω - λ̇, p² = x² + y².
 
     The transverse part solves Euler's equations exactly for a Sun fixed in space. The third component is the
-    oscillation of the spin rate that the (B - A) torque drives about its mean ω, so that the mean spin is the
-    catalogue's: starting at ω exactly would shift the mean by up to g (B - A)/(4 C ω). The forcing turns in the
-    body frame at ω - λ̇, not ω: with ω there the mean is still off by that amount times λ̇/ω (measured 3·10⁻⁶ of
-    ω at ω/n = 45, which over 4000 rotations turned the long axis's phase by 0.012 rad; with ω - λ̇, 9·10⁻⁴ rad).
-    The same shift in the transverse part (a forcing at ω - λ̇ rather than ω) made the start no better on the
-    cases measured: there the Sun's declination and distance change as fast, which a steady forcing leaves out."""
+    oscillation of the spin rate that the (B - A) torque g (B - A) x y / C drives about its mean ω, so that the
+    mean spin is the catalogue's: C ω̇₃ = g (B - A) (p²/2) sin 2θ with θ̇ = -Ω, integrated by parts to the term in
+    the amplitude's rate. Starting at ω exactly would shift the mean by up to g (B - A)/(4 C ω); the first term
+    with Ω = ω leaves that times λ̇/ω (measured 3·10⁻⁶ ω at ω/n = 45, turning the long axis by 0.012 rad over
+    4000 rotations), and without the second a shift of relative size ġ/(g ω) (measured 2.7·10⁻⁷ ω at ω/n = 129).
+    The same shift of frequency in the transverse part made the start no better on the cases measured: there the
+    Sun's declination and distance change as fast, which a steady forcing leaves out."""
     A, B, C = moments
     x, y, z = (float(c) for c in sun_body)
     k = g * z / (C * spin_rate)
+    big = spin_rate - sun_rate
+    p2 = x * x + y * y
+    change = forcing_rate * x * y / (p2 * big) if p2 > 0.0 else 0.0
     return np.array([k * (C - B) * x, k * (C - A) * y,
-                     spin_rate + g * (B - A) * (x * x - y * y) / (4.0 * C * (spin_rate - sun_rate))])
+                     spin_rate + (B - A) / (4.0 * C * big) * (g * (x * x - y * y) + change)])
+
+
+def forcing_amplitude_rate(model: PrecessionNutation, axis: np.ndarray, jd_tdb: float) -> float:
+    """d(g p²)/dt (rad²/day³) at ``jd_tdb`` for the spin ``axis`` (orbit frame) held: g = 3 n² (a/r)³ and
+    p² = 1 - (s·u)², the Sun's distance from the axis. A central difference over 10⁻⁴ of the time the Sun takes to
+    pass pericentre, (1 - e)^(3/2)/n, where g changes fastest: its error, of relative order 10⁻⁸, is far below
+    what the start's next order leaves."""
+    e = model.eccentricity
+    h = 1e-4 * (1.0 - e) ** 1.5 / model.mean_motion
+    sun = SunGeometry.at(model, [jd_tdb - h, jd_tdb + h])
+    s = np.asarray(axis, dtype=float)
+    gp2 = sun.torque_strength * (1.0 - (sun.direction @ s) ** 2)
+    return float(gp2[1] - gp2[0]) / (2.0 * h)
 
 
 def sun_azimuth_rate(model: PrecessionNutation, axis: np.ndarray, jd_tdb: float) -> float:
@@ -188,9 +208,9 @@ def apply(axis: np.ndarray, offset: np.ndarray) -> np.ndarray:
 #: the averaged torque g (C - (A+B)/2) z (u × f) evaluated at f = L̂ + O is the rungs' torque at L̂ times
 #: 1 - ε cos 2δ, ε = g M / (C² ω²) (δ the Sun's declination over the equator, z = sin δ). Integrated along the
 #: track, |∫ ε cos 2δ dL̂/dt dt| is what the averaged pole drifts from the rigid body's. This factor over it is
-#: measured: on 160 rigid integrations (docs/accuracy.md) the track with every term modelled left
-#: 0.90-1.14 times that integral where it dominated (1.14 at ω/n = 120, e = 0.64 over 10 orbits: the next order
-#: in ν̇/ω); 1.5 keeps a margin of 1.3. A drift from the (B - A) torque acting on the semi-diurnal circles
+#: measured: on 160 rigid integrations (docs/accuracy.md) the track with every term modelled left up to 1.13 times
+#: that integral where it dominated (the long spans at ω/n 50-120: the next order in ν̇/ω); 1.5 keeps a margin
+#: of 1.33. A drift from the (B - A) torque acting on the semi-diurnal circles
 #: (∝ (B - A)² g² / ω³), which the earlier estimate bounded at its peak rate over the whole span, was not seen:
 #: where it would dominate the residual stays within the next-order piece.
 DRIFT_FACTOR = 1.5
@@ -200,21 +220,23 @@ DRIFT_FACTOR = 1.5
 #: wobble's body-frame frequency nears ω (A + B → C), and the start leaves a free wobble of that size. This
 #: constant times max (1 + Γ) |dF/dt| (M/C² + (B - A)/(2C)) / ω³ over the span bounds what is left of the figure
 #: axis. Measured on the same 160 integrations with the drift above: the largest constant any case needed was
-#: 0.94 (the figure axis, every term modelled); 1.5 keeps a margin of 1.6.
+#: 0.93 (the figure axis, every term modelled); 1.5 keeps a margin of 1.6.
 NEXT_ORDER = 1.5
 #: L is not moved by the free wobble the start leaves (the figure axis circles L), nor amplified by the resonance:
 #: its next order is that of its own semi-diurnal circle, |dF/dt| (B - A)/(2 C ω³). Measured: the largest constant
-#: any of the 160 cases needed was 0.92 with every term modelled (cases whose residual is at the reference's
+#: any of the 160 cases needed was 0.51 with every term modelled (cases whose residual is at the reference's
 #: noise, below 1e-12 rad, aside); for axisymmetric bodies, where this piece vanishes, L's residual with every
 #: term modelled was the drift integral itself to 1 % (five bodies, e 0-0.9, ω/n 35-300), so the start leaves L
-#: no offset of this order. 1.5 as above.
-NEXT_ORDER_MOMENTUM = 1.5
+#: no offset of this order. 0.75 keeps a margin of 1.5.
+NEXT_ORDER_MOMENTUM = 0.75
 #: The rotation phase model φ = φ₀ + ω τ + cos ε Δψ (:func:`rotation_phase`) follows the mean pole L̄, not the
 #: figure axis, and counts φ from the orbit's node on the equator, a reference that twists as the pole moves: its
 #: error grows with how far the pole moves. Measured on 160 rigid integrations (the integrated A axis's angle from
-#: the node): at most 0.15 × (the largest nutation in ψ or ε + |ψ̇| × span); 0.25 keeps a margin of 1.7. A phase
-#: error δφ moves the semi-diurnal terms by 2 R δφ.
-PHASE_FACTOR = 0.25
+#: the node, the reference started in the forced state: :func:`forced_angular_velocity` with the spin's
+#: oscillation at ω - λ̇ and its amplitude's rate, without which the mean spin is off by up to 3·10⁻⁶ ω and the
+#: phase drifts by 0.01 rad over thousands of rotations): at most 0.027 × (Σ|Δψ_k| + Σ|Δε_k| + |ψ̇| × span),
+#: median 0.002; 0.04 keeps a margin of 1.5. A phase error δφ moves the semi-diurnal terms by 2 R δφ.
+PHASE_FACTOR = 0.04
 #: Beyond this many orbits the estimate uses orientation-free bounds instead of sampling the span.
 MAX_SAMPLED_ORBITS = 20.0
 #: Pole azimuths (ψ, evenly over a turn) at which a long span's drift rate is sampled: the rate's orbit mean

@@ -19,7 +19,7 @@ from ephem.constants import MAS
 from ephem.model import cached_model
 from ephem.numerical import angular_separation, integrate_spin_axis
 from ephem.rigid import integrate_rigid_body, normalised_moments, rotation_matrices
-from studies.rotation_scale import compare, generated_population
+from studies.rotation_scale import compare, generated_population, true_error
 from studies.rung_choice import issue_bodies
 
 
@@ -149,9 +149,18 @@ def test_the_issue_s_requests_are_served_within_their_tolerance_of_the_rigid_bod
         assert error.max() <= ans["model"]["estimated_error_mas"] * MAS, (axis, error.max() / MAS, ans["model"])
 
 
+#: Below this (radians) a truth is rounding, not error: the ladder's own rounding term (ephem.ladder.ROUNDING); the
+#: rigid reference's integration error is ~1e-14 rad (rtol 1e-12 against 1e-13, measured).
+ROUNDING = 1e-12
+
+
 @pytest.mark.parametrize("seed", [11, 12])
-def test_error_terms_bound_the_rigid_body_on_a_generated_population(seed):
-    ratios = []
+def test_error_terms_are_close_bounds_of_the_rigid_body_on_a_generated_population(seed):
+    # issue 15: across the extremes (e to 0.9, obliquities near 0°, 90° and 180°, spans of 1% of an orbit to a few
+    # orbits) the estimate is never exceeded, its median is within 3x of the truth and its worst within 10x, for
+    # every variant of the track and both axes. Measured on the 160-case population of studies.rotation_scale
+    # (docs/accuracy.md): medians 1.05-2.5x, worst 5.6x.
+    ratios = {}
     for case in generated_population(6, seed):
         b, span, phase0 = case.body(), case.span_days(), case.phase
         r = compare(b, span, phase0)
@@ -159,13 +168,44 @@ def test_error_terms_bound_the_rigid_body_on_a_generated_population(seed):
         for modelled in rs.MODELLED:
             for axis in ("figure", "momentum"):
                 bound = sum(rs.error_terms(m, b.moments, span, axis, modelled).values())
-                true = r[f"{axis}_{'bare' if modelled == 'none' else modelled}"]
-                # the estimate is an upper bound: never exceeded (+1e-12 rad, the rigid integration's own error)
-                assert true <= bound + 1e-12, (b, span, modelled, axis, true / MAS, bound / MAS)
-                if modelled == "none":
-                    ratios.append(bound / max(true, 1e-15))
-    # the averaged rungs' term is tight: measured median 1.2-1.4x over 252 integrated cases
-    assert np.median(ratios) < 3.0
+                true = true_error(r, axis, modelled)
+                # never exceeded (+ the rounding floor every served estimate carries)
+                assert true <= bound + ROUNDING, (case, modelled, axis, true / MAS, bound / MAS)
+                if true > ROUNDING:
+                    ratios.setdefault((modelled, axis), []).append(bound / true)
+        # the rotation phase model stays within its estimate's allowance (what the "all" track's phase piece takes)
+        nut = m.nutation
+        moved = float(np.sum(np.hypot(nut.lon_sin, nut.lon_cos)) + np.sum(np.hypot(nut.obl_sin, nut.obl_cos))) \
+            + abs(m.precession_rate * span)
+        assert r["phase_error"] <= rs.PHASE_FACTOR * moved, (case, r["phase_error"], moved)
+    for key, q in ratios.items():
+        assert np.median(q) <= 3.0 and max(q) <= 10.0, (key, np.median(q), max(q))
+
+
+def test_the_forced_start_s_rates_against_their_analytic_forms():
+    # λ̇ and d(g p²)/dt enter the forced start's spin oscillation; checked against the Kepler-orbit derivatives:
+    # ν̇ = n (1 + e cos ν)²/(1 - e²)^(3/2), u̇ = ν̇ W × u, dg/dν = -3 g e sin ν/(1 + e cos ν), ż = s·u̇
+    from ephem.kepler import true_anomaly
+
+    for e, ra, dec in ((0.0, 90.0, 21.56), (0.6, 270.0, 36.56), (0.9, 10.0, -40.0)):
+        b = make_body(e=e, ra=ra, dec=dec)
+        m = cached_model(b)
+        s = m.catalogue_pole_orbit
+        for t in m.pole_epoch + np.array([0.0, 100.0, 317.0]):
+            nu = float(true_anomaly(m.mean_anomaly(np.array([t])), e)[0])
+            nu_dot = m.mean_motion * (1 + e * math.cos(nu)) ** 2 / (1 - e * e) ** 1.5
+            sun = rs.SunGeometry.at(m, [t])
+            u, g = sun.direction[0], float(sun.torque_strength[0])
+            u_dot = nu_dot * np.cross([0.0, 0.0, 1.0], u)
+            z, z_dot = float(s @ u), float(s @ u_dot)
+            azimuth = float(np.cross(u, u_dot) @ s) / (1 - z * z)
+            g_dot = -3 * g * e * math.sin(nu) / (1 + e * math.cos(nu)) * nu_dot
+            # the first is the same algebra by another route (1e-12 relative); the second a central difference,
+            # whose error (h²/6 times the third derivative) is < 1e-8 of the rate for h = 1e-4 of the pericentre
+            # passage: 1e-6 relative leaves room for the rounding of g over 2h
+            assert rs.sun_azimuth_rate(m, s, t) == pytest.approx(azimuth, rel=1e-12, abs=1e-15 * nu_dot)
+            assert rs.forcing_amplitude_rate(m, s, t) == pytest.approx(g_dot * (1 - z * z) - 2 * g * z * z_dot,
+                                                                       rel=1e-6, abs=1e-9 * g * nu_dot)
 
 
 def test_error_terms_refuse_unknown_options():
