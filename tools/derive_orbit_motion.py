@@ -11,7 +11,7 @@ For every body of every dataset with a heliocentric orbit, over DE421's span les
   strength <r^-3> and the real orbit's smallest Sun distance, which extrapolate the gap beyond the window
   (``ephem.physics_errors.measure_orbit_motion``).
 
-    python tools/derive_orbit_motion.py        # rewrites both (about 2 minutes on the 2-core VM)
+    python tools/derive_orbit_motion.py        # rewrites both (2-3 minutes on the shared 2-core VM)
 """
 from __future__ import annotations
 
