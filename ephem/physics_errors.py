@@ -192,11 +192,17 @@ def gap_bin_ends(extent_days: float) -> np.ndarray:
     return np.array(ends)
 
 
-def measure_pole_gap(body: Body, start: float, stop: float) -> tuple[PoleGap, float]:
+def measure_pole_gap(body: Body, start: float, stop: float, starts, rtol: float, integration_error
+                     ) -> tuple[PoleGap, float]:
     """Measure the :class:`PoleGap` of a catalogue body over [start, stop] (JD TDB, inside DE421 and
     around the pole epoch t0), and how well its sampling allowance holds (below).
 
-    Both rungs are integrated as the ladder does (DOP853 at the ladder's rtol, the real Sun path of
+    The ladder's pieces are the caller's (``tools/derive_orbit_motion.py``; this module sits below
+    :mod:`ephem.ladder`): ``starts``, the bodies whose poles both rungs start from (the body itself and
+    the rotation-scale variants' mean-pole body); ``rtol``, the rungs' ODE tolerance; and
+    ``integration_error(model, span_days)``, the rungs' integration error (radians).
+
+    Both rungs are integrated as the ladder does (DOP853 at ``rtol``, the real Sun path of
     :func:`ephem.ephemeris.sun_path`) from the pole at t0 and sampled at t0 + k days. Between two
     samples the gap can peak above both: with d(t) the difference of the two pole vectors, smooth
     where the gap (its norm) is not, d departs from its chord by at most h²/8 max|d̈|, h²|d̈| being
@@ -206,8 +212,8 @@ def measure_pole_gap(body: Body, start: float, stop: float) -> tuple[PoleGap, fl
     orbits (the first from t0, where the gap is smallest, and the last at each end of the window,
     where it is largest): at most 1 when the allowance covers the sampling (measured: see the table).
 
-    Each bin adds both integrations' error (``ephem.ladder.integration_bound`` twice, 2e-12 rad and up)
-    at its outer end. The real orbit's own error is not added. The real-orbit rung's ``ephemeris`` term
+    Each bin adds both integrations' error (``integration_error`` twice; the ladder's is 1e-12 rad and
+    up) at its outer end. The real orbit's own error is not added. The real-orbit rung's ``ephemeris`` term
     (:func:`ephemeris_bound`: 1e-10 rad, 0.02 mas, plus as much per century) is below the asteroids' gap
     from the first day (0.05-2.6 mas one day from t0) and 100 times below it beyond 2-50 days (Itokawa
     from the start). The gap of the Earth and Mars, whose real orbit is DE421's own (fitted to 1e-11),
@@ -216,8 +222,8 @@ def measure_pole_gap(body: Body, start: float, stop: float) -> tuple[PoleGap, fl
     good to 1e-11 rad.
 
     The rungs' rotation-scale variants run from the mean pole (:meth:`ephem.ladder.Ladder.mean_pole_body`,
-    the catalogue pole less the Oppolzer offset: 0.03-69 mas away), and the bins hold the larger of the
-    two gaps. The start's move changes the gap only at second order (the move times the difference of
+    the catalogue pole less the Oppolzer offset: 0.03-69 mas away): the tool starts from both, and the
+    bins hold the larger gap. The start's move changes the gap only at second order (the move times the difference of
     the two rungs' flows): by at most 0.11 mas over the window for petit2014 Itokawa (69 mas moved;
     1e-5 of its gap there), and the running maximum of the gap from t0 by at most 2e-5 of itself for
     Mars, 1.4e-6 for petit2014 Itokawa, but 0.56% for the Earth (0.001 mas at 3.5 years, where its gap
@@ -229,7 +235,7 @@ def measure_pole_gap(body: Body, start: float, stop: float) -> tuple[PoleGap, fl
     :data:`START_ALLOWANCE` is added for it.
     """
     from .ephemeris import sun_path
-    from .ladder import NUMERICAL_RTOL, Ladder, cached_model, integration_bound
+    from .model import cached_model
     from .numerical import integrate_spin_axis
 
     model = cached_model(body)
@@ -247,10 +253,9 @@ def measure_pole_gap(body: Body, start: float, stop: float) -> tuple[PoleGap, fl
 
     chord = np.zeros(k.size - 1)        # per interval between samples: the most |d| reaches in it
     check = 0.0
-    for start_body in (body, Ladder(body).mean_pole_body()):
+    for start_body in starts:
         m = cached_model(start_body)
-        d = integrate_spin_axis(m, t, rtol=NUMERICAL_RTOL) - integrate_spin_axis(
-            m, t, rtol=NUMERICAL_RTOL, sun=path.position_scalar)
+        d = integrate_spin_axis(m, t, rtol=rtol) - integrate_spin_axis(m, t, rtol=rtol, sun=path.position_scalar)
         ds = d[at_sample]
         size = np.linalg.norm(ds, axis=1)
         second = np.linalg.norm(ds[2:] - 2.0 * ds[1:-1] + ds[:-2], axis=1)
@@ -271,7 +276,7 @@ def measure_pole_gap(body: Body, start: float, stop: float) -> tuple[PoleGap, fl
         ends = gap_bin_ends(float(outer[mine].max()))
         worst = np.zeros(ends.size)
         np.maximum.at(worst, np.searchsorted(ends, outer[mine]), gap[mine])
-        worst = worst * (1.0 + START_ALLOWANCE) + 2.0 * np.array([integration_bound(model, e) for e in ends])
+        worst = worst * (1.0 + START_ALLOWANCE) + 2.0 * np.array([integration_error(model, e) for e in ends])
         sides.append((tuple(float(x) for x in ends), tuple(float(x) for x in worst)))
     pole = (body.pole.ra_deg, body.pole.dec_deg, body.pole.epoch_jd_tdb)
     return PoleGap(pole, model.scaling_factor, *sides), check
