@@ -8,11 +8,13 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from studies import accuracy, free_motion
+from studies import accuracy, estimate_ratios, free_motion, rotation_scale
 
 
 @pytest.mark.parametrize("study, tasks, page", [(accuracy, 3, "docs/accuracy.md"),
-                                                (free_motion, 2, "docs/free_motion.md")])
+                                                (free_motion, 2, "docs/free_motion.md"),
+                                                (rotation_scale, 1, "docs/accuracy.md"),
+                                                (estimate_ratios, 1, "docs/accuracy.md")])
 def test_the_command_runs_every_task(study, tasks, page, monkeypatch, tmp_path):
     ran = []
     monkeypatch.setattr(study, "tasks", lambda out, quick=False: [
