@@ -306,46 +306,43 @@ class PeriodicTable:
         j = np.arange(math.floor((x_lo - self.x0) / h), math.ceil((x_hi - self.x0) / h) + 1) % n
         return np.minimum(self.curvature, np.max(self.local[j], axis=0) + self.local_margin)
 
-    def samples(self, x_lo: float, x_hi: float, fresh: int = FRESH_STEPS) -> tuple[np.ndarray, np.ndarray, float]:
-        """Points x, F there (m, g, d) and the largest gap between neighbours, covering [x_lo, x_hi] (at most a
-        period; longer gives one period of the table): the table's samples inside and the exact ends, or
-        ``fresh`` + 1 exact points on a short interval (at most :data:`FRESH_STEPS` table steps, or any shorter
-        than a period when ``fresh`` exceeds :data:`FRESH_STEPS`). Tables on the same grid give the same points."""
+    def samples(self, x_lo: float, x_hi: float, fresh: int = FRESH_STEPS,
+                unwrapped: bool = False) -> tuple[np.ndarray, np.ndarray, float]:
+        """Points x, F there (m, g, d) and the largest gap between neighbours, covering [x_lo, x_hi]: the table's
+        samples inside and the exact ends, or ``fresh`` + 1 exact points on a short interval (at most
+        :data:`FRESH_STEPS` table steps, or any shorter than a period when ``fresh`` exceeds :data:`FRESH_STEPS`).
+        An interval longer than a period gives one period of the table or, ``unwrapped``, the first and the last
+        period of the interval (where each phase first and last occurs: x_lo to x_lo + 2π and x_hi - 2π to x_hi,
+        those four points exact). Tables on the same grid give the same points."""
         n = self.values.shape[0]
         h = self.step
         width = max(0.0, x_hi - x_lo)
         if width >= 2.0 * math.pi:
-            return self.x0 + h * np.arange(n), self.values, h
-        if width <= FRESH_STEPS * h or fresh > FRESH_STEPS:
+            if not unwrapped:
+                return self.x0 + h * np.arange(n), self.values, h
+            first, last = math.ceil((x_lo - self.x0) / h), math.floor((x_hi - self.x0) / h)
+            j = np.concatenate([np.arange(first, first + n), np.arange(last - n + 1, last + 1)])
+            ends = np.array([x_lo, x_lo + 2.0 * math.pi, x_hi - 2.0 * math.pi, x_hi])
+        elif width <= FRESH_STEPS * h or fresh > FRESH_STEPS:
             x = np.linspace(x_lo, x_hi, fresh + 1)
             return x, self.at(x), width / fresh
-        j = np.arange(math.ceil((x_lo - self.x0) / h), math.floor((x_hi - self.x0) / h) + 1)
-        ends = np.array([x_lo, x_hi])
-        return np.concatenate([self.x0 + h * j, ends]), np.concatenate([self.values[j % n], self.at(ends)]), h
+        else:
+            j = np.arange(math.ceil((x_lo - self.x0) / h), math.floor((x_hi - self.x0) / h) + 1)
+            ends = np.array([x_lo, x_hi])
+        x = self.x0 + h * j
+        keep = (x >= x_lo) & (x <= x_hi)
+        return np.concatenate([x[keep], ends]), np.concatenate([self.values[j[keep] % n], self.at(ends)]), h
 
     def interval_max(self, x_lo: float, x_hi: float, ref=None, slope=None) -> np.ndarray:
         """Upper bound (g,) on max over x in [x_lo, x_hi] of |F(x) - ref + slope (x - x0)| (``ref``, ``slope``
         (g, d) or None for 0). A linear term leaves F'' and the interpolation bound unchanged. Over more than a
         period, |F(x) - ref + slope (x - x0)| at one phase is convex in the count of periods, so its largest value
-        is where the phase first or last occurs in the interval: each sample is taken there (the interval's ends
-        are two of those places, evaluated exactly)."""
+        is where the phase first or last occurs in the interval (:meth:`samples` ``unwrapped``)."""
         ref = 0.0 if ref is None else ref
-        if x_hi - x_lo >= 2.0 * math.pi and slope is not None:
-            n, h = self.values.shape[0], self.step
-            j = np.arange(n)
-            first = self.x0 + h * (j + n * np.ceil((x_lo - self.x0 - h * j) / (2.0 * math.pi)))
-            last = self.x0 + h * (j + n * np.floor((x_hi - self.x0 - h * j) / (2.0 * math.pi)))
-            base = self.values - ref
-            ends = self.at(np.array([x_lo, x_hi])) - ref + np.array([x_lo - self.x0, x_hi - self.x0])[:, None, None] * slope
-            peak = np.maximum(np.max(_norm(base + (first - self.x0)[:, None, None] * slope), axis=0),
-                              np.max(_norm(base + (last - self.x0)[:, None, None] * slope), axis=0))
-            peak = np.maximum(peak, np.max(_norm(ends), axis=0))
-            return peak + self.step ** 2 / 8.0 * self.curvature + self.tail
-
         curvature = self.curvature_over(x_lo, x_hi)
 
         def bound(fresh):
-            x, samples, spacing = self.samples(x_lo, x_hi, fresh=fresh)
+            x, samples, spacing = self.samples(x_lo, x_hi, fresh=fresh, unwrapped=slope is not None)
             samples = samples - ref
             if slope is not None:
                 samples = samples + (x - self.x0)[:, None, None] * slope
