@@ -269,7 +269,8 @@ class Remainder:
     Computed at the theory's ε̄0 on the φ grid of :func:`second_order_coefficients` (P2 holds harmonics up to
     ±4φ, g3 up to ±6φ, which 8 samples resolve) and on an even grid of M starting at the pole epoch's
     ``mean_anomaly0`` (8 samples per harmonic of the nutation, a power of two for the FFT that integrates over
-    M). ``periodic``: P2 (:class:`PhasedSeries`); ``rephasing``: V; ``third_order`` (2, 7): g3 as φ-harmonics
+    M). ``periodic``: P2 (:class:`PhasedSeries`); ``rephasing``: V + ∂P2/∂φ, what turning the mean pole by δφ
+    changes in w + P2 per radian; ``third_order`` (2, 7): g3 as φ-harmonics
     up to ±6φ; ``start``: P2 at the pole epoch (M0, φ0 = θ̄0).
     """
 
@@ -317,6 +318,11 @@ def second_order_remainder(K: float, n: float, e: float, theory: SecondOrderTheo
     second_eps = 0.5 * (4.0 * h * se * s2l * dpsi ** 2 - 4.0 * h * ce * c2l * dpsi * deps + h * se * s2l * deps ** 2)
     g3 = np.stack([np.mean(f_pp * p2[0] + f_pe * p2[1] + second_psi, axis=-1),
                    np.mean(f_ep * p2[0] + f_ee * p2[1] + second_eps, axis=-1)])             # (2, φ)
-    return Remainder(float(mean_anomaly0), periodic, PhasedSeries.from_samples(v, mean_anomaly0),
+    # ∂P2/∂φ on the φ grid: harmonic j of (c_j cos 2jφ + s_j sin 2jφ) turns into 2j (s_j cos 2jφ - c_j sin 2jφ)
+    d_phi = np.zeros_like(periodic.values)
+    for j in (1, 2):
+        d_phi[..., 2 * j - 1], d_phi[..., 2 * j] = 2 * j * periodic.values[..., 2 * j], -2 * j * periodic.values[..., 2 * j - 1]
+    d_phi = np.moveaxis(_eval_phi(d_phi[:, :, None, :], (math.pi / _PHI_SAMPLES) * np.arange(_PHI_SAMPLES)), 0, -1)
+    return Remainder(float(mean_anomaly0), periodic, PhasedSeries.from_samples(v + d_phi, mean_anomaly0),
                      _phi_harmonics(g3, degree=3), rate, theory.obliquity,
                      _eval_phi(periodic.values[0], theory.equinox_to_pericentre))
