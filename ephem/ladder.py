@@ -642,7 +642,8 @@ def theory_terms(model: PrecessionNutation, theory: SecondOrderTheory, tables: T
     first = first_order_bound(model, theory, tables, window, dr,
                               second_order_bound(model, theory, tables, window, dr) + higher)
     return {"nutation_omitted": nutation_omitted_bound(tables, window),
-            "truncation": truncation_bounds(model, tables, window), "second_order": first, "higher_order": higher}
+            "truncation": truncation_bounds(model, tables, window), "second_order": float(first),
+            "higher_order": float(higher)}
 
 
 def integration_bound(model: PrecessionNutation, span_days: float) -> float:
