@@ -182,6 +182,25 @@ def evaluate_harmonics_uniform(x_start: float, x_step: float, count: int, multip
     return tuple(out[j] for j in range(ncol))
 
 
+def evaluate_harmonics_periodic(x_start: float, count: int, sin_coef: np.ndarray, cos_coef: np.ndarray) -> np.ndarray:
+    """Σ_k S[k, j] sin(k x) + C[k, j] cos(k x), k = 1..K, on the grid x_i = x_start + 2πi/count covering one
+    period: an array (count, ncol), by one inverse FFT (O(count log count), not O(count K)); exact (to rounding)
+    when count > 2K, as the harmonics then do not alias.
+
+    Shifted to the grid's start, harmonic k is S' sin kθ + C' cos kθ with S' = S cos kx0 - C sin kx0,
+    C' = S sin kx0 + C cos kx0 (θ = x - x_start), the real part of (C' - i S') e^{ikθ}.
+    """
+    sin_coef, cos_coef = np.asarray(sin_coef, dtype=float), np.asarray(cos_coef, dtype=float)
+    kmax = sin_coef.shape[0]
+    if count <= 2 * kmax:
+        raise ValueError(f"{count} samples alias {kmax} harmonics: at least {2 * kmax + 1} needed")
+    k = np.arange(1.0, kmax + 1.0)[:, None]
+    c, s = np.cos(k * x_start), np.sin(k * x_start)
+    spec = np.zeros((count // 2 + 1, sin_coef.shape[1]), dtype=complex)
+    spec[1:kmax + 1] = 0.5 * count * ((sin_coef * s + cos_coef * c) - 1j * (sin_coef * c - cos_coef * s))
+    return np.fft.irfft(spec, n=count, axis=0)
+
+
 def series_extrema(sin_coef: np.ndarray, cos_coef: np.ndarray) -> tuple[float, float, float]:
     """(max - min)/2 of Σ_k S_k sin kM + C_k cos kM (k = 1, 2, …, K) over one period of M (one orbit for a
     series in the mean anomaly), and the M of the max and of the min.
@@ -286,14 +305,13 @@ class PeriodicTable:
             count = int(min(TABLE_MAX_SAMPLES, max(TABLE_MIN_SAMPLES, math.ceil(2.0 * math.pi / h))))
         else:
             count = TABLE_MIN_SAMPLES
-        multiple = np.arange(1, kmax + 1)
+        count = max(count, 2 * kmax + 2)          # the inverse FFT needs more samples than twice the harmonics
         flat_sin, flat_cos = sin_coef.reshape(kmax, g * d), cos_coef.reshape(kmax, g * d)
         k2 = (k * k)[:, None]
-        both = evaluate_harmonics_uniform(x0, 2.0 * math.pi / count, count, multiple,
-                                          np.concatenate([flat_sin, -k2 * flat_sin], axis=1),
-                                          np.concatenate([flat_cos, -k2 * flat_cos], axis=1))
-        values = np.stack(both[:g * d], axis=-1).reshape(count, g, d)
-        second = _norm(np.stack(both[g * d:], axis=-1).reshape(count, g, d))
+        both = evaluate_harmonics_periodic(x0, count, np.concatenate([flat_sin, -k2 * flat_sin], axis=1),
+                                           np.concatenate([flat_cos, -k2 * flat_cos], axis=1))
+        values = both[:, :g * d].reshape(count, g, d)
+        second = _norm(both[:, g * d:].reshape(count, g, d))
         h = 2.0 * math.pi / count
         margin = h * h / 8.0 * (k[:, None] ** 4 * norms).sum(axis=0)
         return cls(float(x0), values, curvature, harmonic_sum(flat_sin, flat_cos, (g, d)), 0.0, second, margin)

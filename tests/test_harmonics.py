@@ -6,7 +6,8 @@ series summed by the same engine).
 import numpy as np
 import pytest
 
-from ephem.harmonics import PeriodicTable, evaluate_harmonics, evaluate_harmonics_uniform, harmonic_norms
+from ephem.harmonics import (PeriodicTable, evaluate_harmonics, evaluate_harmonics_periodic, evaluate_harmonics_uniform,
+                             harmonic_norms)
 
 
 def rounding_bound(sin_c, cos_c):
@@ -100,3 +101,17 @@ def test_periodic_table_bounds_the_largest_excursion_over_any_interval(decay):
             assert np.all(bound >= truth - 1e-12), (lo, width)
             slack = np.maximum(0.02 * truth, 3e-3 * reach) if width < 2 * np.pi else 3e-3 * reach
             assert np.all(bound <= truth + slack + 1e-12), (lo, width, bound, truth)
+
+
+@pytest.mark.parametrize("kmax,count", [(1, 3), (7, 64), (40, 81), (300, 4096)])
+def test_the_periodic_grid_evaluator_matches_direct_sums(kmax, count):
+    # one inverse FFT for a whole period of samples (PeriodicTable's tables, the second-order remainder's grid):
+    # the same sums as the direct ones to the recurrence's rounding, whenever the grid has more than 2 kmax points
+    rng = np.random.default_rng(kmax)
+    sin_c, cos_c = rng.normal(size=(kmax, 3)), rng.normal(size=(kmax, 3))
+    x0 = 2.7
+    got = evaluate_harmonics_periodic(x0, count, sin_c, cos_c)
+    direct = direct_sums(x0 + 2.0 * np.pi * np.arange(count) / count, sin_c, cos_c)
+    assert np.max(np.abs(got - direct)) < rounding_bound(sin_c, cos_c)
+    with pytest.raises(ValueError, match="alias"):
+        evaluate_harmonics_periodic(x0, 2 * kmax, sin_c, cos_c)
