@@ -83,7 +83,7 @@ from .physics_errors import (ephemeris_bound, orbit_motion_bound, real_orbit_una
                              sun_path_for)
 from .rigid import body_moments
 from .harmonics import FRESH_STEPS, PeriodicTable, harmonic_sum, refined_count
-from .second_order import (PhasedSeries, Remainder, SecondOrderTheory, _eval_phi, second_order_remainder,
+from .second_order import (PhasedSeries, Remainder, SecondOrderTheory, eval_phi, second_order_remainder,
                            second_order_theory)
 from .theory import Estimate, SpinAxisTheory, Spectrum, cheapest_within, rate_values, selection_info
 from .uncertainty import input_sigmas, propagated, summary
@@ -220,7 +220,7 @@ def _phi_range_max(coef: np.ndarray, weight: float, lo: float, hi: float) -> flo
     width = min(hi - lo, math.pi)
     count = max(2, math.ceil(width / (math.pi / 64.0)) + 1)
     phi = lo + np.linspace(0.0, width, count)
-    v = _eval_phi(c[:, None, :], phi[None, :])          # (2, count)
+    v = eval_phi(c[:, None, :], phi[None, :])          # (2, count)
     return float(np.max(np.hypot(v[0], v[1]))) + (width / (count - 1)) ** 2 / 8.0 * curvature
 
 
@@ -248,7 +248,7 @@ class PhasedBounds:
         per_harmonic = np.linalg.norm(series.values * wv[:, None], axis=1)           # (N, 5), over ψ, ε
         pair = [np.hypot(per_harmonic[:, 2 * j - 1], per_harmonic[:, 2 * j]) for j in (1, 2)]
         phases = phi0 + (math.pi / REMAINDER_PHASES) * np.arange(REMAINDER_PHASES)
-        grid = _eval_phi(series.values[None], phases[:, None, None]) * wv              # (phases, N, 2)
+        grid = eval_phi(series.values[None], phases[:, None, None]) * wv              # (phases, N, 2)
         return cls(series, weight, float(np.max(per_harmonic[:, 0] + pair[0] + pair[1])),
                    float(np.max(2.0 * pair[0] + 4.0 * pair[1])), float(np.max(4.0 * pair[0] + 16.0 * pair[1])),
                    cls._moment(series, wv, 2), np.max(np.linalg.norm(grid - ref, axis=-1), axis=1))
@@ -261,7 +261,7 @@ class PhasedBounds:
             size = np.sum(np.sqrt(np.sum((series.sin_coef * wv[:, None]) ** 2 + (series.cos_coef * wv[:, None]) ** 2,
                                          axis=1)), axis=-1)
         else:
-            size = np.sqrt(np.sum((_eval_phi(series.sin_coef, phi) * wv) ** 2 + (_eval_phi(series.cos_coef, phi) * wv) ** 2,
+            size = np.sqrt(np.sum((eval_phi(series.sin_coef, phi) * wv) ** 2 + (eval_phi(series.cos_coef, phi) * wv) ** 2,
                                   axis=-1))
         k = np.arange(1.0, size.size + 1.0)
         return float(np.sum(k ** p * size)) + float(series.tail[p])
@@ -288,7 +288,7 @@ class PhasedBounds:
 
     def _derivative_grid(self, phi: float, order: int) -> tuple[np.ndarray, float]:
         wv = np.array([self.weight, 1.0])
-        values = _eval_phi(self.series.values, phi) * wv
+        values = eval_phi(self.series.values, phi) * wv
         n = values.shape[0]
         spec = np.fft.rfft(values, axis=0) * ((1j * np.arange(n // 2 + 1)) ** order)[:, None]
         grid = np.linalg.norm(np.fft.irfft(spec, n=n, axis=0), axis=-1)
@@ -485,7 +485,7 @@ def _mean_pole_bound(theory: SecondOrderTheory, tables: TheoryTables, window: Wi
     phi0 = theory.equinox_to_pericentre
     if about is not None:
         coef = coef.copy()
-        coef[:, 0] -= _eval_phi(coef, about)
+        coef[:, 0] -= eval_phi(coef, about)
     return T * _phi_range_max(coef, tables.weight, phi0 + lo, phi0 + hi) * (1.0 + 2.0 * (drifts.g_eps + drifts.d_eps) * T) \
         + tables.weight * theory.first_order_rate * abs(math.sin(theory.obliquity)) * eps_rate * T * T / 2.0
 
@@ -524,7 +524,7 @@ def second_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, tab
 THIRD_ORDER_FACTOR = 2.0
 
 
-def _ratio(model: PrecessionNutation) -> float:
+def small_parameter(model: PrecessionNutation) -> float:
     """The small parameter of the perturbation theory: the torque over the orbital rate, (K/n) f(e) (its mean over
     the orbit carries f(e) = (1 - e²)^(-3/2))."""
     return model.scaling_factor / model.mean_motion * eccentricity_factor(model.eccentricity)
@@ -560,13 +560,13 @@ def higher_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, tab
         wv = np.array([tables.weight, 1.0])
         periodic = float(p2.table(phi).interval_max(
             *window.mean_anomalies, ref=(tables.remainder.start * wv)[None],
-            slope=(_eval_phi(drift, phi) * wv / model.mean_motion)[None])[0]) \
+            slope=(eval_phi(drift, phi) * wv / model.mean_motion)[None])[0]) \
             + max(abs(lo - mid), abs(hi - mid)) * p2.slope_phi \
             + _mean_pole_bound(theory, tables, window, dr, drift, dr.d_eps, about=phi)
     periodic += 2.0 * (dr.g_eps + dr.d_eps) * dr.T * p2.reach
     # the third-order rest scales with the parts' sizes, |P2 - P2(t0)| + |d| T <= the bound + 2 |d| T
     drift_size = dr.T * math.hypot(tables.weight * dr.d_psi, dr.d_eps)
-    return periodic + THIRD_ORDER_FACTOR * _ratio(model) * (periodic + 2.0 * drift_size)
+    return periodic + THIRD_ORDER_FACTOR * small_parameter(model) * (periodic + 2.0 * drift_size)
 
 
 def first_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, tables: TheoryTables,
@@ -598,7 +598,7 @@ def first_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, tabl
     m_lo, m_hi = window.mean_anomalies
     p_table, v_table = p2.table(phi0), v.table(phi0)
     rates, drift = _mean_rates(theory), tables.remainder.drift_harmonics()
-    mean_rate = (_eval_phi(rates, phi0) + _eval_phi(drift, phi0)) * wv
+    mean_rate = (eval_phi(rates, phi0) + eval_phi(drift, phi0)) * wv
     scale = model.precession_rate / model.mean_motion
     reach_m = max(abs(m_lo - window.m0), abs(m_hi - window.m0))
     curvature = p_table.curvature_over(m_lo, m_hi)[0] + abs(scale) * (
@@ -630,7 +630,7 @@ def first_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, tabl
         + _mean_pole_bound(theory, tables, window, dr, rates, dr.g_eps, about=phi0) \
         + _mean_pole_bound(theory, tables, window, dr, drift, dr.d_eps, about=phi0)
     # the third-order rest scales with the sizes of the parts that cancel, not with what is left of them
-    third = THIRD_ORDER_FACTOR * _ratio(model) * (size + interpolation + tails + left)
+    third = THIRD_ORDER_FACTOR * small_parameter(model) * (size + interpolation + tails + left)
     return min(through_rung4, linear + left + third)
 
 

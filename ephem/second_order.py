@@ -62,7 +62,7 @@ def _phi_harmonics(values: np.ndarray, degree: int = 2) -> np.ndarray:
     return np.stack(out, axis=-1)
 
 
-def _eval_phi(coef: np.ndarray, phi):
+def eval_phi(coef: np.ndarray, phi):
     """Σ_j c_j cos 2jφ + s_j sin 2jφ from coefficients (…, 2 degree + 1) of :func:`_phi_harmonics`."""
     c2, s2 = np.cos(2.0 * phi), np.sin(2.0 * phi)
     c4, s4 = c2 * c2 - s2 * s2, 2.0 * s2 * c2
@@ -148,7 +148,7 @@ class SecondOrderTheory:
 
     def mean_rates(self, psi_bar, eps_bar):
         """dψ̄/dt and dε̄/dt (rad/day), first plus second order."""
-        g = _eval_phi(self.coefficients, np.asarray(self.equinox_to_pericentre + psi_bar)[..., None])
+        g = eval_phi(self.coefficients, np.asarray(self.equinox_to_pericentre + psi_bar)[..., None])
         ce, se = np.cos(eps_bar), np.sin(eps_bar)
         return (self.first_order_rate * ce + ce * ce * g[..., 0] + se * se * g[..., 1],
                 se * ce * g[..., 2])
@@ -157,7 +157,7 @@ class SecondOrderTheory:
         """Upper bound (rad/day) on the pole's speed from the second-order mean rates at ε̄0."""
         phi = np.linspace(0.0, math.pi, 64, endpoint=False)
         ce, se = math.cos(self.obliquity), math.sin(self.obliquity)
-        g = _eval_phi(self.coefficients, phi[:, None])
+        g = eval_phi(self.coefficients, phi[:, None])
         speed = np.abs(se * (ce * ce * g[:, 0] + se * se * g[:, 1])) + np.abs(se * ce * g[:, 2])
         # the grid misses the peak of a degree-2 polynomial in 2φ by at most (1 - cos(2π/64))
         return float(speed.max()) * 1.01
@@ -246,7 +246,7 @@ class PhasedSeries:
 
     def at(self, phi: float):
         """At the phase φ: values (N, 2) on the grid, and the coefficients (K, 2) of sin k(M - start), cos k(M - start)."""
-        return _eval_phi(self.values, phi), _eval_phi(self.sin_coef, phi), _eval_phi(self.cos_coef, phi)
+        return eval_phi(self.values, phi), eval_phi(self.sin_coef, phi), eval_phi(self.cos_coef, phi)
 
 
 @dataclass(frozen=True)
@@ -312,7 +312,7 @@ def second_order_remainder(K: float, n: float, e: float, theory: SecondOrderTheo
     psi_dot = rate * ce
     df_w = np.stack([ce * ce * f["i1"] + se * se * f["i2"], se * ce * f["i3"]])             # Df · w
     periodic = PhasedSeries.from_samples(df_w - psi_dot * v, mean_anomaly0, integrate_over=n)
-    p2 = np.moveaxis(_eval_phi(periodic.values[:, :, None, :], (math.pi / _PHI_SAMPLES) * np.arange(_PHI_SAMPLES)),
+    p2 = np.moveaxis(eval_phi(periodic.values[:, :, None, :], (math.pi / _PHI_SAMPLES) * np.arange(_PHI_SAMPLES)),
                      0, -1)                                                                  # (2, φ, M)
     # third order: <Df · P2 + ½ D²f(w, w)> at ε̄0, per φ sample
     h, c2l, s2l = f["half_k_rho"], f["c2l"], f["s2l"]
@@ -328,7 +328,7 @@ def second_order_remainder(K: float, n: float, e: float, theory: SecondOrderTheo
     d_phi = np.zeros_like(periodic.values)
     for j in (1, 2):
         d_phi[..., 2 * j - 1], d_phi[..., 2 * j] = 2 * j * periodic.values[..., 2 * j], -2 * j * periodic.values[..., 2 * j - 1]
-    d_phi = np.moveaxis(_eval_phi(d_phi[:, :, None, :], (math.pi / _PHI_SAMPLES) * np.arange(_PHI_SAMPLES)), 0, -1)
+    d_phi = np.moveaxis(eval_phi(d_phi[:, :, None, :], (math.pi / _PHI_SAMPLES) * np.arange(_PHI_SAMPLES)), 0, -1)
     return Remainder(float(mean_anomaly0), periodic, PhasedSeries.from_samples(v + d_phi, mean_anomaly0),
                      _phi_harmonics(g3, degree=3), rate, theory.obliquity,
-                     _eval_phi(periodic.values[0], theory.equinox_to_pericentre))
+                     eval_phi(periodic.values[0], theory.equinox_to_pericentre))
