@@ -199,7 +199,7 @@ def measure(work: Callable[[], object], setup: Callable[[], None] | None, reps: 
 def cold() -> None:
     """Empty every cache a request fills (the first such request in a fresh worker). The start-up
     caches stay: catalogue, DE421 kernel, the Earth's lunisolar series (``api.warm_up``)."""
-    for fn in (ladder.cached_model, ladder.cached_theory, ladder._cached_truncation_parts, uncertainty.propagated,
+    for fn in (ladder.cached_model, ladder.cached_theory, ladder.cached_tables, uncertainty.propagated,
                ladder.semi_amplitudes, ephemeris._cached_path, free_motion._series, lie_series.sam_normal_form,
                hansen.hansen_series, hansen.hansen_exact):
         fn.cache_clear()
