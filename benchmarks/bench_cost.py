@@ -341,6 +341,14 @@ def build_cases() -> list[Case]:
                  lambda m=m: m.nutation.semi_peak_to_peak(), None, quick, trace=e < 0.95, reps=2 if e >= 0.95 else None,
                  extra={"K": k, "K_actual": len(m.nutation.multiple)}, why=WHY_BLOCK))
 
+    # --- the estimates' tables of a body (once per body and process) ---------------------------
+    for e, quick in ((0.1, True), (0.6, False), (0.9, True), (0.95, False)):
+        b = synthetic(e)
+        m, th = build_model(b), ladder.cached_theory(b)
+        add(Case("estimate_tables", f"theory_tables, e={e}", part(cost.estimate_tables(e)),
+                 lambda m=m, th=th: ladder.theory_tables(m, th), None, quick, trace=e < 0.95,
+                 extra={"K": cost.harmonics(e, None)[1]}))
+
     # --- harmonic sums: the hansen / series tracks on the even grid ------------------------------
     for e, n, quick in ((0.1, 1_000, True), (0.1, 100_000, True), (0.5, 100_000, False), (0.9, 10_000, False),
                         (0.9, 100_000, True), (0.95, 100_000, False)):

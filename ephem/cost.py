@@ -101,6 +101,17 @@ def harmonic_sum(epochs: int, k: int, parameter: str, what: str) -> Part:
                 epochs * _u("track_bytes_per_epoch") / MB + harmonic_work_mb(epochs, k))
 
 
+def estimate_tables(e: float) -> Part:
+    """The tables the ladder's span-aware estimates read (:func:`ephem.ladder.theory_tables`: the nutation, the
+    truncated series' differences and the second-order remainder over one orbit), built once per body and process:
+    measured 9-33 ms for the catalogue bodies, 40 ms at e = 0.9 (K = 1580) and 0.195 s, 74 MB at e = 0.95
+    (K = 4806)."""
+    k = harmonics(e, None)[1]
+    return Part("orbit.e", f"the estimates' tables over one orbit ({k} harmonics, e = {e:.4g}; once per body)",
+                _u("tables_base_s") + _u("tables_s_per_harmonic") * k,
+                _u("tables_base_mb") + _u("tables_mb_per_harmonic") * k)
+
+
 def second_order(epochs: int, k: int) -> Part:
     return Part("step_days", f"the second-order theory at {epochs} epochs x {k} harmonics",
                 _u("base_s") + epochs * (_u("second_order_epoch_s") + _u("second_order_harmonic_s") * k),

@@ -288,10 +288,9 @@ def estimate_terms(model: LunisolarEarth, jd_tdb) -> dict:
     if model.axis == "angular_momentum":
         terms["axis_relation"] = 2.5 * _oppolzer_sum(model)
     sun = cached_model(model.body)
-    span = float(np.max(np.abs(grid - t0)))
     if model.body.moments is not None:
         ratio = abs(model.precession_rate / sun.precession_rate)
-        terms["rotation_averaging"] = ratio * rotation_averaging_bound(model.body, sun, span, model.axis, "oppolzer")
+        terms["rotation_averaging"] = ratio * rotation_averaging_bound(model.body, sun, t, model.axis, "oppolzer")
     terms["rounding"] = ROUNDING
     return terms
 

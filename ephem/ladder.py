@@ -62,6 +62,8 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field, replace
+import threading
+from collections import OrderedDict
 from functools import cached_property, lru_cache
 
 import numpy as np
@@ -395,10 +397,36 @@ def theory_tables(model: PrecessionNutation, theory: SecondOrderTheory) -> Theor
                         PhasedBounds.of(rem.rephasing, w, phi0, np.zeros(2)))
 
 
-#: Per body up to a few MB at e = 0.9 (the remainder's grids): fewer kept than models.
-@lru_cache(maxsize=128)
+#: Bodies whose tables a process keeps: up to a few MB each at e = 0.9 (the remainder's grids, 75 MB at e = 0.95),
+#: fewer kept than models.
+TABLES_KEPT = 128
+_tables: OrderedDict = OrderedDict()
+_tables_lock = threading.Lock()
+
+
 def cached_tables(body: Body) -> TheoryTables:
-    return theory_tables(cached_model(body), cached_theory(body))
+    """The body's :class:`TheoryTables`, built once and kept (the last :data:`TABLES_KEPT` bodies): the cost model
+    charges their build only while :func:`tables_built` says no."""
+    with _tables_lock:
+        tables = _tables.get(body)
+        if tables is not None:
+            _tables.move_to_end(body)
+            return tables
+    tables = theory_tables(cached_model(body), cached_theory(body))
+    with _tables_lock:
+        _tables[body] = tables
+        while len(_tables) > TABLES_KEPT:
+            _tables.popitem(last=False)
+    return tables
+
+
+def tables_built(body: Body) -> bool:
+    """Whether :func:`cached_tables` holds the body's tables (a request then does not pay for them)."""
+    with _tables_lock:
+        return body in _tables
+
+
+cached_tables.cache_clear = lambda: _tables.clear()     # as the lru_caches beside it (the benchmarks empty them)
 
 
 def nutation_omitted_bound(tables: TheoryTables, window: Window) -> float:
@@ -780,7 +808,7 @@ class Ladder:
         """Error terms every fixed-orbit rung shares: the orbit's motion and rotation averaging, with ``modelled``
         of the rotation-scale terms in the track (the real-orbit rung drops the first). A user's body has no
         measured orbit motion."""
-        terms = {"rotation_averaging": rotation_averaging_bound(self.body, self.model, _span(self.model, jd_tdb),
+        terms = {"rotation_averaging": rotation_averaging_bound(self.body, self.model, jd_tdb,
                                                                 self.axis, modelled)}
         orbit = orbit_motion_bound(self.body, self.model, jd_tdb)
         if orbit is not None:
@@ -855,7 +883,7 @@ class Ladder:
         # a modelled wobble takes the catalogue pole as L (ephem.free_motion): the figure axis then carries the
         # whole Oppolzer offset
         averaging = None if modelled is None else rotation_averaging_bound(
-            self.body, self.model, _span(self.model, t), self.axis, "none", pole="momentum")
+            self.body, self.model, t, self.axis, "none", pole="momentum")
         out = []
         for e in estimates:
             if not e.available:
@@ -887,9 +915,12 @@ class Ladder:
         orbits = span * n / (2.0 * math.pi)
         k = cost.body_harmonics(b)
         build = cost.hansen_build(e, None)
+        # every track reports the estimates, which read the body's tables over one orbit (built once per process)
+        tables = [] if tables_built(b) else [cost.estimate_tables(e)]
         if rung is None:
             parts = [build, cost.half_peak_to_peak(e, None, k),     # the second-order theory's components
-                     cost.harmonic_sum(count, min(k, MAX_LADDER_ORDER + 2), "step_days", "the truncation bounds")]
+                     cost.harmonic_sum(count, min(k, MAX_LADDER_ORDER + 2), "step_days", "the truncation bounds"),
+                     *tables]
             if free_wobble:
                 parts.append(cost.free_rotation("exact", count, 0.0))
             return Cost(tuple(parts))
@@ -906,6 +937,7 @@ class Ladder:
             if rung == "real_orbit":   # integrated from the elements' epoch through the pole's and the track's
                 epochs_jd = (start, stop, b.pole.epoch_jd_tdb, b.orbit.epoch_jd_tdb)
                 parts.append(cost.orbit_integration(max(epochs_jd) - min(epochs_jd)))
+        parts += tables
         if free_wobble:
             parts.append(cost.free_rotation("exact", count, 0.0))
         if rotation_scale:   # the rung again from the mean pole, and the closed-form terms at every epoch

@@ -415,20 +415,26 @@ def orbit_motion_bound(body: Body, model: PrecessionNutation, jd_tdb: np.ndarray
     return envelope_bound(om, model, t)
 
 
-def rotation_averaging_bound(body: Body, model: PrecessionNutation, span_days: float, axis: str = "figure",
+def rotation_averaging_bound(body: Body, model: PrecessionNutation, jd_tdb, axis: str = "figure",
                              modelled: str = "none", pole: str = "figure") -> float:
-    """What averaging over the rotation leaves out (radians) for the pole ``axis`` ("figure" or
-    "angular_momentum") when a track includes ``modelled`` of the rotation-scale terms
+    """What averaging over the rotation leaves out (radians) at the epochs ``jd_tdb`` for the pole ``axis``
+    ("figure" or "angular_momentum") when a track includes ``modelled`` of the rotation-scale terms
     (:data:`ephem.rotation_scale.MODELLED`), the catalogue pole being ``pole`` at t₀: the sum of
-    :func:`ephem.rotation_scale.error_terms` over ±span.
+    :func:`ephem.rotation_scale.error_terms` from t₀ to the farthest epoch on each side of it the epochs reach
+    (every track starts at t₀, so a span that does not include it is bounded by the span from t₀).
 
     A body known only by H_d gets the worst triaxiality its H_d allows (:func:`ephem.rigid.worst_case_moments`).
     """
     if model.hd == 0.0:  # a sphere: no torque to average
         return 0.0
+    t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+    if t.size == 0:
+        return 0.0
+    after, before = float(t.max()) - model.pole_epoch, float(t.min()) - model.pole_epoch
+    sides = ([after] if after > 0.0 else []) + ([before] if before < 0.0 else []) or [0.0]
     moments = body_moments(body, model)
     which = "figure" if axis == "figure" else "momentum"
-    return max(sum(error_terms(model, moments, s, which, modelled, pole).values()) for s in (span_days, -span_days))
+    return max(sum(error_terms(model, moments, s, which, modelled, pole).values()) for s in sides)
 
 
 def real_orbit_unavailable(body: Body, jd_tdb: np.ndarray) -> str | None:

@@ -188,10 +188,17 @@ def test_the_budget_is_charged_before_the_work_and_sums_the_parts():
 def test_the_predicted_cost_grows_with_what_drives_it():
     from ephem.ladder import Ladder
 
+    from ephem.ladder import cached_tables
+
     ladder = Ladder(Body("x", Orbit(2.36, 0.3, 7.0, 0.0, 0.0, 0.0, 2451545.0), Pole(10.0, 20.0), 5.0,
                              dynamical_ellipticity=0.1))
     t0 = 2451545.0
+    # the estimates' tables are the first request's, once per body: charged until built, then not
+    first = ladder.cost("hansen", t0, t0 + 3650, 100)
+    assert any("tables" in p.what for p in first.parts)
+    cached_tables(ladder.body)
     small = ladder.cost("hansen", t0, t0 + 3650, 100)
+    assert not any("tables" in p.what for p in small.parts) and small.cpu_s < first.cpu_s
     many = ladder.cost("hansen", t0, t0 + 3650, 100_000)
     assert many.cpu_s > 10 * small.cpu_s and many.memory_mb > 10 * small.memory_mb
     short = ladder.cost("numerical", t0, t0 + 365, 100)
