@@ -34,11 +34,12 @@ each is the largest excursion since the pole epoch of a periodic function of the
 over the orbit's part the epochs cover (a table over one orbit per body, no sum over the
 epochs), plus drifts growing with the time from the pole epoch (``Window``, ``theory_terms``).
 * ``integration`` (rungs 5-6): the ODE tolerance;
-* ``orbit_motion`` (rungs 1-5): the fixed Keplerian orbit against the real one
-  (the orbit plane turns, the mean motion differs from the osculating one), from the
-  measured drift rates in ``data/orbit_motion.toml``;
-* ``rotation_averaging`` (all): what averaging over the rotation leaves out, against
-  the full rigid body (the figure axis);
+* ``orbit_motion`` (rungs 1-5): the fixed Keplerian orbit against the real one: for a catalogue
+  body the gap measured between rungs 5 and 6 inside DE421 (``data/orbit_motion/``), beyond it
+  extrapolated with the envelopes of ``data/orbit_motion.toml`` (:mod:`ephem.physics_errors`);
+* ``rotation_averaging`` (all): what averaging over the rotation leaves out against the full rigid
+  body, for the axis followed and the rotation-scale terms the track includes
+  (:func:`ephem.rotation_scale.error_terms`);
 * ``ephemeris`` (rung 6): the real orbit's own error; ``rounding``: double precision;
 * ``free_wobble`` (all, for the figure axis): the published free-wobble amplitude J0 the track
   leaves out, or ``free_wobble_model`` when the track includes the wobble (:mod:`ephem.free_motion`).

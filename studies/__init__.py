@@ -9,6 +9,12 @@ run from a checkout, from the project root, each as a module:
 * ``python -m studies.free_motion [--out DIR] [--quick]``: the torque-free solutions' charts (docs/free_motion.md);
 * ``python -m studies.rigid_body``: rung 5 against the full rigid body as ω/n falls, and rung 7's cost
   (the tables of docs/rigid_body_study.md);
+* ``python -m studies.rotation_scale [--out DIR] [--quick]``: the rotation-scale terms' error estimate against
+  the full rigid body over a generated population (docs/accuracy.md);
+* ``python -m studies.estimate_ratios [--out DIR] [--quick]``: estimate over true error per rung and term
+  (docs/accuracy.md);
+* ``python -m studies.rung_choice [--out DIR] [--label NAME]``: which model each tolerance picks and what it
+  costs, for a before/after comparison (docs/accuracy.md);
 * ``python -m studies.earth_nutation_residual [PREFIX]``: the Earth's nutation minus IAU 2000A, rigid and
   times the IERS 1996 transfer function (the chart of docs/earth.md).
 """

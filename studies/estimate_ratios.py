@@ -33,6 +33,7 @@ from ephem.ladder import ROUNDING, Ladder, pole_vectors
 from ephem.numerical import angular_separation
 
 from ._command import chart_app
+from .rotation_scale import write_csv
 
 #: The theory rungs compared with rung 5: (rung, e-order).
 THEORY_RUNGS = (("secular", None), ("series", 2), ("series", 4), ("series", 8), ("hansen", None),
@@ -151,14 +152,6 @@ def summary_rows(rows: list[dict]) -> list[dict]:
                         "p25": float(np.percentile(q, 25)), "p75": float(np.percentile(q, 75)),
                         "worst": float(q.max()), "best": float(q.min()), "exceeded": int(exceeded)})
     return out
-
-
-def write_csv(path: Path, rows: list[dict]) -> None:
-    keys = list(dict.fromkeys(k for r in rows for k in r))
-    with open(path, "w", newline="") as fh:
-        w = csv.DictWriter(fh, keys)
-        w.writeheader()
-        w.writerows(rows)
 
 
 def draw(rows: list[dict], out_dir: Path) -> None:
