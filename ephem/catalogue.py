@@ -146,6 +146,16 @@ class Pole:
         if abs(self.dec_deg) > 90.0:
             raise InvalidInputError("pole.dec_deg", f"declination must lie in [-90, 90] deg, got {self.dec_deg}", self.body)
 
+    @classmethod
+    def from_ecliptic(cls, lon_deg: float, lat_deg: float, epoch_jd_tdb: float = J2000_JD,
+                      body: str | None = None) -> Pole:
+        """The pole at ecliptic (J2000) longitude and latitude ``lon_deg``, ``lat_deg``, in the ICRF (the
+        obliquity of a pole on an orbit in the ecliptic is 90° - latitude)."""
+        from .geometry import ecliptic_to_icrf, lon_lat   # numpy: the catalogue module itself does without it
+
+        ra, dec = lon_lat(ecliptic_to_icrf(math.radians(lon_deg), math.radians(lat_deg)))
+        return cls(math.degrees(float(ra)), math.degrees(float(dec)), epoch_jd_tdb, body=body)
+
 
 @dataclass(frozen=True)
 class Body:
@@ -298,8 +308,6 @@ def _convert(m: Measured, target: str, where: str, body: str) -> float:
 
 
 def _body_from_record(rec: dict, dataset: str) -> Body:
-    from .geometry import ecliptic_to_icrf, lon_lat
-
     name = rec.get("name")
     if not name:
         raise InvalidInputError("name", "every body record needs a name", None)
@@ -327,16 +335,14 @@ def _body_from_record(rec: dict, dataset: str) -> Body:
     frame = pole_rec.get("frame", "icrf")
     epoch = get("pole", "epoch", "d", required=False) or J2000_JD
     if frame == "icrf":
-        ra, dec = get("pole", "ra", "deg"), get("pole", "dec", "deg")
+        pole = Pole(get("pole", "ra", "deg"), get("pole", "dec", "deg"), epoch, body=name)
     elif frame == "ecliptic_j2000":
         lon, lat = get("pole", "lon", "deg"), get("pole", "lat", "deg")
         if abs(lat) > 90:
             raise InvalidInputError("pole.lat", f"latitude must lie in [-90, 90] deg, got {lat}", name)
-        ra_r, dec_r = lon_lat(ecliptic_to_icrf(math.radians(lon), math.radians(lat)))
-        ra, dec = math.degrees(float(ra_r)), math.degrees(float(dec_r))
+        pole = Pole.from_ecliptic(lon, lat, epoch, body=name)
     else:
         raise InvalidInputError("pole.frame", f"must be 'icrf' or 'ecliptic_j2000', got {frame!r}", name)
-    pole = Pole(ra, dec, epoch, body=name)
 
     period_h = get("rotation", "period", "h")
     inertia = rec.get("inertia", {})

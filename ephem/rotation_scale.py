@@ -277,7 +277,8 @@ def _drift_rate(model: PrecessionNutation, moments, s: np.ndarray, sun: SunGeome
 
 
 def _cumulative(f: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """∫_{t₀}^t f dt at every sample (trapezoids), (N, 3)."""
+    """∫_{t₀}^t f dt at every sample (trapezoids), (N, 3): scipy's cumulative_trapezoid, written out because every
+    tolerance request runs it and importing scipy.integrate costs a cold process 0.35 s."""
     steps = 0.5 * (f[1:] + f[:-1]) * np.diff(t)[:, None]
     return np.vstack([np.zeros((1, f.shape[1])), np.cumsum(steps, axis=0)])
 

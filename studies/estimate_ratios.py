@@ -27,7 +27,6 @@ import numpy as np
 
 from ephem.catalogue import Body, Orbit, Pole, get_body
 from ephem.constants import JULIAN_YEAR_DAYS, MAS
-from ephem.geometry import ecliptic_to_icrf
 from ephem.hansen import LAPLACE_LIMIT
 from ephem.ladder import ROUNDING, Ladder, pole_vectors
 from ephem.numerical import angular_separation
@@ -50,11 +49,8 @@ FLOOR = ROUNDING
 def synthetic(e: float, obliquity_deg: float, hd: float, period_hours: float, a_au: float, node_deg: float,
               peri_deg: float, m0_deg: float) -> Body:
     """A body on an orbit in the ecliptic whose pole stands at ``obliquity_deg``."""
-    pole = ecliptic_to_icrf(math.radians(node_deg - 90.0), math.radians(90.0 - obliquity_deg))
-    ra = math.degrees(math.atan2(pole[1], pole[0])) % 360.0
-    dec = math.degrees(math.atan2(pole[2], math.hypot(pole[0], pole[1])))
-    return Body("synthetic", Orbit(a_au, e, 0.0, 0.0, peri_deg, m0_deg, 2451545.0), Pole(ra, dec),
-                period_hours, dynamical_ellipticity=hd)
+    return Body("synthetic", Orbit(a_au, e, 0.0, 0.0, peri_deg, m0_deg, 2451545.0),
+                Pole.from_ecliptic(node_deg - 90.0, 90.0 - obliquity_deg), period_hours, dynamical_ellipticity=hd)
 
 
 def theory_cases(count: int, seed: int = 5) -> list[tuple[Body, np.ndarray]]:

@@ -26,8 +26,8 @@ import numpy as np
 from ephem import rotation_scale as rs
 from ephem.catalogue import Body, Pole, get_body
 from ephem.constants import MAS
+from ephem.geometry import lon_lat
 from ephem.ladder import ROUNDING
-from ephem.geometry import ecliptic_to_icrf
 from ephem.model import cached_model
 from ephem.numerical import angular_separation, integrate_spin_axis
 from ephem.rigid import integrate_rigid_body, normalised_moments, rotation_matrices, study_epochs
@@ -47,9 +47,8 @@ def initial_pole(m):
 
 def from_pole(b: Body, m, s_orbit) -> Body:
     """``b`` with its pole moved to the orbit-frame vector ``s_orbit`` of model ``m``."""
-    v = m.icrf_from_orbit @ s_orbit
-    return replace(b, pole=Pole(math.degrees(math.atan2(v[1], v[0])) % 360.0, math.degrees(math.asin(v[2])),
-                                b.pole.epoch_jd_tdb))
+    ra, dec = lon_lat(m.icrf_from_orbit @ s_orbit)
+    return replace(b, pole=Pole(math.degrees(float(ra)), math.degrees(float(dec)), b.pole.epoch_jd_tdb))
 
 
 def compare(b: Body, span: float, phase0: float, start: str = "forced", per_rotation: int = 16) -> dict:
@@ -111,10 +110,8 @@ class Case:
     def body(self, name: str = "generated") -> Body:
         ito = get_body("itokawa")
         n = 0.01720209895 / self.a_au**1.5          # Gauss's constant: rad/day at 1 au, the planet's mass dropped
-        v = ecliptic_to_icrf(math.radians(self.pole_longitude_deg), math.radians(90.0 - self.obliquity_deg))
         return Body(name=name, orbit=replace(ito.orbit, a_au=self.a_au, e=self.e, i_deg=0.0, node_deg=0.0),
-                    pole=Pole(math.degrees(math.atan2(v[1], v[0])) % 360.0, math.degrees(math.asin(v[2])),
-                              ito.pole.epoch_jd_tdb),
+                    pole=Pole.from_ecliptic(self.pole_longitude_deg, 90.0 - self.obliquity_deg, ito.pole.epoch_jd_tdb),
                     rotation_period_hours=2.0 * math.pi / (self.spin_orbit_ratio * n) * 24.0,
                     moments=(self.A, self.B, 1.0))
 

@@ -107,3 +107,25 @@ def test_bad_records_name_the_body_and_the_field(old, new, field):
 def test_petit_pole_uncertainties_are_carried():
     v = get_body("vesta", "petit2014").values
     assert v["pole.ra"].uncertainty == 0.003 and v["pole.ra"].unit == "deg"
+
+
+def test_a_pole_given_in_ecliptic_coordinates_comes_back_through_the_inverse_rotation():
+    # Pole.from_ecliptic (the catalogue's ecliptic_j2000 records, the tests' and studies' synthetic bodies) against
+    # the ICRF -> ecliptic rotation applied to its result: the same lon/lat to a few ulp of a degree (1e-10 deg)
+    import math
+
+    import numpy as np
+
+    from ephem.catalogue import Pole
+    from ephem.geometry import icrf_to_ecliptic_matrix
+
+    for lon, lat in ((0.0, 90.0), (17.0, 66.0), (200.5, -30.25), (359.0, 0.5), (123.0, -89.9)):
+        p = Pole.from_ecliptic(lon, lat, body="x")
+        ra, dec = math.radians(p.ra_deg), math.radians(p.dec_deg)
+        v = icrf_to_ecliptic_matrix() @ np.array([math.cos(dec) * math.cos(ra), math.cos(dec) * math.sin(ra),
+                                                  math.sin(dec)])
+        assert math.degrees(math.atan2(v[2], math.hypot(v[0], v[1]))) == pytest.approx(lat, abs=1e-10)
+        if abs(lat) < 90.0:     # the longitude of the ecliptic pole is undefined
+            back = math.degrees(math.atan2(v[1], v[0])) % 360.0
+            assert min(abs(back - lon), 360.0 - abs(back - lon)) < 1e-10
+        assert 0.0 <= p.ra_deg < 360.0 and p.body == "x"
