@@ -267,12 +267,19 @@ def integrate_states(moments, spin_rate: float, y0, t0: float, jd_tdb, sun: SunO
 
     DOP853; the quaternion is renormalised on output.
     """
+    t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+    out, nfev = solve_both_ways(make_rhs(moments, spin_rate, sun, t0), y0, t - t0, rtol, atol)
+    out[:, 3:] /= np.linalg.norm(out[:, 3:], axis=1, keepdims=True)
+    return out, nfev
+
+
+def solve_both_ways(rhs, y0, tau, rtol: float, atol: float) -> tuple[np.ndarray, int]:
+    """States (N, len(y0)) at ``tau`` (either side of 0) from y0 at τ = 0, DOP853 forwards and backwards; and the
+    rhs call count."""
     from scipy.integrate import solve_ivp  # on first use: 0.2 s, and the ladder's estimates need none
 
-    t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
-    tau = t - t0
-    rhs = make_rhs(moments, spin_rate, sun, t0)
-    out = np.empty((t.size, 7))
+    tau = np.atleast_1d(np.asarray(tau, dtype=float))
+    out = np.empty((tau.size, len(y0)))
     nfev = 0
     for mask in (tau >= 0.0, tau < 0.0):
         if not mask.any():
@@ -287,10 +294,9 @@ def integrate_states(moments, spin_rate: float, y0, t0: float, jd_tdb, sun: SunO
         if not sol.success:
             raise RuntimeError(f"rigid-body integration failed: {sol.message}")
         nfev += sol.nfev
-        res = np.empty((tt.size, 7))
+        res = np.empty((tt.size, len(y0)))
         res[order] = sol.y.T
         out[mask] = res
-    out[:, 3:] /= np.linalg.norm(out[:, 3:], axis=1, keepdims=True)
     return out, nfev
 
 
