@@ -20,7 +20,7 @@ from .errors import InvalidInputError, NotApplicableError
 from .hansen import hansen_series
 from .ladder import AXES
 # model_for and MAX_ORDER are part of this facade (the numeric model of a body; the highest e-order)
-from .model import MAX_ORDER, cached_model, check_order, model_for  # noqa: F401
+from .model import MAX_ORDER, check_order, model_for  # noqa: F401
 from .registry import MODELS, refuse_model, theory_for
 from .theory import cheapest_within, selection_info
 from .uncertainty import propagated
@@ -61,14 +61,10 @@ def _rung(name) -> str | None:
 
 def _perturbers(b: Body, perturbers) -> tuple[str, ...]:
     """The perturbers of a request: the catalogue's (None), or validated names (a list, or a comma-separated
-    string such as "moon,sun"). A body the theory does not apply to (the Moon) is refused for that first."""
+    string such as "moon,sun")."""
     if perturbers is None:
         return b.perturbers
-    try:
-        return resolve_perturbers(perturbers, b)
-    except NotApplicableError:
-        cached_model(b)     # the Moon: "synchronous" is the reason that matters
-        raise
+    return resolve_perturbers(perturbers, b)
 
 
 def _moon_left_out(b: Body, per: tuple[str, ...]) -> list[str]:
@@ -94,11 +90,13 @@ def warm_up(dataset: str = DEFAULT_DATASET) -> None:
 
     The lunisolar series (FFT of the Moon's and the Sun's forcing, about 1.5 s), its cut-free
     companion and the track's error-estimate ingredients: about 2.3 s once per process, after
-    which an Earth precession, nutation or track answer takes milliseconds. Also the rational
+    which an Earth precession, nutation or track answer takes milliseconds; and the Moon's libration
+    series (read from data/moon_librations: 0.1 s; built, 2 s a moment set, if the catalogue's moments change). Also the rational
     Hansen series every e-order is cut from (~0.1 s), which every track's error estimate needs and
     no request's cost counts. The service calls it at start-up.
     """
     hansen_series(4)
+    track("moon", "2000-01-01", "2000-01-02", 1.0, dataset=dataset)    # the Moon's shipped libration series
     precession("earth", dataset=dataset)
     nutation("earth", dataset=dataset)
     track("earth", "2000-01-01", "2000-02-01", 10.0, dataset=dataset)
@@ -324,6 +322,8 @@ UNESTIMATED_WARNINGS = {
     "free_wobble": "no free-wobble amplitude is published for this body: the estimate takes its figure axis to "
                    "coincide with the angular momentum (a relaxed rotator)",
     "rotation_averaging": "without moments of inertia the rotation-averaging error is not estimated",
+    "librations": "the forced physical librations of this synchronous body were not modelled (the library has a "
+                  "theory of the orbit's periodic terms for the Moon only): the estimate leaves them out",
 }
 
 

@@ -90,12 +90,26 @@ def _check_epoch(body: str | None, name: str, jd: float) -> None:
         raise InvalidInputError(name, f"Julian date {jd} is outside the supported range ({lo:g}, {hi:g})", body)
 
 
+#: the planes and equinoxes an orbit's elements may be referred to (:class:`Orbit`)
+ORBIT_FRAMES = ("ecliptic_j2000", "ecliptic_of_date")
+#: the theories of a real orbit's periodic terms the library has: the Moon's (Meeus 1998 ch. 47, ELP-2000/82
+#: truncated, in ephem.lunisolar), which its physical librations and its rigid integration follow
+ORBIT_THEORIES = ("meeus1998_moon",)
+
+
 @dataclass(frozen=True)
 class Orbit:
     """Osculating Keplerian elements, ecliptic and equinox J2000, at ``epoch_jd_tdb``.
 
     ``center`` is the attracting (and torquing) body: "Sun" for heliocentric
     orbits, "Earth" for the Moon.
+
+    ``theory``: the name of a theory of the real orbit's periodic terms (:data:`ORBIT_THEORIES`), or None.
+
+    ``node_rate_deg_per_year``: the node's mean motion on the reference plane (a satellite's orbit regressing
+    on its Laplace plane), or None. ``frame``: the plane and equinox the elements are referred to:
+    "ecliptic_j2000" (the default), or "ecliptic_of_date" (the mean ecliptic and equinox of date, as a
+    lunar theory gives the Moon's node; the elements' i and node are then those of date).
     """
 
     a_au: float
@@ -106,12 +120,23 @@ class Orbit:
     mean_anomaly_deg: float
     epoch_jd_tdb: float
     center: str = "Sun"
+    node_rate_deg_per_year: float | None = None
+    frame: str = "ecliptic_j2000"
+    #: a theory of the real orbit's periodic terms the library has, or None (:data:`ORBIT_THEORIES`)
+    theory: str | None = None
     body: str | None = field(default=None, compare=False)
 
     def __post_init__(self):
         b = self.body
         for name in ("a_au", "e", "i_deg", "node_deg", "peri_deg", "mean_anomaly_deg", "epoch_jd_tdb"):
             _check_finite(b, f"orbit.{name}", getattr(self, name))
+        if self.node_rate_deg_per_year is not None:
+            _check_finite(b, "orbit.node_rate_deg_per_year", self.node_rate_deg_per_year)
+        if self.theory is not None and self.theory not in ORBIT_THEORIES:
+            raise InvalidInputError("orbit.theory", f"must be one of {', '.join(ORBIT_THEORIES)} or omitted, got "
+                                    f"{self.theory!r}", b)
+        if self.frame not in ORBIT_FRAMES:
+            raise InvalidInputError("orbit.frame", f"must be one of {', '.join(ORBIT_FRAMES)}, got {self.frame!r}", b)
         _check_epoch(b, "orbit.epoch_jd_tdb", self.epoch_jd_tdb)
         if self.a_au <= 0:
             raise InvalidInputError("orbit.a_au", f"semi-major axis must be positive, got {self.a_au}", b)
@@ -329,7 +354,8 @@ def _body_from_record(rec: dict, dataset: str) -> Body:
         a_au=get("orbit", "a", "AU"), e=get("orbit", "e", ""), i_deg=get("orbit", "i", "deg"),
         node_deg=get("orbit", "node", "deg"), peri_deg=get("orbit", "peri", "deg"),
         mean_anomaly_deg=get("orbit", "mean_anomaly", "deg"), epoch_jd_tdb=get("orbit", "epoch", "d"),
-        center=orbit_rec.get("center", "Sun"), body=name)
+        center=orbit_rec.get("center", "Sun"), node_rate_deg_per_year=get("orbit", "node_rate", "deg/yr", required=False),
+        frame=orbit_rec.get("frame", "ecliptic_j2000"), theory=orbit_rec.get("theory"), body=name)
 
     pole_rec = rec.get("pole", {})
     frame = pole_rec.get("frame", "icrf")

@@ -469,7 +469,7 @@ def tables(names: Optional[list[str]] = typer.Argument(None, metavar="[BODY]..."
            order: Optional[int] = OrderOpt,
            out: Path = typer.Option(Path("tables"), "--out", help="Directory for the files.")):
     """Nutation tables in the paper's layouts for BODY... or the whole catalogue: one file per body, layout
-    and format (<body>_<dataset>_<layout>.csv|md|tex|json). Bodies the theory does not apply to (the Moon)
+    and format (<body>_<dataset>_<layout>.csv|md|tex|json). Bodies no theory applies to
     are skipped with the reason."""
     from . import api
     from .tables import write_tables
@@ -549,7 +549,8 @@ def pck(names: list[str] = typer.Argument(..., metavar="BODY..."),
 
 @app.command()
 def demo(dataset: str = DatasetOpt):
-    """A short tour: precession of every body the theory applies to, and Vesta's nutation."""
+    """A short tour: precession of every body of the catalogue (the Moon: its Cassini state), and Vesta's
+    nutation."""
     from . import api
 
     typer.echo(f"Precession rates ({dataset} dataset)")
@@ -563,7 +564,7 @@ def demo(dataset: str = DatasetOpt):
                          "psi_dot_arcsec_per_yr": round(p["precession_rate_arcsec_per_year"], 4)})
         except NotApplicableError as exc:
             rows.append({"body": b["name"], "obliquity_deg": "-", "H_d": "-", "K_arcsec_per_yr": "-",
-                         "psi_dot_arcsec_per_yr": f"not applicable (ω/n = {exc.ratio:.3g})"})
+                         "psi_dot_arcsec_per_yr": f"not applicable ({exc.reason})"})
     typer.echo(_rows_to_table(rows))
     typer.echo("Nutation of Vesta (arcsec), harmonics of the mean anomaly")
     terms = api.nutation("vesta", dataset)["terms"][:6]

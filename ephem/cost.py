@@ -153,6 +153,36 @@ def lunisolar_sum(epochs: int) -> Part:
                 epochs * _u("track_bytes_per_epoch") / MB)
 
 
+def synchronous_estimates() -> Part:
+    """A synchronous rotator's Cassini state, its free modes and its libration series' bounds: a root, a few
+    closed forms and a small table, once per body (:mod:`ephem.synchronous`)."""
+    return Part("body", "the Cassini state and its estimates", _u("synchronous_base_s"), 2.0)
+
+
+def synchronous_track(epochs: int, terms: int = 0) -> Part:
+    """The Cassini pole (and ``terms`` libration terms) at ``epochs`` epochs, with the ecliptic of date's
+    rotation to the ICRF (erfa.ecm06) at each."""
+    return Part("step_days", f"the Cassini-state pole at {epochs} epochs",
+                _u("base_s") + epochs * (_u("synchronous_epoch_s") + terms * _u("harmonic_s") * 4.0),
+                epochs * _u("track_bytes_per_epoch") / MB)
+
+
+def libration_series() -> Part:
+    """The Moon's forced physical librations (:func:`ephem.physical_librations.moon_physical_librations`), with the
+    catalogue's and the effective moments: built once per process (at the service's start-up)."""
+    return Part("body", "the Moon's libration series (built once per process, at start-up)",
+                2.0 * _u("libration_series_s"), 2.0 * _u("libration_series_mb"))
+
+
+def synchronous_integration(span_days: float, epochs: int) -> Part:
+    """The rigid Moon on its real orbit (:func:`ephem.synchronous_rigid.integrate_synchronous`) over ``span_days``
+    (from the pole epoch to the farthest epoch, both sides): the orbit's table and the integration per year."""
+    years = span_days / 365.25
+    return Part("stop", f"the rigid Moon integrated over {years:.4g} years",
+                _u("base_s") + years * (_u("moon_table_s_per_year") + _u("moon_integration_s_per_year"))
+                + epochs * _u("dense_output_s"), years * _u("moon_mb_per_year") + epochs * _u("track_bytes_per_epoch") / MB)
+
+
 #: how an answer is written out: the unit cost of one value
 SERIALISATIONS = {"json": "serialise_s_per_value", "csv": "serialise_csv_s_per_value"}
 

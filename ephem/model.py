@@ -189,8 +189,8 @@ def check_applicable(body: Body, spin_rate: float, mean_motion: float) -> None:
             f"the rotation is {what} (spin rate / orbital mean motion ω/n = {ratio:.4g}); Kinoshita's theory "
             f"averages the torque over the rotation and needs ω/n >= {MIN_SPIN_ORBIT_RATIO:g} (below, its pole "
             f"departs from the full rigid body's by more than 10% of the forced motion)"
-            + ("; a synchronous rotator's pole follows its physical librations about a Cassini state, which are "
-               "another theory, not modelled here" if synchronous else ""),
+            + ("; a synchronous rotator's pole is served by the Cassini-state theory (ephem.synchronous) when its "
+               "orbit's centre torques it (the catalogue's perturbers)" if synchronous else ""),
             ratio=ratio, threshold=MIN_SPIN_ORBIT_RATIO)
 
 

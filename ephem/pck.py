@@ -39,7 +39,8 @@ the track over the fit grid and a grid :data:`CHECK_DENSITY` times denser offset
 double-precision arithmetic. Terms are added until that error is below the
 aim (:data:`FIT_AIM_MAS`); if the angle budget runs out first the kernel is written only if the
 error is below the limit (:data:`FIT_LIMIT_MAS`; both default to a tenth of the model's estimated
-error where that is smaller, and both are ``fit_tolerance_mas`` when given), and otherwise refused
+error where that is smaller, the limit raised to 5 % of that error where it is larger (the Moon's
+models, whose estimates are arcseconds: the kernel adds at most 5 % to them); both are ``fit_tolerance_mas`` when given), and otherwise refused
 (:class:`~ephem.errors.InvalidInputError` on ``stop``).
 
 Frames. The track's poles are ICRF; SPICE's J2000 frame differs from the ICRF by the frame bias

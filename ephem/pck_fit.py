@@ -20,6 +20,10 @@ FIT_AIM_MAS = 0.1
 #: ... and, when the angle budget runs out first, the kernel is written if its error is below this (mas);
 #: both are lowered to a tenth of the model's estimated error where that is smaller.
 FIT_LIMIT_MAS = 1.0
+#: ... or, for a model whose own estimated error is large (the Moon's: arcseconds to arcminutes), this fraction
+#: of it where that is larger: the kernel then adds at most 5 % to the error the model already has (the Moon's
+#: librations over ten years: 156 mas with 100 angles against an estimate of 7.3″)
+FIT_LIMIT_FRACTION = 0.05
 #: Default cap on the nutation-precession angles per body (TISBOD's MAXANG before N0067).
 DEFAULT_MAX_ANGLES = 100
 #: Hard cap (TISBOD N0067 buffers 200 angles per body).
@@ -351,6 +355,8 @@ def fit_body(b: Body, t0: float, t1: float, dataset: str, tolerance_mas, model, 
     else:
         tenth = math.inf if estimate is None else 0.1 * estimate
         aim, limit = min(FIT_AIM_MAS, tenth), min(FIT_LIMIT_MAS, tenth)
+        if estimate is not None:
+            limit = max(limit, FIT_LIMIT_FRACTION * estimate)
 
     T0, T1 = (t0 - J2000_JD) / CENTURY_DAYS, (t1 - J2000_JD) / CENTURY_DAYS
     Tm, Th = 0.5 * (T0 + T1), 0.5 * (T1 - T0)

@@ -11,10 +11,11 @@ from .catalogue import Body
 from .earth import LunisolarTheory
 from .errors import NotApplicableError
 from .ladder import SunLadder
+from .synchronous import SynchronousTheory
 from .theory import SpinAxisTheory
 
 #: the families, most specific first
-THEORIES: tuple[type[SpinAxisTheory], ...] = (LunisolarTheory, SunLadder)
+THEORIES: tuple[type[SpinAxisTheory], ...] = (SynchronousTheory, LunisolarTheory, SunLadder)
 #: every model name any family answers to, the most general family's first
 MODELS: tuple[str, ...] = tuple(name for family in reversed(THEORIES) for name in family.models)
 

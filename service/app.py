@@ -149,7 +149,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     def body_record(body: BodyPath, dataset: DatasetQuery = DEFAULT_DATASET_VALUE):
         return api.body_record(body, dataset.value)
 
-    @app.get("/v1/bodies/{body}/precession", response_model=schemas.Precession, tags=["theory"], responses={
+    @app.get("/v1/bodies/{body}/precession", response_model=schemas.Precession, tags=["theory"],
+             response_model_exclude_unset=True, responses={     # ``cassini``: a synchronous rotator's only
         **ERRORS, 200: {"content": {"application/json": {"example": {
             "body": "Vesta", "dataset": "petit2014", "obliquity_deg": 27.46, "dynamical_ellipticity": 0.16917,
             "scaling_factor_arcsec_per_year": 30.4404, "precession_rate_arcsec_per_year": 13.6713,
@@ -305,6 +306,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                                   settings.max_track_samples))
 
     @app.post("/v1/precession-nutation", response_model=schemas.PrecessionNutation, tags=["theory"],
+              response_model_exclude_unset=True,
               responses={422: ERRORS[422]})        # no {body} to be unknown: no 404
     def precession_nutation(user: Annotated[schemas.UserBody, BodyParam()]):
         b = Body(name=user.name, orbit=Orbit(**user.orbit.model_dump(), body=user.name),

@@ -5,6 +5,7 @@ from typing import Annotated, Literal, Optional, Union
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 
+from ephem.constants import GM_CENTER
 from ephem.ladder import AXES
 from ephem.model import MAX_ORDER
 from ephem.registry import MODELS
@@ -115,6 +116,24 @@ Sigma = Field(None, description="1-sigma uncertainty from the catalogue's, same 
                                 "published uncertainty moves the value")
 
 
+class CassiniInfo(BaseModel):
+    """The Cassini state of a synchronous rotator (ephem.cassini): the served mean pole and what the theory derives."""
+    equator_inclination_deg: float = Field(description="the served mean pole's inclination to the Laplace plane "
+                                                       "(the Moon: the ecliptic of date), from the catalogue pole")
+    derived_equator_inclination_deg: float = Field(description="the same from the torque's balance against the "
+                                                               "node's regression (the moments, n, i, the node rate)")
+    derived_obliquity_deg: float = Field(description="the derived spin axis's angle from the orbit normal, i + I")
+    orbit_inclination_deg: float
+    node_rate_deg_per_year: float = Field(description="the node's inertial rate on the Laplace plane")
+    node_period_years: float
+    beta: float = Field(description="(C − A)/B")
+    gamma: float = Field(description="(B − A)/C")
+    free_libration_longitude_days: float
+    free_libration_latitude_days: float = Field(description="in the frame turning with the node")
+    free_precession_space_days: float
+    free_wobble_days: float
+
+
 class Precession(BaseModel):
     body: str
     dataset: str
@@ -126,6 +145,7 @@ class Precession(BaseModel):
     dynamical_ellipticity_uncertainty: Optional[float] = Sigma
     scaling_factor_arcsec_per_year_uncertainty: Optional[float] = Sigma
     precession_rate_arcsec_per_year_uncertainty: Optional[float] = Sigma
+    cassini: Optional[CassiniInfo] = Field(None, description="a synchronous rotator (the Moon): its Cassini state")
     uncertainty: UncertaintyInfo
     perturbers: Optional[list[str]] = Perturbers
     model: ModelInfo
@@ -203,6 +223,13 @@ class OrbitIn(BaseModel):
     peri_deg: float = Field(description="argument of perihelion, deg")
     mean_anomaly_deg: float = Field(description="mean anomaly at the epoch, deg")
     epoch_jd_tdb: float = Field(description="epoch of the elements, JD TDB")
+    center: Literal[tuple(GM_CENTER)] = Field("Sun", description="the body orbited (and torquing): the Sun, or the "
+                                                                "Earth for a satellite of it")
+    node_rate_deg_per_year: Optional[float] = Field(
+        None, description="a synchronous satellite (rotation period = orbital period): the rate of its orbit's node "
+                          "on its Laplace plane, deg per Julian year (negative: regressing); the Laplace plane is the "
+                          "plane the elements are referred to (the ecliptic J2000), so i_deg is the orbit's "
+                          "inclination to it. The pole is then the Cassini state's (ephem.synchronous)")
 
 
 class PoleIn(BaseModel):

@@ -313,10 +313,18 @@ def test_named_lunisolar_model_is_the_default():
 
 # ----------------------------------------------------------------------------- the Moon
 
-@pytest.mark.parametrize("perturbers", [None, "moon,sun", "earth", "sun"])
-def test_the_moon_is_still_not_applicable(perturbers):
-    with pytest.raises(NotApplicableError, match="synchronous.*physical librations.*another theory"):
-        api.precession("moon", perturbers=perturbers)
+@pytest.mark.parametrize("perturbers", [None, "earth"])
+def test_the_moon_is_served_by_its_cassini_state(perturbers):
+    ans = api.precession("moon", perturbers=perturbers)
+    assert ans["model"]["name"] in ("cassini", "librations") and ans["perturbers"] == ["Earth"]
+
+
+def test_the_moon_under_other_perturbers_says_why():
+    with pytest.raises(NotApplicableError, match="the Moon as a perturber is modelled for the Earth only"):
+        api.precession("moon", perturbers="moon,sun")
+    # the Sun alone leaves out the Earth, whose torque the Cassini state balances
+    with pytest.raises(NotApplicableError, match="Sun is not the orbit's centre"):
+        api.precession("moon", perturbers="sun")
 
 
 # ----------------------------------------------------------------------------- CLI and service
@@ -369,6 +377,6 @@ def test_bad_perturbers_are_422_naming_the_field(client, url, status, field):
     assert field in {e["field"] for e in r.json()["errors"]}
 
 
-def test_moon_route_still_422(client):
+def test_moon_route_under_the_moon_is_422(client):
     r = client.get("/v1/bodies/moon/precession?perturbers=moon,sun")
-    assert r.status_code == 422 and "physical librations" in r.json()["reason"]
+    assert r.status_code == 422 and "modelled for the Earth only" in r.json()["reason"]

@@ -20,9 +20,9 @@ LAYERS = {
     "orbit, geometry and data": ("kepler", "geometry", "catalogue", "hansen", "harmonics", "cost", "andoyer",
                                  "euler_poinsot", "polynomials", "deprit", "lie_series"),
     "theories": ("kinoshita", "model", "rotation_scale", "second_order", "numerical", "ephemeris", "lunisolar",
-                 "nonrigid",
+                 "nonrigid", "cassini", "synchronous_rigid", "physical_librations",
                  "free_motion", "rigid"),
-    "accuracy": ("theory", "physics_errors", "ladder", "earth", "uncertainty", "registry"),
+    "accuracy": ("theory", "physics_errors", "ladder", "earth", "synchronous", "uncertainty", "registry"),
     "answers": ("api",),
     "exports and CLI": ("tables", "pck_fit", "pck_text", "pck", "plots", "cli"),
 }
