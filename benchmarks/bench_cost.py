@@ -502,6 +502,14 @@ def build_cases() -> list[Case]:
             lambda: "".join(_csv_rows(api.track_arrays("vesta", J2000, J2000 + 9999.99, 0.01,
                                                        max_samples=1_000_001, output="csv"))),
             False, trace=False, reps=2, why=WHY_CSV)
+    request("precession Moon (Cassini state, shipped libration series)", lambda: api.precession("moon"), True)
+    for model, quick in (("cassini", True), ("librations", True)):
+        request(f"track Moon 1900-2100 daily (73050 epochs), model={model}",
+                lambda model=model: api.track_arrays("moon", 2415020.5, 2415020.5 + 73049.0, 1.0, model=model),
+                quick, why=WHY_SMALL_FIXED)
+    request("track Moon 2000-2020 daily, model=integration (the rigid Moon on its real orbit)",
+            lambda: api.track_arrays("moon", J2000, J2000 + 7305.0, 1.0, model="integration"), True, trace=False,
+            reps=2)
     request("precession Earth (lunisolar, warm)", lambda: api.precession("earth"), True)
     request("nutation Earth (lunisolar, warm)", lambda: api.nutation("earth"), False)
     for n, quick in ((10_000, False), (100_000, True)):

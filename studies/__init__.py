@@ -15,6 +15,7 @@ run from a checkout, from the project root, each as a module:
   (docs/accuracy.md);
 * ``python -m studies.rung_choice [--out DIR] [--label NAME]``: which model each tolerance picks and what it
   costs, for a before/after comparison (docs/accuracy.md);
+* ``python -m studies.moon``: the Moon's pole per model against the IAU WGCCRE model (docs/moon.md);
 * ``python -m studies.earth_nutation_residual [PREFIX]``: the Earth's nutation minus IAU 2000A, rigid and
   times the IERS 1996 transfer function (the chart of docs/earth.md).
 """
