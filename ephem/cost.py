@@ -162,9 +162,10 @@ def synchronous_estimates() -> Part:
 def synchronous_track(epochs: int, terms: int = 0) -> Part:
     """The Cassini pole (and ``terms`` libration terms) at ``epochs`` epochs, with the ecliptic of date's
     rotation to the ICRF (erfa.ecm06) at each."""
-    return Part("step_days", f"the Cassini-state pole at {epochs} epochs",
-                _u("base_s") + epochs * (_u("synchronous_epoch_s") + terms * _u("harmonic_s") * 4.0),
-                epochs * _u("track_bytes_per_epoch") / MB)
+    return Part("step_days", f"the Cassini-state pole at {epochs} epochs"
+                + (f" with {terms} libration terms" if terms else ""),
+                _u("base_s") + epochs * (_u("synchronous_epoch_s") + terms * _u("libration_term_epoch_s")),
+                epochs * (_u("track_bytes_per_epoch") + terms * _u("libration_bytes_per_term_epoch")) / MB)
 
 
 def libration_series() -> Part:
