@@ -1198,7 +1198,7 @@ class SunLadder(SpinAxisTheory):
         """The Hansen coefficients, the nutation's extremes, and the propagation of the inputs' σ (each input
         with a σ re-evaluates the model twice); ``tolerance``: the truncation bounds of the e-orders."""
         b = self.body
-        check_domain(b, order)                   # not applicable (the Moon, e -> 1): refused before any cost
+        check_domain(b, order)                   # not applicable (too slow a rotation, e -> 1): before any cost
         e = b.orbit.e
         if order is not None and e > LAPLACE_LIMIT:
             return cost.FREE      # refused by model_for before any work

@@ -179,7 +179,8 @@ class PrecessionNutation:
 
 
 def check_applicable(body: Body, spin_rate: float, mean_motion: float) -> None:
-    """Refuse bodies whose rotation is too slow to average the torque over (the Moon)."""
+    """Refuse bodies whose rotation is too slow to average the torque over (a synchronous one, as the Moon, is
+    served by :mod:`ephem.synchronous` instead)."""
     ratio = spin_rate / mean_motion
     if ratio < MIN_SPIN_ORBIT_RATIO:
         synchronous = abs(ratio - 1.0) < 0.01

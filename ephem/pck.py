@@ -92,7 +92,7 @@ def write_pck(bodies, start, stop, dataset: str = DEFAULT_DATASET, tolerance_mas
 
     Returns a :class:`PckResult`: ``text``, per-body fits (``fit_error_mas``, ``models``), the span.
     Raises :class:`~ephem.errors.UnknownBodyError` for an unknown body,
-    :class:`~ephem.errors.NotApplicableError` where the theory does not hold (the Moon), and
+    :class:`~ephem.errors.NotApplicableError` where no theory holds (a Moon under the Sun alone), and
     :class:`~ephem.errors.InvalidInputError` naming the field for bad inputs, and ``stop`` for a span
     the fit cannot follow within the limit.
     """

@@ -448,7 +448,7 @@ def figure(kind: str, body, start, stop, step_days: float | None = None, dataset
 
     Raises :class:`~ephem.errors.InvalidInputError` (naming the field) for bad input,
     :class:`~ephem.errors.UnknownBodyError` for an unknown body, and whatever the model raises
-    (:class:`~ephem.errors.NotApplicableError` for a synchronous rotator's track).
+    (:class:`~ephem.errors.NotApplicableError` where no theory serves the body's track).
     """
     ans = data(kind, body, start, stop, step_days, dataset, tolerance_mas=tolerance_mas, model=model,
                order=order, J_arcsec=J_arcsec, method=method)

@@ -394,7 +394,7 @@ def propagate(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int
     ``unpropagated_inputs`` (inputs with no σ: their contribution is unknown, not zero);
     ``assumptions``.
 
-    Raises NotApplicableError where the theory does not apply (the Moon).
+    Raises NotApplicableError where the theory does not apply (the Moon: its Cassini-state answers say "not propagated").
     """
     st = _setup(body, dataset, order, uncertainties, correlations)
     n_in = len(st.inputs)
