@@ -15,6 +15,8 @@ AU_M = 149_597_870_700.0
 GM_SUN = 1.3271244e20
 #: Geocentric gravitational constant, m^3 s^-2 (IAU 2015 Resolution B3, nominal).
 GM_EARTH = 3.986004e14
+#: Speed of light in vacuum, m/s (exact, SI).
+SPEED_OF_LIGHT_M_S = 299_792_458.0
 #: Radians per arcsecond.
 ARCSEC = math.pi / 648_000.0
 #: Radians per milliarcsecond.

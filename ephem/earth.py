@@ -20,9 +20,10 @@ the real Earth's, taking IAU 2006/2000A (ERFA) as the real Earth to within its p
   envelope of sin ε|Δψ| + |Δε| measured over 1900–2100, ``data/lunisolar.toml [served_track]``)
   at t, plus what it moves it at t0 (computed exactly: the mean pole inherits it);
 * ``hd_scaling``: an H_d other than the one E was measured with scales every term;
-* ``precession``: our linear ψ̇ (t − t0) at fixed ε̄ against IAU 2006's ψ_A and ω_A (the geodesic,
-  planetary and second-order parts of ψ_A that a first-order Newtonian theory lacks, the ecliptic's
-  motion), plus the catalogue orbit normal's tilt from the J2000 ecliptic times the angle precessed;
+* ``precession``: our linear ψ̇ (t − t0) at fixed ε̄ (the torque's rate with the geodesic precession,
+  :mod:`ephem.relativity`) against IAU 2006's ψ_A and ω_A (the planetary and second-order parts of ψ_A that a
+  first-order theory lacks, the ecliptic's motion), plus the catalogue orbit normal's tilt from the J2000
+  ecliptic times the angle precessed;
 * ``ecliptic_motion``: IAU 2000A applies the nutation on the ecliptic of date, we on the fixed one;
 * ``iau_reference``: IAU 2006/2000A against the observed pole;
 * ``axis_relation`` (angular-momentum axis only): IAU 2000A gives the CIP, the figure axis's forced
@@ -60,6 +61,7 @@ from .lunisolar import (delaunay_arguments, delaunay_rates, earth_lunisolar, lun
                         term_amplitudes)
 from .model import Track, cached_model, model_for
 from .physics_errors import rotation_averaging_bound
+from .relativity import geodesic_precession_rate
 from .theory import Estimate, SpinAxisTheory, Spectrum, cheapest_within, rate_values, selection_info
 from .uncertainty import SCALAR_KEYS
 from .units import in_unit
@@ -87,8 +89,8 @@ ASSUMPTIONS = [
     "longitude) and 40 mas (semi-annual): the published non-rigid correction of each term (IERS 1996 "
     "transfer function, ephem.nonrigid) accounts for it to 0.12 mas on terms of a year or shorter and 2.6 mas "
     "on the 18.6-yr term; see docs/earth.md",
-    "first order in the torque; rotation-averaged degree-2 potential; no planetary, relativistic (geodesic) "
-    "or second-order contributions to the precession",
+    "first order in the torque; rotation-averaged degree-2 potential; no planetary or second-order "
+    "contributions to the precession (the geodesic precession, relativistic, is added to the track)",
     "the Moon's orbit from Meeus (1998) ch. 47 (ELP-2000/82 truncated), the Sun on the Earth-Moon barycentre's "
     "mean Kepler ellipse (Simon et al. 1994); GM of both from DE421",
     "the track turns about the catalogue orbit's normal at fixed mean obliquity (the ecliptic's own motion "
@@ -125,10 +127,18 @@ class LunisolarEarth:
     nutation_at_pole_epoch: tuple[float, float]
     icrf_from_orbit: np.ndarray = field(repr=False)   # columns: mean equinox at t0, W × it, W (ICRF)
     orbit_tilt: float = 0.0              # the catalogue orbit normal from the J2000 ecliptic pole
+    geodesic_rate: float = 0.0           # Ω_gp (rad/day): the geodesic precession the track adds (ephem.relativity)
 
     @property
     def precession_rate(self) -> float:
+        """ψ̇ of the torque (rad/day): the first-order lunisolar rate (the precession answer's)."""
         return float(self.series.precession_rate)
+
+    @property
+    def track_rate(self) -> float:
+        """The track's ψ̇ (rad/day): the torque's less the geodesic precession, which turns the axis about the
+        orbit normal in the orbital (prograde) sense."""
+        return self.precession_rate - self.geodesic_rate
 
     @property
     def hd(self) -> float:
@@ -147,7 +157,7 @@ class LunisolarEarth:
         """ψ, Δψ, Δε, ε (radians) at JD TDB."""
         t = np.asarray(jd_tdb, dtype=float)
         dpsi, deps = self.series.nutation_at(t)
-        return self.precession_rate * (t - self.pole_epoch) + dpsi, dpsi, deps, self.obliquity + deps
+        return self.track_rate * (t - self.pole_epoch) + dpsi, dpsi, deps, self.obliquity + deps
 
     def track(self, jd_tdb) -> Track:
         t = np.asarray(jd_tdb, dtype=float)
@@ -191,7 +201,8 @@ def lunisolar_earth(body: Body, axis: str = "figure", cut_mas: float = TRACK_CUT
     x_mean = math.cos(dpsi0) * gamma + math.sin(dpsi0) * y_true
     icrf_from_orbit = ecl_from_icrf.T @ np.vstack([x_mean, np.cross(w, x_mean), w]).T
     tilt = math.atan2(float(np.linalg.norm(w[:2])), float(w[2]))
-    return LunisolarEarth(body, series, axis, tuple(perturbers), eps_mean, t0, (dpsi0, deps0), icrf_from_orbit, tilt)
+    return LunisolarEarth(body, series, axis, tuple(perturbers), eps_mean, t0, (dpsi0, deps0), icrf_from_orbit, tilt,
+                          geodesic_precession_rate(o.a_au, o.e, o.center))
 
 
 # ----------------------------------------------------------------------------- the error estimate
@@ -277,7 +288,7 @@ def estimate_terms(model: LunisolarEarth, jd_tdb) -> dict:
     lo, hi = float(t.min()), float(t.max())
     grid = np.unique(np.concatenate([np.linspace(lo, hi, 65), [t0]])) if hi > lo else np.array([lo])
     T, T0 = (grid - J2000_JD) / DAYS_PER_CENTURY, (t0 - J2000_JD) / DAYS_PER_CENTURY
-    precessed = model.precession_rate * (grid - t0)
+    precessed = model.track_rate * (grid - t0)
     dpsi = precessed - (_poly(prec["psi_a"], T) - _poly(prec["psi_a"], T0))
     domega = _poly(prec["omega_a"], T) - _poly(prec["omega_a"], T0)
     terms["precession"] = float(np.max(se * np.abs(dpsi) + np.abs(domega) + model.orbit_tilt * np.abs(precessed)))
@@ -384,8 +395,8 @@ def describe_model(b: Body, per: tuple[str, ...], lm) -> dict:
     about the Sun) with the lunisolar theory, its assumptions and the H_d it used, and why."""
     info = model_info(cached_model(b), b)
     rate = lm.precession_rate * JULIAN_YEAR_DAYS / ARCSEC
+    track = lm.track_rate * JULIAN_YEAR_DAYS / ARCSEC
     iau = _data()["precession_reference"]["psi_a_rate_arcsec_per_century"] / 100.0
-    geodesic = _data()["precession_reference"]["geodesic_arcsec_per_century"] / 100.0
     given = b.values.get("inertia.dynamical_ellipticity")
     if b.hd_from == "dynamical_ellipticity":
         src = f"the catalogue's explicit dynamical ellipticity (source {given.source})" if given is not None \
@@ -396,9 +407,10 @@ def describe_model(b: Body, per: tuple[str, ...], lm) -> dict:
     info["eccentricity_order"] = None
     info["assumptions"] = list(ASSUMPTIONS) + [
         f"H_d = {lm.hd:.10g} from {src}",
-        f"precession rate {rate:.6f}″/yr against IAU 2006's ψ_A rate {iau:.6f}″/yr ({rate - iau:+.4f}″/yr): the "
-        f"geodesic precession ({geodesic:+.4f}″/yr) and P03's second-order and planetary contributions are in "
-        "IAU 2006 and not in a first-order Newtonian theory (docs/earth.md)"]
+        f"precession rate {rate:.6f}″/yr of the torque; the track adds the geodesic precession "
+        f"({track - rate:+.6f}″/yr, ephem.relativity): {track:.6f}″/yr against IAU 2006's ψ_A rate {iau:.6f}″/yr "
+        f"({track - iau:+.4f}″/yr: P03's second-order and planetary contributions, not in a first-order theory; "
+        "docs/earth.md)"]
     info["perturbers"] = list(per)
     return info
 
@@ -474,7 +486,7 @@ class LunisolarTheory(SpinAxisTheory):
         theta1 = sign * rate
         theta0 = sign * phase_m - theta1 * mid_centuries
         labels = (None,) + tuple(tuple(int(v) for v in row) for row in s.multipliers[keep])
-        psi_dot = lm.precession_rate
+        psi_dot = lm.track_rate
         return Spectrum(labels, np.concatenate([[0.0], theta0 % 360.0]), np.concatenate([[0.0], theta1]),
                         np.concatenate([[0.0], amp[keep]]),
                         math.degrees(psi_dot * (J2000_JD - lm.pole_epoch)) % 360.0,

@@ -214,7 +214,8 @@ def test_track_against_erfas_cip_is_within_the_estimate(decades):
     forced = sum(v for k, v in terms.items() if k != "free_wobble")
     assert err.max() < forced < info["estimated_error_mas"]
     assert terms["free_wobble"] == pytest.approx(1000.0)          # Lara (2014) J0 = 1" for the figure axis
-    assert 300.0 < err.max() < 400.0 and 350.0 < forced < 450.0   # measured: 357 mas against 396 (docs/earth.md)
+    # measured: 129 mas against 167 (docs/earth.md; 357 against 396 before the track had the geodesic precession)
+    assert 100.0 < err.max() < 160.0 and 140.0 < forced < 200.0
     assert err[0] < 1.0                                           # the catalogue pole is the CIP at J2000
 
 
@@ -233,8 +234,10 @@ def test_the_estimate_holds_over_the_whole_window():
                   np.cos(np.radians(ans["pole_dec_deg"])) * np.sin(np.radians(ans["pole_ra_deg"])),
                   np.sin(np.radians(ans["pole_dec_deg"]))], axis=-1)
     err = angle(v, cip(ans["jd_tdb"])) / MAS
-    forced = sum(v for k, v in ans["model"]["error_terms_mas"].items() if k != "free_wobble")
-    assert err.max() < forced and err.max() > 0.8 * forced       # an upper bound, and not a loose one
+    terms = {k: v for k, v in ans["model"]["error_terms_mas"].items() if k != "free_wobble"}
+    # an upper bound, and not a loose one: the error reaches 90 % of its largest term (the precession, at the
+    # window's ends); the other terms peak at other epochs (measured 498 mas against 631, the precession 502)
+    assert err.max() < sum(terms.values()) and err.max() > 0.9 * max(terms.values())
 
 
 def test_the_estimates_ingredients_against_erfa():
@@ -260,8 +263,8 @@ def test_the_estimates_ingredients_against_erfa():
     # the mean pole's drift against ERFA's (bias-precession matrix) is within the precession term
     t = np.linspace(J2000_JD, J2000_JD + 30 * YEAR, 31)
     ours = model.track(t)
-    mean_ours = np.stack([np.sin(model.obliquity) * np.sin(model.precession_rate * (t - J2000_JD)),
-                          np.sin(model.obliquity) * np.cos(model.precession_rate * (t - J2000_JD)),
+    mean_ours = np.stack([np.sin(model.obliquity) * np.sin(model.track_rate * (t - J2000_JD)),
+                          np.sin(model.obliquity) * np.cos(model.track_rate * (t - J2000_JD)),
                           np.full(t.size, np.cos(model.obliquity))], axis=-1) @ model.icrf_from_orbit.T
     mean_iau = np.array([erfa.bp06(x, 0.0)[2][2] for x in t])
     drift = angle(mean_ours - mean_ours[0] + mean_iau[0], mean_iau) / MAS
