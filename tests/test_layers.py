@@ -21,7 +21,7 @@ LAYERS = {
                                  "euler_poinsot", "polynomials", "deprit", "lie_series"),
     "theories": ("kinoshita", "model", "rotation_scale", "second_order", "numerical", "ephemeris", "lunisolar",
                  "nonrigid", "cassini", "synchronous_rigid", "physical_librations",
-                 "free_motion", "rigid", "relativity"),
+                 "free_motion", "rigid", "relativity", "secular_orbit"),
     "accuracy": ("theory", "physics_errors", "ladder", "earth", "synchronous", "uncertainty", "registry"),
     "answers": ("api",),
     "exports and CLI": ("tables", "pck_fit", "pck_text", "pck", "plots", "cli"),
