@@ -15,6 +15,9 @@ AU_M = 149_597_870_700.0
 GM_SUN = 1.3271244e20
 #: Geocentric gravitational constant, m^3 s^-2 (IAU 2015 Resolution B3, nominal).
 GM_EARTH = 3.986004e14
+#: IAU 2006 general precession in longitude p_A, its linear term, arcsec per Julian century (Capitaine et al.
+#: 2003, P03; IERS Conventions 2010 eq. 5.39): the rate at which the mean equinox of date regresses.
+GENERAL_PRECESSION_ARCSEC_PER_CENTURY = 5028.796195
 #: Speed of light in vacuum, m/s (exact, SI).
 SPEED_OF_LIGHT_M_S = 299_792_458.0
 #: Radians per arcsecond.

@@ -30,6 +30,7 @@ from .budget import checkpoint
 from .catalogue import Body, data_dir
 from .constants import ARCSEC
 from .errors import InvalidInputError, NotApplicableError
+from .geometry import carry
 
 METHODS = ("auto", "exact", "series", "numeric")
 #: δ = 2 sin²(J/2) up to which ``auto`` takes the series (J ≈ 25°): Lara (2014) Eq. 28; the
@@ -275,19 +276,8 @@ def add_free_wobble(body: Body, wobble: Wobble, jd_tdb, pole_icrf: np.ndarray, p
     east0 /= np.linalg.norm(east0)
     north0 = np.cross(L0, east0)
     offset0 = np.cos(pa)[:, None] * north0 + np.sin(pa)[:, None] * east0     # tangent at L0
-    offset = _carry(L0, L, offset0)
+    offset = carry(L0, L, offset0)
     return np.cos(opening)[:, None] * L + np.sin(opening)[:, None] * offset
-
-
-def _carry(a: np.ndarray, b: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Vectors v (N, 3) tangent at the unit vector a, rotated by the rotations taking a to each b (N, 3) about
-    a × b (Rodrigues; the identity where b = a)."""
-    axis = np.cross(a, b)
-    s = np.linalg.norm(axis, axis=1)
-    c = b @ a
-    k = np.divide(axis, s[:, None], out=np.zeros_like(axis), where=s[:, None] > 0.0)
-    kv = np.einsum("ij,ij->i", k, v)
-    return v * c[:, None] + np.cross(k, v) * s[:, None] + k * (kv * (1.0 - c))[:, None]
 
 
 def wobble_model_bound(body: Body, wobble: Wobble, jd_tdb, pole_icrf: np.ndarray, pole_at_epoch: np.ndarray) -> float:

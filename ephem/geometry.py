@@ -49,6 +49,17 @@ def lon_lat(vec) -> tuple[np.ndarray, np.ndarray]:
     return lon, lat
 
 
+def carry(a, b, v) -> np.ndarray:
+    """Vectors ``v`` (..., 3) turned by the rotation taking the unit vector ``a`` to ``b`` about a × b (Rodrigues;
+    the identity where b = a). ``a``, ``b`` and ``v`` broadcast along their leading axes."""
+    a, b, v = (np.asarray(x, dtype=float) for x in (a, b, v))
+    axis = np.cross(a, b)
+    s = np.linalg.norm(axis, axis=-1, keepdims=True)
+    c = np.sum(a * b, axis=-1, keepdims=True)
+    k = np.divide(axis, s, out=np.zeros_like(axis), where=s > 0.0)
+    return v * c + np.cross(k, v) * s + k * (np.sum(k * v, axis=-1, keepdims=True) * (1.0 - c))
+
+
 def icrf_to_ecliptic(ra: float, dec: float) -> np.ndarray:
     """Ecliptic-J2000 unit vector of an ICRF direction (ra, dec in radians)."""
     return icrf_to_ecliptic_matrix() @ unit_vector(ra, dec)

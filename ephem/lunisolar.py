@@ -138,10 +138,11 @@ def obliquity_arcsec(t_centuries: float = 0.0) -> float:
 
 # ----------------------------------------------------------------------------- the perturbers
 
-def _gm_km3_day2(name: str) -> float:
+def gm_km3_day2(name: str) -> float:
+    """DE421's GM (km³/day²) of "sun", "moon" or "earth"."""
     from .ephemeris import GM_DE421, GM_SUN_DE421
 
-    gm_au = GM_SUN_DE421 if name == "sun" else GM_DE421[301]
+    gm_au = {"sun": GM_SUN_DE421, "moon": GM_DE421[301], "earth": GM_DE421[399]}[name]
     return gm_au * (AU_M / 1e3) ** 3
 
 
@@ -196,7 +197,7 @@ def sun_position(args: tuple, t_centuries: float = 0.0):
 def orbital_functions(name: str, args: tuple, t_centuries: float = 0.0) -> np.ndarray:
     """G1..G4 = GM (y²-z², yz, xy, xz)/r³ (rad²/day²) of perturber ``name`` at Delaunay ``args``."""
     lam, beta, r = (moon_position if name == "moon" else sun_position)(args, t_centuries)
-    gm_r3 = _gm_km3_day2(name) / r**3
+    gm_r3 = gm_km3_day2(name) / r**3
     cb = np.cos(beta)
     x, y, z = cb * np.cos(lam), cb * np.sin(lam), np.sin(beta)
     z = z + 0.0 * x  # broadcast the Sun's z = 0 to the grid

@@ -136,15 +136,14 @@ from functools import lru_cache
 
 import numpy as np
 
-from .constants import ARCSEC, AU_M, JULIAN_CENTURY_DAYS
-from .ephemeris import GM_DE421, GM_SUN_DE421
+from .constants import ARCSEC, GENERAL_PRECESSION_ARCSEC_PER_CENTURY, JULIAN_CENTURY_DAYS
 from .errors import InvalidInputError
-from .lunisolar import delaunay_arguments, delaunay_rates, moon_position, sun_position
+from .lunisolar import delaunay_arguments, delaunay_rates, gm_km3_day2, moon_position, sun_position
 
 #: p_A, the general precession in longitude (IERS Conventions 2010 eq. 5.39, Capitaine et al. 2003), rad/day: the
 #: rate at which the mean equinox of date, the origin of Ω and of the Moon's longitude, regresses. The frame of
 #: date turns at −p_A about the ecliptic pole, so the node turns in space at Ω̇ − p_A.
-GENERAL_PRECESSION_RATE = 5028.796195 * ARCSEC / JULIAN_CENTURY_DAYS
+GENERAL_PRECESSION_RATE = GENERAL_PRECESSION_ARCSEC_PER_CENTURY * ARCSEC / JULIAN_CENTURY_DAYS
 #: θ's constant (rad) in DE421: the principal axes (PA) from the mean-Earth/rotation (ME) frame, the rotation of
 #: NAIF's moon_080317.tf (TKFRAME_31007: 67.92″, 78.56″, 0.30″ about z, y, x, from Williams et al. 2008, JPL IOM
 #: 335-JW,DB,WF-20080314-001), as (x, y, z); mostly the degree-3 field's constant torque (module docstring). Sign:
@@ -179,11 +178,6 @@ def moments_from_beta_gamma(beta: float, gamma: float) -> tuple[float, float, fl
 
 #: (A, B, C) of :data:`EFFECTIVE_BETA_GAMMA`, C = 1.
 EFFECTIVE_MOMENTS = moments_from_beta_gamma(*EFFECTIVE_BETA_GAMMA)
-
-
-def _gm_km3_day2(body: str) -> float:
-    gm_au = GM_SUN_DE421 if body == "sun" else GM_DE421[399]
-    return gm_au * (AU_M / 1e3) ** 3
 
 
 def _skew(v: np.ndarray) -> np.ndarray:
@@ -224,7 +218,7 @@ def _directions(args: tuple, sun: bool):
     for name, v in vectors:
         d = np.sqrt(np.einsum("i...,i...->...", v, v))
         u = v / d
-        out.append((_gm_km3_day2(name) / d**3, np.stack([c * u[0] + s * u[1], -s * u[0] + c * u[1], u[2]])))
+        out.append((gm_km3_day2(name) / d**3, np.stack([c * u[0] + s * u[1], -s * u[0] + c * u[1], u[2]])))
     return tuple(out)
 
 

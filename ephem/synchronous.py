@@ -54,10 +54,11 @@ from .budget import Cost, charge
 from .cassini import (SYNCHRONOUS_TOLERANCE, CassiniState, SynchronousOrbit, cassini_state, check_synchronous,
                       free_librations, moment_ratios)
 from .catalogue import Body
-from .constants import ARCSEC, AU_M, DAY_S, GM_CENTER, GM_SUN, J2000_JD, JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS, MAS
+from .constants import (ARCSEC, AU_M, DAY_S, GENERAL_PRECESSION_ARCSEC_PER_CENTURY, GM_CENTER, GM_SUN, J2000_JD,
+                        JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS, MAS)
 from .errors import InvalidInputError, NotApplicableError
 from .earth import MIN_CUT_MAS, check_cut
-from .geometry import icrf_to_ecliptic_matrix, unit_vector
+from .geometry import carry, icrf_to_ecliptic_matrix, lon_lat, unit_vector
 from .kepler import mean_motion_rad_per_day
 from .model import Track
 from .physical_librations import EFFECTIVE_MOMENTS, moon_physical_librations, shipped_series
@@ -65,9 +66,6 @@ from .synchronous_rigid import integrate_synchronous
 from .theory import Estimate, SpinAxisTheory, Spectrum, rate_values, selection_info
 from .units import in_unit
 
-#: IAU 2006 general precession in longitude, linear term, arcsec per Julian century (Capitaine et al. 2003,
-#: P03 p_A): the ecliptic-of-date node rate minus it is the node's inertial rate.
-GENERAL_PRECESSION_ARCSEC_PER_CENTURY = 5028.796195
 #: The Sun's mean orbit seen from a body of the Earth's neighbourhood: 1 AU, e = 0.0167 (Simon et al. 1994)
 SUN_ECCENTRICITY = 0.0167086
 #: multiples of the node angle a kernel fits the Cassini pole's circle with: in RA and Dec the circle of radius I about
@@ -126,7 +124,7 @@ def synchronous_orbit(body: Body) -> SynchronousOrbit:
                                  "state): give the node's rate on the Laplace plane (orbit.node_rate_deg_per_year; "
                                  "the orbit's i and node are taken on that plane)")
     rate = math.radians(o.node_rate_deg_per_year) / JULIAN_YEAR_DAYS
-    if o.frame == "ecliptic_of_date":
+    if o.frame == "ecliptic_of_date":      # the equinox of date regresses at p_A: the node's inertial rate
         rate -= GENERAL_PRECESSION_ARCSEC_PER_CENTURY * ARCSEC / JULIAN_CENTURY_DAYS
     n = body.spin_rate_rad_per_day
     g = GM_CENTER[o.center] * DAY_S**2 / (o.a_au * AU_M) ** 3
@@ -195,19 +193,16 @@ class SynchronousModel:
         lon = self.node(t) + 0.5 * math.pi + self.longitude_offset + dpsi / math.sin(self.inclination)
         s = np.sin(incl)
         v = np.stack([s * np.cos(lon), s * np.sin(lon), np.cos(incl)], axis=-1)
-        icrf = np.einsum("nij,nj->ni", _frame_matrices(self.frame, t), v)
-        ra = np.remainder(np.arctan2(icrf[:, 1], icrf[:, 0]), 2.0 * math.pi)
-        dec = np.arctan2(icrf[:, 2], np.hypot(icrf[:, 0], icrf[:, 1]))
+        ra, dec = lon_lat(np.einsum("nij,nj->ni", _frame_matrices(self.frame, t), v))
         psi = self.precession_rate * (t - self.pole_epoch)      # inertial: the ecliptic of date's equinox moves
         return Track(t, psi, dpsi, deps, self.orbit.inclination + incl, ra, dec)
 
 
 def _laplace_lon_lat(body: Body) -> tuple[float, float]:
     """The catalogue pole's longitude and colatitude (radians) in the orbit's frame at the pole epoch."""
-    ra, dec = math.radians(body.pole.ra_deg), math.radians(body.pole.dec_deg)
-    v = np.array([math.cos(dec) * math.cos(ra), math.cos(dec) * math.sin(ra), math.sin(dec)])
-    w = _frame_matrices(body.orbit.frame, np.array([body.pole.epoch_jd_tdb]))[0].T @ v
-    return math.atan2(w[1], w[0]), math.atan2(math.hypot(w[0], w[1]), w[2])
+    v = unit_vector(math.radians(body.pole.ra_deg), math.radians(body.pole.dec_deg))
+    lon, lat = lon_lat(_frame_matrices(body.orbit.frame, np.array([body.pole.epoch_jd_tdb]))[0].T @ v)
+    return float(lon), 0.5 * math.pi - float(lat)
 
 
 _series_lock = threading.Lock()
@@ -295,7 +290,7 @@ def integrate_track(m: SynchronousModel, jd_tdb) -> Track:
     attitude = series.attitude(np.array([t0]))[0]                        # ecliptic of date
     catalogue = _frame_matrices(m.frame, np.array([t0]))[0].T @ unit_vector(
         math.radians(m.body.pole.ra_deg), math.radians(m.body.pole.dec_deg))
-    attitude = rotation_between(attitude[:, 2], catalogue) @ attitude
+    attitude = carry(attitude[:, 2], catalogue, attitude.T).T          # its columns turned onto the catalogue pole
     to_j2000 = erfa.ecm06(J2000_JD, 0.0) @ erfa.ecm06(t0, 0.0).T
     omega = series.angular_velocity(np.array([t0]), inertial=True)[0]
     y0 = np.concatenate([omega / m.orbit.mean_motion, quaternion_from_matrix(to_j2000 @ attitude)])
@@ -303,22 +298,10 @@ def integrate_track(m: SynchronousModel, jd_tdb) -> Track:
                                 atol=INTEGRATION_RTOL * 1e-3)
     icrf = run.figure_axis @ icrf_to_ecliptic_matrix()                   # rows: J2000 ecliptic -> ICRF
     of_date = np.einsum("nij,nj->ni", erfa.ecm06(t, np.zeros_like(t)), icrf)
-    colat = np.arctan2(np.hypot(of_date[:, 0], of_date[:, 1]), of_date[:, 2])
-    lon = np.arctan2(of_date[:, 1], of_date[:, 0])
-    deps = colat - m.inclination
+    lon, lat = lon_lat(of_date)
+    deps = 0.5 * math.pi - lat - m.inclination
     dpsi = np.remainder(lon - m.node(t) - 0.5 * math.pi - m.longitude_offset + math.pi, 2.0 * math.pi) - math.pi
     return m.track(t, dpsi * math.sin(m.inclination), deps)
-
-
-def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The rotation (3, 3) taking unit vector ``a`` to ``b`` about their common normal (Rodrigues)."""
-    v = np.cross(a, b)
-    s, c = float(np.linalg.norm(v)), float(a @ b)
-    if s == 0.0:
-        return np.eye(3)
-    k = v / s
-    kx = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + s * kx + (1.0 - c) * kx @ kx
 
 
 # ----------------------------------------------------------------------------- the theory's interface

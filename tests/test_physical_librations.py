@@ -141,7 +141,7 @@ def _euler_residual(t: float, theta_of_t, I: float, moments, h: float = 2e-2) ->
     for name, v in (("earth", -moon), ("sun", sun)):
         d = np.linalg.norm(v)
         u = b.T @ (v / d)
-        torque += 3.0 * P._gm_km3_day2(name) / d**3 * np.cross(u, mom * u)
+        torque += 3.0 * lunisolar.gm_km3_day2(name) / d**3 * np.cross(u, mom * u)
     return mom * wd + np.cross(w, mom * w) - torque
 
 
@@ -208,7 +208,7 @@ def _integrate_rigid_moon(series, years: float, step_out: float = 0.5):
     moon = np.stack([r * np.cos(bet) * np.cos(lam), r * np.cos(bet) * np.sin(lam), r * np.sin(bet)], 1)
     ls, _, rs = sun_position(args)
     sun = np.stack([rs * np.cos(ls), rs * np.sin(ls), 0 * ls], 1) - moon
-    splines = [(P._gm_km3_day2("earth"), CubicSpline(grid, -moon)), (P._gm_km3_day2("sun"), CubicSpline(grid, sun))]
+    splines = [(lunisolar.gm_km3_day2("earth"), CubicSpline(grid, -moon)), (lunisolar.gm_km3_day2("sun"), CubicSpline(grid, sun))]
     frame = np.array([0.0, 0.0, -P.GENERAL_PRECESSION_RATE])
 
     def qmul(p, q):
