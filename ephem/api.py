@@ -18,6 +18,7 @@ from .catalogue import (DEFAULT_DATASET, Body, get_body, load_catalogue, load_re
 from .constants import ARCSEC, MAS
 from .errors import InvalidInputError, NotApplicableError
 from .hansen import hansen_series
+from .history import MAX_HISTORY_SAMPLES, history_answer
 from .ladder import AXES
 # model_for and MAX_ORDER are part of this facade (the numeric model of a body; the highest e-order)
 from .model import MAX_ORDER, check_order, model_for  # noqa: F401
@@ -173,11 +174,27 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
     return with_units(ans) if quantities else ans
 
 
+def _within(part: str, answer):
+    """``answer()``, a part of the POST answer (``track``, ``history``): errors in the part's own inputs name
+    their full path (``track.step_days``); those in the body's (orbit, pole, moments...) stay as they are."""
+    try:
+        return answer()
+    except InvalidInputError as exc:
+        if exc.field.startswith(("orbit.", "pole.", "moments", "order", "rotation", "dynamical")):
+            raise
+        raise InvalidInputError(f"{part}.{exc.field}", exc.reason, exc.body) from None
+    except OverBudgetError as exc:
+        if exc.field.startswith("orbit."):
+            raise
+        raise exc.within(f"{part}.") from None
+
+
 def precession_nutation(body: Body, order: int | None = None, track: dict | None = None,
-                        max_samples: int = MAX_TRACK_SAMPLES) -> dict:
+                        max_samples: int = MAX_TRACK_SAMPLES, history_request: dict | None = None) -> dict:
     """The POST answer for a body of the user's own: ``precession``, ``nutation`` and, with ``track``
     (the keyword arguments of :func:`track_arrays`: start, stop, step_days, tolerance_mas, model, axis,
-    free_wobble_*), ``track`` (arrays).
+    free_wobble_*), ``track`` (arrays), and with ``history_request`` (the keyword arguments of :func:`history`:
+    start_year, stop_year, step_years, tolerance_mas, orbit_model), ``history``.
 
     Every part's cost is charged before any part is computed (the track's own check comes first, then
     the two answers'); errors in the track's inputs name their full path (``track.step_days``).
@@ -185,20 +202,26 @@ def precession_nutation(body: Body, order: int | None = None, track: dict | None
     charge(answer_cost(body, check_order(order), nutation=True), body.name)
     ans = {}
     if track is not None:
-        try:
-            ans["track"] = track_arrays(body, order=order, max_samples=max_samples, **track)
-        except InvalidInputError as exc:
-            if exc.field.startswith(("orbit.", "pole.", "moments", "order", "rotation", "dynamical")):
-                raise
-            raise InvalidInputError(f"track.{exc.field}", exc.reason, exc.body) from None
-        except OverBudgetError as exc:
-            if exc.field.startswith("orbit."):
-                raise
-            raise exc.within("track.") from None
+        ans["track"] = _within("track", lambda: track_arrays(body, order=order, max_samples=max_samples, **track))
+    if history_request is not None:
+        ans["history"] = _within("history", lambda: history(body, **history_request))
     with prepaid():     # charged above
         ans["precession"] = precession(body, order=order)
         ans["nutation"] = nutation(body, order=order)
-    return {k: ans[k] for k in ("precession", "nutation", "track") if k in ans}
+    return {k: ans[k] for k in ("precession", "nutation", "track", "history") if k in ans}
+
+
+def history(body: str | int | Body, start_year, stop_year, step_years, dataset: str = DEFAULT_DATASET,
+            tolerance_mas=None, orbit_model: str | None = None, perturbers=None,
+            max_samples: int = MAX_HISTORY_SAMPLES, progress=None) -> dict:
+    """The spin axis over millennia and millions of years (:func:`ephem.history.history_answer`): times in Julian
+    years from J2000.0 TDB (negative: the past), the orbit model chosen by ``tolerance_mas`` or named by
+    ``orbit_model`` ("secular" or "nbody"), through the theory serving the body under ``perturbers``."""
+    b = resolve_body(body, dataset)
+    per = _perturbers(b, perturbers)
+    ans = history_answer(b, theory_for(b, per), start_year, stop_year, step_years, _tolerance(tolerance_mas),
+                         orbit_model, max_samples, progress)
+    return _tag_perturbers(ans, b, per)
 
 
 def epoch_grid(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPLES) -> tuple[float, float, int]:
@@ -324,6 +347,11 @@ UNESTIMATED_WARNINGS = {
     "rotation_averaging": "without moments of inertia the rotation-averaging error is not estimated",
     "librations": "the forced physical librations of this synchronous body were not modelled (the library has a "
                   "theory of the orbit's periodic terms for the Moon only): the estimate leaves them out",
+    "precession_constant_probe": "no 1-sigma is published for this body's precession constant (its moments): the "
+                                 "long-term estimate's precession_constant term is the divergence for a probe of "
+                                 "1e-3 of it, not for its uncertainty",
+    "pole_probe": "no 1-sigma is published for this body's pole: the long-term estimate's pole term is the "
+                  "divergence for a probe of 0.01 deg, not for its uncertainty",
 }
 
 

@@ -435,6 +435,63 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
     _emit(ans, fmt, rows)
 
 
+@app.command()
+def history(name: str = typer.Argument(..., metavar="BODY"),
+            start_year: float = typer.Option(..., "--start-year", help="Julian years from J2000.0 TDB (negative: the "
+                                             "past)."),
+            stop_year: float = typer.Option(..., "--stop-year", help="Julian years from J2000.0 TDB."),
+            step_years: float = typer.Option(..., "--step-years", help="Sampling step, Julian years."),
+            dataset: str = DatasetOpt, fmt: Format = FormatOpt, tolerance_mas: Optional[float] = ToleranceOpt,
+            orbit_model: Optional[str] = typer.Option(None, "--orbit-model", help="secular (Laplace-Lagrange) or "
+                                                      "nbody (REBOUND from DE421, shipped for the catalogue's "
+                                                      "bodies); default: the shipped N-body orbit where it covers "
+                                                      "the span, else the secular one."),
+            perturbers: Optional[str] = typer.Option(None, "--perturbers", help="The torquing bodies (default the "
+                                                     "catalogue's)."),
+            quiet: bool = typer.Option(False, "--quiet", help="No progress bar.")):
+    """BODY's spin axis over millennia and millions of years: obliquity, precession angle, pole and orbit
+    inclination, with the estimated error at each epoch.
+
+    The model (orbit, estimate, where the history stops meaning anything, cost) goes to stderr with --format csv
+    or table. A progress bar shows on stderr while the spin is integrated (not with --quiet).
+    """
+    from . import api
+
+    bar = None if quiet else typer.progressbar(length=1000, label="integrating", file=sys.stderr)
+    shown = [0]
+
+    def progress(fraction: float) -> None:
+        if bar is not None:
+            step = int(1000 * fraction) - shown[0]
+            if step > 0:
+                bar.update(step)
+                shown[0] += step
+
+    try:
+        if bar is not None:
+            bar.__enter__()
+        try:
+            ans = api.history(name, start_year, stop_year, step_years, dataset, tolerance_mas, orbit_model,
+                              perturbers, progress=progress)
+        finally:
+            if bar is not None:
+                bar.__exit__(None, None, None)
+    except EphemError as exc:
+        _fail(exc)
+    if fmt is not Format.json:
+        info = ans["model"]
+        span = (ans["meaningful_from_year"], ans["meaningful_to_year"])
+        typer.echo(f"model: {info['name']} orbit, estimated error {info['estimated_error_mas'] / 3.6e6:.4g} deg"
+                   + ("" if span == (None, None) else
+                      f", meaningful from {span[0] if span[0] is not None else '-inf'} to "
+                      f"{span[1] if span[1] is not None else 'inf'} years")
+                   + f", {info['cost_ms']:.0f} ms", err=True)
+    keys = ["year", "obliquity_deg", "precession_angle_deg", "pole_ra_deg", "pole_dec_deg", "orbit_inclination_deg",
+            "estimated_error_deg", "obliquity_error_deg"]
+    rows = [dict(zip(keys, vals)) for vals in zip(*(ans[k] for k in keys))]
+    _emit(ans, fmt, rows)
+
+
 @app.command("free-motion")
 def free_motion(name: str = typer.Argument(..., metavar="BODY"),
                 start: str = typer.Option(..., "--start", help="ISO 8601 (UTC unless a scale follows) or JD TDB."),
@@ -494,17 +551,28 @@ def tables(names: Optional[list[str]] = typer.Argument(None, metavar="[BODY]..."
 @app.command()
 def plot(name: str = typer.Argument(..., metavar="BODY"),
          kind: str = typer.Option("precession", "--kind", help="precession (Petit et al. Fig. 4), nutation-loop "
-                                  "(Fig. 5), obliquity or free-wobble."),
-         start: str = typer.Option(..., "--start", help="ISO 8601 (UTC unless a scale follows) or JD TDB."),
-         stop: str = typer.Option(..., "--stop", help="ISO 8601 or JD TDB."),
+                                  "(Fig. 5), obliquity, free-wobble, or obliquity-history (the obliquity over "
+                                  "millennia to millions of years, ephem.api.history)."),
+         start: str = typer.Option(..., "--start", help="ISO 8601 (UTC unless a scale follows) or JD TDB; for "
+                                   "--kind obliquity-history, Julian years from J2000.0 TDB (negative: the past, "
+                                   "e.g. --start -3e6)."),
+         stop: str = typer.Option(..., "--stop", help="ISO 8601 or JD TDB; for --kind obliquity-history, Julian "
+                                  "years from J2000.0 TDB."),
          out: Path = typer.Option(..., "--out", help="The figure: FILE.png or FILE.svg."),
          step_days: Optional[float] = typer.Option(None, "--step-days", help="Sampling step (default: chosen "
-                                                   "for the kind and span)."),
+                                                   "for the kind and span); not for obliquity-history."),
+         step_years: Optional[float] = typer.Option(None, "--step-years", help="obliquity-history: sampling step, "
+                                                    "Julian years (default: the span over 1000, rounded, at least "
+                                                    "100)."),
+         orbit_model: Optional[str] = typer.Option(None, "--orbit-model", help="obliquity-history: secular or "
+                                                   "nbody (default: the shipped N-body orbit where it covers the "
+                                                   "span, else the secular one)."),
          dataset: str = DatasetOpt, order: Optional[int] = OrderOpt, tolerance_mas: Optional[float] = ToleranceOpt,
          model: Optional[str] = typer.Option(None, "--model", help="A rung of the fidelity ladder."),
          j_arcsec: Optional[float] = typer.Option(None, "--J-arcsec", help="Free-wobble amplitude (free-wobble)."),
          dpi: float = typer.Option(150, "--dpi", help="PNG resolution.")):
-    """A figure of BODY's track (or free wobble) as PNG or SVG, axes in units, title with body and dataset."""
+    """A figure of BODY's track (or free wobble, or obliquity history) as PNG or SVG, axes in units, title with
+    body and dataset."""
     from . import plots
 
     fmt = out.suffix.lower().lstrip(".")
@@ -514,7 +582,8 @@ def plot(name: str = typer.Argument(..., metavar="BODY"),
 
             raise InvalidInputError("out", f"the file must end in .png or .svg, got {out.name!r}")
         image = plots.render(kind, name, start, stop, step_days, fmt, dataset, dpi=dpi, tolerance_mas=tolerance_mas,
-                             model=model, order=order, J_arcsec=j_arcsec)
+                             model=model, order=order, J_arcsec=j_arcsec, step_years=step_years,
+                             orbit_model=orbit_model)
     except EphemError as exc:
         _fail(exc)
     out.parent.mkdir(parents=True, exist_ok=True)

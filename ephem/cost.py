@@ -184,6 +184,17 @@ def synchronous_integration(span_days: float, epochs: int) -> Part:
                 + epochs * _u("dense_output_s"), years * _u("moon_mb_per_year") + epochs * _u("track_bytes_per_epoch") / MB)
 
 
+def spin_history(span_years: float, epochs: int) -> Part:
+    """The averaged spin equation integrated over ``span_years`` (both sides of the epoch together) with its
+    neighbours (:func:`ephem.spin_history.integrate`), then the requested epochs. DOP853's steps follow the orbit's
+    spline, knot by knot (500 years), more than the precession: the work is per year of span."""
+    return Part("stop_year", f"the averaged spin integrated over {span_years:.4g} years",
+                _u("base_s") + _u("spin_history_base_s") + span_years * _u("spin_history_s_per_year")
+                + epochs * _u("history_epoch_s"),
+                _u("spin_history_base_mb") + epochs * _u("history_bytes_per_epoch") / MB
+                + span_years / 500.0 * _u("history_bytes_per_orbit_sample") / MB)
+
+
 #: how an answer is written out: the unit cost of one value
 SERIALISATIONS = {"json": "serialise_s_per_value", "csv": "serialise_csv_s_per_value"}
 

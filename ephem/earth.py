@@ -55,13 +55,15 @@ from .constants import JULIAN_CENTURY_DAYS as DAYS_PER_CENTURY
 from .errors import InvalidInputError, NotApplicableError
 from .free_motion import add_free_wobble, free_wobble_bound, wobble_model_bound
 from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
-from .kinoshita import mean_pole, pole_displacement_sum, pole_displacements
+from .kepler import mean_motion_rad_per_day
+from .kinoshita import eccentricity_factor, mean_pole, pole_displacement_sum, pole_displacements, scaling_factor
 from .ladder import ROUNDING, model_info, pole_vectors, with_free_wobble
 from .lunisolar import (delaunay_arguments, delaunay_rates, earth_lunisolar, lunisolar_data, obliquity_arcsec,
                         term_amplitudes)
 from .model import Track, cached_model, model_for
 from .physics_errors import rotation_averaging_bound
 from .relativity import geodesic_precession_rate
+from .spin_history import SpinConstants, spin_constants
 from .theory import Estimate, SpinAxisTheory, Spectrum, cheapest_within, rate_values, selection_info
 from .uncertainty import SCALAR_KEYS
 from .units import in_unit
@@ -467,6 +469,23 @@ class LunisolarTheory(SpinAxisTheory):
         info = describe_model(self.body, self.perturbers, self.model)
         info["assumptions"] = [AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else self.axis]] + info["assumptions"]
         return info
+
+    def secular_spin(self) -> SpinConstants:
+        """The lunisolar theory's mean pole and precession constant ψ̇ / cos ε̄, split into the Sun's part (which
+        follows the Earth's orbit) and the Moon's (held fixed: the Moon's orbit precesses about the ecliptic in
+        18.6 years, so its mean torque is about the ecliptic's normal too; its tidal recession is left out)."""
+        lm = self.model
+        total = lm.precession_rate / math.cos(lm.obliquity)
+        o = self.body.orbit
+        # the Sun's share: Kinoshita's (K/2)(1 - e²)^(-3/2) on the Earth's orbit, the first-order term the
+        # lunisolar series has for it (Petit et al. eq. 25)
+        sun = 0.0 if "Sun" not in lm.perturbers else 0.5 * eccentricity_factor(o.e) * scaling_factor(
+            mean_motion_rad_per_day(o.a_au, o.center), lm.spin_rate, lm.hd)
+        half_psi, half_eps = half_peak_to_peak(lm)
+        return spin_constants(self.body, lm.pole_epoch, lm.icrf_from_orbit, lm.obliquity, sun, total - sun,
+                              math.hypot(half_psi * math.sin(lm.obliquity), half_eps),
+                              "the lunisolar theory's precession rate (ephem.lunisolar) over cos(obliquity): the "
+                              "Sun's part scaled with the Earth's orbit, the Moon's held fixed")
 
     def extra_description(self) -> dict:
         return {"cut_mas": TRACK_CUT_MAS}

@@ -86,6 +86,7 @@ from .physics_errors import (ephemeris_bound, orbit_motion_bound, real_orbit_una
                              sun_path_for)
 from .rigid import body_moments
 from .harmonics import FRESH_STEPS, PeriodicTable, harmonic_sum, refined_count
+from .spin_history import SpinConstants, spin_constants
 from .second_order import (PhasedSeries, Remainder, SecondOrderTheory, eval_phi, second_order_remainder,
                            second_order_theory)
 from .theory import Estimate, SpinAxisTheory, Spectrum, cheapest_within, rate_values, selection_info
@@ -1178,6 +1179,16 @@ class SunLadder(SpinAxisTheory):
         info["assumptions"] = [AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else self.axis]] + ASSUMPTIONS[1:] \
             + RUNG_ASSUMPTIONS[model]
         return info
+
+    def secular_spin(self) -> SpinConstants:
+        """The first-order theory's mean pole and precession constant (K/2) f(e) (Petit et al. eq. 25)."""
+        m = cached_model(self.body)
+        half_psi, half_eps = m.nutation.semi_peak_to_peak()
+        return spin_constants(self.body, m.pole_epoch, m.icrf_from_orbit, m.obliquity,
+                              0.5 * m.scaling_factor * eccentricity_factor(m.eccentricity), 0.0,
+                              math.hypot(half_psi * math.sin(m.obliquity), half_eps),
+                              "Kinoshita's first-order theory (Petit et al. 2014 eq. 25): the precession constant "
+                              "(K/2)(1 - e^2)^(-3/2), K = 3 n^2 H_d / omega")
 
     def spectrum(self, aim_mas: float, mid_centuries: float, jd_tdb=None, psi=None) -> Spectrum:
         m = cached_model(self.body)

@@ -11,21 +11,23 @@ from .catalogue import Body
 from .earth import LunisolarTheory
 from .errors import NotApplicableError
 from .ladder import SunLadder
+from .long_term import NAME as LONG_TERM, WithLongTerm
 from .synchronous import SynchronousTheory
 from .theory import SpinAxisTheory
 
 #: the families, most specific first
 THEORIES: tuple[type[SpinAxisTheory], ...] = (SynchronousTheory, LunisolarTheory, SunLadder)
 #: every model name any family answers to, the most general family's first
-MODELS: tuple[str, ...] = tuple(name for family in reversed(THEORIES) for name in family.models)
+MODELS: tuple[str, ...] = tuple(name for family in reversed(THEORIES) for name in family.models) + (LONG_TERM,)
 
 
 def theory_for(body: Body, perturbers: tuple[str, ...], axis: str = "figure") -> SpinAxisTheory:
     """The family serving ``body`` under ``perturbers`` (without a free wobble: see
-    :meth:`~ephem.theory.SpinAxisTheory.with_wobble`)."""
+    :meth:`~ephem.theory.SpinAxisTheory.with_wobble`), with the long-term model after its own
+    (:class:`~ephem.long_term.WithLongTerm`)."""
     for family in THEORIES:
         if family.serves(body, perturbers):
-            return family(body, perturbers, axis)
+            return WithLongTerm(family(body, perturbers, axis))
     raise NotApplicableError(body.name, f"no theory here models {body.name} under {', '.join(perturbers)}")
 
 

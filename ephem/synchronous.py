@@ -307,6 +307,61 @@ def integrate_track(m: SynchronousModel, jd_tdb) -> Track:
 # ----------------------------------------------------------------------------- the theory's interface
 
 
+#: Meeus (1998) eq. 47.7's T² coefficient of the lunar node, deg per century²: the node's acceleration (tides
+#: and the Earth's eccentricity) that a linear node leaves out; over millennia it is the phase's error
+NODE_ACCELERATION_DEG_PER_CENTURY2 = 0.0020708
+
+
+@dataclass(frozen=True, eq=False)
+class CassiniHistory:
+    """A synchronous rotator's pole over long spans: the Cassini state carried along the moving Laplace plane.
+
+    The plane is the primary's orbit plane (the Moon's Laplace plane is the ecliptic of date, to the 8″ of the
+    Earth's J2 left out), taken from the primary's orbit history; the pole keeps its inclination I to it and
+    turns with the node, whose inertial rate (``SynchronousOrbit.node_rate``) is driven by the Sun and scales with
+    the Earth's orbit as (1 − e²)^(−3/2) (the solar tide's mean strength). The node's acceleration of Meeus' T²
+    term (tides, left out) is the estimate's ``node_phase`` term, I times the node's phase error; the libration and
+    the other terms of the ``cassini`` model's estimate are the ``librations`` term."""
+
+    model: SynchronousModel
+    librations: float
+    orbit_body: str = "Earth"
+    source: str = "the Cassini state (ephem.cassini) turned with the node along the primary's orbit plane"
+
+    def cost(self, span_years: float, epochs: int):
+        """The Cassini pole at ``epochs`` epochs and the node's quadrature (:func:`ephem.cost.synchronous_track`)."""
+        return cost.synchronous_track(epochs + 4001)
+
+    def history(self, orbit, years, progress=None):
+        from .spin_history import history_arrays
+
+        m = self.model
+        years = np.asarray(years, dtype=float)
+        t0 = (m.pole_epoch - J2000_JD) / JULIAN_YEAR_DAYS
+        e0 = float(orbit.eccentricity_at(t0))
+        fine = np.unique(np.concatenate([np.linspace(min(years.min(), t0), max(years.max(), t0), 4001), years, [t0]]))
+        rate = m.orbit.node_rate * JULIAN_YEAR_DAYS * ((1.0 - e0**2) / (1.0 - orbit.eccentricity_at(fine) ** 2)) ** 1.5
+        turned = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(fine))])
+        turned -= np.interp(t0, fine, turned)
+        node = m.node_at_pole_epoch + np.interp(years, fine, turned)
+        plane = orbit.pole_at(years)
+        z = np.array([0.0, 0.0, 1.0])
+        i, incl = m.orbit.inclination, m.inclination
+        lon = node + 0.5 * math.pi + m.longitude_offset
+        orbit_pole = carry(z, plane, np.stack([math.sin(i) * np.sin(node), -math.sin(i) * np.cos(node),
+                                               np.full(node.shape, math.cos(i))], axis=-1))
+        spin = carry(z, plane, np.stack([math.sin(incl) * np.cos(lon), math.sin(incl) * np.sin(lon),
+                                         np.full(node.shape, math.cos(incl))], axis=-1))
+        centuries = (years - t0) / 100.0
+        phase = np.minimum(np.radians(NODE_ACCELERATION_DEG_PER_CENTURY2) * centuries**2, math.pi)
+        terms = {"librations": np.full(years.shape, self.librations),
+                 "node_phase": 2.0 * math.sin(incl) * np.sin(0.5 * phase)}
+        # the obliquity i + I does not depend on the node's phase: only the librations move it
+        obliquity_terms = {"librations": np.full(years.shape, self.librations)}
+        return history_arrays(years, spin, orbit_pole, -(node - m.node_at_pole_epoch), terms, obliquity_terms, (),
+                              t0, np.zeros(years.shape), 0)
+
+
 class SynchronousTheory(SpinAxisTheory):
     """A synchronous rotator (the Moon) under its primary: the Cassini state and its ladder."""
 
@@ -418,6 +473,16 @@ class SynchronousTheory(SpinAxisTheory):
             "spin_orbit_ratio": b.spin_rate_rad_per_day / mean_motion_rad_per_day(b.orbit.a_au, b.orbit.center),
             "min_spin_orbit_ratio": 0.0, "pole_epoch_jd_tdb": m.pole_epoch, "orbit_epoch_jd_tdb": b.orbit.epoch_jd_tdb,
         }
+
+    def secular_spin(self) -> CassiniHistory:
+        """The Cassini state along the primary's moving orbit plane (:class:`CassiniHistory`); the primary's orbit
+        history must be known (the Moon's: the Earth's)."""
+        self.check_request(None, None)
+        if self.body.orbit.center != "Earth":
+            raise NotApplicableError(self.body.name, "the long-term Cassini state follows the primary's orbit plane, "
+                                     "whose history is shipped for the Earth only (the Moon's primary)")
+        cassini = next(e for e in self.estimates(np.array([self.model.pole_epoch])) if e.rung == "cassini")
+        return CassiniHistory(self.model, cassini.total)
 
     def spectrum(self, aim_mas: float, mid_centuries: float, jd_tdb=None, psi=None) -> Spectrum:
         """The node's circle (a base at 0 with the precession's sidebands: the circle's projection on RA and Dec,

@@ -263,6 +263,13 @@ class SpinAxisTheory(ABC):
         computed track (epochs ``jd_tdb``, ψ in radians), as the track has them (the rates the higher models
         change)."""
 
+    def secular_spin(self):
+        """The body's spin averaged over the rotation and the orbit, for spans of millennia and more
+        (:mod:`ephem.history`): an object with ``history(orbit, years)`` (a :class:`~ephem.spin_history.
+        SpinHistory`), ``orbit_body`` (whose orbit history drives it) and ``source``. A family without one says
+        "not applicable" with the reason."""
+        raise NotApplicableError(self.body.name, f"{self.summary} has no long-term (secular) model of the spin axis")
+
     def extra_description(self) -> dict:
         """Keys of the ``model`` object only this family fills (the lunisolar amplitude cut)."""
         return {}

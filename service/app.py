@@ -247,6 +247,33 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             return StreamingResponse(_csv_rows(arrays), media_type="text/csv; charset=utf-8")
         return finite_json(arrays)
 
+    @app.get("/v1/bodies/{body}/history", response_model=schemas.History, tags=["theory"], responses={
+        **ERRORS, 200: {"content": {"application/json": {"example": {
+            "body": "Ceres", "dataset": "current", "year": [-3000000.0], "obliquity_deg": [12.3],
+            "precession_angle_deg": [-5432.1], "pole_ra_deg": [291.4], "pole_dec_deg": [66.8],
+            "orbit_inclination_deg": [10.1], "estimated_error_deg": [0.4], "meaningful_from_year": None,
+            "meaningful_to_year": None,
+            "model": {"name": "nbody", "estimated_error_mas": 1440000.0, "cost_ms": 2100.0}}}}}})
+    def history(body: BodyPath,
+                start_year: Annotated[float, Query(description="Julian years (365.25 d) from J2000.0 TDB; negative "
+                                                               "is the past", examples=[-3000000])],
+                stop_year: Annotated[float, Query(description="Julian years from J2000.0 TDB",
+                                                  examples=[1000000])],
+                step_years: Annotated[float, Query(description="sampling step, Julian years", examples=[500])],
+                dataset: DatasetQuery = DEFAULT_DATASET_VALUE, tolerance_mas: ToleranceQuery = None,
+                orbit_model: Annotated[Optional[schemas.OrbitModelName], Query(
+                    description="secular (Laplace-Lagrange) or nbody (REBOUND from DE421; shipped for the "
+                                "catalogue's bodies); not with tolerance_mas. Default: the shipped N-body orbit where "
+                                "it covers the span, else the secular one")] = None,
+                perturbers: Annotated[Optional[str], Query(
+                    description="the torquing bodies (default the catalogue's)", examples=["sun", "moon,sun"],
+                    max_length=100)] = None):
+        """The spin axis over millennia and millions of years (ephem.history): obliquity, precession angle, pole
+        and the orbit's inclination, with the estimate at each epoch and where the history stops meaning
+        anything."""
+        return finite_json(api.history(body, start_year, stop_year, step_years, dataset.value, tolerance_mas,
+                                       orbit_model, perturbers, settings.max_track_samples))
+
     def plot_route(ext: str):
         def plot(body: BodyPath,
                  start: Annotated[str, Query(description="ISO 8601 (UTC unless a scale follows) or JD TDB",
@@ -279,6 +306,42 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                 responses={**ERRORS, 200: {"content": {media: {"example": "(PNG bytes)" if ext == "png" else
                                                           "<?xml version=\"1.0\" encoding=\"utf-8\"?><svg …"}}}})(
             plot_route(ext))
+
+    def history_plot_route(ext: str):
+        def plot(body: BodyPath,
+                 start_year: Annotated[float, Query(description="Julian years (365.25 d) from J2000.0 TDB; negative "
+                                                                "is the past", examples=[-300000])],
+                 stop_year: Annotated[float, Query(description="Julian years from J2000.0 TDB, after start_year",
+                                                   examples=[100000])],
+                 step_years: Annotated[Optional[float], Query(gt=0, description="sampling step, Julian years "
+                                                                                "(default: the span over 1000, "
+                                                                                "rounded, at least 100)")] = None,
+                 dataset: DatasetQuery = DEFAULT_DATASET_VALUE, tolerance_mas: ToleranceQuery = None,
+                 orbit_model: Annotated[Optional[schemas.OrbitModelName], Query(
+                     description="secular (Laplace-Lagrange) or nbody (REBOUND from DE421; shipped for the "
+                                 "catalogue's bodies); not with tolerance_mas. Default: the shipped N-body orbit "
+                                 "where it covers the span, else the secular one")] = None,
+                 dpi: Annotated[float, Query(ge=30, le=300, description="PNG resolution")] = 100):
+            from ephem import plots
+
+            image = plots.render(plots.HISTORY_KIND, body, start_year, stop_year, None, ext, dataset.value, dpi=dpi,
+                                 tolerance_mas=tolerance_mas, step_years=step_years, orbit_model=orbit_model)
+            return Response(image, media_type=plots.CONTENT_TYPES[ext])
+        plot.__name__ = f"history_{ext}"
+        plot.__doc__ = (f"The obliquity history (ephem.api.history) as a {ext.upper()} figure: obliquity with its "
+                        "estimated error band, the orbit's inclination to the J2000 ecliptic, and the span where "
+                        "the history stops meaning anything hatched (ephem.plots, kind obliquity-history).")
+        return plot
+
+    for ext in ("png", "svg"):
+        media = "image/png" if ext == "png" else "image/svg+xml"
+        path = f"/v1/bodies/{{body}}/history.{ext}"
+        app.get(path, tags=["figures"], response_class=Response,
+                responses={**ERRORS, 200: {"content": {media: {"example": "(PNG bytes)" if ext == "png" else
+                                                          "<?xml version=\"1.0\" encoding=\"utf-8\"?><svg …"}}}})(
+            history_plot_route(ext))
+        # the figure's errors name start and stop: the client wrote start_year and stop_year
+        problems.FIELD_PATHS[("GET", path)] = {"start": "start_year", "stop": "stop_year"}
 
     @app.get("/v1/bodies/{body}/free-motion", tags=["theory"], responses={**ERRORS, 200: {"content": {
         "application/json": {"example": {
@@ -315,7 +378,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                  moments=None if user.moments is None else (user.moments.A, user.moments.B, user.moments.C),
                  dynamical_ellipticity=user.dynamical_ellipticity)
         track = None if user.track is None else user.track.model_dump()
-        return finite_json(api.precession_nutation(b, user.order, track, settings.max_track_samples))
+        history = None if user.history is None else user.history.model_dump()
+        return finite_json(api.precession_nutation(b, user.order, track, settings.max_track_samples, history))
 
     return app
 
@@ -442,6 +506,10 @@ def _rule_texts(settings: Settings) -> dict[str, str]:
                 f"90; rotation_period_hours >= {MIN_ROTATION_PERIOD_HOURS:g} (0.36 s); give moments (0 < A <= B "
                 "<= C <= A + B) or dynamical_ellipticity in (0, 0.5]; epochs are Julian dates in (0, 1e7); track "
                 "as GET /v1/bodies/{body}/track.",
+        "history": "stop_year must be after start_year, within 2e7 years of it; step_years must be positive and "
+                   "leave at most 100001 epochs in the span (a plot: 2 to 100000); give orbit_model or "
+                   "tolerance_mas, not both; nbody for a body without a shipped orbit is run on request within the "
+                   "budget.",
         "na": na,
     }
     if hasattr(settings, "max_request_cpu_s"):      # service/guards.py: the per-request budget
@@ -464,7 +532,11 @@ OPERATION_RULES = {
     ("/v1/bodies/{body}/track.png", "get"): ("times", "plot", "tolerance_model", "laplace", "na"),
     ("/v1/bodies/{body}/track.svg", "get"): ("times", "plot", "tolerance_model", "laplace", "na"),
     ("/v1/bodies/{body}/free-motion", "get"): ("times", "grid", "free_motion", "na"),
-    ("/v1/precession-nutation", "post"): ("user", "times", "grid", "tolerance_model", "laplace", "wobble", "na"),
+    ("/v1/bodies/{body}/history", "get"): ("history", "perturbers", "na"),
+    ("/v1/bodies/{body}/history.png", "get"): ("history", "na"),
+    ("/v1/bodies/{body}/history.svg", "get"): ("history", "na"),
+    ("/v1/precession-nutation", "post"): ("user", "times", "grid", "tolerance_model", "laplace", "wobble", "history",
+                                          "na"),
 }
 
 

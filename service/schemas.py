@@ -213,6 +213,63 @@ class Track(BaseModel):
     model: ModelInfo
 
 
+OrbitModelName = Literal["secular", "nbody"]
+
+
+class HistoryOrbit(BaseModel):
+    model: OrbitModelName = Field(description="secular (Laplace-Lagrange) or nbody (REBOUND WHFast from DE421)")
+    source: Optional[str] = Field(description="what produced the orbit")
+    horizon_years: Optional[list[float]] = Field(
+        description="(past, future) years from J2000.0 over which the orbit normal holds to 1 arcmin, or null")
+
+
+class HistoryModel(BaseModel):
+    name: OrbitModelName = Field(description="the orbit model the spin was integrated along")
+    description: str
+    theory: str = Field(description="the family of theories serving the body (its precession constant)")
+    spin: str = Field(description="where the precession constant comes from")
+    orbit: HistoryOrbit
+    estimated_error_mas: float = Field(description="estimated upper bound on the pole's distance from the truth "
+                                                   "over the span, mas")
+    error_terms_mas: dict[str, float] = Field(description="the estimate's largest value of each named term, mas")
+    probed_terms: list[str] = Field(description="terms whose input has no published 1-sigma: a probe was used")
+    estimates_mas: dict[str, float] = Field(description="each orbit model tried, its estimate, mas")
+    tolerance_mas: Optional[float]
+    cost_ms: float
+    assumptions: list[str]
+    warnings: list[str]
+    perturbers: Optional[list[str]] = Perturbers
+
+
+class History(BaseModel):
+    body: str
+    dataset: str
+    year: list[float] = Field(description="Julian years (365.25 d) from J2000.0 TDB; negative is the past")
+    obliquity_deg: list[float] = Field(description="the spin axis from the orbit normal, deg")
+    precession_angle_deg: list[float] = Field(description="the equinox's retrograde turn since the pole epoch, "
+                                                          "measured on the J2000 ecliptic, unwrapped, deg")
+    pole_ra_deg: list[float] = Field(description="ICRF")
+    pole_dec_deg: list[float]
+    orbit_inclination_deg: list[float] = Field(description="the orbit normal from the J2000 ecliptic pole, deg")
+    estimated_error_deg: list[float] = Field(description="the estimate at each epoch, deg")
+    meaningful_from_year: Optional[float] = Field(description="before this the history means nothing (neighbouring "
+                                                              "solutions part by more than 1 deg), or null")
+    meaningful_to_year: Optional[float] = Field(description="after this the history means nothing, or null")
+    perturbers: Optional[list[str]] = Perturbers
+    model: HistoryModel
+
+
+class HistoryIn(BaseModel):
+    model_config = Finite
+    start_year: float = Field(description="Julian years from J2000.0 TDB (negative: the past)")
+    stop_year: float = Field(description="Julian years from J2000.0 TDB")
+    step_years: float = Field(description="sampling step, Julian years")
+    tolerance_mas: Optional[float] = Field(None, gt=0, description="pick the cheapest orbit model whose pole is "
+                                                                   "estimated within this many mas of the truth")
+    orbit_model: Optional[OrbitModelName] = Field(None, description="secular or nbody (not with tolerance_mas); "
+                                                                    "nbody runs within the request's budget")
+
+
 class OrbitIn(BaseModel):
     """Osculating heliocentric elements, ecliptic and equinox J2000, at ``epoch_jd_tdb``."""
     model_config = Finite
@@ -288,12 +345,14 @@ class UserBody(BaseModel):
         lambda v: int(v) if isinstance(v, float) and v.is_integer() else v)]] = Field(
         None, description=f"e-power order of the Hansen coefficients (0 to {MAX_ORDER}); omit for exact")
     track: Optional[TrackIn] = None
+    history: Optional[HistoryIn] = None
 
 
 class PrecessionNutation(BaseModel):
     precession: Precession
     nutation: Nutation
     track: Optional[Track] = None
+    history: Optional[History] = None
 
 
 class Health(BaseModel):

@@ -21,8 +21,9 @@ LAYERS = {
                                  "euler_poinsot", "polynomials", "deprit", "lie_series"),
     "theories": ("kinoshita", "model", "rotation_scale", "second_order", "numerical", "ephemeris", "lunisolar",
                  "nonrigid", "cassini", "synchronous_rigid", "physical_librations",
-                 "free_motion", "rigid", "relativity", "secular_orbit"),
-    "accuracy": ("theory", "physics_errors", "ladder", "earth", "synchronous", "uncertainty", "registry"),
+                 "free_motion", "rigid", "relativity", "secular_orbit", "orbit_history"),
+    "accuracy": ("theory", "physics_errors", "uncertainty", "spin_history", "ladder", "earth", "synchronous",
+                 "history", "long_term", "registry"),
     "answers": ("api",),
     "exports and CLI": ("tables", "pck_fit", "pck_text", "pck", "plots", "cli"),
 }

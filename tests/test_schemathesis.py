@@ -57,6 +57,8 @@ REASON_RULES = [
      r"leaves a single epoch|cannot be drawn within", {"plot"}),
     (r"principal moments must satisfy A <= B <= C|exceeds A\+B|give the principal moments", {"user"}),
     (r"the pericentre a\(1 - e\) = .* lies inside the|lies beyond the .* Hill sphere", {"user"}),
+    (r"must be after start|exceeds 2e\+07 years|epochs over \[|epochs exceed the cap of|"
+     r"give either an orbit model or a tolerance|must be positive|leaves a single epoch", {"history"}),
 ]
 
 

@@ -13,10 +13,12 @@ from ephem.theory import SpinAxisTheory
 
 
 def test_each_body_is_served_by_the_family_its_perturbers_call_for():
-    assert isinstance(theory_for(get_body("earth"), ("Moon", "Sun")), LunisolarTheory)
-    assert isinstance(theory_for(get_body("earth"), ("Sun",)), SunLadder)
-    assert isinstance(theory_for(get_body("vesta"), ("Sun",)), SunLadder)
-    assert set(MODELS) == {m for family in THEORIES for m in family.models}
+    """The family its perturbers call for, with the long-term model after the family's own (ephem.long_term)."""
+    assert isinstance(theory_for(get_body("earth"), ("Moon", "Sun")).inner, LunisolarTheory)
+    assert isinstance(theory_for(get_body("earth"), ("Sun",)).inner, SunLadder)
+    vesta = theory_for(get_body("vesta"), ("Sun",))
+    assert isinstance(vesta.inner, SunLadder) and vesta.models == SunLadder.models + ("long_term",)
+    assert set(MODELS) == {m for family in THEORIES for m in family.models} | {"long_term"}
     for family in THEORIES:
         assert issubclass(family, SpinAxisTheory) and not getattr(family, "__abstractmethods__", None)
         assert set(family.descriptions) == set(family.models)
