@@ -1,6 +1,6 @@
 """Publication-quality plots of spin-axis tracks and of the free wobble (matplotlib, PNG and SVG).
 
-Four kinds (:data:`KINDS`):
+Five kinds (:data:`KINDS`):
 
 ``precession``
     Petit, Souchay & Lhotka (2014) Fig. 4: the motion in longitude ψ = precession + Δψ against
@@ -24,8 +24,18 @@ Four kinds (:data:`KINDS`):
     z along L); right, L's path about the figure axis in the body frame (J sin ν along the body's
     A axis, J cos ν along its B axis), which closes once per wobble period. Arcsec (mas below
     1″, degrees from 1°), equal aspect. This one is not in Petit et al. (2014), which takes J = 0.
+``obliquity-history``
+    The obliquity over millennia to millions of years (:func:`ephem.api.history`: the spin equation
+    averaged over the rotation and the orbit, along a secular or N-body orbit): ε in degrees with the
+    band ε ± ``obliquity_error_deg`` shaded (the answer's 1-σ-like estimate), and below it the orbit's
+    inclination to the J2000 ecliptic. The part of the span outside [``meaningful_from_year``,
+    ``meaningful_to_year``], where neighbouring solutions or orbits part by more than a degree, is
+    hatched grey, and the legend says so. For this kind ``start``/``stop`` are Julian years from
+    J2000.0 TDB (numbers or numeric strings; negative is the past) and the step is ``step_years``
+    (default :func:`default_step_years`); the time axis is in years from J2000.0 (TDB), in kyr, or in
+    Myr from a span of 1 Myr (yr below 2 kyr).
 
-Time axes (tracks): the Julian epoch in TDB, 2000 + (JD_TDB − 2451545)/365.25 years, when the
+Time axes (tracks; ``obliquity-history`` has its own, above): the Julian epoch in TDB, 2000 + (JD_TDB − 2451545)/365.25 years, when the
 span reaches one Julian year (within about a day of the calendar decimal year from 1900 to 2100:
 J2000.0 is 2000 January 1.5 and the Julian year is 365.25 d against the Gregorian 365.2425 d);
 days since the first epoch otherwise.
@@ -34,7 +44,7 @@ Figures are built on :class:`matplotlib.figure.Figure` with the Agg canvas, neve
 pyplot's global state, so :func:`figure` and :func:`render` may run in several threads at once.
 
 Entry points: :func:`figure` (a Figure), :func:`render` (PNG or SVG bytes; :data:`CONTENT_TYPES`
-gives the media types), :func:`default_step_days`, and :func:`regenerate_doc_figures` (the
+gives the media types), :func:`default_step_days`, :func:`default_step_years`, and :func:`regenerate_doc_figures` (the
 example figures of ``docs/plots.md``).
 """
 from __future__ import annotations
@@ -50,7 +60,9 @@ from .constants import J2000_JD, JULIAN_YEAR_DAYS
 from .errors import InvalidInputError
 
 #: The kinds of plot, as ``figure(kind, …)`` takes them.
-KINDS = ("precession", "nutation-loop", "obliquity", "free-wobble")
+KINDS = ("precession", "nutation-loop", "obliquity", "free-wobble", "obliquity-history")
+#: The kind whose start/stop are Julian years from J2000.0 (TDB) and whose step is ``step_years``.
+HISTORY_KIND = "obliquity-history"
 #: Output formats of :func:`render` and their media (Content-Type) types.
 CONTENT_TYPES = {"png": "image/png", "svg": "image/svg+xml"}
 #: Most epochs one plot draws (the drawing cost and the SVG size grow with them).
@@ -77,9 +89,16 @@ LOOP_ASPECT_LIMIT = 5.0
 _MARK_BELOW_PER_ORBIT = 16
 
 _FIGSIZE = {"precession": (8.0, 6.0), "nutation-loop": (6.4, 7.0), "obliquity": (8.0, 4.5),
-            "free-wobble": (10.0, 5.8)}
+            "free-wobble": (10.0, 5.8), "obliquity-history": (8.0, 6.0)}
 _TRACK_OPTIONS = ("tolerance_mas", "model", "order")
 _WOBBLE_OPTIONS = ("J_arcsec", "method")
+_HISTORY_OPTIONS = ("step_years", "orbit_model", "perturbers")
+#: ``obliquity-history``: the default step aims at about this many epochs ...
+_HISTORY_TARGET_POINTS = 1000
+#: ... rounded to a nice number of years, and never below this many years
+MIN_DEFAULT_STEP_YEARS = 100.0
+#: ... with a marker at each epoch when fewer than this many are drawn
+_HISTORY_MARK_BELOW = 60
 
 
 # --- inputs ---------------------------------------------------------------------------------------
@@ -92,6 +111,17 @@ def _check_kind(kind) -> str:
 
 def _check_options(kind: str, options: dict) -> None:
     """Refuse an option given (not None/default) to a kind it does not apply to."""
+    if kind == HISTORY_KIND:
+        if options.get("step_days") is not None:
+            raise InvalidInputError("step_days", f"{HISTORY_KIND} samples in Julian years: give step_years")
+        wrong = [k for k in ("model", "order", "J_arcsec", "method") if options.get(k) not in (None, "auto")]
+        if wrong:
+            raise InvalidInputError(wrong[0], f"does not apply to kind {HISTORY_KIND} (its options: tolerance_mas, "
+                                    "orbit_model, perturbers, step_years)")
+        return
+    wrong = [k for k in _HISTORY_OPTIONS if options.get(k) is not None]
+    if wrong:
+        raise InvalidInputError(wrong[0], f"applies to kind {HISTORY_KIND}, not to {kind}")
     if kind == "free-wobble":
         wrong = [k for k in _TRACK_OPTIONS if options.get(k) is not None]
         if wrong:
@@ -147,6 +177,8 @@ def default_step_days(kind: str, body, start, stop, dataset: str = DEFAULT_DATAS
     from .api import resolve_body
 
     _check_kind(kind)
+    if kind == HISTORY_KIND:
+        raise InvalidInputError("kind", f"{HISTORY_KIND} samples in Julian years: see default_step_years")
     b = resolve_body(body, dataset)
     t0, t1 = _span(start, stop)
     span = t1 - t0
@@ -165,6 +197,74 @@ def default_step_days(kind: str, body, start, stop, dataset: str = DEFAULT_DATAS
     if span / step + 1 > MAX_PLOT_POINTS:
         step = span / (MAX_PLOT_POINTS - 1)
     return step
+
+
+def _year(value, field: str) -> float:
+    """A Julian year from J2000.0 TDB: a finite number, or a string holding one ("-3e6")."""
+    v = value
+    if isinstance(v, str):
+        text = v.strip().replace("\u2212", "-")       # a typographic minus, as copied from a document
+        try:
+            v = float(text)
+        except ValueError:
+            raise InvalidInputError(field, f"{HISTORY_KIND} takes Julian years from J2000.0 TDB (a number such as "
+                                    f"-3e6), got {value!r}") from None
+    if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not math.isfinite(v):
+        raise InvalidInputError(field, f"must be a finite number of Julian years from J2000.0 TDB, got {value!r}")
+    return float(v)
+
+
+def _year_span(start, stop) -> tuple[float, float]:
+    from .history import MAX_SPAN_YEARS
+
+    y0, y1 = _year(start, "start"), _year(stop, "stop")
+    if y1 <= y0:
+        raise InvalidInputError("stop", f"must be after start ({y1:g} <= {y0:g} years from J2000.0): a plot "
+                                "needs a time span")
+    if y1 - y0 > MAX_SPAN_YEARS:
+        raise InvalidInputError("stop", f"the span {y1 - y0:.4g} years exceeds {MAX_SPAN_YEARS:.3g} years: no orbit "
+                                "of the solar system is known beyond ~20 Myr")
+    return y0, y1
+
+
+def _nice(x: float) -> float:
+    """The number of the form {1, 2, 2.5, 5} x 10^k nearest to x > 0 (in ratio)."""
+    k = math.floor(math.log10(x))
+    candidates = [m * 10.0 ** e for e in (k - 1, k, k + 1) for m in (1.0, 2.0, 2.5, 5.0)]
+    return min(candidates, key=lambda c: abs(math.log(c / x)))
+
+
+def default_step_years(start, stop) -> float:
+    """The step (Julian years) ``obliquity-history`` uses when none is given: the span over 1000 rounded to a
+    nice number ({1, 2, 2.5, 5} x 10^k), at least :data:`MIN_DEFAULT_STEP_YEARS`, and no more than
+    :data:`MAX_PLOT_POINTS` epochs. ``start``/``stop``: Julian years from J2000.0 TDB."""
+    y0, y1 = _year_span(start, stop)
+    span = y1 - y0
+    step = max(_nice(span / _HISTORY_TARGET_POINTS), MIN_DEFAULT_STEP_YEARS)
+    if span / step + 1 > MAX_PLOT_POINTS:
+        step = span / (MAX_PLOT_POINTS - 1)
+    return min(step, span)      # a span shorter than the least step: its two ends
+
+
+def _check_step_years(step_years, y0: float, y1: float) -> float:
+    if isinstance(step_years, str):
+        try:
+            step_years = float(step_years)
+        except ValueError:
+            raise InvalidInputError("step_years", f"must be a number of Julian years, got {step_years!r}") from None
+    if isinstance(step_years, bool) or not isinstance(step_years, (int, float, np.integer, np.floating)) \
+            or not math.isfinite(step_years):
+        raise InvalidInputError("step_years", f"must be a finite number of Julian years, got {step_years!r}")
+    if step_years <= 0:
+        raise InvalidInputError("step_years", f"must be positive, got {step_years:g}")
+    count = (y1 - y0) / step_years + 1
+    if count > MAX_PLOT_POINTS:
+        raise InvalidInputError("step_years", f"{count:.3g} epochs exceed the cap of {MAX_PLOT_POINTS}; use a step "
+                                f"of at least {(y1 - y0) / (MAX_PLOT_POINTS - 1):.4g} years or a shorter span")
+    if count < 2:
+        raise InvalidInputError("step_years", f"a step of {step_years:g} years leaves a single epoch between start "
+                                "and stop; a plot needs at least two")
+    return float(step_years)
 
 
 # --- formatting helpers ---------------------------------------------------------------------------
@@ -398,18 +498,118 @@ def _free_wobble(fig, ans: dict) -> None:
                  f"{_iso(float(ans['jd_tdb'][0]))} TDB", fontsize="medium")
 
 
+def history_time_axis(years) -> tuple[float, str]:
+    """(divisor, axis label) for the ``obliquity-history`` time axis: Myr from a span of 1 Myr, kyr from
+    2 kyr, years below."""
+    y = np.asarray(years, dtype=float)
+    span = float(y[-1] - y[0]) if y.size else 0.0
+    factor, unit = (1e6, "Myr") if span >= 1e6 else (1e3, "kyr") if span >= 2e3 else (1.0, "yr")
+    return factor, f"years from J2000.0 (TDB) [{unit}]"
+
+
+def _fmt_mas_or_deg(mas: float) -> str:
+    """mas, arcsec, or degrees from 1000″."""
+    return f"{mas / 3.6e6:.3g}°" if mas is not None and mas >= 1.0e6 else _fmt_mas(mas)
+
+
+def _history_model_line(ans: dict) -> str:
+    m = ans["model"]
+    obl = float(np.max(ans["obliquity_error_deg"])) * 3.6e6 if np.size(ans["obliquity_error_deg"]) else None
+    by = ans.get("perturbers")
+    return (f"model: averaged spin along the {m.get('name')} orbit, estimated error "
+            f"{_fmt_mas_or_deg(m.get('estimated_error_mas'))} (pole), {_fmt_mas_or_deg(obl)} (obliquity)"
+            + (f"; torqued by {', '.join(by)}" if by else ""))
+
+
+def meaningless_spans(ans: dict) -> list[tuple[float, float]]:
+    """The parts [from, to] (years from J2000.0) of the answer's span where the history stops meaning anything:
+    before ``meaningful_from_year`` and after ``meaningful_to_year`` (None: not limited)."""
+    y = ans["year"]
+    lo, hi = float(y[0]), float(y[-1])
+    out = []
+    first, last = ans.get("meaningful_from_year"), ans.get("meaningful_to_year")
+    if first is not None and first > lo:
+        out.append((lo, min(float(first), hi)))
+    if last is not None and last < hi:
+        out.append((max(float(last), lo), hi))
+    return out
+
+
+def _obliquity_history(fig, ans: dict) -> None:
+    from .spin_history import MEANINGFUL_LIMIT
+
+    years = np.asarray(ans["year"], dtype=float)
+    factor, xlabel = history_time_axis(years)
+    x = years / factor
+    eps = np.asarray(ans["obliquity_deg"], dtype=float)
+    err = np.asarray(ans["obliquity_error_deg"], dtype=float)
+    inc = np.asarray(ans["orbit_inclination_deg"], dtype=float)
+    mark = "." if years.size < _HISTORY_MARK_BELOW else ""
+    top, bottom = fig.subplots(2, 1, sharex=True, height_ratios=(3, 1.3))
+    lo, hi = np.clip(eps - err, 0.0, 180.0), np.clip(eps + err, 0.0, 180.0)
+    top.fill_between(x, lo, hi, color="C2", alpha=0.25, lw=0, label="ε ± estimated error (obliquity_error_deg)")
+    top.plot(x, eps, color="C2", lw=1.3, marker=mark, ms=3, label="obliquity ε")
+    bottom.plot(x, inc, color="C0", lw=1.1, marker=mark, ms=3)
+    # the limits: the curve everywhere, its band only where the history means something (outside, the band
+    # may reach 180° and would flatten the curve; that part is hatched anyway)
+    spans = meaningless_spans(ans)
+    first, last = ans.get("meaningful_from_year"), ans.get("meaningful_to_year")
+    inside = ((years >= first) if first is not None else True) & ((years <= last) if last is not None else True)
+    inside = np.broadcast_to(inside, years.shape)
+    ys = [eps] + ([lo[inside], hi[inside]] if inside.any() else [])
+    ymin, ymax = min(float(np.min(v)) for v in ys), max(float(np.max(v)) for v in ys)
+    pad = 0.06 * (ymax - ymin) if ymax > ymin else max(0.05, 1e-3 * abs(ymax))
+    top.set_ylim(ymin - pad, ymax + pad)
+    for i, (a, b) in enumerate(spans):
+        for ax in (top, bottom):
+            ax.axvspan(a / factor, b / factor, facecolor="0.88", edgecolor="0.55", hatch="///", lw=0.0, zorder=0,
+                       label=(f"history not meaningful: neighbouring solutions or orbits part by > "
+                              f"{math.degrees(MEANINGFUL_LIMIT):g}°") if i == 0 and ax is top else None)
+    top.set_ylabel("obliquity ε [deg]")
+    top.legend(loc="best", fontsize="small", framealpha=0.85)
+    bottom.set_ylabel("orbit inclination to\nJ2000 ecliptic [deg]")
+    bottom.set_xlabel(xlabel)
+    bottom.set_xlim(x[0], x[-1])
+    for ax in (top, bottom):
+        _plain_ticks(ax)
+        ax.grid(True, lw=0.4, alpha=0.5)
+    unit = xlabel[xlabel.rindex("[") + 1:-1]
+    fig.suptitle(f"{ans['body']} ({ans['dataset']} dataset): obliquity history, {x[0]:g} to {x[-1]:g} {unit} "
+                 f"from J2000.0\n{_history_model_line(ans)}", fontsize="medium")
+
+
 # --- entry points ---------------------------------------------------------------------------------
+
+def _history_data(body, start, stop, step_years, dataset: str, tolerance_mas, orbit_model, perturbers) -> dict:
+    from . import api
+
+    y0, y1 = _year_span(start, stop)
+    step = default_step_years(y0, y1) if step_years is None else _check_step_years(step_years, y0, y1)
+    try:
+        return api.history(body, y0, y1, step, dataset, tolerance_mas=tolerance_mas, orbit_model=orbit_model,
+                           perturbers=perturbers, max_samples=MAX_PLOT_POINTS)
+    except InvalidInputError as exc:     # the history's own names for the plot's start and stop
+        field = {"start_year": "start", "stop_year": "stop"}.get(exc.field)
+        if field is None:
+            raise
+        raise InvalidInputError(field, exc.reason, exc.body) from exc
+
 
 def data(kind: str, body, start, stop, step_days: float | None = None, dataset: str = DEFAULT_DATASET, *,
          tolerance_mas: float | None = None, model: str | None = None, order: int | None = None,
-         J_arcsec: float | None = None, method: str = "auto") -> dict:
+         J_arcsec: float | None = None, method: str = "auto", step_years: float | None = None,
+         orbit_model: str | None = None, perturbers=None) -> dict:
     """The arrays a plot draws: :func:`ephem.api.track_arrays` for the track kinds,
-    :func:`ephem.api.free_motion_arrays` for ``free-wobble`` (same arguments as :func:`figure`)."""
+    :func:`ephem.api.free_motion_arrays` for ``free-wobble``, :func:`ephem.api.history` for
+    ``obliquity-history`` (same arguments as :func:`figure`)."""
     from . import api
 
     _check_kind(kind)
     _check_options(kind, {"tolerance_mas": tolerance_mas, "model": model, "order": order,
-                          "J_arcsec": J_arcsec, "method": method})
+                          "J_arcsec": J_arcsec, "method": method, "step_days": step_days,
+                          "step_years": step_years, "orbit_model": orbit_model, "perturbers": perturbers})
+    if kind == HISTORY_KIND:
+        return _history_data(body, start, stop, step_years, dataset, tolerance_mas, orbit_model, perturbers)
     b = api.resolve_body(body, dataset)
     t0, _ = _span(start, stop)
     if step_days is None:
@@ -435,7 +635,8 @@ def data(kind: str, body, start, stop, step_days: float | None = None, dataset: 
 
 def figure(kind: str, body, start, stop, step_days: float | None = None, dataset: str = DEFAULT_DATASET, *,
            tolerance_mas: float | None = None, model: str | None = None, order: int | None = None,
-           J_arcsec: float | None = None, method: str = "auto"):
+           J_arcsec: float | None = None, method: str = "auto", step_years: float | None = None,
+           orbit_model: str | None = None, perturbers=None):
     """A :class:`matplotlib.figure.Figure` (Agg canvas, no pyplot state) of one kind of plot.
 
     ``kind``: one of :data:`KINDS` (module docstring: what each draws, its units and the paper
@@ -446,14 +647,23 @@ def figure(kind: str, body, start, stop, step_days: float | None = None, dataset
     a body without a published amplitude: only Earth, Moon, Mars and Eros have one) and ``method``
     as :func:`ephem.api.free_motion_arrays`.
 
+    ``obliquity-history`` is the exception: its ``start``/``stop`` are Julian years from J2000.0 TDB
+    (numbers or numeric strings, negative in the past), its step is ``step_years`` (None for
+    :func:`default_step_years`; at most :data:`MAX_PLOT_POINTS` epochs), and it takes ``tolerance_mas``,
+    ``orbit_model`` ("secular" or "nbody") and ``perturbers`` as :func:`ephem.api.history`; ``step_days``,
+    ``model``, ``order``, ``J_arcsec`` and ``method`` do not apply to it (and its options to no other kind).
+
     Raises :class:`~ephem.errors.InvalidInputError` (naming the field) for bad input,
     :class:`~ephem.errors.UnknownBodyError` for an unknown body, and whatever the model raises
     (:class:`~ephem.errors.NotApplicableError` where no theory serves the body's track).
     """
     ans = data(kind, body, start, stop, step_days, dataset, tolerance_mas=tolerance_mas, model=model,
-               order=order, J_arcsec=J_arcsec, method=method)
+               order=order, J_arcsec=J_arcsec, method=method, step_years=step_years, orbit_model=orbit_model,
+               perturbers=perturbers)
     fig = _new_figure(kind)
-    if kind == "free-wobble":
+    if kind == HISTORY_KIND:
+        _obliquity_history(fig, ans)
+    elif kind == "free-wobble":
         _free_wobble(fig, ans)
     else:
         from .api import resolve_body
@@ -489,14 +699,16 @@ def figure_bytes(fig, fmt: str = "png", dpi: float = DEFAULT_DPI) -> bytes:
 def render(kind: str, body, start, stop, step_days: float | None = None, fmt: str = "png",
            dataset: str = DEFAULT_DATASET, *, dpi: float = DEFAULT_DPI, tolerance_mas: float | None = None,
            model: str | None = None, order: int | None = None, J_arcsec: float | None = None,
-           method: str = "auto") -> bytes:
+           method: str = "auto", step_years: float | None = None, orbit_model: str | None = None,
+           perturbers=None) -> bytes:
     """The plot :func:`figure` draws, as ``fmt`` bytes: "png" (``image/png``, ``dpi`` dots per inch,
     30-300, default 100: 800 x 600 px for ``precession``) or "svg" (``image/svg+xml``).
     :data:`CONTENT_TYPES` maps the format to its media type."""
     _check_fmt(fmt)
     _check_dpi(dpi)
     fig = figure(kind, body, start, stop, step_days, dataset, tolerance_mas=tolerance_mas, model=model,
-                 order=order, J_arcsec=J_arcsec, method=method)
+                 order=order, J_arcsec=J_arcsec, method=method, step_years=step_years, orbit_model=orbit_model,
+                 perturbers=perturbers)
     return figure_bytes(fig, fmt, dpi)
 
 

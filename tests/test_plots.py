@@ -15,7 +15,7 @@ from ephem import api, plots
 from ephem.errors import InvalidInputError, NotApplicableError, UnknownBodyError
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
-UNIT = re.compile(r"\[(arcsec|mas|deg|yr)\]")
+UNIT = re.compile(r"\[(arcsec|mas|deg|yr|kyr|Myr)\]")
 REPO = Path(__file__).resolve().parent.parent
 
 START, STOP, STEP = "2020-01-01", "2030-01-01", 5.0   # a decade of Vesta, 5-day step: 731 epochs
@@ -149,14 +149,20 @@ def test_dataset_reaches_the_data_and_the_title():
 @pytest.mark.parametrize("kind", plots.KINDS)
 def test_every_axis_label_has_a_unit_and_the_title_names_body_and_dataset(kind):
     body, stop, step = ("Earth", "2030-01-03", 0.02) if kind == "free-wobble" else ("Vesta", STOP, STEP)
-    fig = plots.figure(kind, body, START if kind != "free-wobble" else "2030-01-01", stop, step)
+    if kind == plots.HISTORY_KIND:      # start/stop in Julian years from J2000.0, the step in years
+        body, stop = "Ceres", 1e5
+        fig = plots.figure(kind, body, -2e5, stop, step_years=1000.0)
+    else:
+        fig = plots.figure(kind, body, START if kind != "free-wobble" else "2030-01-01", stop, step)
     assert all(ax.get_ylabel() for ax in fig.axes)                 # every panel: a y label
     assert any(ax.get_xlabel() for ax in fig.axes)                 # shared time axes: one x label
     for text in labels(fig):
         assert UNIT.search(text) or text.startswith("days since"), text
     title = fig.get_suptitle()
     assert f"{body} (current dataset)" in title
-    if kind != "free-wobble":
+    if kind == plots.HISTORY_KIND:
+        assert "model: averaged spin along the nbody orbit" in title and "estimated error" in title
+    elif kind != "free-wobble":
         assert "model: hansen" in title and "estimated error" in title
 
 
@@ -319,3 +325,194 @@ def test_route_and_cli_serve_the_figures(tmp_path):
     bad = CliRunner().invoke(cli, ["plot", "vesta", "--start", "2020-01-01", "--stop", "2021-01-01",
                                    "--out", str(tmp_path / "x.pdf")])
     assert bad.exit_code == 2 and "out" in bad.stderr
+
+
+# --- obliquity-history: the obliquity over millennia (ephem.api.history) ------------------------------
+
+HISTORY = plots.HISTORY_KIND
+Y0, Y1, YSTEP = -2e5, 1e5, 1000.0        # 301 epochs of Ceres, ~0.3 s
+
+
+@pytest.fixture(scope="module")
+def ceres_history():
+    return api.history("Ceres", Y0, Y1, YSTEP)
+
+
+@pytest.fixture(scope="module")
+def ceres_history_figure():
+    return plots.figure(HISTORY, "Ceres", Y0, Y1, step_years=YSTEP)
+
+
+def test_history_figure_draws_the_history_answer(ceres_history, ceres_history_figure):
+    top, bottom = ceres_history_figure.axes
+    close(top.lines[0].get_xdata(), ceres_history["year"] / 1e3)                 # kyr over a 300-kyr span
+    close(top.lines[0].get_ydata(), ceres_history["obliquity_deg"])
+    close(bottom.lines[0].get_ydata(), ceres_history["orbit_inclination_deg"])
+    assert bottom.get_xlabel() == "years from J2000.0 (TDB) [kyr]"
+    assert top.get_ylabel() == "obliquity ε [deg]"
+    assert "inclination" in bottom.get_ylabel() and "J2000 ecliptic [deg]" in bottom.get_ylabel()
+    # the band is ε ± obliquity_error_deg: its vertices span exactly that range
+    (band,) = top.collections
+    verts = np.concatenate([path.vertices for path in band.get_paths()])
+    eps, err = ceres_history["obliquity_deg"], ceres_history["obliquity_error_deg"]
+    assert verts[:, 1].min() == pytest.approx(float(np.min(eps - err)), rel=1e-12)
+    assert verts[:, 1].max() == pytest.approx(float(np.max(eps + err)), rel=1e-12)
+    legend = [t.get_text() for t in top.get_legend().get_texts()]
+    assert any("obliquity_error_deg" in t for t in legend)
+    assert not any("not meaningful" in t for t in legend)        # Ceres: meaningful over the whole span
+    title = ceres_history_figure.get_suptitle()
+    assert "Ceres (current dataset): obliquity history, -200 to 100 kyr from J2000.0" in title
+    assert "nbody orbit" in title and "estimated error" in title and "(obliquity)" in title
+
+
+def test_history_time_unit_follows_the_span():
+    assert plots.history_time_axis([-3e6, 1e6]) == (1e6, "years from J2000.0 (TDB) [Myr]")
+    assert plots.history_time_axis([-2e5, 1e5]) == (1e3, "years from J2000.0 (TDB) [kyr]")
+    assert plots.history_time_axis([0.0, 1000.0]) == (1.0, "years from J2000.0 (TDB) [yr]")
+
+
+def test_history_hatches_where_it_stops_meaning_anything(monkeypatch):
+    years = np.arange(-10_000.0, 5_001.0, 500.0)
+    fake = {"body": "Mars", "dataset": "current", "perturbers": ["Sun"], "year": years,
+            "obliquity_deg": 25.0 + np.sin(years / 1e3), "obliquity_error_deg": np.full(years.size, 0.1),
+            "orbit_inclination_deg": 1.8 + 0.1 * np.cos(years / 3e3),
+            "meaningful_from_year": -4000.0, "meaningful_to_year": 2000.0,
+            "model": {"name": "secular", "estimated_error_mas": 4.0e6, "warnings": ["..."]}}
+    monkeypatch.setattr(api, "history", lambda *a, **k: fake)
+    assert plots.meaningless_spans(fake) == [(-10_000.0, -4000.0), (2000.0, 5000.0)]
+    fig = plots.figure(HISTORY, "Mars", -10_000, 5_000, step_years=500)
+    top, bottom = fig.axes
+    for ax in (top, bottom):                                      # both hatched spans on both panels
+        spans = sorted(tuple(np.round(p.get_extents().transformed(ax.transData.inverted()).intervalx, 6))
+                       for p in ax.patches if p.get_hatch())
+        assert spans == [(-10.0, -4.0), (2.0, 5.0)]
+    legend = [t.get_text() for t in top.get_legend().get_texts()]
+    assert sum("history not meaningful" in t for t in legend) == 1      # one legend entry for both spans
+    assert "4e+06" not in fig.get_suptitle() and "1.11°" in fig.get_suptitle()   # 4e6 mas: in degrees
+    # None: not limited on that side
+    fake.update(meaningful_from_year=None, meaningful_to_year=2000.0)
+    assert plots.meaningless_spans(fake) == [(2000.0, 5000.0)]
+
+
+def test_history_default_step_is_a_nice_number():
+    assert plots.default_step_years(-3e6, 1e6) == 5000.0          # 4000 rounds to 5000
+    assert plots.default_step_years(-2e5, 1e5) == 250.0           # 300 rounds to 250
+    assert plots.default_step_years(0, 1e4) == 100.0              # never below 100 years
+    assert plots.default_step_years(0, 50) == 50.0                # a span under 100 years: its two ends
+    assert plots.default_step_years("-1.2e5", "0") == 100.0       # numeric strings
+
+
+def test_history_takes_numeric_strings_and_a_default_step(ceres_history):
+    ans = plots.data(HISTORY, "Ceres", "-2e5", " 1e5 ", step_years="1000")
+    np.testing.assert_array_equal(ans["year"], ceres_history["year"])
+    fig = plots.figure(HISTORY, "Ceres", -1e4, 0)                 # default step: 100 years
+    assert np.diff(fig.axes[0].lines[0].get_xdata())[0] == pytest.approx(100.0 / 1e3)
+
+
+def test_history_png_and_svg(ceres_history_figure):
+    png = plots.render(HISTORY, "Ceres", Y0, Y1, fmt="png", dpi=40, step_years=YSTEP)
+    assert png.startswith(PNG_SIGNATURE)
+    image = matplotlib.image.imread(io.BytesIO(png), format="png")
+    w, h = plots._FIGSIZE[HISTORY]
+    assert image.shape[:2] == (round(h * 40), round(w * 40))
+    svg = plots.render(HISTORY, "Ceres", Y0, Y1, fmt="svg", step_years=YSTEP)
+    assert ET.fromstring(svg).tag == "{http://www.w3.org/2000/svg}svg"
+
+
+@pytest.mark.parametrize("call, field", [
+    (lambda: plots.figure(HISTORY, "Ceres", "three million years ago", 0), "start"),
+    (lambda: plots.figure(HISTORY, "Ceres", "2020-01-01", 0), "start"),          # a date: not for this kind
+    (lambda: plots.figure(HISTORY, "Ceres", -1e5, "soon"), "stop"),
+    (lambda: plots.figure(HISTORY, "Ceres", float("nan"), 0), "start"),
+    (lambda: plots.figure(HISTORY, "Ceres", 1e5, -1e5), "stop"),                  # stop before start
+    (lambda: plots.figure(HISTORY, "Ceres", 1e5, 1e5), "stop"),                   # no span
+    (lambda: plots.figure(HISTORY, "Ceres", -2e7, 1e6), "stop"),                  # beyond 20 Myr
+    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, step_years=0), "step_years"),
+    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, step_years=-5), "step_years"),
+    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, step_years=0.5), "step_years"),     # 200 001 epochs
+    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, step_years=2e5), "step_years"),     # a single epoch
+    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, step_years="x"), "step_years"),
+    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, 10.0), "step_days"),
+    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, model="hansen"), "model"),
+    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, J_arcsec=1.0), "J_arcsec"),
+    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, orbit_model="kepler"), "orbit_model"),
+    (lambda: plots.figure("precession", "Vesta", START, STOP, STEP, step_years=10.0), "step_years"),
+    (lambda: plots.figure("obliquity", "Vesta", START, STOP, STEP, orbit_model="nbody"), "orbit_model"),
+    (lambda: plots.default_step_days(HISTORY, "Ceres", -1e5, 0), "kind"),
+])
+def test_history_bad_input_names_the_field(call, field):
+    with pytest.raises(InvalidInputError) as excinfo:
+        call()
+    assert field_of(excinfo) == field
+
+
+def test_history_not_applicable_and_unknown_body():
+    with pytest.raises(NotApplicableError, match="Itokawa"):
+        plots.figure(HISTORY, "Itokawa", Y0, Y1, step_years=YSTEP)
+    with pytest.raises(UnknownBodyError):
+        plots.figure(HISTORY, "Pluto", Y0, Y1, step_years=YSTEP)
+
+
+def test_history_cli_takes_negative_years(tmp_path):
+    from typer.testing import CliRunner
+
+    from ephem.cli import app as cli
+
+    out = tmp_path / "sub" / "ceres.png"
+    res = CliRunner().invoke(cli, ["plot", "ceres", "--kind", HISTORY, "--start", "-2e5", "--stop", "1e5",
+                                   "--step-years", "1000", "--dpi", "40", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    assert out.read_bytes() == plots.render(HISTORY, "ceres", -2e5, 1e5, fmt="png", dpi=40, step_years=1000)
+    svg = tmp_path / "ceres.svg"
+    res = CliRunner().invoke(cli, ["plot", "ceres", "--kind", HISTORY, "--start=-1e4", "--stop", "0",
+                                   "--out", str(svg)])
+    assert res.exit_code == 0, res.output
+    ET.parse(svg)
+    bad = CliRunner().invoke(cli, ["plot", "ceres", "--kind", HISTORY, "--start", "-1e4", "--stop", "-2e4",
+                                   "--out", str(tmp_path / "x.png")])
+    assert bad.exit_code == 2 and "stop" in bad.stderr
+    helped = " ".join(CliRunner().invoke(cli, ["plot", "--help"]).output.replace("│", " ").split())
+    assert "obliquity-history, Julian years from J2000.0 TDB" in helped and "--step-years" in helped
+
+
+@pytest.fixture(scope="module")
+def web():
+    from fastapi.testclient import TestClient
+
+    from service.app import create_app
+    from service.settings import Settings
+
+    with TestClient(create_app(Settings(warm_up=False))) as c:
+        yield c
+
+
+def test_history_route_serves_png_and_svg(web):
+    q = f"start_year={Y0:g}&stop_year={Y1:g}&step_years={YSTEP:g}"
+    png = web.get(f"/v1/bodies/ceres/history.png?{q}&dpi=40")
+    assert png.status_code == 200 and png.headers["content-type"] == "image/png"
+    assert png.content == plots.render(HISTORY, "ceres", Y0, Y1, fmt="png", dpi=40, step_years=YSTEP)
+    svg = web.get(f"/v1/bodies/ceres/history.svg?{q}&orbit_model=nbody")
+    assert svg.status_code == 200 and svg.headers["content-type"].startswith("image/svg+xml")
+    assert ET.fromstring(svg.content).tag.endswith("svg")
+
+
+@pytest.mark.parametrize("query, status, kind, field", [
+    ("start_year=1e5&stop_year=-2e5", 422, "invalid-input", "stop_year"),          # the client's name for stop
+    ("start_year=soon&stop_year=1e5", 422, "invalid-input", "start_year"),
+    ("start_year=-1e5&stop_year=0&step_years=0.5", 422, "invalid-input", "step_years"),
+    ("start_year=-1e5&stop_year=0&step_years=0", 422, "invalid-input", "step_years"),
+    ("start_year=-1e5&stop_year=0&orbit_model=kepler", 422, "invalid-input", "orbit_model"),
+    ("start_year=-1e5&stop_year=0&dpi=5000", 422, "invalid-input", "dpi"),
+])
+def test_history_route_refuses_bad_input_as_a_problem(web, query, status, kind, field):
+    r = web.get(f"/v1/bodies/ceres/history.png?{query}")
+    assert r.status_code == status and r.headers["content-type"] == "application/problem+json", r.text
+    problem = r.json()
+    assert problem["type"].endswith(kind)
+    assert [e["field"] for e in problem["errors"]] == [field]
+
+
+def test_history_route_not_applicable_and_unknown(web):
+    r = web.get("/v1/bodies/itokawa/history.png?start_year=-1e5&stop_year=0&step_years=1000")
+    assert r.status_code == 422 and r.json()["type"].endswith("not-applicable")
+    assert web.get("/v1/bodies/pluto/history.png?start_year=-1e5&stop_year=0").status_code == 404
