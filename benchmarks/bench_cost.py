@@ -517,6 +517,16 @@ def build_cases() -> list[Case]:
         request(f"track Earth lunisolar, {n} epochs over 100 years",
                 lambda step=step: api.track_arrays("earth", 2415021.0, 2415021.0 + 100 * 365.25, step), quick,
                 why=WHY_SMALL_FIXED)
+    for body, half, quick in (("earth", 1.0e6, True), ("ceres", 1.0e6, True), ("mars", 2.0e6, False),
+                              ("moon", 2.0e6, False)):
+        request(f"history {body.title()} over {2 * half / 1e6:g} Myr at 1000-yr steps (the shipped N-body orbit)",
+                lambda body=body, half=half: api.history(body, -half, half, 1000.0), quick, trace=False, reps=2)
+    request("history, user body (Vesta's elements) over 200 kyr, secular orbit",
+            lambda: api.history(synthetic(0.09, a_au=2.36), -1.0e5, 1.0e5, 1000.0, orbit_model="secular"), True,
+            trace=False, reps=2)
+    request("track Ceres 3000-3100 yearly, tolerance_mas=200000 (chooses long_term)",
+            lambda: api.track_arrays("ceres", 2816788.0, 2816788.0 + 36525.0, 365.25, tolerance_mas=2e5), True,
+            trace=False, reps=2)
     return cases
 
 
