@@ -195,6 +195,14 @@ def spin_history(span_years: float, epochs: int) -> Part:
                 + span_years / 500.0 * _u("history_bytes_per_orbit_sample") / MB)
 
 
+def cassini_history(epochs: int) -> Part:
+    """A synchronous rotator's Cassini state carried along its primary's orbit history (:class:`ephem.synchronous.
+    CassiniHistory`): the orbit's spline, the node's quadrature on 4001 points and the pole at each epoch."""
+    return Part("step_years", f"the Cassini state along the orbit at {epochs} epochs",
+                _u("base_s") + _u("spin_history_base_s") + (epochs + 4001) * _u("cassini_history_point_s"),
+                _u("spin_history_base_mb") + (epochs + 4001) * _u("history_bytes_per_epoch") / MB)
+
+
 #: how an answer is written out: the unit cost of one value
 SERIALISATIONS = {"json": "serialise_s_per_value", "csv": "serialise_csv_s_per_value"}
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import cost
-from .budget import Cost, prepaid
+from .budget import Cost, charge, prepaid
 from .constants import J2000_JD, JULIAN_YEAR_DAYS
 from .errors import NotApplicableError
 from .history import DESCRIPTIONS as ORBIT_DESCRIPTIONS
@@ -83,16 +83,18 @@ class WithLongTerm(SpinAxisTheory):
     # --- cost
 
     def choice_cost(self, start, stop, count) -> Cost:
+        """The family's: the long-term estimate is charged when it is made (:meth:`_estimate`, only when a
+        tolerance chooses among the models), so a track that names its model pays nothing for it."""
         try:
-            inner = self.inner.choice_cost(start, stop, count)
+            return self.inner.choice_cost(start, stop, count)
         except NotApplicableError:
-            inner = cost.FREE        # the family serves none of these epochs: the long-term model alone is tried
-        return inner + self._cost(start, stop, min(count, ESTIMATE_EPOCHS))
+            return cost.FREE         # the family serves none of these epochs: the long-term model alone is tried
 
-    def _cost(self, start: float, stop: float, count: int) -> Cost:
+    def _cost(self, start: float, stop: float, count: int, in_years: bool = False) -> Cost:
+        """The long-term model's cost over [start, stop] (JD TDB, or Julian years from J2000 ``in_years``)."""
+        lo, hi = (start, stop) if in_years else (float(_years(start)), float(_years(stop)))
         try:
-            return long_term_cost(self.body, self.inner.secular_spin(), float(_years(start)), float(_years(stop)),
-                                  count)
+            return long_term_cost(self.body, self.inner.secular_spin(), lo, hi, count)
         except NotApplicableError:
             return cost.FREE
 
@@ -104,9 +106,11 @@ class WithLongTerm(SpinAxisTheory):
     # --- estimates and tracks
 
     def _estimate(self, jd_tdb) -> Estimate:
+        years = _subsample(_years(jd_tdb))
         try:
-            with prepaid():         # charged with the choice (choice_cost)
-                run = long_term_run(self.body, self.inner.secular_spin(), _subsample(_years(jd_tdb)))
+            charge(self._cost(float(years.min()), float(years.max()), years.size, in_years=True))
+            with prepaid():         # charged just above, before the work
+                run = long_term_run(self.body, self.inner.secular_spin(), years)
         except NotApplicableError as exc:
             return Estimate(NAME, None, {}, available=False, why_not=exc.reason)
         terms = {k: float(np.max(v)) for k, v in run.terms.items()}

@@ -329,8 +329,8 @@ class CassiniHistory:
     source: str = "the Cassini state (ephem.cassini) turned with the node along the primary's orbit plane"
 
     def cost(self, span_years: float, epochs: int):
-        """The Cassini pole at ``epochs`` epochs and the node's quadrature (:func:`ephem.cost.synchronous_track`)."""
-        return cost.synchronous_track(epochs + 4001)
+        """The Cassini pole at ``epochs`` epochs and the node's quadrature (:func:`ephem.cost.cassini_history`)."""
+        return cost.cassini_history(epochs)
 
     def history(self, orbit, years, progress=None):
         from .spin_history import history_arrays
