@@ -425,7 +425,12 @@ def _answer(b, theory, spin, chosen: OrbitChoice, result, estimates, years, tole
         ],
     }
     warnings = []
-    if meaningful[0] > years[0] or meaningful[1] < years[-1]:
+    if meaningful[0] == meaningful[1]:
+        warnings.append(f"the history means nothing anywhere in the span: its orbit's error is "
+                        f"{math.degrees(float(np.min(terms['orbit']))):.3g} deg or more at every epoch (more than "
+                        f"{math.degrees(MEANINGFUL_LIMIT):g} deg: the osculating orbit's short-period scatter or its "
+                        f"clones' divergence)")
+    elif meaningful[0] > years[0] or meaningful[1] < years[-1]:
         warnings.append(f"the history stops meaning anything outside [{meaningful[0]:g}, {meaningful[1]:g}] years "
                         f"from J2000.0: neighbouring solutions or orbits part by more than "
                         f"{math.degrees(MEANINGFUL_LIMIT):g} deg there")
@@ -440,6 +445,7 @@ def _answer(b, theory, spin, chosen: OrbitChoice, result, estimates, years, tole
         "orbit_inclination_deg": np.degrees(h.orbit_inclination),
         "estimated_error_deg": np.degrees(error),
         "obliquity_error_deg": np.degrees(_total(h.obliquity_terms)),
+        # equal: nowhere; None: not limited within the span
         "meaningful_from_year": None if math.isinf(meaningful[0]) else meaningful[0],
         "meaningful_to_year": None if math.isinf(meaningful[1]) else meaningful[1],
         "model": model,
@@ -454,6 +460,8 @@ def _meaningful(years, spin, h: SpinHistory, terms: dict) -> tuple[float, float]
     if orbit is not None:
         bad = orbit > MEANINGFUL_LIMIT
         t0 = getattr(spin, "epoch_years", 0.0)
+        if bad[int(np.argmin(np.abs(years - t0)))]:
+            return t0, t0                    # the orbit is too uncertain already at the epoch: nowhere
         if (bad & (years < t0)).any():
             past = max(past, float(years[bad & (years < t0)].max()))
         if (bad & (years >= t0)).any():

@@ -253,7 +253,8 @@ class History(BaseModel):
     orbit_inclination_deg: list[float] = Field(description="the orbit normal from the J2000 ecliptic pole, deg")
     estimated_error_deg: list[float] = Field(description="the estimate at each epoch, deg")
     meaningful_from_year: Optional[float] = Field(description="before this the history means nothing (neighbouring "
-                                                              "solutions part by more than 1 deg), or null")
+                                                              "solutions part by more than 1 deg), or null; equal "
+                                                              "to meaningful_to_year: nowhere")
     meaningful_to_year: Optional[float] = Field(description="after this the history means nothing, or null")
     perturbers: Optional[list[str]] = Perturbers
     model: HistoryModel

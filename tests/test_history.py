@@ -74,6 +74,14 @@ def test_the_moon_answers_through_its_cassini_state():
     assert a["model"]["error_terms_mas"]["node_phase"] > a["model"]["error_terms_mas"]["librations"]
 
 
+def test_a_history_whose_orbit_is_too_uncertain_at_the_epoch_means_nothing_anywhere():
+    """Eros' osculating orbit normal scatters by 1.9° between its 500-year samples (Mars' close approaches): more
+    than the 1° limit already at J2000, so the span where it means something is empty, and the answer says so."""
+    a = api.history("eros", -2.0e4, 2.0e4, 1000.0)
+    assert a["meaningful_from_year"] == a["meaningful_to_year"] == pytest.approx(0.0)
+    assert any("means nothing anywhere" in w for w in a["model"]["warnings"])
+
+
 def test_itokawa_is_not_applicable_with_the_reason():
     with pytest.raises(NotApplicableError, match="meets Earth's"):
         api.history("itokawa", -3.0e6, 1.0e6, 1000.0)
