@@ -24,7 +24,7 @@ from .ladder import AXES
 from .model import MAX_ORDER, check_order, model_for  # noqa: F401
 from .registry import MODELS, refuse_model, theory_for
 from .theory import cheapest_within, selection_info
-from .uncertainty import propagated
+from .uncertainty import input_sigmas, pole_uncertainty, propagated
 from .timeparse import to_jd_tdb
 from .units import in_unit, with_units
 
@@ -331,10 +331,18 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
                                 None if est is None else est.terms)
     if est is not None and est.rotation_scale is not None:
         selection["rotation_scale"] = {"modelled": est.rotation_scale, "rotation_phase_deg": phase}
-    # the mean obliquity's 1σ from the catalogue's uncertainties (null: unknown), as in precession()
-    sigma = propagated(b, order)["obliquity_deg_uncertainty"] if theory.propagates_uncertainty else None
+    # the mean obliquity's 1σ from the catalogue's uncertainties (null: unknown), as in precession(), and the
+    # pole's along the track (its angle's 1σ at each epoch, growing with the rate's)
+    sigma, pole_sigma = None, None
+    if theory.propagates_uncertainty:
+        sigma = propagated(b, order)["obliquity_deg_uncertainty"]
+        with_sigma = sum(1 for s in input_sigmas(b).values() if s)
+        charge(cost.pole_uncertainty(b, with_sigma, count, order), b.name)
+        pole_sigma = pole_uncertainty(b, tr.jd_tdb, b.dataset, order)
     ans = _track_answer(b, tr, info, selection, axis, wobble if with_wobble else None, sigma,
                         theory.extra_description())
+    ans["pole_uncertainty_deg"] = None if pole_sigma is None else np.degrees(pole_sigma)
+    ans["model"] = ans.pop("model")          # the model object closes every answer
     return _tag_perturbers(ans, b, per)
 
 

@@ -203,6 +203,16 @@ def cassini_history(epochs: int) -> Part:
                 _u("spin_history_base_mb") + (epochs + 4001) * _u("history_bytes_per_epoch") / MB)
 
 
+def pole_uncertainty(body, inputs_with_sigma: int, epochs: int, order: int | None = None) -> Cost:
+    """The pole's 1-σ along a track (:func:`ephem.uncertainty.pole_uncertainty`): two first-order models and
+    tracks per input with a σ."""
+    if inputs_with_sigma == 0:
+        return FREE
+    k = body_harmonics(body, order)
+    one = (hansen_build(body.orbit.e, order), harmonic_sum(epochs, k, "step_days", "a perturbed track"))
+    return Cost(one * (2 * inputs_with_sigma))
+
+
 #: how an answer is written out: the unit cost of one value
 SERIALISATIONS = {"json": "serialise_s_per_value", "csv": "serialise_csv_s_per_value"}
 

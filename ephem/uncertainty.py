@@ -36,7 +36,7 @@ import numpy as np
 
 from .catalogue import DEFAULT_DATASET, Body, dynamical_ellipticity, resolve_body, spin_rate_rad_per_day
 from .constants import ARCSEC, JULIAN_YEAR_DAYS
-from .errors import InvalidInputError
+from .errors import InvalidInputError, NotApplicableError
 from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from .hansen import hansen_exact, hansen_series
 from .harmonics import series_extrema
@@ -543,3 +543,66 @@ def summary(u: dict) -> dict:
                       "value (its uncertainty is unknown, not zero)",
             "dominant_input": u["dominant_input"], "unpropagated_inputs": list(u["unpropagated_inputs"]),
             "assumptions": list(u["assumptions"])}
+
+
+# --------------------------------------------------------------------------- the pole's 1-σ along a track
+
+def _perturbed_body(b: Body, inputs: list[_Input], x: np.ndarray) -> Body:
+    """``b`` with its inputs set to ``x`` (model units, in the order of ``inputs``)."""
+    import dataclasses
+
+    v = {i.key: float(xi) for i, xi in zip(inputs, x)}
+    if "pole.lon" in v:
+        raise NotApplicableError(b.name, "the pole's uncertainty along a track is propagated for poles given in "
+                                 "RA and Dec only")
+    orbit = dataclasses.replace(b.orbit, a_au=v["orbit.a"], e=v["orbit.e"], i_deg=v["orbit.i"],
+                                node_deg=v["orbit.node"], peri_deg=v["orbit.peri"],
+                                mean_anomaly_deg=v["orbit.mean_anomaly"])
+    pole = dataclasses.replace(b.pole, ra_deg=v["pole.ra"], dec_deg=v["pole.dec"])
+    if "inertia.dynamical_ellipticity" in v:
+        inertia = {"dynamical_ellipticity": v["inertia.dynamical_ellipticity"], "moments": None}
+    else:
+        inertia = {"moments": (v["inertia.A"], v["inertia.B"], v["inertia.C"]), "dynamical_ellipticity": None}
+    return dataclasses.replace(b, orbit=orbit, pole=pole, rotation_period_hours=v["rotation.period"],
+                               values={}, **inertia)
+
+
+def _pole_vectors(b: Body, order: int | None, jd_tdb: np.ndarray) -> np.ndarray:
+    from .model import build_model
+
+    tr = build_model(b, order).track(jd_tdb)
+    cd = np.cos(tr.pole_dec)
+    return np.stack([cd * np.cos(tr.pole_ra), cd * np.sin(tr.pole_ra), np.sin(tr.pole_dec)], axis=-1)
+
+
+def pole_uncertainty(body: str | int | Body, jd_tdb, dataset: str = DEFAULT_DATASET, order: int | None = None, *,
+                     uncertainties: Mapping[str, float | None] | None = None,
+                     correlations: Mapping[tuple[str, str], float] | None = None) -> np.ndarray | None:
+    """The 1-σ of the angle between the served and the true pole (radians, the RMS of that angle) at each epoch
+    of a first-order track (:meth:`ephem.model.PrecessionNutation.track`), from the inputs' 1-σ and correlations:
+    the pole vector's derivatives by central differences (each input stepped by :data:`STEP_FRACTION` of its σ),
+    its 3×3 covariance J Σ Jᵀ per epoch, σ² its trace (the pole is a unit vector: its errors lie across it).
+
+    It grows from the catalogue pole's own σ at the pole epoch as the precession rate's σ accumulates. None
+    where no input has a σ (a user's body); the inputs without one do not count (their σ is unknown, not zero).
+    """
+    b = resolve_body(body, dataset)
+    t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+    inputs = _inputs(b, uncertainties)
+    which = [j for j, i in enumerate(inputs) if i.sigma]
+    if not which:
+        return None
+    x0 = np.array([i.value * i.factor for i in inputs])
+    rho = _correlation_matrix(inputs, correlations, b.name)
+    cols = []
+    for j in which:
+        h = _step(inputs[j], x0[j])
+        xp, xm = x0.copy(), x0.copy()
+        xp[j] += h
+        xm[j] -= h
+        cols.append((_pole_vectors(_perturbed_body(b, inputs, xp), order, t)
+                     - _pole_vectors(_perturbed_body(b, inputs, xm), order, t)) / (2.0 * h))
+    J = np.stack(cols, axis=-1)                                   # (epochs, 3, inputs)
+    s = np.array([inputs[j].sigma * inputs[j].factor for j in which])
+    cov = (s[:, None] * rho[np.ix_(which, which)] * s[None, :])
+    return np.sqrt(np.einsum("eai,ij,eaj->e", J, cov, J))

@@ -209,6 +209,9 @@ class Track(BaseModel):
     obliquity_deg_uncertainty: Optional[float] = Sigma
     pole_ra_deg: list[float]
     pole_dec_deg: list[float]
+    pole_uncertainty_deg: Optional[list[float]] = Field(
+        None, description="the 1-sigma of the angle between the served and the true pole at each epoch, deg, from "
+                          "the catalogue's 1-sigma (the inputs without one do not count); null where none has one")
     perturbers: Optional[list[str]] = Perturbers
     model: ModelInfo
 
