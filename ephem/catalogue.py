@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import tomllib
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -413,8 +414,54 @@ class Catalogue:
         raise UnknownBodyError(str(query), self.names)
 
 
-def available_datasets() -> list[str]:
+#: the name a user dataset may take (its file is NAME.toml in :func:`user_catalogue_dir`)
+DATASET_NAME = r"[A-Za-z0-9][A-Za-z0-9_-]{0,63}"
+
+
+def user_catalogue_dir() -> Path | None:
+    """Directory of the user's own datasets (``ephem catalogue import``, docs/catalogue_import.md):
+    ``$EPHEM_USER_CATALOGUE_DIR``, else ``$XDG_DATA_HOME/ephem/catalogue``, else
+    ``~/.local/share/ephem/catalogue``; None when there is no home directory to put it in."""
+    env = os.environ.get("EPHEM_USER_CATALOGUE_DIR")
+    if env:
+        return Path(env).expanduser()
+    xdg = os.environ.get("XDG_DATA_HOME")
+    if xdg and Path(xdg).is_absolute():
+        return Path(xdg) / "ephem" / "catalogue"
+    try:
+        return Path.home() / ".local" / "share" / "ephem" / "catalogue"
+    except (RuntimeError, KeyError):
+        return None
+
+
+def shipped_datasets() -> list[str]:
+    """The datasets shipped in ``data/catalogue/`` ("current", "petit2014")."""
     return sorted(p.stem for p in (data_dir() / "catalogue").glob("*.toml"))
+
+
+def _user_dataset_files() -> dict[str, Path]:
+    """The user's datasets (name -> file) that no shipped dataset shadows (names compared in any case)."""
+    where = user_catalogue_dir()
+    if where is None or not where.is_dir():
+        return {}
+    shipped = {s.lower() for s in shipped_datasets()}
+    return {p.stem: p for p in sorted(where.glob("*.toml"))
+            if re.fullmatch(DATASET_NAME, p.stem) and p.stem.lower() not in shipped and p.is_file()}
+
+
+def _dataset_file(dataset: str) -> Path | None:
+    """The file of ``dataset``: a shipped one first, then the user's (:func:`user_catalogue_dir`)."""
+    if not isinstance(dataset, str) or not re.fullmatch(DATASET_NAME, dataset):
+        return None
+    shipped = data_dir() / "catalogue" / f"{dataset}.toml"
+    if shipped.is_file():
+        return shipped
+    return _user_dataset_files().get(dataset)
+
+
+def available_datasets() -> list[str]:
+    """The shipped datasets (sorted), then the user's imported ones (sorted; docs/catalogue_import.md)."""
+    return shipped_datasets() + sorted(_user_dataset_files())
 
 
 def parse_catalogue(text: str, dataset: str) -> Catalogue:
@@ -429,13 +476,34 @@ def parse_catalogue(text: str, dataset: str) -> Catalogue:
 
 
 @lru_cache(maxsize=None)
+def _load_catalogue_file(path: str, dataset: str, mtime_ns: int, size: int) -> Catalogue:
+    """Parse a dataset file once per version of it (the key holds its modification time and size)."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+        return parse_catalogue(text, dataset)
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise InvalidInputError("dataset", f"cannot read dataset {dataset!r} ({path}): {exc}") from None
+
+
 def load_catalogue(dataset: str = DEFAULT_DATASET) -> Catalogue:
-    """Load (once) and validate a shipped dataset: "current" (default) or "petit2014"."""
-    known = available_datasets()
-    if dataset not in known:
+    """Load (once per version of its file) and validate a dataset: a shipped one, "current" (default) or
+    "petit2014", or one the user imported (``ephem catalogue import``, in :func:`user_catalogue_dir`).
+
+    The parsed catalogue is cached under the file's path, modification time and size, so a dataset imported
+    or replaced after the first call is seen by the next one; ``load_catalogue.cache_clear()`` empties the cache.
+    """
+    path = _dataset_file(dataset)
+    try:
+        st = path.stat() if path is not None else None
+    except OSError:
+        st = None
+    if st is None:
+        known = available_datasets()
         raise InvalidInputError("dataset", f"unknown dataset {dataset!r}; known: {', '.join(known)}")
-    path = data_dir() / "catalogue" / f"{dataset}.toml"
-    return parse_catalogue(path.read_text(encoding="utf-8"), dataset)
+    return _load_catalogue_file(str(path), dataset, st.st_mtime_ns, st.st_size)
+
+
+load_catalogue.cache_clear = _load_catalogue_file.cache_clear
 
 
 @lru_cache(maxsize=1)

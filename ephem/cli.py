@@ -266,7 +266,8 @@ class Format(str, Enum):
     table = "table"
 
 
-DatasetOpt = typer.Option("current", "--dataset", "-d", help="Catalogue dataset: current or petit2014.")
+DatasetOpt = typer.Option("current", "--dataset", "-d", help="Catalogue dataset: current, petit2014 or one imported "
+                          "with `ephem catalogue import`.")
 FormatOpt = typer.Option(Format.json, "--format", "-f", help="Output format.")
 OrderOpt = typer.Option(None, "--order", help="Truncate the Hansen coefficients at this power of e "
                         "(the paper: 4). Default: exact.")
@@ -639,6 +640,48 @@ def demo(dataset: str = DatasetOpt):
     terms = api.nutation("vesta", dataset)["terms"][:6]
     typer.echo(_rows_to_table([{k: (round(v, 4) if isinstance(v, float) else v) for k, v in t.items()}
                                for t in terms]))
+
+
+# ------------------------------------------------------------------ ephem catalogue import
+
+catalogue_app = _Typer(cls=_Group, no_args_is_help=True,
+                       help="Your own datasets: import an orbit file and a pole/period table (docs/catalogue_import.md).")
+app.add_typer(catalogue_app, name="catalogue")
+
+
+class OrbitFormat(str, Enum):
+    mpcorb = "mpcorb"
+    sbdb_json = "sbdb-json"
+    sbdb_csv = "sbdb-csv"
+
+
+@catalogue_app.command("import")
+def catalogue_import(orbits: str = typer.Option(..., "--orbits", help="Orbit file: MPCORB layout, SBDB API JSON or "
+                                                "SBDB query CSV (full_name,e,a,i,om,w,ma,epoch)."),
+                     poles: str = typer.Option(..., "--poles", help="Pole/period table (CSV: name, pole_ra_deg, "
+                                               "pole_dec_deg, rotation_period_hours, dynamical_ellipticity or "
+                                               "moment_a/b/c, optional *_sigma)."),
+                     name: str = typer.Option(..., "--name", help="Name of the new dataset (select it with "
+                                              "--dataset NAME)."),
+                     orbit_format: Optional[OrbitFormat] = typer.Option(None, "--format", help="Format of the orbit "
+                                                                        "file (default: detected from its content)."),
+                     skip_unmatched: bool = typer.Option(False, "--skip-unmatched", help="Leave out the bodies found "
+                                                         "in one file only (default: an error naming them)."),
+                     force: bool = typer.Option(False, "--force", help="Replace an imported dataset of that name.")):
+    """Write a dataset from your own orbit file and pole/period table, into $EPHEM_USER_CATALOGUE_DIR (default
+    ~/.local/share/ephem/catalogue); nothing is fetched from the network."""
+    from .catalogue_import import import_catalogue
+
+    try:
+        result = import_catalogue(orbits, poles, name, orbit_format.value if orbit_format else None,
+                                  skip_unmatched=skip_unmatched, force=force)
+    except EphemError as exc:
+        _fail(exc)
+    for skipped in result.skipped:
+        typer.echo(f"note: skipped {skipped}", err=True)
+    names = result.catalogue.names
+    typer.echo(f"{'replaced' if result.replaced else 'wrote'} {result.path}: dataset {name!r}, {len(names)} "
+               f"bod{'y' if len(names) == 1 else 'ies'} ({', '.join(names)}); select it with --dataset {name}")
 
 
 def main() -> None:  # pragma: no cover

@@ -11,12 +11,16 @@
   database (nothing written, nothing replayed from an earlier run) and has no deadline (timings
   differ between machines; the tests that care measure their own cost). Tests set their own
   ``max_examples``. ``HYPOTHESIS_PROFILE=explore`` draws fresh random examples for a local hunt.
+* The user catalogue directory (``ephem catalogue import``'s datasets) is an empty one of each test process's
+  own: the datasets a user imported on this machine must not enter the tests (tests that import set their own).
 """
 import os
+import tempfile
 
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS",
              "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
+os.environ["EPHEM_USER_CATALOGUE_DIR"] = tempfile.mkdtemp(prefix="ephem-test-user-catalogue-")
 
 import pytest  # noqa: E402
 from hypothesis import settings  # noqa: E402

@@ -25,7 +25,7 @@ LAYERS = {
     "accuracy": ("theory", "physics_errors", "uncertainty", "spin_history", "ladder", "earth", "synchronous",
                  "history", "long_term", "registry"),
     "answers": ("api",),
-    "exports and CLI": ("tables", "pck_fit", "pck_text", "pck", "plots", "cli"),
+    "exports and CLI": ("tables", "pck_fit", "pck_text", "pck", "plots", "catalogue_import", "cli"),
 }
 LEVEL = {module: level for level, modules in enumerate(LAYERS.values()) for module in modules}
 
