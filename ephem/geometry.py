@@ -49,6 +49,13 @@ def lon_lat(vec) -> tuple[np.ndarray, np.ndarray]:
     return lon, lat
 
 
+def angle_between(u, v) -> np.ndarray:
+    """Angles (radians) between unit vectors along the last axis, accurate at small angles (atan2 of |u×v| and
+    u·v, where an arccos loses half the digits)."""
+    u, v = np.asarray(u, dtype=float), np.asarray(v, dtype=float)
+    return np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.sum(u * v, axis=-1))
+
+
 def carry(a, b, v) -> np.ndarray:
     """Vectors ``v`` (..., 3) turned by the rotation taking the unit vector ``a`` to ``b`` about a × b (Rodrigues;
     the identity where b = a). ``a``, ``b`` and ``v`` broadcast along their leading axes."""

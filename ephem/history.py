@@ -38,6 +38,7 @@ from .budget import charge, checkpoint
 from .catalogue import DEFAULT_DATASET, Body
 from .constants import MAS
 from .errors import InvalidInputError, NotApplicableError
+from .geometry import angle_between
 from .spin_history import MEANINGFUL_LIMIT, SpinHistory, outward_max
 
 ORBIT_MODELS = ("secular", "nbody")
@@ -235,7 +236,7 @@ def sample_noise(orbit_body: str) -> float:
     h = shipped_orbit_history(orbit_body)
     even = CubicSpline(h.years[::2], h.pole[::2], axis=0)
     mid = h.years[1:-1:2]
-    return 0.5 * float(np.max(_angle(even(mid) / np.linalg.norm(even(mid), axis=-1, keepdims=True),
+    return 0.5 * float(np.max(angle_between(even(mid) / np.linalg.norm(even(mid), axis=-1, keepdims=True),
                                      h.pole[1:-1:2])))
 
 
@@ -260,7 +261,7 @@ def secular_envelope(kind: str) -> tuple[np.ndarray, np.ndarray]:
         lo, hi = nb.span_years
         for sign in (-1.0, 1.0):
             t = np.clip(sign * grid, lo, hi)
-            d = _angle(sec.pole_at(t), nb.pole_at(t))
+            d = angle_between(sec.pole_at(t), nb.pole_at(t))
             worst = np.maximum(worst, np.maximum.accumulate(d))
     return grid, worst
 
@@ -274,22 +275,19 @@ def secular_orbit_error(b: Body, orbit_body: str, years: np.ndarray) -> np.ndarr
         lo, hi = shipped.span_years
         inside = (years >= lo) & (years <= hi)
         if inside.all():
-            d = _angle(secular_orbit(b, orbit_body).pole_at(years), shipped.pole_at(years))
+            d = angle_between(secular_orbit(b, orbit_body).pole_at(years), shipped.pole_at(years))
             return outward_max(years, 0.0, d)
     grid, worst = secular_envelope("planet" if _is_planet(b, orbit_body) else "small body")
     return np.interp(np.abs(years), grid, worst, right=math.pi)
 
 
-def _angle(u, v) -> np.ndarray:
-    return np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.sum(u * v, axis=-1))
-
-
 # ----------------------------------------------------------------------------- the answer
 
-def history_cost(spin, choice: OrbitChoice, years: np.ndarray) -> cost.Cost:
-    """The spin integration's and the orbit's cost, known before the work."""
-    span = float(max(years.max(), 0.0) - min(years.min(), 0.0))
-    return choice.cost + cost.Cost((spin.cost(span, years.size),))
+def history_cost(spin, choice: OrbitChoice, lo: float, hi: float, count: int) -> cost.Cost:
+    """The orbit's and the spin integration's cost over [lo, hi] years at ``count`` epochs, known before the
+    work: the integration runs from the spin's epoch to the farthest epoch on each side."""
+    t0 = getattr(spin, "epoch_years", 0.0)
+    return choice.cost + cost.Cost((spin.cost(float(max(lo, hi, t0) - min(lo, hi, t0)), count),))
 
 
 def history_answer(b: Body, theory, start_year, stop_year, step_years, tolerance: float | None = None,
@@ -335,7 +333,7 @@ def default_choice(choices: list[OrbitChoice], b: Body) -> OrbitChoice:
 def long_term_cost(b: Body, spin, lo: float, hi: float, count: int) -> cost.Cost:
     """What :func:`long_term_run` costs over [lo, hi] years at ``count`` epochs."""
     choice = default_choice(orbit_choices(b, spin.orbit_body, min(lo, hi), max(lo, hi), on_demand=False), b)
-    return choice.cost + cost.Cost((spin.cost(float(max(lo, hi, 0.0) - min(lo, hi, 0.0)), count),))
+    return history_cost(spin, choice, lo, hi, count)
 
 
 def long_term_run(b: Body, spin, years: np.ndarray, progress=None, on_demand: bool = False) -> LongTermRun:
@@ -351,7 +349,7 @@ def long_term_run(b: Body, spin, years: np.ndarray, progress=None, on_demand: bo
 def _run(b: Body, spin, choice: OrbitChoice, years: np.ndarray, progress=None) -> tuple[SpinHistory, dict]:
     """The history along one orbit model, and its terms with the orbit's error added (radians, per epoch; the
     obliquity's with it too, in ``history.obliquity_terms``): an orbit normal off by δ moves both by up to δ."""
-    charge(history_cost(spin, choice, years), b.name)
+    charge(history_cost(spin, choice, float(years.min()), float(years.max()), years.size), b.name)
     checkpoint()
     h = spin.history(choice.orbit, years, progress)
     terms = dict(h.terms)

@@ -12,6 +12,7 @@ from .catalogue import Body
 from .constants import ARCSEC, J2000_JD, MAS
 from .constants import JULIAN_CENTURY_DAYS as CENTURY_DAYS
 from .errors import InvalidInputError
+from .geometry import angle_between
 from .registry import theory_for
 from .theory import Spectrum
 
@@ -234,11 +235,6 @@ def _radec(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """RA (unwrapped along the rows, degrees) and DEC (degrees) of unit vectors (N, 3)."""
     ra = np.unwrap(np.arctan2(v[:, 1], v[:, 0]))
     return np.degrees(ra), np.degrees(np.arctan2(v[:, 2], np.hypot(v[:, 0], v[:, 1])))
-
-
-def angle_between(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Angles (radians) between rows of unit vectors, accurate at small angles (atan2 of |u×v| and u·v)."""
-    return np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.sum(u * v, axis=-1))
 
 
 # --------------------------------------------------------------------------- fitting

@@ -34,7 +34,7 @@ import numpy as np
 from .budget import checkpoint
 from .catalogue import Body
 from .constants import J2000_JD, JULIAN_YEAR_DAYS
-from .geometry import icrf_to_ecliptic_matrix, lon_lat
+from .geometry import angle_between, icrf_to_ecliptic_matrix, lon_lat
 from .relativity import geodesic_precession_rate
 from .uncertainty import input_sigmas
 
@@ -248,19 +248,19 @@ def integrate(spin: SpinConstants, orbit, years, progress=None) -> SpinHistory:
         if not sol.success:
             raise RuntimeError(f"the spin integration of {spin.body} failed: {sol.message}")
         states[side] = sol.sol(years[side]).T.reshape(-1, scales.size, 3)
-        precession[side] = _precession_angle(sol, orbit, t0, t_end, lon0, years[side])
+        precession[side] = _precessionangle_between(sol, orbit, t0, t_end, lon0, years[side])
         done["before"] += abs(t_end - t0)
     if progress is not None:
         progress(1.0)
     states /= np.linalg.norm(states, axis=-1, keepdims=True)
     s = states[:, 0]
     n = orbit.pole_at(years)
-    eps = [_angle(states[:, k], n) for k in range(3)]
+    eps = [angle_between(states[:, k], n) for k in range(3)]
     # the neighbours' distances cross zero as they wind about each other: the estimate is their envelope, the
     # largest so far from the epoch outward
     terms = {"nutation": np.full(years.shape, spin.nutation),
-             "precession_constant": outward_max(years, t0, _angle(states[:, 1], s)),
-             "pole": outward_max(years, t0, _angle(states[:, 2], s))}
+             "precession_constant": outward_max(years, t0, angle_between(states[:, 1], s)),
+             "pole": outward_max(years, t0, angle_between(states[:, 2], s))}
     obliquity_terms = {"nutation": np.full(years.shape, spin.nutation),
                        "precession_constant": outward_max(years, t0, np.abs(eps[1] - eps[0])),
                        "pole": outward_max(years, t0, np.abs(eps[2] - eps[0]))}
@@ -275,7 +275,7 @@ def _equinox_longitude(s: np.ndarray, n: np.ndarray) -> np.ndarray:
     return np.arctan2(g[..., 1], g[..., 0])
 
 
-def _precession_angle(sol, orbit, t0: float, t_end: float, lon0: float, at: np.ndarray) -> np.ndarray:
+def _precessionangle_between(sol, orbit, t0: float, t_end: float, lon0: float, at: np.ndarray) -> np.ndarray:
     """The equinox's retrograde turn since ``t0`` at the epochs ``at``, unwrapped on the integrator's own steps
     (DOP853 takes well under a twelfth of a precession period per step at these tolerances) and between them
     on a grid of a tenth of the step."""
@@ -301,18 +301,13 @@ def outward_max(years: np.ndarray, t0: float, d: np.ndarray) -> np.ndarray:
     return out
 
 
-def _angle(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """The angle between unit vectors (..., 3), accurate at small angles."""
-    return np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.sum(u * v, axis=-1))
-
-
 def history_arrays(years, s, n, precession, terms, obliquity_terms, probes, t0: float, spread,
                    evaluations: int) -> SpinHistory:
     """A :class:`SpinHistory` from the spin axes ``s`` and orbit normals ``n`` (N, 3) at ``years``; ``spread``:
     the neighbouring solutions' divergence in obliquity, which sets where the history stops meaning anything."""
     ra, dec = lon_lat(s @ icrf_to_ecliptic_matrix())
     inclination = np.arctan2(np.hypot(n[:, 0], n[:, 1]), n[:, 2])
-    return SpinHistory(years, s, n, _angle(s, n), precession, ra, dec, inclination, terms, obliquity_terms, probes,
+    return SpinHistory(years, s, n, angle_between(s, n), precession, ra, dec, inclination, terms, obliquity_terms, probes,
                        _meaningful(years, t0, spread), evaluations)
 
 
@@ -326,11 +321,6 @@ def _meaningful(years: np.ndarray, t0: float, spread: np.ndarray) -> tuple[float
     if after.any():
         future = float(years[after].min())
     return past, future
-
-
-def years_to_jd(years) -> np.ndarray:
-    """JD TDB of Julian years from J2000.0."""
-    return J2000_JD + JULIAN_YEAR_DAYS * np.asarray(years, dtype=float)
 
 
 def spin_constants(body: Body, pole_epoch_jd: float, icrf_from_orbit: np.ndarray, obliquity: float,

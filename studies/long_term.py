@@ -235,7 +235,9 @@ def vondrak_poles(years: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _angle(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    return np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.sum(u * v, axis=-1))
+    from ephem.geometry import angle_between      # not at import: the study's --help stays light
+
+    return angle_between(u, v)
 
 
 def unit_vectors(ra_deg, dec_deg) -> np.ndarray:

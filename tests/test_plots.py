@@ -379,7 +379,8 @@ def test_history_hatches_where_it_stops_meaning_anything(monkeypatch):
             "meaningful_from_year": -4000.0, "meaningful_to_year": 2000.0,
             "model": {"name": "secular", "estimated_error_mas": 4.0e6, "warnings": ["..."]}}
     monkeypatch.setattr(api, "history", lambda *a, **k: fake)
-    assert plots.meaningless_spans(fake) == [(-10_000.0, -4000.0), (2000.0, 5000.0)]
+    assert plots.meaningless_spans(fake) == [pytest.approx((-10_000.0, -4000.0), abs=1e-9),
+                                             pytest.approx((2000.0, 5000.0), abs=1e-9)]
     fig = plots.figure(HISTORY, "Mars", -10_000, 5_000, step_years=500)
     top, bottom = fig.axes
     for ax in (top, bottom):                                      # both hatched spans on both panels
@@ -391,15 +392,17 @@ def test_history_hatches_where_it_stops_meaning_anything(monkeypatch):
     assert "4e+06" not in fig.get_suptitle() and "1.11°" in fig.get_suptitle()   # 4e6 mas: in degrees
     # None: not limited on that side
     fake.update(meaningful_from_year=None, meaningful_to_year=2000.0)
-    assert plots.meaningless_spans(fake) == [(2000.0, 5000.0)]
+    assert plots.meaningless_spans(fake) == [pytest.approx((2000.0, 5000.0), abs=1e-9)]
 
 
 def test_history_default_step_is_a_nice_number():
-    assert plots.default_step_years(-3e6, 1e6) == 5000.0          # 4000 rounds to 5000
-    assert plots.default_step_years(-2e5, 1e5) == 250.0           # 300 rounds to 250
-    assert plots.default_step_years(0, 1e4) == 100.0              # never below 100 years
-    assert plots.default_step_years(0, 50) == 50.0                # a span under 100 years: its two ends
-    assert plots.default_step_years("-1.2e5", "0") == 100.0       # numeric strings
+    """Nice numbers (1, 2, 2.5 or 5 times a power of ten), to rounding (1e-12 relative)."""
+    for args, step in ((( -3e6, 1e6), 5000.0),          # 4000 rounds to 5000
+                       ((-2e5, 1e5), 250.0),            # 300 rounds to 250
+                       ((0, 1e4), 100.0),               # never below 100 years
+                       ((0, 50), 50.0),                 # a span under 100 years: its two ends
+                       (("-1.2e5", "0"), 100.0)):       # numeric strings
+        assert plots.default_step_years(*args) == pytest.approx(step, rel=1e-12)
 
 
 def test_history_takes_numeric_strings_and_a_default_step(ceres_history):

@@ -10,7 +10,7 @@ import pytest
 import ephem.spin_history as sh
 from ephem.catalogue import get_body
 from ephem.constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS
-from ephem.geometry import icrf_to_ecliptic_matrix
+from ephem.geometry import angle_between, icrf_to_ecliptic_matrix
 from ephem.registry import theory_for
 
 
@@ -83,9 +83,9 @@ def test_the_averaged_equation_follows_the_unaveraged_one_over_two_centuries():
     numerical = theory.track_at("numerical", None, J2000_JD + JULIAN_YEAR_DAYS * years)
     v = np.stack([np.cos(numerical.pole_dec) * np.cos(numerical.pole_ra),
                   np.cos(numerical.pole_dec) * np.sin(numerical.pole_ra), np.sin(numerical.pole_dec)], axis=-1)
-    gap = sh._angle(v @ icrf_to_ecliptic_matrix().T, h.spin)
+    gap = angle_between(v @ icrf_to_ecliptic_matrix().T, h.spin)
     budget = s.nutation + theory.ladder.model.first_order_error_bound(200.0 * JULIAN_YEAR_DAYS)
-    moved = sh._angle(h.spin[0], h.spin[-1])
+    moved = angle_between(h.spin[0], h.spin[-1])
     assert moved > 30.0 * budget
     assert np.max(gap) < budget, (np.max(gap) / ARCSEC, budget / ARCSEC)
 
@@ -108,7 +108,7 @@ def test_a_tighter_tolerance_moves_a_four_million_year_history_by_less_than_the_
         fine = sh.integrate(s, orbit, years)
     finally:
         sh.RTOL = old
-    assert np.max(sh._angle(coarse.spin, fine.spin)) < 10.0 * ARCSEC
+    assert np.max(angle_between(coarse.spin, fine.spin)) < 10.0 * ARCSEC
     assert np.max(np.abs(coarse.obliquity - fine.obliquity)) < 1.0 * ARCSEC
     assert s.nutation > 10.0 * ARCSEC
 
