@@ -65,13 +65,15 @@ def spin_rate_rad_per_day(rotation_period_hours: float) -> float:
 
 @dataclass(frozen=True)
 class Measured:
-    """A catalogue value as published: value, unit, 1-sigma uncertainty, source key."""
+    """A catalogue value as published: value, unit, 1-sigma uncertainty, source key; ``no_uncertainty``: why the
+    source gives no σ (the record says so rather than inventing one)."""
 
     value: float
     unit: str
     source: str
     uncertainty: float | None = None
     note: str | None = None
+    no_uncertainty: str | None = None
 
 
 def _check_finite(body: str | None, name: str, value: float) -> None:
@@ -203,6 +205,9 @@ class Body:
     dataset: str = "user"
     mean_radius_km: float | None = None
     values: dict = field(default_factory=dict, compare=False, repr=False)
+    #: {(input key, input key): ρ}: the correlations of the values' errors, as the sources give them
+    #: (``[[body.correlation]]``) or as a derivation implies them (moments from one polar moment, ephem.inertia)
+    correlations: dict = field(default_factory=dict, compare=False, repr=False)
     #: The bodies whose torque moves the spin axis (canonical names, :data:`KNOWN_PERTURBERS`);
     #: None: the orbit's centre alone. Only the Earth may add the Moon.
     perturbers: tuple[str, ...] | None = None
@@ -309,9 +314,12 @@ def resolve_perturbers(value, body: Body) -> tuple[str, ...]:
 
 # --------------------------------------------------------------------------- loading
 
-def _measured(raw: dict, where: str, body: str) -> Measured:
+def _measured(raw: dict, where: str, body: str, default_reason: str | None = None) -> Measured:
+    """A value table as a :class:`Measured`; ``default_reason``: the section's ``no_uncertainty`` (why its values
+    have no σ), for the values that give neither a σ nor a reason of their own."""
     if not isinstance(raw, dict) or "value" not in raw:
-        raise InvalidInputError(where, "expected a table {value, unit, source[, uncertainty, note]}", body)
+        raise InvalidInputError(where, "expected a table {value, unit, source[, uncertainty | no_uncertainty, "
+                                "note]}", body)
     if "source" not in raw:
         raise InvalidInputError(where, "every value needs a source key", body)
     _check_finite(body, where, raw["value"])
@@ -320,8 +328,18 @@ def _measured(raw: dict, where: str, body: str) -> Measured:
         _check_finite(body, f"{where}.uncertainty", unc)
         if unc < 0:
             raise InvalidInputError(f"{where}.uncertainty", f"must be >= 0, got {unc}", body)
+    reason = raw.get("no_uncertainty")
+    if reason is None and unc is None:
+        reason = default_reason
+    if reason is not None:
+        if not isinstance(reason, str) or not reason.strip():
+            raise InvalidInputError(f"{where}.no_uncertainty", "must be the reason no sigma is given (a non-empty "
+                                    "string)", body)
+        if unc is not None:
+            raise InvalidInputError(f"{where}.no_uncertainty", "a value with an uncertainty needs no reason for "
+                                    "lacking one: give one of the two", body)
     return Measured(float(raw["value"]), str(raw.get("unit", "")), str(raw["source"]),
-                    None if unc is None else float(unc), raw.get("note"))
+                    None if unc is None else float(unc), raw.get("note"), reason)
 
 
 def _convert(m: Measured, target: str, where: str, body: str) -> float:
@@ -346,7 +364,7 @@ def _body_from_record(rec: dict, dataset: str) -> Body:
                 raise InvalidInputError(f"{section}.{key}" if section else key, "missing", name)
             return None
         where = f"{section}.{key}" if section else key
-        m = _measured(sec[key], where, name)
+        m = _measured(sec[key], where, name, _section_reason(sec, section, name) if section else None)
         values[where] = m
         return _convert(m, target, where, name)
 
@@ -371,10 +389,15 @@ def _body_from_record(rec: dict, dataset: str) -> Body:
     else:
         raise InvalidInputError("pole.frame", f"must be 'icrf' or 'ecliptic_j2000', got {frame!r}", name)
 
-    period_h = get("rotation", "period", "h")
+    period_h = _rotation_period(rec.get("rotation", {}), values, name, get)
     inertia = rec.get("inertia", {})
     moments = None
-    if all(k in inertia for k in "ABC"):
+    correlations: dict[tuple[str, str], float] = {}
+    if "derived_from" in inertia:
+        if any(k in inertia for k in "ABC"):
+            raise InvalidInputError("inertia", "give the moments A, B, C or inertia.derived_from, not both", name)
+        moments = _derived_moments(inertia["derived_from"], values, correlations, name)
+    elif all(k in inertia for k in "ABC"):
         units = {inertia[k].get("unit", "") for k in "ABC" if isinstance(inertia[k], dict)}
         if len(units) != 1:
             raise InvalidInputError("inertia", f"A, B and C must share one unit, got {sorted(units)}", name)
@@ -388,10 +411,99 @@ def _body_from_record(rec: dict, dataset: str) -> Body:
     perturbers = rec.get("perturbers")
     if perturbers is not None and not isinstance(perturbers, list):
         raise InvalidInputError("perturbers", f"expected a list of names, got {perturbers!r}", name)
+    correlations.update(_stated_correlations(rec.get("correlation", []), values, name))
     return Body(name=name, orbit=orbit, pole=pole, rotation_period_hours=period_h, moments=moments,
                 dynamical_ellipticity=hd, naif_id=None if naif is None else int(naif),
                 kind=rec.get("kind", "asteroid"), dataset=dataset, mean_radius_km=radius, values=values,
-                perturbers=None if perturbers is None else tuple(perturbers))
+                correlations=correlations, perturbers=None if perturbers is None else tuple(perturbers))
+
+
+def _section_reason(section: dict, where: str, name: str) -> str | None:
+    """A section's ``no_uncertainty``: the reason its values without a σ of their own have none."""
+    reason = section.get("no_uncertainty")
+    if reason is not None and (not isinstance(reason, str) or not reason.strip()):
+        raise InvalidInputError(f"{where}.no_uncertainty", "must be the reason the section's values have no sigma "
+                                "(a non-empty string)", name)
+    return reason
+
+
+def _rotation_period(rotation: dict, values: dict, name: str, get) -> float:
+    """The rotation period (h): ``rotation.period`` as given, or derived from the rate W' that rotation models
+    publish (``rotation.rate``, deg/d): P = 360°/W', σ_P = P σ_W/W'."""
+    if "rate" not in rotation:
+        return get("rotation", "period", "h")
+    if "period" in rotation:
+        raise InvalidInputError("rotation", "give the period or the rate W', not both", name)
+    rate = get("rotation", "rate", "deg/d")
+    if rate <= 0.0:
+        raise InvalidInputError("rotation.rate", f"must be positive (the pole is the right-hand spin axis), got "
+                                f"{rate}", name)
+    m = values["rotation.rate"]
+    period = 360.0 / rate * 24.0
+    per_unit = _convert(Measured(1.0, m.unit, m.source), "deg/d", "rotation.rate", name)
+    sigma = None if m.uncertainty is None else period * m.uncertainty * per_unit / rate
+    values["rotation.period"] = Measured(period, "h", m.source, sigma, f"derived: 360 deg / W' with W' = {m.value:.12g} "
+                                         f"{m.unit} (rotation.rate)", m.no_uncertainty)
+    return period
+
+
+def _derived_moments(spec: dict, values: dict, correlations: dict, name: str) -> tuple[float, float, float]:
+    """A, B, C from what was measured (:mod:`ephem.inertia`), stored as ``inertia.A`` … with their 1-σ, and
+    their correlations added to ``correlations``."""
+    from .inertia import METHODS, derive
+
+    where = "inertia.derived_from"
+    if not isinstance(spec, dict):
+        raise InvalidInputError(where, "expected a table {method = ..., <inputs> = {value, unit, source, ...}}", name)
+    method = spec.get("method")
+    m = METHODS.get(method)
+    if m is None:
+        raise InvalidInputError(f"{where}.method", f"must be one of {', '.join(METHODS)}, got {method!r}", name)
+    unknown = sorted(set(spec) - set(m.inputs) - {"method", "note", "no_uncertainty"})
+    if unknown:
+        raise InvalidInputError(where, f"unknown inputs {', '.join(unknown)} for method {method!r} (it takes "
+                                f"{', '.join(m.inputs)})", name)
+    given, sigmas = {}, {}
+    for key in m.inputs:
+        if key not in spec:
+            raise InvalidInputError(f"{where}.{key}", f"missing: method {method!r} needs {', '.join(m.inputs)}", name)
+        meas = _measured(spec[key], f"{where}.{key}", name, _section_reason(spec, where, name))
+        values[f"{where}.{key}"] = meas
+        scale = _convert(Measured(1.0, meas.unit, meas.source), m.input_unit, f"{where}.{key}", name)
+        given[key] = meas.value * scale
+        sigmas[key] = None if meas.uncertainty is None else meas.uncertainty * scale
+    d = derive(method, given, sigmas, name)
+    first = values[f"{where}.{m.inputs[0]}"]
+    missing = "; ".join(f"{k}: {values[f'{where}.{k}'].no_uncertainty or 'no reason given'}" for k in d.missing_sigma)
+    for label, value, sigma in zip("ABC", d.moments, d.sigma):
+        values[f"inertia.{label}"] = Measured(
+            value, d.unit, first.source, sigma, f"derived by {method} from {', '.join(m.inputs)} ({m.description})",
+            None if sigma is not None else f"derived from inputs without a published sigma ({missing})")
+    correlations.update(d.correlations)
+    return d.moments
+
+
+def _stated_correlations(entries, values: dict, name: str) -> dict:
+    """``[[body.correlation]]`` entries {inputs = [key, key], value = ρ, source = key} as {(key, key): ρ}."""
+    out = {}
+    if not isinstance(entries, list):
+        raise InvalidInputError("correlation", "expected an array of tables [[body.correlation]]", name)
+    for n, entry in enumerate(entries):
+        where = f"correlation[{n}]"
+        keys = entry.get("inputs") if isinstance(entry, dict) else None
+        if not isinstance(keys, list) or len(keys) != 2 or keys[0] == keys[1]:
+            raise InvalidInputError(f"{where}.inputs", f"expected two different value keys, got {keys!r}", name)
+        for k in keys:
+            if k not in values or values[k].uncertainty is None:
+                raise InvalidInputError(f"{where}.inputs", f"{k!r} is not a value of this record with an "
+                                        f"uncertainty", name)
+        rho = entry.get("value")
+        if isinstance(rho, bool) or not isinstance(rho, (int, float)) or not -1.0 <= rho <= 1.0:
+            raise InvalidInputError(f"{where}.value", f"a correlation must lie in [-1, 1], got {rho!r}", name)
+        if "source" not in entry:
+            raise InvalidInputError(f"{where}.source", "every correlation needs a source key", name)
+        out[(keys[0], keys[1])] = float(rho)
+    return out
 
 
 @dataclass(frozen=True)
