@@ -445,6 +445,8 @@ def track(body: str | int | Body, start, stop, step_days: float, dataset: str = 
         return with_units(ans)
     for key in TRACK_KEYS:
         ans[key] = ans[key].tolist()
+    if ans.get("pole_uncertainty_deg") is not None:
+        ans["pole_uncertainty_deg"] = np.asarray(ans["pole_uncertainty_deg"]).tolist()
     return ans
 
 

@@ -65,7 +65,7 @@ from .physics_errors import rotation_averaging_bound
 from .relativity import geodesic_precession_rate
 from .spin_history import SpinConstants, spin_constants
 from .theory import Estimate, SpinAxisTheory, Spectrum, cheapest_within, rate_values, selection_info
-from .uncertainty import SCALAR_KEYS
+from .uncertainty import SCALAR_KEYS, dynamical_ellipticity_sigma, no_uncertainty_reasons
 from .units import in_unit
 
 #: Sidebands ±j ψ̇ a track carries about each lunisolar term (the Earth's precession is slow, its terms many)
@@ -77,6 +77,24 @@ TRACK_CUT_MAS = 0.1
 MIN_CUT_MAS = 0.001
 #: The series are built at IAU 2006's ε_A; a pole whose mean obliquity departs by more is refused.
 MAX_OBLIQUITY_MISMATCH = 60.0 * ARCSEC
+#: The tides' secular change of the precession constant, which the averaged spin equation leaves out (relative per
+#: year; the long-term estimate's α neighbour drifts at it). The Moon's share of α goes as a⁻³ with the Moon receding
+#: at 3.82 ± 0.07 cm/yr (lunar laser ranging: Dickey et al. 1994, Science 265, 482) from 3.844e8 m; the whole of α
+#: as H_d/ω with H_d ∝ ω² (the figure follows the spin over such spans), i.e. as ω, which tidal braking slows at
+#: 6.39 ± 0.03e-22 rad/s² (the predicted tidal deceleration of Morrison, Stephenson, Hohenkerk & Zawilski 2021,
+#: "Addendum 2020 to 'Measurement of the Earth's rotation: 720 BC to AD 2015'", Proc. R. Soc. A 477) from
+#: 7.292115e-5 rad/s: 2.77e-10 per year. Both lower α towards the future; the magnitudes add (about 4.8e-10 per
+#: year with the Moon's 69 % share), a sign-blind bound, as La2004's own tidal parameters are not ours.
+MOON_RECESSION_PER_YEAR = 0.0382 / 3.844e8
+SPIN_BRAKING_PER_YEAR = 6.39e-22 / 7.292115e-5 * 86400.0 * JULIAN_YEAR_DAYS
+
+
+def tidal_constant_drift(moon_share: float) -> float:
+    """The relative change of the precession constant per year that tides cause (:data:`MOON_RECESSION_PER_YEAR`,
+    :data:`SPIN_BRAKING_PER_YEAR`), for the Moon's share ``moon_share`` of it."""
+    return 3.0 * MOON_RECESSION_PER_YEAR * moon_share + SPIN_BRAKING_PER_YEAR
+
+
 ARGUMENT = "Delaunay arguments l, l′, F, D, Ω (IERS 2010 eq. 5.43)"
 THEORY = ("Kinoshita (1977) lunisolar precession-nutation, first order, rigid Earth (ephem.lunisolar): the Moon "
           "(Meeus 1998 / ELP-2000/82) and the Sun (Simon et al. 1994) on their moving mean orbits, nutation "
@@ -473,7 +491,8 @@ class LunisolarTheory(SpinAxisTheory):
     def secular_spin(self) -> SpinConstants:
         """The lunisolar theory's mean pole and precession constant ψ̇ / cos ε̄, split into the Sun's part (which
         follows the Earth's orbit) and the Moon's (held fixed: the Moon's orbit precesses about the ecliptic in
-        18.6 years, so its mean torque is about the ecliptic's normal too; its tidal recession is left out)."""
+        18.6 years, so its mean torque is about the ecliptic's normal too; its tidal recession and the slowing spin
+        are left out of the equation and counted in the estimate: :func:`tidal_constant_drift`)."""
         lm = self.model
         total = lm.precession_rate / math.cos(lm.obliquity)
         o = self.body.orbit
@@ -485,7 +504,9 @@ class LunisolarTheory(SpinAxisTheory):
         return spin_constants(self.body, lm.pole_epoch, lm.icrf_from_orbit, lm.obliquity, sun, total - sun,
                               math.hypot(half_psi * math.sin(lm.obliquity), half_eps),
                               "the lunisolar theory's precession rate (ephem.lunisolar) over cos(obliquity): the "
-                              "Sun's part scaled with the Earth's orbit, the Moon's held fixed")
+                              "Sun's part scaled with the Earth's orbit, the Moon's held fixed; the tides' change "
+                              "of it in the estimate",
+                              constant_drift=tidal_constant_drift((total - sun) / total))
 
     def extra_description(self) -> dict:
         return {"cut_mas": TRACK_CUT_MAS}
@@ -526,7 +547,7 @@ class LunisolarTheory(SpinAxisTheory):
         self._check_answer(order)
         charge(self.answer_cost(order), b.name)
         lm = lunisolar_earth(b, "figure", TRACK_CUT_MAS, self.perturbers)
-        ans = rate_values(b, lm, None)
+        ans = rate_values(b, lm, rate_uncertainties(b, lm))
         ans["uncertainty"] = uncertainty_summary(b)
         ans["model"] = describe_model(b, self.perturbers, lm)
         ans["model"]["assumptions"].append("scaling_factor_arcsec_per_year: with several perturbers, 2ψ̇/cos ε̄ (the "
@@ -552,6 +573,7 @@ class LunisolarTheory(SpinAxisTheory):
         lm = lunisolar_earth(b, "figure", cut, per)
         eps = lunisolar_earth(b, "figure", TRACK_CUT_MAS, per).obliquity   # the track's, any cut
         sin_eps = abs(math.sin(eps))
+        rel = hd_relative_sigma(b)
         terms = []
         for t in lm.series.terms:
             term = {"multiple": None, "delaunay_multipliers": list(t["delaunay_multipliers"]),
@@ -559,14 +581,14 @@ class LunisolarTheory(SpinAxisTheory):
             for comp in ("longitude", "obliquity"):
                 for part in ("sin", "cos"):
                     term[f"{comp}_{part}_arcsec"] = t[f"{comp}_{part}_mas"] / 1e3
-            term["period_days_uncertainty"] = None
+            term["period_days_uncertainty"] = None          # the lunar theory's rates: published without a σ
             for comp in ("longitude", "obliquity"):
                 for part in ("sin", "cos"):
-                    term[f"{comp}_{part}_arcsec_uncertainty"] = None
+                    term[f"{comp}_{part}_arcsec_uncertainty"] = _scaled(term[f"{comp}_{part}_arcsec"], rel)
                     term[f"{comp}_{part}_rate_arcsec_per_century"] = t[f"{comp}_{part}_rate_mas_per_century"] / 1e3
                 amp = math.hypot(term[f"{comp}_sin_arcsec"], term[f"{comp}_cos_arcsec"])
                 term[f"{comp}_amplitude_arcsec"] = amp * (sin_eps if comp == "longitude" else 1.0)
-                term[f"{comp}_amplitude_arcsec_uncertainty"] = None
+                term[f"{comp}_amplitude_arcsec_uncertainty"] = _scaled(term[f"{comp}_amplitude_arcsec"], rel)
             terms.append(term)
         half_psi, half_eps = half_peak_to_peak(lm)
         orbit_epoch = b.orbit.epoch_jd_tdb
@@ -590,22 +612,54 @@ class LunisolarTheory(SpinAxisTheory):
             "terms": terms,
             "delta_psi_half_peak_to_peak_arcsec": half_psi / ARCSEC,
             "delta_epsilon_half_peak_to_peak_arcsec": half_eps / ARCSEC,
-            "delta_psi_half_peak_to_peak_arcsec_uncertainty": None,
-            "delta_epsilon_half_peak_to_peak_arcsec_uncertainty": None,
+            "delta_psi_half_peak_to_peak_arcsec_uncertainty": _scaled(half_psi / ARCSEC, rel),
+            "delta_epsilon_half_peak_to_peak_arcsec_uncertainty": _scaled(half_eps / ARCSEC, rel),
             "uncertainty": uncertainty_summary(b),
             "model": info,
         }
 
 
+def hd_relative_sigma(b: Body) -> float | None:
+    """σ(H_d)/H_d from the catalogue (IERS 2010's 1e-9 for the Earth), or None where H_d has no σ."""
+    sigma = dynamical_ellipticity_sigma(b)
+    return None if sigma is None else sigma / b.hd
+
+
+def _scaled(value: float, rel: float | None) -> float | None:
+    return None if rel is None else abs(value) * rel
+
+
+def rate_uncertainties(b: Body, lm: LunisolarEarth) -> dict | None:
+    """The precession answer's 1σ: every term of Kinoshita's first-order theory is proportional to H_d (the
+    rate, K, the nutation), so each carries H_d's relative σ; the mean obliquity, the pole's less the nutation
+    at the pole epoch, moves by that nutation's Δε times it. The other inputs have no published σ."""
+    rel = hd_relative_sigma(b)
+    if rel is None:
+        return None
+    per_year = JULIAN_YEAR_DAYS / ARCSEC
+    return {"obliquity_deg_uncertainty": math.degrees(abs(lm.nutation_at_pole_epoch[1]) * rel),
+            "dynamical_ellipticity_uncertainty": rel * lm.hd,
+            "scaling_factor_arcsec_per_year_uncertainty": abs(lm.scaling_factor) * per_year * rel,
+            "precession_rate_arcsec_per_year_uncertainty": abs(lm.precession_rate) * per_year * rel}
+
+
 def uncertainty_summary(b: Body) -> dict:
-    """The answers' ``uncertainty`` object: not propagated through the lunisolar theory (unknown, not zero)."""
+    """The answers' ``uncertainty`` object: H_d's relative σ scales every value (:func:`rate_uncertainties`); the
+    inputs without a σ are listed with the record's reasons."""
     inputs = sorted(k for k in b.values if k.split(".")[0] in ("orbit", "pole", "rotation", "inertia"))
-    return {"method": "not propagated: ephem.uncertainty replicates the single-perturber (Sun) theory only, so the "
-                      "lunisolar answer's 1-sigma uncertainties are unknown (null), not zero; its error against the "
-                      "real Earth is the track's estimate (model.estimated_error_mas) and docs/earth.md",
-            "dominant_input": {k: None for k in SCALAR_KEYS}, "unpropagated_inputs": inputs,
+    unpropagated = [k for k in inputs if b.values[k].uncertainty is None and not k.endswith(".epoch")]
+    dominant = "inertia.dynamical_ellipticity" if hd_relative_sigma(b) is not None else None
+    return {"method": "linear: every value of Kinoshita's first-order lunisolar theory is proportional to H_d, so "
+                      "each carries H_d's relative 1-sigma (the mean obliquity through the nutation at the pole "
+                      "epoch); the other inputs have no published sigma, and the lunisolar theory's own series "
+                      "(the Moon's and the Sun's orbits) none either: their uncertainty is unknown, not zero",
+            "complete": not unpropagated,
+            "dominant_input": {k: dominant for k in SCALAR_KEYS},
+            "unpropagated_inputs": unpropagated,
+            "no_uncertainty_reasons": no_uncertainty_reasons(b, unpropagated),
             "assumptions": ["the lunisolar theory's inputs (the Moon's and the Sun's orbits, GMs) are published "
-                            "series without a stated 1-sigma (data/lunisolar.toml)"]}
+                            "series without a stated 1-sigma (data/lunisolar.toml)",
+                            "first order in H_d: the values scale with it exactly"]}
 
 
 @lru_cache(maxsize=32)

@@ -518,7 +518,7 @@ class SynchronousTheory(SpinAxisTheory):
         no_order(b, order)
         charge(self.answer_cost(order), b.name)
         m = self.model
-        ans = rate_values(b, m, None)
+        ans = rate_values(b, m, rate_uncertainties(b, m))
         ans["cassini"] = cassini_summary(m)
         ans["uncertainty"] = uncertainty_summary(b)
         ans["model"] = self.describe(None, "cassini", None, False)
@@ -640,14 +640,39 @@ def cassini_summary(m: SynchronousModel) -> dict:
     }
 
 
-def uncertainty_summary(b: Body) -> dict:
-    from .uncertainty import SCALAR_KEYS
+def rate_uncertainties(b: Body, m: SynchronousModel) -> dict:
+    """The precession answer's 1σ where the inputs have one: H_d and K = 2 P(0) ∝ (C − A)/C from the moments' σ
+    and correlation (the Moon's: lunar laser ranging's β and γ); the rate is the orbit node's and the mean
+    obliquity the catalogue pole's, neither with a published σ (None)."""
+    from .uncertainty import dynamical_ellipticity_sigma, moments_function_sigma
 
-    inputs = sorted(k for k in b.values if k.split(".")[0] in ("orbit", "pole", "rotation", "inertia"))
-    return {"method": "not propagated: ephem.uncertainty replicates the single-perturber (Sun) theory only; the "
-                      "Cassini-state answer's 1-sigma uncertainties are unknown (null), not zero",
-            "dominant_input": {k: None for k in SCALAR_KEYS}, "unpropagated_inputs": inputs,
-            "assumptions": ["the catalogue gives no 1-sigma for the Moon's moments, node rate or pole"]}
+    A, B, C = b.moments
+    polar = (C - A) / C
+    sigma_polar = moments_function_sigma(b, lambda a, _b, c: (c - a) / c)
+    k = abs(m.scaling_factor) * JULIAN_YEAR_DAYS / ARCSEC
+    return {"obliquity_deg_uncertainty": None, "precession_rate_arcsec_per_year_uncertainty": None,
+            "dynamical_ellipticity_uncertainty": dynamical_ellipticity_sigma(b),
+            "scaling_factor_arcsec_per_year_uncertainty": None if sigma_polar is None else k * sigma_polar / polar}
+
+
+def uncertainty_summary(b: Body) -> dict:
+    from .uncertainty import SCALAR_KEYS, no_uncertainty_reasons
+
+    inputs = sorted(k for k in b.values if k.split(".")[0] in ("orbit", "pole", "rotation", "inertia")
+                    and not k.endswith(".epoch"))
+    unpropagated = [k for k in inputs if b.values[k].uncertainty is None]
+    with_sigma = [k for k in ("inertia.A", "inertia.B", "inertia.C") if k in b.values
+                  and b.values[k].uncertainty]
+    dominant = {k: None for k in SCALAR_KEYS}
+    if with_sigma:
+        dominant["dynamical_ellipticity"] = dominant["scaling_factor_arcsec_per_year"] = "inertia.A"
+    return {"method": "linear over the moments (their 1-sigma and correlation, for the Moon from lunar laser "
+                      "ranging) for H_d and K; the rate is the orbit node's and the mean obliquity the catalogue "
+                      "pole's, neither with a published sigma, and the physical librations are not propagated "
+                      "(each build of their series costs seconds): those are unknown (null), not zero",
+            "complete": not unpropagated, "dominant_input": dominant, "unpropagated_inputs": unpropagated,
+            "no_uncertainty_reasons": no_uncertainty_reasons(b, unpropagated),
+            "assumptions": ["the moments' errors as their derivation gives them (ephem.inertia)"]}
 
 
 def no_order(body: Body, order) -> None:

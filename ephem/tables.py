@@ -147,7 +147,13 @@ def _cell(row: dict, key: str, places: int, latex: bool = False) -> str:
     if sigma is None:           # unknown (no input with a published σ moves it)
         return value
     pm = r" $\pm$ " if latex else " ± "
-    return value + pm + f"{sigma:.{places}f}"
+    # a σ below the printed digits is shown with two significant digits, not as a misleading "± 0.00"; a value
+    # and σ that both vanish at these digits (a coefficient that is zero but for rounding) show the value alone
+    half_unit = 0.5 * 10.0 ** -places
+    if sigma < half_unit and abs(row[key]) < half_unit:
+        return value
+    shown = f"{sigma:.{places}f}" if sigma >= half_unit else f"{sigma:.1e}"
+    return value + pm + shown
 
 
 _LATEX_SPECIAL = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",

@@ -15,8 +15,8 @@ does not enter these outputs.
 
 :func:`propagate` is linear: σ_out² = Σ_ij J_i ρ_ij J_j σ_i σ_j with the Jacobian J from
 central finite differences, step h_i = σ_i / 100 (see :data:`STEP_FRACTION`), and the
-inputs independent (ρ = identity) unless ``correlations`` says otherwise: the catalogue
-gives no covariances. :func:`monte_carlo` samples the inputs (normal) and recomputes,
+inputs correlated as the catalogue says (:attr:`ephem.catalogue.Body.correlations`: stated by a source,
+or implied by deriving several values from one measurement) and as ``correlations`` adds. :func:`monte_carlo` samples the inputs (normal) and recomputes,
 as a check of the linear answer where the model is not linear over ±1σ (large pole
 uncertainties, small obliquities).
 
@@ -67,9 +67,9 @@ TERM_KEYS = ("period_days", "longitude_sin_arcsec", "longitude_cos_arcsec", "obl
 
 ASSUMPTIONS = [
     "1-sigma uncertainties as the catalogue gives them (value's unit), normal errors",
-    ("inputs independent unless correlations are given: the catalogue has no covariances "
-     "(Ceres and Vesta: A, B, C all come from one polar moment C/MR^2 and would be fully "
-     "correlated if it had an uncertainty; none is given)"),
+    ("inputs independent except where the catalogue or the caller gives correlations: a source's stated ones "
+     "(a pole's RA and Dec) and those a derivation implies (moments derived from one polar moment or one shape "
+     "are correlated, data/catalogue/SCHEMA.md)"),
     "pole RA and Dec uncertainties are per coordinate (the RA one is an angle of RA, not of arc)",
     ("linear propagation: central finite differences, step sigma/100; the Monte Carlo check "
      "(monte_carlo) shows where the model is not linear over +-1 sigma"),
@@ -153,12 +153,17 @@ def _inputs(body: Body, overrides: Mapping[str, float | None] | None) -> list[_I
     return items
 
 
-def _correlation_matrix(inputs: list[_Input], correlations, body: str) -> np.ndarray:
+def _correlation_matrix(inputs: list[_Input], correlations, b: Body) -> np.ndarray:
+    """ρ of the inputs: the catalogue's (a record's stated and derived correlations, :attr:`Body.correlations`,
+    for the pairs that are inputs of this model), updated by the caller's ``correlations``."""
     n = len(inputs)
     rho = np.eye(n)
+    index = {inp.key: j for j, inp in enumerate(inputs)}
+    correlations = {**{pair: r for pair, r in b.correlations.items() if all(k in index for k in pair)},
+                    **(correlations or {})}
     if not correlations:
         return rho
-    index = {inp.key: j for j, inp in enumerate(inputs)}
+    body = b.name
     for pair, r in correlations.items():
         if len(pair) != 2 or any(k not in index for k in pair) or pair[0] == pair[1]:
             raise InvalidInputError("correlations", f"{pair!r}: expected two different inputs of "
@@ -320,7 +325,7 @@ def _setup(body, dataset, order, uncertainties, correlations) -> _Setup:
     extrema = (xp_max, xp_min, xe_max, xe_min)
     y0 = replica.outputs(x0, extrema)
     return _Setup(b, b.dataset, m.order, inputs, replica, x0, y0, extrema,
-                  np.arange(1, kmax + 1), _correlation_matrix(inputs, correlations, b.name))
+                  np.arange(1, kmax + 1), _correlation_matrix(inputs, correlations, b))
 
 
 def _step(inp: _Input, x_model: float) -> float:
@@ -445,6 +450,7 @@ def propagate(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int
     ans["inputs"] = {i.key: {"value": i.value, "unit": i.unit, "uncertainty": i.sigma, "source": i.source}
                      for i in propagated}
     ans["unpropagated_inputs"] = [i.key for i in st.inputs if i.sigma is None]
+    ans["no_uncertainty_reasons"] = no_uncertainty_reasons(st.body, ans["unpropagated_inputs"])
     ans["correlations"] = {f"{st.inputs[a].key}|{st.inputs[b].key}": float(st.rho[a, b])
                            for a in range(n_in) for b in range(a + 1, n_in) if st.rho[a, b] != 0.0}
     ans["assumptions"] = list(ASSUMPTIONS)
@@ -529,7 +535,7 @@ def propagated(b: Body, order: int | None) -> dict:
         u["terms"] = [{"multiple": int(k), **{f"{key}_uncertainty": None for key in TERM_KEYS}}
                       for k in cached_model(b, order).nutation.multiple]
         u.update(dominant_input={k: None for k in SCALAR_KEYS}, unpropagated_inputs=list(sigmas),
-                 assumptions=list(ASSUMPTIONS))
+                 no_uncertainty_reasons=no_uncertainty_reasons(b, list(sigmas)), assumptions=list(ASSUMPTIONS))
         return u
     u = unknown_as_none(propagate(b, b.dataset, order, sensitivities=False))
     u["terms"] = [unknown_as_none(t) for t in u["terms"]]
@@ -539,10 +545,54 @@ def propagated(b: Body, order: int | None) -> dict:
 def summary(u: dict) -> dict:
     """The answers' ``uncertainty`` object from :func:`propagated`."""
     return {"method": "linear propagation of the catalogue's 1-sigma uncertainties (ephem.uncertainty); they "
-                      "cover only the inputs with a published sigma, and null means no such input moves the "
-                      "value (its uncertainty is unknown, not zero)",
+                      "cover only the inputs with a published sigma (complete: false when some input has none, "
+                      "each listed with the reason, and the sigmas are then lower bounds), and null means no such "
+                      "input moves the value (its uncertainty is unknown, not zero)",
+            "complete": not u["unpropagated_inputs"],
             "dominant_input": u["dominant_input"], "unpropagated_inputs": list(u["unpropagated_inputs"]),
-            "assumptions": list(u["assumptions"])}
+            "no_uncertainty_reasons": dict(u["no_uncertainty_reasons"]), "assumptions": list(u["assumptions"])}
+
+
+def moments_function_sigma(b: Body, f) -> float | None:
+    """The 1-σ of ``f(A, B, C)`` from the catalogue moments' σ and correlations (linear, central differences a
+    millionth of each moment wide); None where a moment ``f`` depends on has no σ (unknown, not zero)."""
+    x = list(b.moments)
+    keys = ("inertia.A", "inertia.B", "inertia.C")
+    grad = []
+    for i in range(3):
+        h = 1e-6 * abs(x[i])
+        xp, xm = list(x), list(x)
+        xp[i] += h
+        xm[i] -= h
+        grad.append((f(*xp) - f(*xm)) / (2.0 * h))
+    sig = [b.values[k].uncertainty if k in b.values else None for k in keys]
+    if any(g != 0.0 and s is None for g, s in zip(grad, sig)):
+        return None
+    var = 0.0
+    for i in range(3):
+        for j in range(3):
+            rho = 1.0 if i == j else b.correlations.get((keys[i], keys[j]), b.correlations.get((keys[j], keys[i]), 0.0))
+            var += grad[i] * (sig[i] or 0.0) * rho * (sig[j] or 0.0) * grad[j]
+    return math.sqrt(max(var, 0.0))
+
+
+def dynamical_ellipticity_sigma(b: Body) -> float | None:
+    """The 1-σ of the H_d the theory uses, from the catalogue: the explicit value's, or the moments' with their
+    correlations (:func:`moments_function_sigma`); None where unknown."""
+    if b.dynamical_ellipticity is not None:
+        m = b.values.get("inertia.dynamical_ellipticity")
+        return None if m is None else m.uncertainty
+    return moments_function_sigma(b, lambda A, B, C: (C - 0.5 * (A + B)) / C)
+
+
+def no_uncertainty_reasons(b: Body, keys) -> dict[str, str]:
+    """{input key: why it has no σ} for ``keys``: the record's ``no_uncertainty`` reason, or that it gives none."""
+    out = {}
+    for key in keys:
+        m = b.values.get(key)
+        out[key] = (m.no_uncertainty if m is not None and m.no_uncertainty
+                    else "the body's record gives no sigma for it and no reason")
+    return out
 
 
 # --------------------------------------------------------------------------- the pole's 1-σ along a track
@@ -593,7 +643,7 @@ def pole_uncertainty(body: str | int | Body, jd_tdb, dataset: str = DEFAULT_DATA
     if not which:
         return None
     x0 = np.array([i.value * i.factor for i in inputs])
-    rho = _correlation_matrix(inputs, correlations, b.name)
+    rho = _correlation_matrix(inputs, correlations, b)
     cols = []
     for j in which:
         h = _step(inputs[j], x0[j])

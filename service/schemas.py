@@ -109,6 +109,10 @@ class UncertaintyInfo(BaseModel):
     method: str
     dominant_input: dict[str, Optional[str]] = Field(description="the input whose uncertainty moves each value most")
     unpropagated_inputs: list[str] = Field(description="inputs without a published uncertainty (unknown, not zero)")
+    complete: bool = Field(description="whether every input has a published uncertainty; false: the 1-sigma values "
+                                       "cover only those that have one and are lower bounds")
+    no_uncertainty_reasons: dict[str, str] = Field(
+        description="for each unpropagated input, why it has no uncertainty (the catalogue record's reason)")
     assumptions: list[str]
 
 

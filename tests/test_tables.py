@@ -209,7 +209,8 @@ def parse_earth(text: str, fmt: str, layout: str) -> dict:
             arg = cells[-1]
             if fmt == "latex":   # $2F-2D+2\Omega$ -> 2F−2D+2Ω
                 arg = arg.strip("$").replace("-", "−").replace(r"\Omega", "Ω").replace("l'", "l′")
-            out[(comp, arg)] = {k: float(c) for k, c in zip(keys, cells)}
+            # "value ± σ" (the Earth's σ, from H_d's): the value is what is read back here
+            out[(comp, arg)] = {k: float(re.split(r" ± | \$\\pm\$ ", c)[0]) for k, c in zip(keys, cells)}
     return out
 
 

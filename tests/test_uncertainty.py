@@ -11,7 +11,7 @@ import pytest
 from ephem import api
 from ephem.catalogue import get_body, load_catalogue, parse_catalogue
 from ephem.errors import InvalidInputError, NotApplicableError
-from ephem.uncertainty import SCALAR_KEYS, TERM_KEYS, _setup, monte_carlo, propagate
+from ephem.uncertainty import SCALAR_KEYS, TERM_KEYS, _setup, input_sigmas, monte_carlo, propagate
 
 DATASETS = ("current", "petit2014")
 APPLICABLE = [(ds, b.name) for ds in DATASETS for b in load_catalogue(ds).bodies if b.name != "Moon"]
@@ -170,9 +170,13 @@ def test_moon_is_not_applicable(dataset):
 
 
 def test_catalogue_gaps_are_listed():
+    """Vesta's period has Park et al. 2025's σ; its polar moment has none (so neither have the moments derived
+    from it), nor its pole or orbit: each gap is listed with the record's reason."""
     vesta = propagate("Vesta")
-    assert vesta["inputs"] == {} and len(vesta["unpropagated_inputs"]) == 12
-    assert vesta["precession_rate_arcsec_per_year_uncertainty"] == 0.0   # known: nothing propagated
+    assert set(vesta["inputs"]) == {"rotation.period"} and len(vesta["unpropagated_inputs"]) == 11
+    reasons = vesta["no_uncertainty_reasons"]
+    assert set(reasons) == set(vesta["unpropagated_inputs"])
+    assert "Park et al. (2025)" in reasons["inertia.C"] and "WGCCRE" in reasons["pole.ra"]
     eros = propagate("Eros")
     assert set(eros["inputs"]) == {"pole.ra", "pole.dec"}
     assert "rotation.period" in eros["unpropagated_inputs"]
@@ -196,7 +200,8 @@ def test_period_alone_scales_the_rate(name):
     """ψ̇ ∝ K ∝ 1/ω ∝ P: the relative σ of ψ̇ and of K is that of the period."""
     body = load_catalogue("current").get(name)
     rel_p = 1e-4
-    r = propagate(body, uncertainties={"rotation.period": rel_p * body.rotation_period_hours})
+    alone = {key: None for key in input_sigmas(body)} | {"rotation.period": rel_p * body.rotation_period_hours}
+    r = propagate(body, uncertainties=alone)
     v = r["values"]
     assert r["scaling_factor_arcsec_per_year_uncertainty"] / v["scaling_factor_arcsec_per_year"] \
         == pytest.approx(rel_p, rel=1e-8)
@@ -211,11 +216,14 @@ def test_period_alone_scales_the_rate(name):
 
 
 def test_catalogue_period_sigma_of_ceres():
-    """The only σ on a rate input in `current`: Ceres's period, 1.9e-8 h (Dawn), i.e. 2.1e-9 relative."""
+    """Ceres' period derives from Dawn's W' = 952.1532635 ± 0.000002 °/d: σ_P/P = σ_W/W' = 2.1e-9, whose share
+    of the rate's σ is the same fraction of the rate."""
+    body = load_catalogue("current").get("Ceres")
+    rel = 0.000002 / 952.1532635
+    assert body.values["rotation.period"].uncertainty / body.rotation_period_hours == pytest.approx(rel, rel=1e-9)
     r = propagate("Ceres")
-    rel = 1.9e-8 / 9.07417
-    assert r["precession_rate_arcsec_per_year_uncertainty"] / r["values"]["precession_rate_arcsec_per_year"] \
-        == pytest.approx(rel, rel=1e-3)
+    share = r["contributions"]["precession_rate_arcsec_per_year"]["rotation.period"]
+    assert abs(share) / abs(r["values"]["precession_rate_arcsec_per_year"]) == pytest.approx(rel, rel=1e-3)
 
 
 def test_contributions_add_in_quadrature_and_name_the_dominant_input():
@@ -382,3 +390,49 @@ def test_the_poles_uncertainty_along_a_track_is_the_monte_carlo_one():
     cd = math.cos(math.radians(b.pole.dec_deg))
     own = math.radians(math.sqrt((sra * cd) ** 2 + sdec**2))
     assert linear[0] == pytest.approx(own, rel=1e-3)
+
+
+# ----------------------------------------------------------------------------- moments from one polar moment
+
+def _vesta_with_a_polar_moment_sigma(sigma_c: float):
+    """Vesta as the catalogue has it, with a σ on Park et al. (2025)'s polar moment (none is published), its
+    moments and their covariance derived as the loader derives them (ephem.inertia)."""
+    from ephem.catalogue import Measured
+    from ephem.inertia import derive
+
+    vesta = get_body("vesta")
+    keys = ("polar_moment", "J2", "C22", "S22")
+    given = {k: vesta.values[f"inertia.derived_from.{k}"] for k in keys}
+    d = derive("gravity_and_polar_moment", {k: m.value for k, m in given.items()},
+               {k: (sigma_c if k == "polar_moment" else m.uncertainty) for k, m in given.items()})
+    values = dict(vesta.values)
+    for label, value, s in zip("ABC", d.moments, d.sigma):
+        values[f"inertia.{label}"] = Measured(value, "", "park2025_vesta", s)
+    return dataclasses.replace(vesta, values=values, correlations=d.correlations)
+
+
+def test_moments_from_one_polar_moment_carry_its_error_once():
+    """A, B and C from one C-bar (σ 0.003, hypothetical) and the gravity: their correlations (~1) make H_d's σ
+    that of J2/C-bar, H_d σ_C/C (to the gravity's 1e-7 share), where independent moments of the same σ would
+    give a σ five times larger; the precession rate's σ, linear, against 600 draws of C-bar and the gravity
+    through the answers themselves (sampling error of a σ: 1/sqrt(2·599) = 2.9 %, 3 of them: 9 %)."""
+    from ephem.inertia import moments_from_gravity
+
+    sigma_c = 0.003
+    body = _vesta_with_a_polar_moment_sigma(sigma_c)
+    lin = propagate(body)
+    hd = body.hd
+    assert lin["dynamical_ellipticity_uncertainty"] == pytest.approx(hd * sigma_c / 0.4208, rel=1e-4)
+    independent = propagate(body, correlations={pair: 0.0 for pair in body.correlations})
+    assert independent["dynamical_ellipticity_uncertainty"] > 5.0 * lin["dynamical_ellipticity_uncertainty"]
+
+    vesta = get_body("vesta")
+    g = {k: vesta.values[f"inertia.derived_from.{k}"] for k in ("J2", "C22", "S22")}
+    rng = np.random.default_rng(3)
+    rates = []
+    for _ in range(600):
+        moments = moments_from_gravity(0.4208 + sigma_c * rng.standard_normal(),
+                                       *(m.value + m.uncertainty * rng.standard_normal() for m in g.values()))
+        sample = dataclasses.replace(vesta, moments=moments, values={}, correlations={})
+        rates.append(api.precession(sample)["precession_rate_arcsec_per_year"])
+    assert lin["precession_rate_arcsec_per_year_uncertainty"] == pytest.approx(np.std(rates, ddof=1), rel=0.09)

@@ -70,7 +70,7 @@ def test_a_track_reports_the_obliquity_uncertainty():
 
 
 #: numbers whose keys name no unit because they have none (ratios, counts, identifiers)
-DIMENSIONLESS = {"dynamical_ellipticity", "e", "multiple", "naif_id", "spin_orbit_ratio", "min_spin_orbit_ratio",
+DIMENSIONLESS = {"dynamical_ellipticity", "dynamical_ellipticity_uncertainty", "e", "multiple", "naif_id", "spin_orbit_ratio", "min_spin_orbit_ratio",
                  "moments_over_C", "delaunay_multipliers"}
 
 
