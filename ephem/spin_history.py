@@ -36,19 +36,25 @@ from .catalogue import Body
 from .constants import J2000_JD, JULIAN_YEAR_DAYS
 from .geometry import angle_between, icrf_to_ecliptic_matrix, lon_lat
 from .relativity import geodesic_precession_rate
-from .uncertainty import input_sigmas
+from .uncertainty import dynamical_ellipticity_sigma, input_sigmas
 
-#: DOP853's relative tolerance: over 4 Myr (the shipped N-body orbits) the Earth's pole moves by 8.8″ at RTOL/100,
-#: Vesta's by 1.8″, Ceres' and Mars' by 0.1-0.3″, their obliquities by at most 0.6″, below the nutation the
-#: averaged equation leaves out (the Earth's 12″; checked in tests/test_spin_history.py); RTOL/100 costs 1.5-2.5x
-RTOL = 1e-8
+#: DOP853's relative tolerance: over 4 Myr (the shipped N-body orbits) the Earth's pole moves by 0.9″ at 1e-10,
+#: Vesta's by 0.5″, Ceres' and Mars' by 0.1″, their obliquities by at most 0.13″, far below the nutation the
+#: averaged equation leaves out (the Earth's 12″; checked in tests/test_spin_history.py). At 1e-8 the Earth's
+#: pole moved by 11.6″ once its tidal neighbour joined the stacked solutions; 5e-9 costs 15-30 % more
+#: evaluations than 1e-8, 1e-10 twice as many
+RTOL = 5e-9
 METHOD = "DOP853"
 ATOL = 1e-12
 #: where the neighbouring solutions' obliquities part by more than this, the history stops meaning anything
 #: (radians): the obliquity is then known to no better than a degree
 MEANINGFUL_LIMIT = math.radians(1.0)
-#: the relative probe of the precession constant where no σ is published: 1e-3 (Mars' is measured to 5e-4,
-#: Konopliv et al. 2016; the asteroids' moments are rarely known better than a per cent)
+#: the relative probe of the precession constant's own change over the span, which no source bounds: the equation
+#: holds the moments and the spin fixed (the figure's response to ice loads, true polar wander, YORP; the Earth's
+#: mean tidal drift is counted apart, ephem.earth.tidal_constant_drift). It is added in quadrature to the published
+#: σ of today's constant (Mars': 2.8e-4, Baland et al. 2020; the Earth's: 3e-7, IERS 2010), which alone would
+#: claim a constant known over millions of years to that level: the Earth's estimate would then no longer cover
+#: La2004 beyond ±0.3 Myr (tests/test_against_laskar2004.py)
 DEFAULT_CONSTANT_PROBE = 1e-3
 #: the pole probe where no σ is published (radians): 0.01°, the printed digits of most catalogue poles
 DEFAULT_POLE_PROBE = math.radians(0.01)
@@ -61,7 +67,8 @@ class SpinConstants:
     ``orbit_constant`` α₀ is the precession constant of the orbit centre's torque at (``a0_au``, ``e0``);
     ``fixed_constant`` the part that does not follow the heliocentric orbit (the Earth: the Moon's);
     ``geodesic_rate`` Ω_gp at (a0, e0). ``constant_sigma`` and ``pole_sigma`` are the 1σ of α (relative) and of
-    the pole (radians), None where unpublished. ``nutation`` is the largest periodic displacement of the pole the
+    the pole (radians), None where unpublished; ``constant_drift`` the change of α per year that the equation leaves
+    out (relative; tides), which the α neighbour adds as |t − t0| grows. ``nutation`` is the largest periodic displacement of the pole the
     averaged equation leaves out.
     """
 
@@ -77,6 +84,9 @@ class SpinConstants:
     constant_sigma: float | None = None
     pole_sigma: float | None = None
     source: str = ""
+    #: the secular change of α the averaged equation leaves out, relative per year (the Earth's tides: ephem.earth
+    #: TIDAL_CONSTANT_DRIFT_PER_YEAR); the α neighbour drifts away at this rate from the epoch, both ways
+    constant_drift: float = 0.0
 
     def constants(self, a_au, e) -> tuple[np.ndarray, np.ndarray]:
         """(α, Ω_gp) in rad/yr on an orbit of semi-major axis ``a_au`` and eccentricity ``e`` (arrays)."""
@@ -169,10 +179,13 @@ class _SampledOrbit:
 REPORT_EVERY = 500
 
 
-def _rhs(sampled: _SampledOrbit, scales: tuple, counter: list, report=None):
-    """The right-hand side for k stacked solutions (α scaled by ``scales``): dŝ/dt = (α (ŝ·n̂) − Ω_gp) (ŝ × n̂).
-    Every :data:`REPORT_EVERY` calls, ``report(t)`` (the deadline's checkpoint and the caller's progress)."""
+def _rhs(sampled: _SampledOrbit, scales: tuple, counter: list, report=None, drifts: tuple | None = None,
+         t0: float = 0.0):
+    """The right-hand side for k stacked solutions (α scaled by ``scales[i] + drifts[i] |t − t0|``):
+    dŝ/dt = (α (ŝ·n̂) − Ω_gp) (ŝ × n̂). Every :data:`REPORT_EVERY` calls, ``report(t)`` (the deadline's checkpoint
+    and the caller's progress)."""
     k = len(scales)
+    drifts = drifts or (0.0,) * k
 
     def f(t, y):
         counter[0] += 1
@@ -184,7 +197,7 @@ def _rhs(sampled: _SampledOrbit, scales: tuple, counter: list, report=None):
         out = [0.0] * (3 * k)
         for i in range(k):
             x, y_, z = y[3 * i], y[3 * i + 1], y[3 * i + 2]
-            f_ = alpha * scales[i] * (x * nx + y_ * ny + z * nz) - gp
+            f_ = alpha * (scales[i] + drifts[i] * abs(t - t0)) * (x * nx + y_ * ny + z * nz) - gp
             out[3 * i] = f_ * (y_ * nz - z * ny)
             out[3 * i + 1] = f_ * (z * nx - x * nz)
             out[3 * i + 2] = f_ * (x * ny - y_ * nx)
@@ -194,11 +207,12 @@ def _rhs(sampled: _SampledOrbit, scales: tuple, counter: list, report=None):
 
 
 def _neighbours(spin: SpinConstants, n0: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple]:
-    """Initial states (k, 3) and α scales (k,): the nominal solution, α by its σ (or probe), and the pole moved by
-    its σ (or probe) obliquely (half along the meridian through the orbit normal, half across it: a generic
+    """Initial states (k, 3), α scales (k,), the probed terms and the α drifts (k,): the nominal solution, α by its
+    σ and the probe of its change (:data:`DEFAULT_CONSTANT_PROBE`) drifting as ``constant_drift``, and the pole
+    moved by its σ (or probe) obliquely (half along the meridian through the orbit normal, half across it: a generic
     direction, which picks up the fastest divergence, Lyapunov's, whatever its direction)."""
     s0 = spin.mean_pole / np.linalg.norm(spin.mean_pole)
-    d_alpha = spin.constant_sigma if spin.constant_sigma is not None else DEFAULT_CONSTANT_PROBE
+    d_alpha = math.hypot(spin.constant_sigma or 0.0, DEFAULT_CONSTANT_PROBE)
     d_pole = spin.pole_sigma if spin.pole_sigma is not None else DEFAULT_POLE_PROBE
     across = np.cross(n0, s0)
     if np.linalg.norm(across) < 1e-12:  # the pole on the orbit normal: any direction across it
@@ -207,9 +221,8 @@ def _neighbours(spin: SpinConstants, n0: np.ndarray) -> tuple[np.ndarray, np.nda
     oblique = (across + np.cross(s0, across)) / math.sqrt(2.0)
     states = [s0, s0, math.cos(d_pole) * s0 + math.sin(d_pole) * oblique]
     scales = np.array([1.0, 1.0 + d_alpha, 1.0])
-    probes = tuple(name for name, sigma in (("precession_constant", spin.constant_sigma),
-                                            ("pole", spin.pole_sigma)) if sigma is None)
-    return np.array(states), scales, probes
+    probes = ("precession_constant",) + (("pole",) if spin.pole_sigma is None else ())
+    return np.array(states), scales, probes, (0.0, float(spin.constant_drift), 0.0)
 
 
 def integrate(spin: SpinConstants, orbit, years, progress=None) -> SpinHistory:
@@ -221,7 +234,7 @@ def integrate(spin: SpinConstants, orbit, years, progress=None) -> SpinHistory:
     years = np.asarray(years, dtype=float)
     t0 = spin.epoch_years
     n0 = orbit.pole_at(t0)
-    y0, scales, probes = _neighbours(spin, n0)
+    y0, scales, probes, drifts = _neighbours(spin, n0)
     counter = [0]
     lo, hi = min(years.min(), t0), max(years.max(), t0)
     done = {"before": 0.0}
@@ -232,7 +245,7 @@ def integrate(spin: SpinConstants, orbit, years, progress=None) -> SpinHistory:
             side = t0 - t if t < t0 else t - t0
             progress(min(1.0, (done["before"] + side) / max(hi - lo, 1e-300)))
 
-    f = _rhs(_SampledOrbit(orbit, spin, lo, hi), tuple(map(float, scales)), counter, report)
+    f = _rhs(_SampledOrbit(orbit, spin, lo, hi), tuple(map(float, scales)), counter, report, drifts, t0)
     states = np.empty((years.size, scales.size, 3))
     precession = np.empty(years.size)
     lon0 = _equinox_longitude(y0[0], n0)
@@ -324,7 +337,8 @@ def _meaningful(years: np.ndarray, t0: float, spread: np.ndarray) -> tuple[float
 
 
 def spin_constants(body: Body, pole_epoch_jd: float, icrf_from_orbit: np.ndarray, obliquity: float,
-                   orbit_constant: float, fixed_constant: float, nutation: float, source: str) -> SpinConstants:
+                   orbit_constant: float, fixed_constant: float, nutation: float, source: str,
+                   constant_drift: float = 0.0) -> SpinConstants:
     """A body's :class:`SpinConstants` from its theory's mean pole (the orbit frame ``icrf_from_orbit``, whose
     third column is the orbit normal, and the mean ``obliquity`` on it, at the pole epoch) and precession
     constants (rad/day: ψ̇ = (``orbit_constant`` + ``fixed_constant``) cos ε). The pole's σ is the catalogue's
@@ -336,7 +350,12 @@ def spin_constants(body: Body, pole_epoch_jd: float, icrf_from_orbit: np.ndarray
     ra_s, dec_s = sig.get("pole.ra"), sig.get("pole.dec")
     pole_sigma = None if ra_s is None or dec_s is None else \
         math.radians(math.hypot(ra_s * math.cos(math.radians(body.pole.dec_deg)), dec_s))
+    # α ∝ n² H_d / ω: its relative σ from H_d's and the period's (the semi-major axes' relative errors, below
+    # 1e-8 for every catalogue orbit, are left out); None where H_d has no σ
+    hd_s, period_s = dynamical_ellipticity_sigma(body), sig.get("rotation.period")
+    constant_sigma = None if hd_s is None else \
+        math.hypot(hd_s / body.hd, (period_s or 0.0) / body.rotation_period_hours)
     return SpinConstants(body.name, (pole_epoch_jd - J2000_JD) / JULIAN_YEAR_DAYS, mean_pole,
                          orbit_constant * JULIAN_YEAR_DAYS, fixed_constant * JULIAN_YEAR_DAYS,
                          geodesic_precession_rate(o.a_au, o.e, o.center) * JULIAN_YEAR_DAYS, o.a_au, o.e,
-                         nutation, None, pole_sigma, source)
+                         nutation, constant_sigma, pole_sigma, source, constant_drift)
