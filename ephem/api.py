@@ -115,16 +115,20 @@ def list_bodies(dataset: str = DEFAULT_DATASET) -> list[dict]:
 
 
 def body_record(body: str | int, dataset: str = DEFAULT_DATASET) -> dict:
-    """The full catalogue record: every value with unit, uncertainty and resolved source."""
+    """The full catalogue record: every value with unit, uncertainty (or the reason none is published) and resolved
+    source, the values derived from others (``inertia.derived_from.*`` are the inputs of the moments), and the
+    correlations of their errors (``correlations``: [{inputs: [key, key], value: ρ}])."""
     b = get_body(body, dataset)
     refs = load_references()
     values = {}
     for key, m in b.values.items():
         values[key] = {"value": m.value, "unit": m.unit, "uncertainty": m.uncertainty,
-                       "source": m.source, "reference": refs.get(m.source), "note": m.note}
+                       "no_uncertainty": m.no_uncertainty, "source": m.source, "reference": refs.get(m.source),
+                       "note": m.note}
     return {"name": b.name, "naif_id": b.naif_id, "kind": b.kind, "dataset": b.dataset,
             "orbit_center": b.orbit.center, "dynamical_ellipticity": b.hd,
-            "dynamical_ellipticity_from": b.hd_from, "perturbers": list(b.perturbers), "values": values}
+            "dynamical_ellipticity_from": b.hd_from, "perturbers": list(b.perturbers), "values": values,
+            "correlations": [{"inputs": list(pair), "value": rho} for pair, rho in b.correlations.items()]}
 
 
 def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None,

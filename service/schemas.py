@@ -87,10 +87,16 @@ class BodySummary(BaseModel):
 class MeasuredValue(BaseModel):
     value: float
     unit: str
-    uncertainty: Optional[float]
+    uncertainty: Optional[float] = Field(description="1-sigma, same unit; null: none published")
+    no_uncertainty: Optional[str] = Field(None, description="why no 1-sigma is published (null when one is)")
     source: str
     reference: Optional[dict]
     note: Optional[str]
+
+
+class Correlation(BaseModel):
+    inputs: list[str] = Field(description="the two values whose errors are correlated")
+    value: float = Field(description="the correlation coefficient, in [-1, 1]")
 
 
 class BodyRecord(BaseModel):
@@ -103,6 +109,9 @@ class BodyRecord(BaseModel):
     dynamical_ellipticity_from: str
     perturbers: Optional[list[str]] = Perturbers
     values: dict[str, MeasuredValue]
+    correlations: list[Correlation] = Field(
+        description="correlations of the values' errors: stated by a source, or implied by deriving several values "
+                    "from one measurement (data/catalogue/SCHEMA.md)")
 
 
 class UncertaintyInfo(BaseModel):

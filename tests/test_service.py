@@ -340,3 +340,15 @@ def test_unreachable_tolerance_is_422_not_applicable_with_the_best_estimate(clie
     body = _problem(client.get("/v1/bodies/vesta/track?start=2000-01-01&stop=2200-01-01&step_days=365"
                                "&tolerance_mas=1"), 422)
     assert body["title"] == "Not applicable" and "estimated good to" in body["reason"]
+
+
+def test_a_record_gives_each_missing_sigma_its_reason_and_the_correlations(client):
+    """Vesta's pole has no published σ (the record says why); the Moon's moments, derived from lunar laser
+    ranging's β and γ, are correlated as their derivation gives them; the JSON is the library's record."""
+    vesta = client.get("/v1/bodies/vesta").json()
+    assert vesta["values"]["pole.ra"]["uncertainty"] is None and "WGCCRE" in vesta["values"]["pole.ra"]["no_uncertainty"]
+    assert vesta["values"]["rotation.period"]["no_uncertainty"] is None
+    moon = client.get("/v1/bodies/moon").json()
+    assert moon == json.loads(json.dumps(api.body_record("moon")))
+    (corr,) = moon["correlations"]
+    assert corr["inputs"] == ["inertia.A", "inertia.B"] and 0.5 < corr["value"] < 0.7
