@@ -364,7 +364,9 @@ def _body_from_record(rec: dict, dataset: str) -> Body:
                 raise InvalidInputError(f"{section}.{key}" if section else key, "missing", name)
             return None
         where = f"{section}.{key}" if section else key
-        m = _measured(sec[key], where, name, _section_reason(sec, section, name) if section else None)
+        # a section's reason is for its measured values: an epoch is a definition
+        reason = _section_reason(sec, section, name) if section and key != "epoch" else None
+        m = _measured(sec[key], where, name, reason)
         values[where] = m
         return _convert(m, target, where, name)
 
