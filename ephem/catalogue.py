@@ -22,6 +22,7 @@ from pathlib import Path
 
 from .constants import CENTER_HILL_AU, CENTER_RADIUS_AU, GM_CENTER, J2000_JD, JD_RANGE
 from .errors import InvalidInputError, NotApplicableError, UnknownBodyError
+from .inertia import hd_of_moments
 
 DEFAULT_DATASET = "current"
 #: Bodies that may torque a body (the ``perturbers`` of a record): an orbit's centre, or the Moon
@@ -54,7 +55,7 @@ def dynamical_ellipticity(A: float, B: float, C: float, body: str | None = None)
         raise InvalidInputError("inertia", f"principal moments must satisfy A <= B <= C, got A={A}, B={B}, C={C}", body)
     if C > A + B:
         raise InvalidInputError("inertia", f"C={C} exceeds A+B={A + B}: no rigid body has these moments", body)
-    return (C - 0.5 * (A + B)) / C
+    return hd_of_moments(A, B, C)
 
 
 def spin_rate_rad_per_day(rotation_period_hours: float) -> float:

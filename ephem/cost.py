@@ -195,6 +195,15 @@ def spin_history(span_years: float, epochs: int) -> Part:
                 + span_years / 500.0 * _u("history_bytes_per_orbit_sample") / MB)
 
 
+def population(rows: int, sigma_inputs: int = 0) -> Part:
+    """A partition of ``rows`` bodies through the population core (:func:`ephem.population.evaluate`), each input
+    with a sigma column costing two more evaluations."""
+    return Part("rows", f"{rows} bodies through the theory on columns"
+                + (f", {sigma_inputs} inputs with a sigma" if sigma_inputs else ""),
+                _u("population_base_s") + rows * (_u("population_row_s") + sigma_inputs * _u("population_sigma_row_s")),
+                rows * _u("population_row_bytes") / MB)
+
+
 def cassini_history(epochs: int) -> Part:
     """A synchronous rotator's Cassini state carried along its primary's orbit history (:class:`ephem.synchronous.
     CassiniHistory`): the orbit's spline, the node's quadrature on 4001 points and the pole at each epoch."""

@@ -117,17 +117,28 @@ def spin_geometry(pole_ecliptic: np.ndarray, i: float, node: float, peri: float,
     ``pole_ecliptic`` is the spin-axis unit vector in ecliptic J2000; the orbit
     angles are in radians (ecliptic and equinox J2000).
     """
-    s = np.asarray(pole_ecliptic, dtype=float)
-    s = s / np.linalg.norm(s)
-    p, _, w = orbit_basis(i, node, peri)
-    cross = np.cross(s, w)
-    sin_eps = float(np.linalg.norm(cross))
-    obliquity = math.atan2(sin_eps, float(np.dot(s, w)))
-    if sin_eps < MIN_SIN_OBLIQUITY:
+    obliquity, theta, gamma, w = spin_angles(pole_ecliptic, i, node, peri)
+    if not np.isfinite(theta):
         raise InvalidInputError(
             "pole", "the spin axis is normal to the orbit (obliquity 0 or 180 deg): "
             "the equinox and the longitude of the node are undefined", body)
-    gamma = cross / sin_eps
-    theta = signed_angle(gamma, p, w)
     frame = np.vstack([gamma, np.cross(w, gamma), w])
-    return SpinGeometry(obliquity, gamma, theta, frame)
+    return SpinGeometry(float(obliquity), gamma, float(theta), frame)
+
+
+def spin_angles(pole_ecliptic, i, node, peri):
+    """(obliquity, θ, equinox γ, orbit normal W) of spin axes (..., 3) in ecliptic J2000 on orbits of angles i, node,
+    peri (radians, arrays broadcast over the leading axes): the obliquity from atan2(|s × W|, s · W), γ = s × W /
+    |s × W| and θ the signed angle from γ to the pericentre P about W. θ and γ are NaN where the spin axis is
+    normal to the orbit (|s × W| below :data:`MIN_SIN_OBLIQUITY`: no equinox)."""
+    s = np.asarray(pole_ecliptic, dtype=float)
+    s = s / np.linalg.norm(s, axis=-1, keepdims=True)
+    basis = orbit_basis(i, node, peri)
+    p, w = basis[..., 0, :], basis[..., 2, :]
+    cross = np.cross(s, w)
+    sin_eps = np.linalg.norm(cross, axis=-1)
+    obliquity = np.arctan2(sin_eps, np.sum(s * w, axis=-1))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        gamma = np.where((sin_eps >= MIN_SIN_OBLIQUITY)[..., None], cross / sin_eps[..., None], np.nan)
+    theta = np.arctan2(np.sum(np.cross(gamma, p) * w, axis=-1), np.sum(gamma * p, axis=-1))
+    return obliquity, theta, gamma, w

@@ -219,13 +219,8 @@ def fft_length(e: float, kmax: int | None) -> int:
     uses to measure its noise floor.  Checked: doubling ``N`` changes the
     coefficients by < 4e-16 of the largest for e = 0.1 ... 0.99.
     """
-    sigma = decay_rate(e)
-    target = math.log(1e18)
-    K = float(_MIN_KMAX) if math.isinf(sigma) else target / sigma
-    while not math.isinf(sigma) and sigma * K - 1.5 * math.log(K) < target:
-        K *= 1.05
-    K = max(K, kmax or 0, _MIN_KMAX)
-    N = 1 << max(5, math.ceil(math.log2(4.0 * K + 4.0)))
+    N = int(_sample_counts(np.array([e]))[0]) if kmax is None else \
+        max(int(_sample_counts(np.array([e]))[0]), 1 << max(5, math.ceil(math.log2(4.0 * kmax + 4.0))))
     if N > _MAX_SAMPLES:
         raise InvalidInputError(
             "e", f"eccentricity e={e!r} is too close to 1 for kmax={kmax!r}: "
@@ -234,22 +229,48 @@ def fft_length(e: float, kmax: int | None) -> int:
     return N
 
 
-def _sample_functions(e: float, N: int) -> tuple[np.ndarray, np.ndarray]:
+def _sample_counts(e: np.ndarray) -> np.ndarray:
+    """:func:`fft_length`'s N (without a requested kmax) for each eccentricity of ``e`` (vectorised): the K with
+    sigma K - 1.5 ln K >= ln(1e18), grown by 5 % steps from ln(1e18)/sigma, then N >= 4K + 4 (a power of two,
+    at least 32)."""
+    e = np.asarray(e, dtype=float)
+    s = np.sqrt((1.0 - e) * (1.0 + e))
+    # log(1 + s) - log(e): no overflow for a subnormal e, where (1 + s)/e would be
+    sigma = np.where(e > 0.0, np.log1p(s) - np.log(np.where(e > 0.0, e, 1.0)) - s, np.inf)
+    target = math.log(1e18)
+    finite = np.isfinite(sigma)
+    K = np.where(finite, target / np.where(finite, sigma, 1.0), float(_MIN_KMAX))
+    short = finite & (sigma * K - 1.5 * np.log(K) < target)
+    while short.any():
+        K = np.where(short, K * 1.05, K)
+        short = finite & (sigma * K - 1.5 * np.log(K) < target)
+    K = np.maximum(K, _MIN_KMAX)
+    return 1 << np.maximum(5, np.ceil(np.log2(4.0 * K + 4.0)).astype(int))
+
+
+def _sample_functions(e, N: int) -> tuple[np.ndarray, np.ndarray]:
     """``(a/r)^3`` and ``(a/r)^3 exp(2i nu)`` at ``M_j = 2 pi j / N``.
 
     Samples ``j >= N/2`` are taken at the equivalent ``2 pi (j - N) / N`` so
     that ``M`` near pericentre (where the functions are steepest) carries no
-    ``2 pi``-sized rounding error.
+    ``2 pi``-sized rounding error; as the first is even in ``M`` and the second
+    its conjugate at ``-M`` (E and nu odd), they are those of ``j' = N - j``
+    mirrored, computed once: half the Kepler solves, the same numbers to the
+    bit. ``e`` may be a column (B, 1) of eccentricities: rows of samples, one
+    orbit each.
     """
-    j = np.arange(N)
-    M = 2.0 * np.pi * np.where(j < N // 2, j, j - N) / N
+    half_n = N // 2
+    M = 2.0 * np.pi * np.arange(half_n + 1) / N          # 0 .. pi
     E = solve_kepler(M, e)
     half = np.sin(0.5 * E)
     r_over_a = (1.0 - e) + 2.0 * e * half**2           # 1 - e cos E
     x = (1.0 - e) - 2.0 * half**2                       # cos E - e  (= r/a cos nu)
-    y = math.sqrt((1.0 - e) * (1.0 + e)) * np.sin(E)    # r/a sin nu
+    y = np.sqrt((1.0 - e) * (1.0 + e)) * np.sin(E)      # r/a sin nu
     inv3 = r_over_a ** -3
-    return inv3, (x + 1j * y) ** 2 * inv3 / r_over_a**2
+    f = (x + 1j * y) ** 2 * inv3 / r_over_a**2
+    mirror = slice(half_n, 0, -1)                       # j = N/2 .. N-1 take j' = N - j = N/2 .. 1
+    return (np.concatenate((inv3[..., :half_n], inv3[..., mirror]), axis=-1),
+            np.concatenate((f[..., :half_n], np.conj(f[..., mirror])), axis=-1))
 
 
 @lru_cache(maxsize=32)      # immutable results; a model's build asks three times (its mean-pole iteration)
@@ -285,38 +306,75 @@ def hansen_exact(e: float, kmax: int | None = None) -> HansenCoefficients:
     N = fft_length(e, None if kmax is None else int(kmax))
     checkpoint()        # the service's: the FFT is the large step of an eccentric orbit's answer
 
-    g, f = _sample_functions(e, N)
-    G = np.fft.rfft(g) / N      # G[n]: coefficient of exp(i n M) in (a/r)^3
-    F = np.fft.fft(f) / N       # F[n], F[N - n]: X_n, X_{-n}
-
-    half = N // 2
-    X_pos = F[:half].real                      # X_0 .. X_{N/2-1}
-    X_neg = np.concatenate(([0.0], F[:-half:-1].real))   # 0, X_{-1} .. X_{-(N/2-1)}
-    c0 = 2.0 * G[:half].real
-    c0[0] = G[0].real
-    c2 = X_pos + X_neg
-    c2[0] = X_pos[0]
-    s2 = X_pos - X_neg
-    s2[0] = 0.0
-
+    c0, c2, s2 = _fourier_coefficients(*_sample_functions(e, N))
     if kmax is None:
-        kmax = _significant_kmax(c0, c2, s2)
+        kmax = int(_significant_kmax(c0, c2, s2))
     kmax = int(kmax)
     return HansenCoefficients(e=e, k=np.arange(kmax + 1),
                               c0=c0[:kmax + 1], c2=c2[:kmax + 1], s2=s2[:kmax + 1])
 
 
-def _significant_kmax(*families: np.ndarray) -> int:
+def _fourier_coefficients(g: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """c0, c2, s2 for k = 0 .. N/2 - 1 from the samples of :func:`_sample_functions` (the last axis: N samples)."""
+    N = g.shape[-1]
+    G = np.fft.rfft(g, axis=-1) / N      # G[n]: coefficient of exp(i n M) in (a/r)^3
+    F = np.fft.fft(f, axis=-1) / N       # F[n], F[N - n]: X_n, X_{-n}
+    half = N // 2
+    X_pos = F[..., :half].real                              # X_0 .. X_{N/2-1}
+    X_neg = np.concatenate((np.zeros(F.shape[:-1] + (1,)), F[..., :-half:-1].real), axis=-1)  # 0, X_-1 ..
+    c0 = 2.0 * G[..., :half].real
+    c0[..., 0] = G[..., 0].real
+    c2 = X_pos + X_neg
+    c2[..., 0] = X_pos[..., 0]
+    s2 = X_pos - X_neg
+    s2[..., 0] = 0.0
+    return c0, c2, s2
+
+
+def exact_available(e) -> np.ndarray:
+    """Whether the exact coefficients can be had at each eccentricity of ``e`` (the vectorised
+    :func:`exact_unavailable`: no more than 2**23 FFT samples)."""
+    return _sample_counts(np.asarray(e, dtype=float)) <= _MAX_SAMPLES
+
+
+def hansen_exact_many(e) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
+    """:func:`hansen_exact` for a population: ``e`` an array; returns one group per FFT length, each
+    (indices into ``e``, k, c0, c2, s2) with the coefficients as rows (len(indices), kmax + 1) and kmax the
+    group's largest significant one (a row's coefficients past its own are round-off, ~1e-16 of its largest).
+    Vectorised over the bodies of a group: one Kepler solve and one FFT per group, not per body. Validity as
+    :func:`hansen_exact`: ``e`` needing more than 2**23 samples is the caller's to refuse
+    (:func:`exact_unavailable`)."""
+    e = np.asarray(e, dtype=float)
+    counts = _sample_counts(e)
+    groups = []
+    for N in np.unique(counts):
+        rows = np.nonzero(counts == N)[0]
+        # rows in chunks of about 2**15 samples: arrays that stay in the cache run several times faster
+        step = max(1, (1 << 15) // int(N))
+        parts = []
+        for start in range(0, rows.size, step):
+            checkpoint()
+            parts.append(_fourier_coefficients(*_sample_functions(e[rows[start:start + step], None], int(N))))
+        c0, c2, s2 = (np.concatenate([p[i] for p in parts]) for i in range(3))
+        kmax = int(_significant_kmax(c0, c2, s2).max())
+        groups.append((rows, np.arange(kmax + 1), c0[:, :kmax + 1], c2[:, :kmax + 1], s2[:, :kmax + 1]))
+    return groups
+
+
+def _significant_kmax(*families: np.ndarray):
     """Last ``k`` where some family exceeds both 1e-16 of the largest value
     and the round-off noise, taken as the largest magnitude over the top half
     of the harmonics (negligible by the choice of ``N``, see
-    :func:`fft_length`); at least 6."""
-    magnitude = np.max(np.abs(np.vstack(families)), axis=0)
-    noise = magnitude[magnitude.size // 2:].max()
-    threshold = max(_REL_TOL * magnitude.max(), noise)
-    above = np.nonzero(magnitude > threshold)[0]
-    last = int(above[-1]) if above.size else 0
-    return max(last, _MIN_KMAX)
+    :func:`fft_length`); at least 6. Families of rows (B, K) give one per row."""
+    magnitude = np.abs(families[0])
+    for family in families[1:]:
+        magnitude = np.maximum(magnitude, np.abs(family))
+    half = magnitude.shape[-1] // 2
+    noise = magnitude[..., half:].max(axis=-1)
+    threshold = np.maximum(_REL_TOL * magnitude.max(axis=-1), noise)
+    above = magnitude > threshold[..., None]
+    last = np.where(above.any(axis=-1), magnitude.shape[-1] - 1 - np.argmax(above[..., ::-1], axis=-1), 0)
+    return np.maximum(last, _MIN_KMAX)
 
 
 # ---------------------------------------------------------------------------

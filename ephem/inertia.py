@@ -21,6 +21,12 @@ from dataclasses import dataclass
 from .errors import InvalidInputError
 
 
+def hd_of_moments(A, B, C):
+    """H_d = (C - (A+B)/2) / C (Petit et al. eq. 11) of principal moments A <= B <= C (numbers or arrays; no checks:
+    :func:`ephem.catalogue.dynamical_ellipticity` validates one body's)."""
+    return (C - 0.5 * (A + B)) / C
+
+
 def moments_from_gravity(polar_moment: float, J2: float, C22: float, S22: float) -> tuple[float, float, float]:
     """A, B, C in units of M R² from the normalised polar moment C/(MR²) and the unnormalised degree-2 gravity
     coefficients at the same reference radius R (Petit et al. 2014, eq. 31).

@@ -58,8 +58,10 @@ def eccentricity_factor(e: float, order: int | None = None) -> float:
 
 
 def precession_rate(K: float, obliquity: float, e: float, order: int | None = None) -> float:
-    """Secular rate ψ̇ = (K/2) cos ε (1 - e²)^(-3/2) (Petit et al. eq. 25, exact in e by default)."""
-    return 0.5 * K * math.cos(obliquity) * eccentricity_factor(e, order)
+    """Secular rate ψ̇ = (K/2) cos ε (1 - e²)^(-3/2) (Petit et al. eq. 25, exact in e by default); columns of a
+    population give a column."""
+    rate = 0.5 * K * np.cos(obliquity) * eccentricity_factor(e, order)
+    return float(rate) if np.ndim(rate) == 0 else rate
 
 
 @dataclass(frozen=True)
@@ -124,11 +126,12 @@ def nutation_coefficients(K: float, n: float, obliquity: float, equinox_to_peric
     so that Δψ = Σ lon_sin_k sin kM + lon_cos_k cos kM and Δε likewise (the sign of Δε is the
     one the integration of the torque confirms, opposite to the paper's Tables 6 and 8: see the
     module docstring). K (:func:`scaling_factor`) and n in one unit of rad per time; the four
-    arrays (shaped like ``k``) in radians. No amplitude cut (:func:`nutation_series` applies one).
+    arrays (shaped like ``k``) in radians. No amplitude cut (:func:`nutation_series` applies one). For a
+    population, K, n, ε and θ may be columns (N, 1) against rows ``k`` and coefficients (N, kmax).
     """
-    cp, sp = math.cos(2.0 * equinox_to_pericentre), math.sin(2.0 * equinox_to_pericentre)
-    f_psi = 0.5 * K * math.cos(obliquity) / (k * n)
-    f_eps = -0.5 * K * math.sin(obliquity) / (k * n)
+    cp, sp = np.cos(2.0 * equinox_to_pericentre), np.sin(2.0 * equinox_to_pericentre)
+    f_psi = 0.5 * K * np.cos(obliquity) / (k * n)
+    f_eps = -0.5 * K * np.sin(obliquity) / (k * n)
     return f_psi * (c0 - cp * c2), -f_psi * sp * s2, f_eps * sp * c2, -f_eps * cp * s2
 
 
@@ -158,10 +161,11 @@ def mean_pole(obliquity: float, equinox_to_pericentre: float,
     """
     if passes < 1:
         raise ValueError("mean_pole needs at least one pass")
+    scalar = np.ndim(obliquity) == 0          # a population's arrays pass through as arrays
     dpsi0 = deps0 = 0.0
     for _ in range(passes):
         dpsi, deps = nutation_at_pole_epoch(obliquity - deps0, equinox_to_pericentre - dpsi0)
-        dpsi0, deps0 = float(dpsi), float(deps)
+        dpsi0, deps0 = (float(dpsi), float(deps)) if scalar else (dpsi, deps)
     return obliquity - deps0, equinox_to_pericentre - dpsi0, dpsi0, deps0
 
 
