@@ -1,8 +1,9 @@
-"""Command-line interface: ``ephem bodies | body | precession | nutation | track | free-motion | demo``.
+"""Command-line interface: ``ephem bodies | body | precession | nutation | track | free-motion | batch | demo``.
 
 Output is JSON (default), CSV or an aligned text table. Errors go to stderr as ``error: FIELD: why``
 with exit status 2 (bad input, unknown body, and what the option parser refuses: a malformed
-number, an unknown option or command, a missing one) or 3 (theory not applicable).
+number, an unknown option or command, a missing one), 3 (theory not applicable) or 1 (``ephem batch``:
+partitions that still failed after their retries; the others are written and a rerun resumes).
 
 Start-up is kept short for one-body answers: :mod:`ephem.api` (numpy, the catalogue, the models)
 is imported by each command rather than here, so ``--help`` and usage errors never load it, and
@@ -615,6 +616,96 @@ def pck(names: list[str] = typer.Argument(..., metavar="BODY..."),
         typer.echo(f"{f.name}: fitting error {f.fit_error_mas:.4g} mas with {len(f.angles)} angles (model "
                    f"{f.model['name']}" + (f", estimated {est:.4g} mas" if est is not None else "") + ")")
     typer.echo(f"wrote {out}")
+
+
+class BatchFormat(str, Enum):
+    parquet = "parquet"
+    csv = "csv"
+
+
+@app.command()
+def batch(input_path: str = typer.Argument(..., metavar="INPUT", help="The bodies: a CSV or Parquet file, one row "
+                                           "per body (columns: docs/batch_input.md)."),
+          out: Path = typer.Option(..., "--out", help="Output directory: part-NNNNN.parquet|csv, one per partition "
+                                   "(a rerun resumes in it)."),
+          scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Address of a running dask scheduler, "
+                                                  "tcp://HOST:PORT (default: a local cluster on 127.0.0.1)."),
+          workers: Optional[int] = typer.Option(None, "--workers", min=1, help="Local worker processes (default: "
+                                                "the cores); with --scheduler, wait for this many workers."),
+          partition_rows: int = typer.Option(50_000, "--partition-rows", min=1, help="Bodies per partition (one "
+                                             "task; bounds a worker's memory)."),
+          fmt: BatchFormat = typer.Option(BatchFormat.parquet, "--format", help="Output format."),
+          history: bool = typer.Option(False, "--history", help="Add each body's obliquity history (with "
+                                       "--start-year, --stop-year, --step-years)."),
+          start_year: Optional[float] = typer.Option(None, "--start-year", help="--history: Julian years from "
+                                                     "J2000.0 TDB (negative: the past)."),
+          stop_year: Optional[float] = typer.Option(None, "--stop-year", help="--history: Julian years from "
+                                                    "J2000.0 TDB."),
+          step_years: Optional[float] = typer.Option(None, "--step-years", help="--history: sampling step, Julian "
+                                                     "years."),
+          fresh: bool = typer.Option(False, "--fresh", help="Delete an earlier batch's partitions and outputs in "
+                                     "--out and start again (a rerun with the same input and settings resumes)."),
+          quiet: bool = typer.Option(False, "--quiet", help="No progress bar and no notes on stderr.")):
+    """Answer a catalogue of bodies, partition by partition, on a local or remote dask cluster (docs/batch.md).
+
+    Each partition's answers go to --out as one file; a body the theory cannot take gets its reason in the
+    ``error`` column. A rerun of the same command resumes: finished partitions are skipped. Notes and a
+    progress bar go to stderr; the summary line to stdout.
+    """
+    from .errors import InvalidInputError
+
+    years = {"start_year": start_year, "stop_year": stop_year, "step_years": step_years}
+    try:
+        if history and None in years.values():
+            missing = next(k for k, v in years.items() if v is None)
+            raise InvalidInputError(missing, f"missing; give --{missing.replace('_', '-')} with --history")
+        if not history and any(v is not None for v in years.values()):
+            given = next(k for k, v in years.items() if v is not None)
+            raise InvalidInputError(given, "only with --history")
+    except EphemError as exc:
+        _fail(exc)
+    from . import batch as engine
+
+    spec = None
+    if history:
+        from .population import HistorySpec
+
+        spec = HistorySpec(start_year, stop_year, step_years)
+    bar, shown = [None], [0]
+
+    def progress(done: int, total: int) -> None:
+        if quiet or total == 0:
+            return
+        if bar[0] is None:
+            bar[0] = typer.progressbar(length=total, label="partitions", file=sys.stderr)
+            bar[0].__enter__()
+        if done > shown[0]:
+            bar[0].update(done - shown[0])
+            shown[0] = done
+
+    def note(message: str) -> None:
+        if not quiet:
+            typer.echo(message, err=True)
+
+    failed = None
+    try:
+        try:
+            result = engine.run(input_path, out, scheduler=scheduler, workers=workers, partition_rows=partition_rows,
+                                output_format=fmt.value, history=spec, progress=progress, fresh=fresh, log=note)
+        finally:
+            if bar[0] is not None:
+                bar[0].__exit__(None, None, None)
+    except engine.BatchFailed as exc:
+        failed, result = exc, exc.result
+    except EphemError as exc:
+        _fail(exc)
+    rate = f", {result.rows_computed / result.seconds:.4g} bodies/s" if result.rows_computed else ""
+    resumed = f", {result.partitions_skipped} resumed" if result.partitions_skipped else ""
+    typer.echo(f"{result.rows} rows ({result.rows_failed} failed) in {result.partitions} partitions{resumed} to "
+               f"{result.out_path}/, {result.seconds:.1f} s{rate}")
+    if failed is not None:
+        typer.echo(f"error: {failed}", err=True)
+        raise typer.Exit(1)
 
 
 @app.command()

@@ -49,7 +49,7 @@ def test_parser_errors_name_the_field(args, field, words):
     (["precession", "vesta", "--tolerence-mas", "3"], "--tolerence-mas", "did you mean --tolerance-mas?"),
     (["frobnicate"], "command", "no such command 'frobnicate'; one of bodies, body, precession"),
     (["precesion", "vesta"], "command", "did you mean precession"),
-    (["bench", "accuracy"], "command", "no such command 'bench'; one of bodies, body, precession"),
+    (["fortune", "accuracy"], "command", "no such command 'fortune'; one of bodies, body, precession"),
     (["precession", "vesta", "ceres"], "arguments", "unexpected extra argument 'ceres'"),
 ])
 def test_unknown_options_commands_and_extra_arguments(args, field, words):

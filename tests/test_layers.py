@@ -24,8 +24,8 @@ LAYERS = {
                  "free_motion", "rigid", "relativity", "secular_orbit", "orbit_history"),
     "accuracy": ("theory", "physics_errors", "uncertainty", "spin_history", "ladder", "earth", "synchronous",
                  "history", "long_term", "registry"),
-    "answers": ("api",),
-    "exports and CLI": ("tables", "pck_fit", "pck_text", "pck", "plots", "catalogue_import", "cli"),
+    "answers": ("api", "population"),
+    "exports and CLI": ("tables", "pck_fit", "pck_text", "pck", "plots", "catalogue_import", "batch", "cli"),
 }
 LEVEL = {module: level for level, modules in enumerate(LAYERS.values()) for module in modules}
 
