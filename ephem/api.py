@@ -193,6 +193,66 @@ def _within(part: str, answer):
         raise exc.within(f"{part}.") from None
 
 
+#: the most rows :func:`batch` takes in one call (the service's is EPHEM_MAX_BATCH_ROWS); a catalogue streams through
+#: ``ephem batch`` (ephem.batch, on Dask) instead
+MAX_BATCH_ROWS = 100_000
+
+
+def batch(rows, history: dict | None = None, max_rows: int = MAX_BATCH_ROWS) -> dict:
+    """Precession and nutation of several bodies at once, synchronously (:mod:`ephem.population`): ``rows`` a list of
+    {column: value} (docs/batch_input.md: the orbit, the pole, the period, one inertia form, optional ``_sigma``
+    columns); ``history`` {start_year, stop_year, step_years} adds each body's obliquity range and period.
+
+    Returns ``rows`` (one {output column: value} per input row, in order: docs/batch.md; a bad row has its reason
+    in ``error`` and nulls, the others are unaffected), ``columns`` (the output columns, in order) and ``model``.
+    The cost is charged before the work (:func:`ephem.population.batch_cost`).
+    """
+    from . import population as pop
+
+    if not isinstance(rows, list) or not all(isinstance(r, dict) for r in rows):
+        raise InvalidInputError("rows", "expected a list of objects, one per body, with the columns of "
+                                "docs/batch_input.md")
+    if not rows:
+        raise InvalidInputError("rows", "no rows: give at least one body")
+    if len(rows) > max_rows:
+        raise InvalidInputError("rows", f"{len(rows)} rows is more than {max_rows} in one request; run "
+                                f"`ephem batch INPUT --out OUTPUT` (ephem.batch.run) for a catalogue")
+    known = set(pop.INPUT_COLUMNS) | {f"{k}_sigma" for k in pop.SIGMA_INPUTS}
+    for j, r in enumerate(rows):
+        unknown = sorted(set(r) - known)
+        if unknown:
+            raise InvalidInputError(f"rows[{j}]", f"unknown column(s) {', '.join(unknown)}; the columns are those of "
+                                    "docs/batch_input.md")
+    spec = None
+    if history is not None:
+        try:
+            spec = pop.HistorySpec(float(history["start_year"]), float(history["stop_year"]),
+                                   float(history["step_years"]))
+        except (KeyError, TypeError, ValueError):
+            raise InvalidInputError("history", "expected {start_year, stop_year, step_years}, numbers") from None
+        if not all(math.isfinite(v) for v in (spec.start_year, spec.stop_year, spec.step_years)) \
+                or spec.step_years <= 0.0 or spec.stop_year <= spec.start_year:
+            raise InvalidInputError("history", "start_year < stop_year and step_years > 0, finite numbers")
+    keys = sorted({k for r in rows for k in r})
+    columns = {k: np.array([r.get(k) if r.get(k) is not None else (np.nan if k != "name" else "")
+                            for r in rows], dtype=object) for k in keys}
+    charge(pop.batch_cost(len(rows), spec, pop.sigma_inputs(columns)))
+    out = pop.evaluate(columns, spec)
+
+    def plain(key, v):
+        if isinstance(v, (float, np.floating)):
+            return None if not math.isfinite(v) else int(v) if key.endswith("_multiple") else float(v)
+        if isinstance(v, np.integer):
+            return int(v)
+        return str(v) if isinstance(v, np.str_) else v
+
+    names = list(out)
+    return {"columns": names, "rows": [{k: plain(k, out[k][j]) for k in names} for j in range(len(rows))],
+            "model": {"name": pop.MODEL, "theory": "Kinoshita's first-order theory with exact Hansen coefficients, "
+                      "vectorised over the bodies (ephem.population); each row equals the single-body answer",
+                      "leading_terms": pop.LEADING_TERMS}}
+
+
 def precession_nutation(body: Body, order: int | None = None, track: dict | None = None,
                         max_samples: int = MAX_TRACK_SAMPLES, history_request: dict | None = None) -> dict:
     """The POST answer for a body of the user's own: ``precession``, ``nutation`` and, with ``track``

@@ -13,6 +13,7 @@ from fastapi import Body as BodyParam, FastAPI, Path, Query, Request
 from fastapi.openapi.docs import get_redoc_html, get_swagger_ui_html
 from fastapi.responses import JSONResponse, PlainTextResponse, Response, StreamingResponse
 from fastapi.staticfiles import StaticFiles
+from starlette.concurrency import run_in_threadpool
 
 import ephem
 from ephem import api
@@ -368,6 +369,26 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                                   (method or FreeMethod.auto).value, dataset.value,
                                                   settings.max_track_samples))
 
+    @app.post("/v1/batch", response_model=schemas.Batch, tags=["theory"], responses={422: ERRORS[422]},
+              openapi_extra={"requestBody": {"required": True, "content": {
+                  "application/json": {"schema": {"oneOf": [
+                      {"type": "array", "items": {"type": "object"}},
+                      {"type": "object", "properties": {"rows": {"type": "array", "items": {"type": "object"}},
+                                                        "history": {"type": "object"}}}]}},
+                  "text/csv": {"schema": {"type": "string"}}}}})
+    async def batch(request: Request,
+                    start_year: Annotated[Optional[float], Query(description="with stop_year and step_years: each "
+                                                                             "body's obliquity history")] = None,
+                    stop_year: Annotated[Optional[float], Query()] = None,
+                    step_years: Annotated[Optional[float], Query()] = None):
+        """Precession and nutation of up to EPHEM_MAX_BATCH_ROWS bodies at once: a JSON array of row objects (or
+        {rows, history}) or CSV with the columns of docs/batch_input.md. Beyond, run `ephem batch` (Dask)."""
+        rows, history = _batch_rows(await request.body(), request.headers.get("content-type", ""))
+        if start_year is not None or stop_year is not None or step_years is not None:
+            history = {"start_year": start_year, "stop_year": stop_year, "step_years": step_years}
+        # the work in a thread (the event loop stays free), in this request's budget (the context is copied)
+        return finite_json(await run_in_threadpool(api.batch, rows, history, settings.max_batch_rows))
+
     @app.post("/v1/precession-nutation", response_model=schemas.PrecessionNutation, tags=["theory"],
               response_model_exclude_unset=True,
               responses={422: ERRORS[422]})        # no {body} to be unknown: no 404
@@ -510,6 +531,11 @@ def _rule_texts(settings: Settings) -> dict[str, str]:
                    "leave at most 100001 epochs in the span (a plot: 2 to 100000); give orbit_model or "
                    "tolerance_mas, not both; nbody for a body without a shipped orbit is run on request within the "
                    "budget.",
+        "batch": f"rows: 1 to {settings.max_batch_rows} objects (EPHEM_MAX_BATCH_ROWS; for more, `ephem batch` on "
+                 "Dask), each with only the columns of docs/batch_input.md (a bad value gets its reason in the row's "
+                 "`error`, with a 200); history, the object's or start_year, stop_year and step_years together: "
+                 "finite numbers, start_year < stop_year, step_years > 0; the body is JSON (an array of rows, or "
+                 "{rows, history}) or CSV (text/csv) with a header of column names.",
         "na": na,
     }
     if hasattr(settings, "max_request_cpu_s"):      # service/guards.py: the per-request budget
@@ -537,6 +563,7 @@ OPERATION_RULES = {
     ("/v1/bodies/{body}/history.svg", "get"): ("history", "na"),
     ("/v1/precession-nutation", "post"): ("user", "times", "grid", "tolerance_model", "laplace", "wobble", "history",
                                           "na"),
+    ("/v1/batch", "post"): ("batch",),
 }
 
 
@@ -593,6 +620,28 @@ def _document_rules(schema: dict, settings: Settings) -> dict:
         {"required": ["moments"], "properties": {"moments": {"$ref": "#/components/schemas/MomentsIn"}}},
         {"required": ["dynamical_ellipticity"], "properties": {"dynamical_ellipticity": {"type": "number"}}}]
     return schema
+
+
+def _batch_rows(raw: bytes, content_type: str) -> tuple[list, dict | None]:
+    """The rows (and history) of a POST /v1/batch body: a JSON array of row objects, a JSON object {rows, history},
+    or CSV (text/csv) with a header of column names."""
+    import csv
+    import io
+
+    from ephem.errors import InvalidInputError
+
+    if content_type.split(";")[0].strip().lower() == "text/csv":
+        try:
+            return list(csv.DictReader(io.StringIO(raw.decode("utf-8")))), None
+        except (UnicodeDecodeError, csv.Error) as exc:
+            raise InvalidInputError("body", f"not CSV with a header of column names: {exc}") from None
+    try:
+        doc = orjson.loads(raw)
+    except orjson.JSONDecodeError as exc:
+        raise InvalidInputError("body", f"not JSON: {exc}") from None
+    if isinstance(doc, dict):
+        return doc.get("rows"), doc.get("history")
+    return doc, None
 
 
 def finite_json(content) -> Response:

@@ -365,6 +365,14 @@ class UserBody(BaseModel):
     history: Optional[HistoryIn] = None
 
 
+class Batch(BaseModel):
+    """Batch answers (ephem.api.batch): one row per input row, in order (docs/batch.md)."""
+    columns: list[str] = Field(description="the output columns, in order")
+    rows: list[dict] = Field(description="one object per input row: the output columns; a bad row has its reason in "
+                                         "`error` and nulls elsewhere, and spoils no other row")
+    model: dict
+
+
 class PrecessionNutation(BaseModel):
     precession: Precession
     nutation: Nutation

@@ -74,6 +74,9 @@ class Settings:
     worker_memory_mb: float = 3072.0
     #: running under a supervisor that restarts workers (gunicorn): arms the watchdog
     supervised: bool = False
+    #: the most bodies one POST /v1/batch takes (422 beyond, pointing to `ephem batch`); the body size limit
+    #: (max_body_bytes: about 300 bytes a row of JSON) and the CPU budget bound it too
+    max_batch_rows: int = 200
 
     @classmethod
     def from_env(cls) -> "Settings":
@@ -88,4 +91,5 @@ class Settings:
                    request_deadline_s=_float_env("EPHEM_REQUEST_DEADLINE_S", cls.request_deadline_s),
                    hard_kill_after_s=_float_env("EPHEM_HARD_KILL_AFTER_S", cls.hard_kill_after_s),
                    worker_memory_mb=_float_env("EPHEM_WORKER_MEMORY_MB", cls.worker_memory_mb),
-                   supervised=_bool_env("EPHEM_SUPERVISED", cls.supervised))
+                   supervised=_bool_env("EPHEM_SUPERVISED", cls.supervised),
+                   max_batch_rows=_int_env("EPHEM_MAX_BATCH_ROWS", cls.max_batch_rows))

@@ -59,6 +59,8 @@ REASON_RULES = [
     (r"the pericentre a\(1 - e\) = .* lies inside the|lies beyond the .* Hill sphere", {"user"}),
     (r"must be after start|exceeds 2e\+07 years|epochs over \[|epochs exceed the cap of|"
      r"give either an orbit model or a tolerance|must be positive|leaves a single epoch", {"history"}),
+    (r"expected \{start_year, stop_year, step_years\}|start_year < stop_year and step_years|rows is more than|"
+     r"unknown column|no rows: give|expected a list of objects|^not JSON|^not CSV", {"batch"}),
 ]
 
 
