@@ -233,7 +233,7 @@ def batch(rows, history: dict | None = None, max_rows: int = MAX_BATCH_ROWS) -> 
         if not all(math.isfinite(v) for v in (spec.start_year, spec.stop_year, spec.step_years)) \
                 or spec.step_years <= 0.0 or spec.stop_year <= spec.start_year:
             raise InvalidInputError("history", "start_year < stop_year and step_years > 0, finite numbers")
-    keys = sorted({k for r in rows for k in r})
+    keys = sorted({k for r in rows for k in r} | set(pop.REQUIRED))   # every row counted, absent values missing
     columns = {k: np.array([r.get(k) if r.get(k) is not None else (np.nan if k != "name" else "")
                             for r in rows], dtype=object) for k in keys}
     charge(pop.batch_cost(len(rows), spec, pop.sigma_inputs(columns)))

@@ -269,16 +269,25 @@ def evaluate(columns: Mapping, history: HistorySpec | None = None) -> dict[str, 
     """
     names = np.asarray(columns.get("name", []), dtype=object)
     n_rows = len(names) if "name" in columns else len(next(iter(columns.values()), []))
+    names = np.array(["" if v is None else v if isinstance(v, str) else str(v) for v in names], dtype=object) \
+        if "name" in columns else names
     x = {key: _floats(columns, key, n_rows) for key in INPUT_COLUMNS if key != "name"}
     x["pole_epoch_jd_tdb"] = np.where(np.isfinite(x["pole_epoch_jd_tdb"]), x["pole_epoch_jd_tdb"], J2000_JD)
     errors = _Errors(n_rows)
     if "name" not in columns:
-        errors.add(np.ones(n_rows, dtype=bool), "name: missing")
         names = np.full(n_rows, "", dtype=object)
-    _check(x, errors)
-    x["_hd"] = _inertia(x, errors)
-    result = _theory(x, errors.ok, errors)
-    result.update(_uncertainties(columns, x, errors.ok, result))
+    errors.add(np.array([not isinstance(v, str) or not v for v in names], dtype=bool).reshape(n_rows),
+               "name: missing (every body needs a name)")
+    # extreme inputs (axes of 1e200 km) overflow on their way to an error: the row's checks catch what is not
+    # finite; numpy's warnings about it are not the caller's business
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        _check(x, errors)
+        x["_hd"] = _inertia(x, errors)
+        errors.add(~np.isfinite(x["_hd"]), "inertia: H_d is not a finite number for these values")
+        result = _theory(x, errors.ok, errors)
+        errors.add(~np.all([np.isfinite(result[k]) for k in UNCERTAIN], axis=0),
+                   "the theory's values are not finite numbers for these inputs")
+        result.update(_uncertainties(columns, x, errors.ok, result))
     bad = ~errors.ok
     for key in UNCERTAIN + _term_columns():
         result[key][bad] = np.nan
@@ -298,10 +307,13 @@ def evaluate(columns: Mapping, history: HistorySpec | None = None) -> dict[str, 
 
 def _uncertainties(columns: Mapping, x: dict, ok: np.ndarray, nominal: dict) -> dict:
     """Linear 1σ of :data:`UNCERTAIN` from the ``<column>_sigma`` columns given (central differences of
-    :data:`STEP_FRACTION` σ, the inputs independent); NaN where a row has no σ."""
+    :data:`STEP_FRACTION` σ, the inputs independent); NaN where a row has no σ, or where a step of σ/100 leaves the
+    theory's domain (e ± σ/100 beyond [0, 1), a pole stepped onto the orbit normal: no central difference, so the
+    σ is unknown rather than a guess)."""
     n_rows = ok.size
     var = {k: np.zeros(n_rows) for k in UNCERTAIN}
     any_sigma = np.zeros(n_rows, dtype=bool)
+    unknown = np.zeros(n_rows, dtype=bool)
     for key in SIGMA_INPUTS:
         sigma = _floats(columns, f"{key}_sigma", n_rows) if f"{key}_sigma" in columns else None
         if sigma is None:
@@ -315,15 +327,20 @@ def _uncertainties(columns: Mapping, x: dict, ok: np.ndarray, nominal: dict) -> 
         for sign in (1.0, -1.0):
             moved = dict(x)
             moved[key] = x[key] + sign * h
-            if key in ("dynamical_ellipticity", "moment_a", "moment_b", "moment_c", "axis_a_km", "axis_b_km",
-                       "axis_c_km"):
-                moved["_hd"] = _inertia(moved, _Errors(n_rows))
-            ends.append(_theory(moved, has, None))
+            inside = _Errors(n_rows)
+            _check(moved, inside)
+            moved["_hd"] = _inertia(moved, inside) if key in _INERTIA_INPUTS else x["_hd"]
+            unknown |= has & ~inside.ok
+            ends.append(_theory(moved, has & inside.ok, None))
         for k in UNCERTAIN:
             with np.errstate(invalid="ignore"):
                 slope = (ends[0][k] - ends[1][k]) / np.where(has, 2.0 * h, 1.0)
+            unknown |= has & ~np.isfinite(slope)
             var[k] += np.where(has & np.isfinite(slope), (slope * np.where(has, sigma, 0.0)) ** 2, 0.0)
-    return {f"{k}_uncertainty": np.where(any_sigma, np.sqrt(var[k]), np.nan) for k in UNCERTAIN}
+    return {f"{k}_uncertainty": np.where(any_sigma & ~unknown, np.sqrt(var[k]), np.nan) for k in UNCERTAIN}
+
+
+_INERTIA_INPUTS = ("dynamical_ellipticity", "moment_a", "moment_b", "moment_c", "axis_a_km", "axis_b_km", "axis_c_km")
 
 
 def _histories(columns: Mapping, x: dict, ok: np.ndarray, spec: HistorySpec) -> dict:
