@@ -185,7 +185,7 @@ def _theory(x: dict, ok: np.ndarray, errors: _Errors | None) -> dict:
     them converted here); the others NaN. ``errors``: where a row's theory-level reason goes (None: a perturbed
     evaluation of the uncertainties, whose rejected rows are only NaN)."""
     n_rows = ok.size
-    out = {k: np.full(n_rows, np.nan) for k in UNCERTAIN + ("_kmax",)}
+    out = {k: np.full(n_rows, np.nan) for k in UNCERTAIN}
     terms = {k: np.full(n_rows, np.nan) for k in _term_columns()}
     rows = np.nonzero(ok)[0]
     if rows.size == 0:
@@ -213,7 +213,7 @@ def _theory(x: dict, ok: np.ndarray, errors: _Errors | None) -> dict:
     m_t0 = np.radians(x["mean_anomaly_deg"][rows]) + n * (x["pole_epoch_jd_tdb"][rows] - x["epoch_jd_tdb"][rows])
     per_year = JULIAN_YEAR_DAYS / ARCSEC
     for group, k, c0, c2, s2 in hansen_exact_many(e):
-        g = slice(None) if group.size == rows.size and np.all(group == np.arange(rows.size)) else group
+        g = group
         kk = k[1:].astype(float)
         Kg, ng, eg, tg = K[g, None], n[g, None], eps[g], theta[g]
         skm, ckm = np.sin(np.outer(m_t0[g], kk)), np.cos(np.outer(m_t0[g], kk))
@@ -231,7 +231,6 @@ def _theory(x: dict, ok: np.ndarray, errors: _Errors | None) -> dict:
         out["dynamical_ellipticity"][target] = hd[g]
         out["scaling_factor_arcsec_per_year"][target] = K[g] * per_year
         out["precession_rate_arcsec_per_year"][target] = precession_rate(K[g], eps_mean, e[g], None) * per_year
-        out["_kmax"][target] = k[-1]
         _leading_terms(terms, target, kk, n[g], eps_mean, lon_s, lon_c, obl_s, obl_c)
     return {**out, **terms}
 
@@ -287,17 +286,16 @@ def evaluate(columns: Mapping, history: HistorySpec | None = None) -> dict[str, 
         result = _theory(x, errors.ok, errors)
         errors.add(~np.all([np.isfinite(result[k]) for k in UNCERTAIN], axis=0),
                    "the theory's values are not finite numbers for these inputs")
-        result.update(_uncertainties(columns, x, errors.ok, result))
+        result.update(_uncertainties(columns, x, errors.ok))
     bad = ~errors.ok
     for key in UNCERTAIN + _term_columns():
         result[key][bad] = np.nan
-    kmax = result.pop("_kmax")
     out = {"name": names.astype(str)}
     out.update({k: result[k] for k in UNCERTAIN + _term_columns()})
     out["model"] = np.where(bad, "", MODEL)
     # the single-body answer's estimate of this model: exact Hansen coefficients truncate nothing (0); the
     # first-order theory itself is taken as exact, as there (docs/accuracy.md)
-    out["estimated_error_mas"] = np.where(bad | ~np.isfinite(kmax), np.nan, 0.0)
+    out["estimated_error_mas"] = np.where(bad, np.nan, 0.0)
     out.update({f"{k}_uncertainty": result[f"{k}_uncertainty"] for k in UNCERTAIN})
     out["error"] = errors.reason.astype(str)
     if history is not None:
@@ -305,7 +303,7 @@ def evaluate(columns: Mapping, history: HistorySpec | None = None) -> dict[str, 
     return out
 
 
-def _uncertainties(columns: Mapping, x: dict, ok: np.ndarray, nominal: dict) -> dict:
+def _uncertainties(columns: Mapping, x: dict, ok: np.ndarray) -> dict:
     """Linear 1σ of :data:`UNCERTAIN` from the ``<column>_sigma`` columns given (central differences of
     :data:`STEP_FRACTION` σ, the inputs independent); NaN where a row has no σ, or where a step of σ/100 leaves the
     theory's domain (e ± σ/100 beyond [0, 1), a pole stepped onto the orbit normal: no central difference, so the
@@ -397,10 +395,12 @@ def sigma_inputs(columns: Mapping) -> int:
 
 
 def crossing_period(years: np.ndarray, values: np.ndarray) -> float:
-    """The mean period of ``values`` from its upward crossings of its mean (years); NaN with fewer than two."""
-    d = values - values.mean()
-    up = np.nonzero((d[:-1] < 0.0) & (d[1:] >= 0.0))[0]
-    if up.size < 2:
+    """The mean period (years) from the crossings of the series' mean, interpolated linearly: twice the mean gap
+    between crossings; NaN with fewer than three."""
+    y = np.asarray(values, float) - float(np.mean(values))
+    t = np.asarray(years, float)
+    idx = np.flatnonzero(np.signbit(y[:-1]) != np.signbit(y[1:]))
+    if idx.size < 3:
         return float("nan")
-    t = years[up] - d[up] * (years[up + 1] - years[up]) / (d[up + 1] - d[up])
-    return float((t[-1] - t[0]) / (t.size - 1))
+    tc = t[idx] - y[idx] * (t[idx + 1] - t[idx]) / (y[idx + 1] - y[idx])
+    return float(2.0 * (tc[-1] - tc[0]) / (tc.size - 1))

@@ -30,6 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ephem.population import crossing_period   # the obliquity period, as the batch answers measure it
+
 from ._command import chart_app
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -138,17 +140,6 @@ def dominant_period(years: np.ndarray, values: np.ndarray, pad: int = 16) -> flo
     if not ok.any():
         return float("nan")
     return float(1.0 / freq[ok][np.argmax(power[ok])])
-
-
-def crossing_period(years: np.ndarray, values: np.ndarray) -> float:
-    """The mean period (years) from the crossings of the series' mean: twice the mean gap between crossings."""
-    y = np.asarray(values, float) - float(np.mean(values))
-    t = np.asarray(years, float)
-    idx = np.flatnonzero(np.signbit(y[:-1]) != np.signbit(y[1:]))
-    if idx.size < 3:
-        return float("nan")
-    tc = t[idx] - y[idx] * (t[idx + 1] - t[idx]) / (y[idx + 1] - y[idx])
-    return float(2.0 * (tc[-1] - tc[0]) / (tc.size - 1))
 
 
 def last_maximum(years: np.ndarray, values: np.ndarray, before: float = 0.0) -> tuple[float, float]:

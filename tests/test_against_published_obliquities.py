@@ -14,6 +14,7 @@ import pytest
 
 from ephem import api
 from ephem.catalogue import data_dir
+from ephem.population import crossing_period
 
 
 def published(key: str) -> dict:
@@ -24,14 +25,6 @@ def published(key: str) -> dict:
 @pytest.fixture(scope="module")
 def ceres():
     return api.history("ceres", -3.0e6, 0.0, 500.0)
-
-
-def crossing_period(years: np.ndarray, values: np.ndarray) -> float:
-    """Twice the mean interval between crossings of the series' mean (years)."""
-    d = values - values.mean()
-    s = np.flatnonzero(np.sign(d[:-1]) != np.sign(d[1:]))
-    t = years[s] - d[s] * (years[s + 1] - years[s]) / (d[s + 1] - d[s])     # linear interpolation
-    return 2.0 * float(np.mean(np.diff(t)))
 
 
 def test_ceres_range_over_three_million_years(ceres):
