@@ -19,7 +19,7 @@ the real Earth's, taking IAU 2006/2000A (ERFA) as the real Earth to within its p
 * ``nutation_residual``: our series minus ``erfa.nut00a`` moves the pole by at most E (the
   envelope of sin ε|Δψ| + |Δε| measured over 1900–2100, ``data/lunisolar.toml [served_track]``)
   at t, plus what it moves it at t0 (computed exactly: the mean pole inherits it);
-* ``hd_scaling``: an H_d other than the one E was measured with scales every term;
+* ``hd_scaling``: an H_d other than the one E was measured with scales every term (0 at that H_d);
 * ``precession``: our linear ψ̇ (t − t0) at fixed ε̄ (the torque's rate with the geodesic precession,
   :mod:`ephem.relativity`) against IAU 2006's ψ_A and ω_A (the planetary and second-order parts of ψ_A that a
   first-order theory lacks, the ecliptic's motion), plus the catalogue orbit normal's tilt from the J2000
@@ -302,8 +302,9 @@ def estimate_terms(model: LunisolarEarth, jd_tdb) -> dict:
     disp = displacement_sum(model.series, eps)
     envelope = d["residual_envelope_mas"] * MAS
     terms = {"nutation_residual": envelope + _residual_at_pole_epoch(model)}
-    if model.hd != d["hd"]:
-        terms["hd_scaling"] = abs(model.hd / d["hd"] - 1.0) * disp
+    # always named (0 at the measured H_d): a key that appeared only when H_d != the measured one would
+    # come and go with the last bit of H_d (issue 29)
+    terms["hd_scaling"] = abs(model.hd / d["hd"] - 1.0) * disp
     # the mean pole's drift against IAU 2006, on a grid spanning the epochs (a smooth function of t)
     lo, hi = float(t.min()), float(t.max())
     grid = np.unique(np.concatenate([np.linspace(lo, hi, 65), [t0]])) if hi > lo else np.array([lo])

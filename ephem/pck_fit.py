@@ -43,6 +43,16 @@ CHECK_MARGIN = 1.02
 #: added: a nearly dependent column is fitted with large coefficients that cancel, which costs the kernel
 #: digits (see rounding_bound), and its updated inner products have lost their precision.
 SCORED = DEPENDENT = 1e-6
+#: The greedy choice (_pick): candidates whose downdated score is within this factor of the best, where those
+#: are reliable (error < 1e-4), and all others, are scored exactly (the exact scores' error is below 1e-10) ...
+SHORTLIST = 0.5
+#: ... scoring, in the shortlist, columns down to SCORED / SHORTLIST_SLACK of their norm (whose downdated norm
+#: is the least accurate), the exact score then applying SCORED ...
+SHORTLIST_SLACK = 10.0
+#: ... and candidates within rounding of the best exact score are a tie: the data (the track) are taken to
+#: carry NOISE_ULPS ulps of rounding (different SIMD kernels move it by 1), the exact scores RELATIVE_TIE.
+NOISE_ULPS = 16
+RELATIVE_TIE = 1e-8
 #: A track that comes nearer than this to the J2000 pole (degrees of declination) is fitted in ECLIPJ2000.
 MAX_J2000_DEC_DEG = 80.0
 #: SPICE's ECLIPJ2000 is J2000 turned about its x axis by the IAU 1976 obliquity of J2000 (SPICELIB
@@ -299,18 +309,37 @@ class _Ols:
 
     def scores(self) -> np.ndarray:
         """The residual's energy drop for each candidate pair of columns (sin, cos), or for the one of them
-        that is scored; -1 where neither is."""
-        ss, cc, sc, bs, bc = self.ss, self.cc, self.sc, self.bs, self.bc
-        s_ok = ss > SCORED ** 2 * self.ss0
-        c_ok = cc > SCORED ** 2 * self.cc0
-        det = ss * cc - sc * sc
-        with np.errstate(divide="ignore", invalid="ignore"):
-            out = np.maximum(np.where(s_ok, bs * bs / np.where(s_ok, ss, 1.0), -1.0),
-                             np.where(c_ok, bc * bc / np.where(c_ok, cc, 1.0), -1.0))
-            both = s_ok & c_ok & (det > 1e-6 * ss * cc)
-            out[both] = (cc[both] * bs[both] ** 2 - 2.0 * sc[both] * bs[both] * bc[both]
-                         + ss[both] * bc[both] ** 2) / det[both]
-        return out
+        that is scored; -1 where neither is. From the downdated inner products: cheap, but |c'|² = |c|² - Σ(q·c)²
+        cancels for a nearly dependent candidate (relative error ~ m ε |c|²/|c'|², up to 1e-2 at SCORED), so
+        these only shortlist (:meth:`pick`)."""
+        return _pair_scores(self.ss, self.cc, self.sc, self.bs, self.bc, self.ss0, self.cc0, SCORED / SHORTLIST_SLACK)
+
+    def screen_reliable(self) -> np.ndarray:
+        """Where the downdated scores are within 1e-4 of the exact ones: both columns' parts outside the basis
+        above RELIABLE of their norms (the error of |c'|² is ~ m ε |c|², at most 64 m ε |c|²)."""
+        bound = 64.0 * max(self.m, 1) * np.finfo(float).eps
+        return (self.ss >= self.ss0 * bound * 1e4) & (self.cc >= self.cc0 * bound * 1e4)
+
+    def exact_scores(self, idx: np.ndarray) -> np.ndarray:
+        """:meth:`scores` of candidates ``idx`` from their columns orthogonalised explicitly (twice) against the
+        basis: relative error ~ ε |c|/|c'| <= 1e-10, against up to 1e-2 for the downdated ones."""
+        cols = self.cand[:, np.repeat(2 * idx, 2) + np.tile([0, 1], idx.size)]       # (N, 2k): sin, cos, ...
+        if self.m:
+            Q = self.Q[: self.m]
+            for _ in range(2):
+                cols = cols - Q.T @ (Q @ cols)
+        s, c = cols[:, 0::2], cols[:, 1::2]
+        ss, cc = np.einsum("ij,ij->j", s, s), np.einsum("ij,ij->j", c, c)
+        return _pair_scores(ss, cc, np.einsum("ij,ij->j", s, c), self.residual @ s, self.residual @ c,
+                            self.ss0[idx], self.cc0[idx], SCORED)
+
+    def tie_width(self, best: float) -> float:
+        """How far apart (in score units) two candidates' exact scores can be moved by rounding, near a best
+        score ``best``: the data carry the track's rounding, δ = NOISE_ULPS ulps of their largest value at
+        each epoch, which moves a projection of the residual by at most |δ|₂ = δ √N, so a score s = |P r|²
+        by 2 √s δ √N; and the exact scores' own relative error (RELATIVE_TIE)."""
+        delta = NOISE_ULPS * np.finfo(float).eps * float(np.max(np.abs(self.data))) * math.sqrt(self.data.size)
+        return 2.0 * math.sqrt(max(best, 0.0)) * delta + delta * delta + RELATIVE_TIE * best
 
     def coefficients(self) -> dict:
         """Least-squares coefficient of each column added, by key (back substitution in R)."""
@@ -319,6 +348,49 @@ class _Ols:
         for j, col in enumerate(self.r):
             R[: j + 1, j] = col
         return dict(zip(self.keys, np.linalg.solve(R, self.Q[:m] @ self.data)))
+
+
+def _pair_scores(ss, cc, sc, bs, bc, ss0, cc0, scored: float) -> np.ndarray:
+    """The drop in the residual's energy from fitting a pair of columns (s, c) orthogonalised against the basis,
+    from their inner products (ss = s·s, cc, sc; bs = r·s, bc); a column below ``scored`` of its norm
+    (ss0, cc0) is not scored, and where neither is, -1."""
+    s_ok = ss > scored ** 2 * ss0
+    c_ok = cc > scored ** 2 * cc0
+    det = ss * cc - sc * sc
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = np.maximum(np.where(s_ok, bs * bs / np.where(s_ok, ss, 1.0), -1.0),
+                         np.where(c_ok, bc * bc / np.where(c_ok, cc, 1.0), -1.0))
+        both = s_ok & c_ok & (det > 1e-6 * ss * cc)
+        out[both] = (cc[both] * bs[both] ** 2 - 2.0 * sc[both] * bs[both] * bc[both]
+                     + ss[both] * bc[both] ** 2) / det[both]
+    return out
+
+
+def _pick(ra: _Ols, dec: _Ols, available: np.ndarray, order_key) -> int | None:
+    """The next candidate of the greedy fit, or None when none lowers the residual: the one with the largest
+    drop in the residual's energy, RA and DEC together, made independent of the last bits of the data.
+
+    The downdated scores shortlist the candidates within a factor SHORTLIST of the best where they are
+    reliable (their error is far below that), and every candidate where they are not; the shortlist is scored
+    exactly; candidates whose exact scores lie within what rounding can
+    move them of the best are a tie (sidebands j Ψ of one base differ by ψ̇ j, which a span of years barely
+    resolves: their scores agree to 1e-7), which ``order_key`` breaks: the choice then no longer flips with
+    the CPU's SIMD kernels (a 1-ulp change of the track moved 2 of Vesta's angles before)."""
+    s_ra, s_dec = ra.scores(), dec.scores()
+    screen = np.where((s_ra < 0.0) & (s_dec < 0.0), -1.0, np.maximum(s_ra, 0.0) + np.maximum(s_dec, 0.0))
+    screen[~available] = -1.0
+    reliable = (ra.screen_reliable() & dec.screen_reliable()) | (screen <= 0.0)
+    best = float(screen[reliable].max(initial=-1.0))
+    short = np.flatnonzero(((screen >= SHORTLIST * best) & (best > 0.0)) | (~reliable & available))
+    if short.size == 0:
+        return None
+    x_ra, x_dec = ra.exact_scores(short), dec.exact_scores(short)
+    exact = np.where((x_ra < 0.0) & (x_dec < 0.0), -1.0, np.maximum(x_ra, 0.0) + np.maximum(x_dec, 0.0))
+    top = float(exact.max())
+    if top <= 0.0:
+        return None
+    ties = short[exact >= top - (ra.tie_width(top) + dec.tie_width(top))]
+    return int(min(ties, key=order_key))
 
 
 def _candidates(spec: Spectrum, span: float, fit_step: float) -> list[tuple[int, int]]:
@@ -416,11 +488,8 @@ def fit_body(b: Body, t0: float, t1: float, dataset: str, tolerance_mas, model, 
                 break
         if 2 * (len(chosen) + 1) > max_angles or not available.any():
             break
-        s_ra, s_dec = ra.scores(), dec.scores()
-        score = np.where((s_ra < 0.0) & (s_dec < 0.0), -1.0, np.maximum(s_ra, 0.0) + np.maximum(s_dec, 0.0))
-        score[~available] = -1.0
-        i = int(np.argmax(score))
-        if score[i] <= 0.0:
+        i = _pick(ra, dec, available, lambda n: (abs(cands[n][1]), cands[n][1], cands[n][0]))
+        if i is None:
             break
         available[i] = False
         took = [basis.add(cand_cols[:, 2 * i + p], (cands[i], p)) for basis in (ra, dec) for p in (0, 1)]
