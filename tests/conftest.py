@@ -27,6 +27,18 @@ from hypothesis import settings  # noqa: E402
 
 from ephem.catalogue import Body, Orbit, Pole  # noqa: E402
 
+
+
+def pytest_report_header(config):
+    """Which of numpy's SIMD paths this run takes: .ci/run runs the suite on the CPU's and on the baseline's."""
+    from numpy._core._multiarray_umath import __cpu_baseline__, __cpu_dispatch__, __cpu_features__
+
+    on = [f for f in __cpu_dispatch__ if __cpu_features__.get(f)]
+    held = os.environ.get("NPY_DISABLE_CPU_FEATURES", "")
+    return (f"numpy SIMD: baseline {' '.join(__cpu_baseline__)}; dispatching to {' '.join(on) or 'nothing above it'}"
+            + (f" (NPY_DISABLE_CPU_FEATURES={held!r})" if held else ""))
+
+
 settings.register_profile("ephem", derandomize=True, database=None, deadline=None)
 settings.register_profile("explore", derandomize=False, database=None, deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ephem"))
