@@ -64,7 +64,8 @@ from .model import Track, cached_model, model_for
 from .physics_errors import rotation_averaging_bound
 from .relativity import geodesic_precession_rate
 from .spin_history import SpinConstants, spin_constants
-from .theory import Estimate, SpinAxisTheory, Spectrum, cheapest_within, rate_values, selection_info
+from .theory import (COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate, SpinAxisTheory, Spectrum, cheapest_within,
+                     rate_values, selection_info)
 from .uncertainty import SCALAR_KEYS, dynamical_ellipticity_sigma, no_uncertainty_reasons
 from .units import in_unit
 
@@ -555,8 +556,8 @@ class LunisolarTheory(SpinAxisTheory):
                                            "K of one perturber on a circular orbit in the ecliptic giving the same "
                                            "rate)")
         # the rate does not depend on the nutation's amplitude cut: nothing truncated
-        ans["model"].update(selection_info(self, "lunisolar", None, 0.0, 1e3 * (time.perf_counter() - start),
-                                           tolerance))
+        ans["model"].update(selection_info(self, "lunisolar", None, None, 1e3 * (time.perf_counter() - start),
+                                           tolerance, covers=COVERS_NOTHING_TRUNCATED))
         return ans
 
     def nutation_answer(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> dict:
@@ -596,7 +597,7 @@ class LunisolarTheory(SpinAxisTheory):
         omitted = omitted_bound(b, cut, "figure", per)
         info = describe_model(b, per, lm)
         info.update(selection_info(self, "lunisolar", None, omitted, 1e3 * (time.perf_counter() - start), tolerance,
-                                   {"truncation": omitted}))
+                                   {"truncation": omitted}, covers=COVERS_TRUNCATION))
         info["cut_mas"] = cut
         info["assumptions"].append("terms: Δψ = Σ (S + Ṡ T) sin φ + (C + Ċ T) cos φ (likewise Δε), φ = the "
                                    "multipliers · (l, l′, F, D, Ω), T Julian centuries TDB from J2000; `multiple` is "

@@ -81,6 +81,9 @@ class NutationSeries:
     obl_cos: np.ndarray
     mean_motion: float
     order: int | None
+    #: what the harmonics dropped below ``min_amplitude`` can move the pole in all (radians, the
+    #: :func:`pole_displacement_sum` of the tail :func:`nutation_series` cut)
+    dropped: float = 0.0
 
     @property
     def period_days(self) -> np.ndarray:
@@ -220,8 +223,10 @@ def nutation_series(K: float, n: float, obliquity: float, e: float, equinox_to_p
     keep = np.nonzero(big)[0]
     last = keep[-1] + 1 if keep.size else 0
     sl = slice(0, last)
+    dropped = pole_displacement_sum(np.column_stack([c[last:] for c in (lon_sin, lon_cos, obl_sin, obl_cos)]),
+                                    obliquity)
     return NutationSeries(h.k[1:][sl].astype(int), lon_sin[sl], lon_cos[sl], obl_sin[sl],
-                          obl_cos[sl], n, order)
+                          obl_cos[sl], n, order, dropped)
 
 
 @dataclass(frozen=True)

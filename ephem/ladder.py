@@ -89,7 +89,8 @@ from .harmonics import FRESH_STEPS, PeriodicTable, harmonic_sum, refined_count
 from .spin_history import SpinConstants, spin_constants
 from .second_order import (PhasedSeries, Remainder, SecondOrderTheory, eval_phi, second_order_remainder,
                            second_order_theory)
-from .theory import Estimate, SpinAxisTheory, Spectrum, cheapest_within, rate_values, selection_info
+from .theory import (COVERS_TRUNCATION, Estimate, SpinAxisTheory, Spectrum, cheapest_within, rate_values,
+                     selection_info)
 from .uncertainty import input_sigmas, propagated, summary
 
 RUNGS = ("secular", "series", "hansen", "second_order", "numerical", "real_orbit")
@@ -140,6 +141,11 @@ def _truncation_parts(model: PrecessionNutation, order: int) -> tuple[float, flo
     rate_diff = 0.5 * model.scaling_factor * abs(math.cos(model.obliquity)) * abs(
         eccentricity_factor(model.eccentricity, order) - eccentricity_factor(model.eccentricity))
     return 2.0 * pole_displacement_sum(diff.T, model.obliquity), abs(math.sin(model.obliquity)) * rate_diff
+
+
+#: the relative rounding of an exact (FFT) Hansen coefficient and the nutation coefficient made from it, with
+#: margin: an FFT of length N rounds to ~ε log2 N (N <= 2^16 here), the coefficient's formula adds a few ε
+EXACT_ROUNDING = 64.0 * float(np.finfo(float).eps)
 
 
 # --- the theory terms over given epochs -------------------------------------------------------------
@@ -1243,9 +1249,17 @@ class SunLadder(SpinAxisTheory):
         return None
 
     def _selection(self, order: int | None, tol: float | None, start: float) -> dict:
-        estimate = None if order is None else truncation_bound(cached_model(self.body), order, 0.0)
-        return selection_info(self, "hansen" if order is None else "series", order, estimate or 0.0,
-                              1e3 * (time.perf_counter() - start), tol)
+        m = cached_model(self.body)
+        # never 0 (issue 29): the exact coefficients' own floor, the harmonics dropped under their amplitude cut
+        # (twice: they also move the mean pole) and the rounding of every coefficient kept, is part of both
+        floor = 2.0 * m.nutation.dropped + EXACT_ROUNDING * pole_displacement_sum(m.nutation, m.obliquity)
+        estimate = floor + (0.0 if order is None else truncation_bound(m, order, 0.0))
+        if tol is not None and estimate > tol:
+            raise NotApplicableError(self.body.name, (
+                f"no e-order meets the tolerance of {tol / MAS:.6g} mas: the exact Hansen coefficients are good to "
+                f"{estimate / MAS:.3g} mas (the harmonics under their amplitude cut and the coefficients' rounding)"))
+        return selection_info(self, "hansen" if order is None else "series", order, estimate,
+                              1e3 * (time.perf_counter() - start), tol, covers=COVERS_TRUNCATION)
 
     def precession_answer(self, order: int | None, tolerance: float | None, start: float) -> dict:
         b = self.body

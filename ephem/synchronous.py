@@ -63,7 +63,8 @@ from .kepler import mean_motion_rad_per_day
 from .model import Track
 from .physical_librations import EFFECTIVE_MOMENTS, moon_physical_librations, shipped_series
 from .synchronous_rigid import integrate_synchronous
-from .theory import Estimate, SpinAxisTheory, Spectrum, rate_values, selection_info
+from .theory import (COVERS_ALL_TERMS, COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate, SpinAxisTheory, Spectrum,
+                     rate_values, selection_info)
 from .units import in_unit
 
 #: The Sun's mean orbit seen from a body of the Earth's neighbourhood: 1 AU, e = 0.0167 (Simon et al. 1994)
@@ -527,7 +528,8 @@ class SynchronousTheory(SpinAxisTheory):
             "Laplace pole); obliquity_deg: the mean pole's θ = i + I to the orbit; scaling_factor_arcsec_per_year: "
             "2 P(0), twice the synchronous torque's precession constant (ephem.cassini)")
         # the rate and the mean obliquity are the bare Cassini state's: nothing truncated
-        ans["model"].update(selection_info(self, "cassini", None, 0.0, 1e3 * (time.perf_counter() - start), tolerance))
+        ans["model"].update(selection_info(self, "cassini", None, None, 1e3 * (time.perf_counter() - start), tolerance,
+                                           covers=COVERS_NOTHING_TRUNCATED))
         return ans
 
     def nutation_answer(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> dict:
@@ -560,8 +562,11 @@ class SynchronousTheory(SpinAxisTheory):
                 "meridian, toward increasing ecliptic longitude of date: sin I times the equator's node shift) and "
                 "Δε = ρ (the equator's inclination less its mean), each Σ S sin φ + C cos φ with φ the multipliers · "
                 "(l, l′, F, D, Ω) (IERS 2010 eq. 5.43); Eckhardt's (1981) variables, ephem.physical_librations")
+        if omitted is not None and not omitted > 0.0:
+            omitted = None          # every term kept: nothing truncated here (issue 29: an estimate of 0 is no bound)
         info.update(selection_info(self, name, None, omitted, 1e3 * (time.perf_counter() - start), tolerance,
-                                   None if omitted is None else {"truncation": omitted}))
+                                   None if omitted is None else {"truncation": omitted},
+                                   covers=COVERS_TRUNCATION if omitted is not None else COVERS_ALL_TERMS))
         info["cut_mas"] = None if cut is None else cut / MAS
         half = [0.0, 0.0] if m.series is None else half_peak_to_peak(m.series.truncated(cut))
         return {

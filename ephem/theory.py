@@ -95,12 +95,29 @@ def cheapest_within(candidates: list, tolerance: float, body: str, wobble_given:
         f"'{best.rung}', is estimated good to {best.total / MAS:.6g} mas (largest term: {largest}); {hint}"))
 
 
+#: what a track's estimate bounds (``model.estimate_covers``)
+COVERS_TRACK = ("the whole: the pole's distance from the truth over the epochs, every named term (error_terms_mas) "
+                "summed")
+#: a closed-form rate with nothing truncated: no number to give
+COVERS_NOTHING_TRUNCATED = ("nothing: the rate and the mean obliquity are the theory's closed form, nothing is "
+                            "truncated, so the estimate is null; the theory's own error is a track's estimate")
+#: a series served with every term it has
+COVERS_ALL_TERMS = ("nothing: every term of the series is served, nothing is truncated here, so the estimate is "
+                    "null; the series' own error is a track's estimate")
+#: what a rate's or a nutation series' estimate bounds: they have no epochs, so no theory term applies
+COVERS_TRUNCATION = ("the truncation alone: the series served against the same first-order theory untruncated "
+                     "(exact coefficients, every term); not the theory's own error, which a track's estimate "
+                     "gives")
+
+
 def selection_info(theory, name: str, order: int | None, estimate: float | None, cost_ms: float,
-                   tolerance: float | None, terms: dict | None = None) -> dict:
+                   tolerance: float | None, terms: dict | None = None, covers: str = COVERS_TRACK) -> dict:
     """The selection part of an answer's ``model`` object: which of ``theory``'s models answered (``theory``: a
-    family or an instance), how good it is estimated to be (radians in, mas out) and what it cost."""
+    family or an instance), how good it is estimated to be (radians in, mas out), what that estimate bounds
+    (``covers``) and what it cost. An estimate is never 0 (issue 29: no bound is): a rate or series with
+    nothing truncated states the floor of its exact coefficients, or None with the reason in ``covers``."""
     return {"name": name, "order": order, "description": theory.descriptions[name],
-            "estimated_error_mas": None if estimate is None else estimate / MAS,
+            "estimated_error_mas": None if estimate is None else estimate / MAS, "estimate_covers": covers,
             "error_terms_mas": None if terms is None else {k: v / MAS for k, v in terms.items()},
             "tolerance_mas": None if tolerance is None else float(f"{tolerance / MAS:.12g}"), "cost_ms": cost_ms,
             "axis": None, "free_wobble": None, "rotation_scale": None,   # tracks only

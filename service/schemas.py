@@ -55,7 +55,10 @@ class ModelInfo(BaseModel):
     description: str
     estimated_error_mas: Optional[float] = Field(
         description="estimated upper bound on the pole's distance from the truth over the epochs, mas "
-                    "(for rates and nutation terms: the truncation bound)")
+                    "(for rates and nutation terms: the truncation bound); never 0: null where nothing is "
+                    "truncated (estimate_covers says what it bounds)")
+    estimate_covers: str = Field(description="what estimated_error_mas bounds: the whole (tracks: every named "
+                                             "term) or the truncation alone (rates and nutation series)")
     error_terms_mas: Optional[dict[str, float]] = Field(description="the estimate by named term, mas")
     tolerance_mas: Optional[float] = Field(description="the tolerance that chose the rung, if one was given")
     cost_ms: float = Field(description="wall time of the computation, ms")

@@ -213,3 +213,55 @@ def test_rung_4_misses_the_second_order_periodic_nutation_and_the_third_order_dr
     predicted = _remainder_predicted(ladder, tables, t)
     assert np.max(predicted) > 1e-12
     assert np.max(np.abs(actual - predicted)) <= 3.0 * lad.small_parameter(m) * np.max(predicted) + 1e-13
+
+
+# --------------------------------------------------------------------------- rates and series: never 0 (issue 29)
+
+@pytest.mark.parametrize("name", ["ceres", "vesta", "eros", "steins", "itokawa", "earth", "moon", "mars"])
+def test_no_answer_claims_an_estimate_of_zero(name):
+    """A rate or a nutation series states what its estimate bounds, and the estimate is a positive number or
+    null (nothing truncated) — never 0, which no bound is."""
+    from ephem import api
+
+    for answer in (api.precession(name), api.nutation(name)):
+        m = answer["model"]
+        assert m["estimate_covers"].startswith(("the truncation alone", "nothing:"))
+        assert m["estimated_error_mas"] is None or m["estimated_error_mas"] > 0.0
+        assert (m["estimated_error_mas"] is None) == m["estimate_covers"].startswith("nothing:")
+    track = api.track(name, "2020-01-01", "2020-03-01", 30.0, tolerance_mas=1e7)["model"]
+    assert track["estimate_covers"].startswith("the whole") and track["estimated_error_mas"] > 0.0
+
+
+def test_an_unreachable_tolerance_is_refused_with_the_floor():
+    """tolerance_mas=1e-30 was served with estimated_error_mas 0.0: the exact coefficients have a floor (the
+    harmonics under their amplitude cut, the rounding), and a tolerance below it is not applicable."""
+    from ephem import api
+    from ephem.errors import NotApplicableError
+
+    with pytest.raises(NotApplicableError, match=r"exact Hansen coefficients are good to [0-9.e-]+ mas"):
+        api.precession("vesta", tolerance_mas=1e-30)
+    floor = api.precession("vesta")["model"]["estimated_error_mas"]
+    ans = api.nutation("vesta", tolerance_mas=10 * floor)
+    assert floor < ans["model"]["estimated_error_mas"] <= 10 * floor
+
+
+@pytest.mark.parametrize("name", ["vesta", "itokawa", "mars"])
+def test_the_exact_series_floor_bounds_what_its_amplitude_cut_drops(name):
+    """Independent route: the series with no amplitude cut against the one served, at 4096 mean anomalies: the
+    pole moves by no more than the floor (twice the dropped tail plus the coefficients' rounding)."""
+    from ephem.kinoshita import nutation_series
+    from ephem.ladder import EXACT_ROUNDING
+    from ephem.kinoshita import pole_displacement_sum
+    from ephem.model import cached_model
+
+    m = cached_model(get_body(name))
+    s = m.nutation
+    K = m.scaling_factor
+    full = nutation_series(K, s.mean_motion, m.obliquity, m.eccentricity, m.equinox_to_pericentre, None,
+                           min_amplitude=0.0)
+    M = np.linspace(0.0, 2.0 * math.pi, 4096, endpoint=False)
+    (p1, e1), (p2, e2) = s.evaluate(M), full.evaluate(M)
+    moved = float(np.max(abs(math.sin(m.obliquity)) * np.abs(p1 - p2) + np.abs(e1 - e2)))
+    floor = 2.0 * s.dropped + EXACT_ROUNDING * pole_displacement_sum(s, m.obliquity)
+    assert moved <= floor
+    assert full.dropped == 0.0 and s.dropped >= 0.0
