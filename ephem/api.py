@@ -6,19 +6,20 @@ arcseconds, rates per Julian year, times as JD TDB.
 """
 from __future__ import annotations
 
+import json
 import math
 import time
 
 import numpy as np
 
 from . import cost
-from .budget import OverBudgetError, charge, prepaid
+from .budget import OverBudgetError, charge, checkpoint, prepaid
 from .catalogue import (DEFAULT_DATASET, Body, get_body, load_catalogue, load_references, resolve_body,
                         resolve_perturbers)
 from .constants import ARCSEC, MAS
 from .errors import InvalidInputError, NotApplicableError
 from .hansen import hansen_series
-from .history import MAX_HISTORY_SAMPLES, history_answer
+from .history import MAX_HISTORY_SAMPLES, MAX_SPAN_YEARS, history_answer
 from .ladder import AXES
 # model_for and MAX_ORDER are part of this facade (the numeric model of a body; the highest e-order)
 from .model import MAX_ORDER, check_order, model_for  # noqa: F401
@@ -198,20 +199,29 @@ def _within(part: str, answer):
 MAX_BATCH_ROWS = 100_000
 
 
-def batch(rows, history: dict | None = None, max_rows: int = MAX_BATCH_ROWS) -> dict:
+def batch(rows, history: dict | None = None, max_rows: int = MAX_BATCH_ROWS, history_path: str = "history.") -> dict:
     """Precession and nutation of several bodies at once, synchronously (:mod:`ephem.population`): ``rows`` a list of
     {column: value} (docs/batch_input.md: the orbit, the pole, the period, one inertia form, optional ``_sigma``
-    columns); ``history`` {start_year, stop_year, step_years} adds each body's obliquity range and period.
+    columns); ``history`` {start_year, stop_year, step_years} adds each body's obliquity range and period (its
+    errors name ``history_path`` + the key: the service passes "" when the client gave them as query parameters).
 
     Returns ``rows`` (one {output column: value} per input row, in order: docs/batch.md; a bad row has its reason
     in ``error`` and nulls, the others are unaffected), ``columns`` (the output columns, in order) and ``model``.
-    The cost is charged before the work (:func:`ephem.population.batch_cost`).
+    A malformed request (rows not a list of objects, an unknown column, a bad history) raises
+    :class:`InvalidInputError` naming its path (``rows[3]``, ``rows[0].colour``, ``history.step_years``); a cell
+    that is not a number (or not text, for ``name``) is its row's ``error``, as in ``ephem batch``.
+    The cost is charged before the work, each row at its own eccentricity (:func:`ephem.population.batch_cost`),
+    and a batch above the service's threshold for large work takes its turn before any row is computed.
     """
     from . import population as pop
 
-    if not isinstance(rows, list) or not all(isinstance(r, dict) for r in rows):
+    if not isinstance(rows, list):
         raise InvalidInputError("rows", "expected a list of objects, one per body, with the columns of "
-                                "docs/batch_input.md")
+                                f"docs/batch_input.md, got {_json_kind(rows)}")
+    for j, r in enumerate(rows):
+        if not isinstance(r, dict):
+            raise InvalidInputError(f"rows[{j}]", "expected a list of objects, one per body, with the columns of "
+                                    f"docs/batch_input.md: this row is {_json_kind(r)}")
     if not rows:
         raise InvalidInputError("rows", "no rows: give at least one body")
     if len(rows) > max_rows:
@@ -219,25 +229,30 @@ def batch(rows, history: dict | None = None, max_rows: int = MAX_BATCH_ROWS) -> 
                                 f"`ephem batch INPUT --out OUTPUT` (ephem.batch.run) for a catalogue")
     known = set(pop.INPUT_COLUMNS) | {f"{k}_sigma" for k in pop.SIGMA_INPUTS}
     for j, r in enumerate(rows):
-        unknown = sorted(set(r) - known)
+        unknown = sorted((k for k in r if k not in known), key=str)
         if unknown:
-            raise InvalidInputError(f"rows[{j}]", f"unknown column(s) {', '.join(unknown)}; the columns are those of "
-                                    "docs/batch_input.md")
-    spec = None
-    if history is not None:
-        try:
-            spec = pop.HistorySpec(float(history["start_year"]), float(history["stop_year"]),
-                                   float(history["step_years"]))
-        except (KeyError, TypeError, ValueError):
-            raise InvalidInputError("history", "expected {start_year, stop_year, step_years}, numbers") from None
-        if not all(math.isfinite(v) for v in (spec.start_year, spec.stop_year, spec.step_years)) \
-                or spec.step_years <= 0.0 or spec.stop_year <= spec.start_year:
-            raise InvalidInputError("history", "start_year < stop_year and step_years > 0, finite numbers")
-    keys = sorted({k for r in rows for k in r} | set(pop.REQUIRED))   # every row counted, absent values missing
-    columns = {k: np.array([r.get(k) if r.get(k) is not None else (np.nan if k != "name" else "")
-                            for r in rows], dtype=object) for k in keys}
-    charge(pop.batch_cost(len(rows), spec, pop.sigma_inputs(columns)))
+            raise InvalidInputError(f"rows[{j}].{unknown[0]}", f"unknown column(s) {', '.join(map(repr, unknown))}; "
+                                    "the columns are those of docs/batch_input.md")
+    spec = None if history is None else _batch_history(history, history_path)
+    columns, bad = _batch_columns(rows, pop)
+    try:
+        charge(pop.batch_cost(len(rows), spec, pop.sigma_inputs(columns), columns))
+    except OverBudgetError as exc:
+        if exc.field in _HISTORY_KEYS:      # a history's span: named where the client wrote it
+            raise exc.within(history_path) from None
+        raise
+    checkpoint()    # the whole batch is charged: a large one takes its turn (or is refused busy) before any row
     out = pop.evaluate(columns, spec)
+    if bad:     # a cell that is not a number spoils its row only, as in ephem batch
+        spoilt = np.fromiter(bad, dtype=np.intp)
+        for key in out:
+            if key == "name":
+                continue
+            text = out[key].dtype.kind in "UOS"
+            out[key] = out[key].astype(object if text else float)   # fixed-width text would cut a reason short
+            out[key][spoilt] = "" if text else np.nan
+        for j, reason in bad.items():
+            out["error"][j] = reason
 
     def plain(key, v):
         if isinstance(v, (float, np.floating)):
@@ -251,6 +266,86 @@ def batch(rows, history: dict | None = None, max_rows: int = MAX_BATCH_ROWS) -> 
             "model": {"name": pop.MODEL, "theory": "Kinoshita's first-order theory with exact Hansen coefficients, "
                       "vectorised over the bodies (ephem.population); each row equals the single-body answer",
                       "leading_terms": pop.LEADING_TERMS}}
+
+
+#: the keys of a batch's history, all three required
+_HISTORY_KEYS = ("start_year", "stop_year", "step_years")
+
+
+def _batch_history(history, path: str):
+    """The batch's :class:`ephem.population.HistorySpec`, validated once as every row's history would be
+    (:func:`ephem.population.history_epochs`); errors name ``path`` + the key (``history.step_years``)."""
+    from . import population as pop
+
+    if not isinstance(history, dict):
+        raise InvalidInputError(path.rstrip(".") or "history", "expected {start_year, stop_year, step_years}, "
+                                f"numbers, got {_json_kind(history)}")
+    for key in list(history) + list(_HISTORY_KEYS):
+        if key not in _HISTORY_KEYS:
+            raise InvalidInputError(f"{path}{key}", "unknown key: expected {start_year, stop_year, step_years}")
+        if history.get(key) is None:
+            raise InvalidInputError(f"{path}{key}", "missing: expected {start_year, stop_year, step_years}, numbers")
+    spec = pop.HistorySpec(*(history[k] for k in _HISTORY_KEYS))
+    try:
+        pop.history_epochs(spec)
+    except InvalidInputError as exc:
+        # the batch's rule in the reason too: the OpenAPI document states it in these words
+        raise InvalidInputError(f"{path}{exc.field}", f"{exc.reason} (start_year < stop_year and step_years > 0, "
+                                f"finite numbers, within {MAX_SPAN_YEARS:.3g} years and {MAX_HISTORY_SAMPLES} "
+                                "epochs)") from None
+    return pop.HistorySpec(*(float(history[k]) for k in _HISTORY_KEYS))
+
+
+def _batch_columns(rows: list[dict], pop) -> tuple[dict, dict[int, str]]:
+    """The rows as the population's columns (name as text, the rest floats, NaN where a cell is absent or
+    empty) and {row: reason} for the cells that are not numbers (or not text, for name): ``ephem batch``'s reason
+    (``i_deg: not a number: 'abc'``), the row's error."""
+    n = len(rows)
+    keys = sorted({k for r in rows for k in r} | set(pop.REQUIRED))   # every row counted, absent values missing
+    columns, bad = {}, {}
+    for key in keys:
+        col = np.full(n, "", dtype=object) if key == "name" else np.full(n, np.nan)
+        for j, r in enumerate(rows):
+            v = r.get(key)
+            if v is None or v == "":
+                continue
+            try:
+                col[j] = _batch_cell(key, v)
+            except ValueError as exc:
+                bad.setdefault(j, f"{key}: {exc}")
+        columns[key] = col
+    return columns, bad
+
+
+def _batch_cell(key: str, v):
+    """A cell's value: text for name, else a float; ValueError (the reason) for what is neither."""
+    if isinstance(v, bytes):        # the service's CSV reader gives the raw bytes of a cell that is not UTF-8
+        raise ValueError(f"not UTF-8 text: {v[:40]!r}")
+    if key == "name":
+        if isinstance(v, str):
+            return v
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            return str(v)     # a number as a name (an asteroid's number) is its text
+        raise ValueError(f"not text: {_json_kind(v)}")
+    if isinstance(v, bool) or not isinstance(v, (int, float, str)):
+        raise ValueError(f"not a number: {_json_kind(v)}")
+    try:
+        return float(v)
+    except (ValueError, OverflowError):
+        raise ValueError(f"not a number: {str(v)[:40]!r}") from None
+
+
+def _json_kind(v) -> str:
+    """What a JSON value is, for an error message: its kind, and its JSON text when short."""
+    kind = {bool: "a boolean", dict: "an object", list: "an array", str: "a string", type(None): "null"}.get(
+        type(v), "a number" if isinstance(v, (int, float)) else type(v).__name__)
+    if v is None or isinstance(v, (dict, list)):
+        return kind
+    try:
+        text = json.dumps(v)
+    except (TypeError, ValueError):     # not a JSON value (a library caller's object)
+        text = repr(v)
+    return f"{kind} ({text})" if len(text) <= 40 else kind
 
 
 def precession_nutation(body: Body, order: int | None = None, track: dict | None = None,

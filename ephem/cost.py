@@ -71,13 +71,20 @@ def nutation_harmonics(e: float, order: int | None, torque_over_motion: float) -
     return harmonics(e, order, floor)[1]
 
 
+def hansen_fft_s(n: int) -> float:
+    """CPU seconds of one body's exact Hansen coefficients on ``n`` samples (Kepler's equation solved at each,
+    then the FFTs): the one formula for it, whether a body is answered alone (:func:`hansen_build`) or in a
+    population (:func:`population`)."""
+    return _u("fft_s_per_n_log_n") * n * math.log2(n)
+
+
 def hansen_build(e: float, order: int | None) -> Part:
     """The Hansen coefficients: an N-point FFT (exact) or the rational series (order)."""
     n, k = harmonics(e, order)
     if order is not None:
         return Part("order", f"the e^{order} Hansen series", _u("series_s") * (1 + order) ** 2, 1.0)
     return Part("orbit.e", f"exact Hansen coefficients (a {n}-point FFT, e = {e:.4g})",
-                _u("base_s") + _u("fft_s_per_n_log_n") * n * math.log2(n), _u("fft_bytes_per_sample") * n / MB)
+                _u("base_s") + hansen_fft_s(n), _u("fft_bytes_per_sample") * n / MB)
 
 
 def harmonic_work_mb(epochs: int, k: int) -> float:
@@ -195,13 +202,32 @@ def spin_history(span_years: float, epochs: int) -> Part:
                 + span_years / 500.0 * _u("history_bytes_per_orbit_sample") / MB)
 
 
-def population(rows: int, sigma_inputs: int = 0) -> Part:
-    """A partition of ``rows`` bodies through the population core (:func:`ephem.population.evaluate`), each input
-    with a sigma column costing two more evaluations."""
-    return Part("rows", f"{rows} bodies through the theory on columns"
-                + (f", {sigma_inputs} inputs with a sigma" if sigma_inputs else ""),
-                _u("population_base_s") + rows * (_u("population_row_s") + sigma_inputs * _u("population_sigma_row_s")),
-                rows * _u("population_row_bytes") / MB)
+def population(rows: int, sigma_inputs: int = 0, groups=()) -> Cost:
+    """A partition of ``rows`` bodies through the population core (:func:`ephem.population.evaluate`).
+
+    Every body costs a fixed part (the parsing, the checks, the geometry on columns). ``groups``: the rows that
+    reach the Hansen coefficients, as :func:`ephem.hansen.hansen_exact_many` groups them by FFT length, each
+    ``(count, N, K, parameter)``: each row pays the FFT of its own eccentricity (:func:`hansen_fft_s`, the
+    single-body formula: the large step, 0.19 s a row at e = 0.99) and the theory over its group's ``K``
+    harmonics (the mean pole's passes, the sines of the mean anomaly, the sort of the leading terms). Each input
+    with a sigma column evaluates the rows twice more. The groups' coefficients stay in memory until the theory
+    ends, so each group's part carries the memory of those before it: the last one is the peak. Without
+    ``groups`` (the eccentricities unknown) the estimate is that of the low eccentricities of a main-belt
+    population, which the fixed part covers.
+    """
+    evaluations = 1 + 2 * sigma_inputs
+    per_row = _u("population_row_s") + sigma_inputs * _u("population_sigma_row_s")
+    fixed = Part("rows", f"{rows} bodies through the theory on columns"
+                 + (f", {sigma_inputs} inputs with a sigma" if sigma_inputs else ""),
+                 _u("population_base_s") + rows * per_row, rows * _u("population_row_bytes") / MB)
+    parts, held = [fixed], fixed.memory_mb
+    for count, n, k, parameter in groups:
+        held += count * n * _u("population_bytes_per_sample") / MB
+        parts.append(Part(parameter, f"the exact Hansen coefficients of {count} bod{'y' if count == 1 else 'ies'} "
+                          f"(a {n}-point FFT each) and the theory over {k} harmonics"
+                          + (f", {evaluations} evaluations (the sigmas)" if evaluations > 1 else ""),
+                          evaluations * count * (hansen_fft_s(n) + k * _u("population_harmonic_s")), held))
+    return Cost(tuple(parts))
 
 
 def cassini_history(epochs: int) -> Part:
@@ -249,6 +275,14 @@ def lunisolar_answer() -> Part:
 
 def body_harmonics(body, order: int | None = None) -> int:
     """:func:`nutation_harmonics` of a :class:`~ephem.catalogue.Body`, from its parameters alone
-    (K/n = 3 n H_d / ω, Petit et al. eq. 10)."""
-    n = mean_motion_rad_per_day(body.orbit.a_au, body.orbit.center)
-    return nutation_harmonics(body.orbit.e, order, 3.0 * n * body.hd / body.spin_rate_rad_per_day)
+    (:func:`spin_harmonics`)."""
+    return spin_harmonics(body.orbit.e, body.orbit.a_au, body.hd, body.spin_rate_rad_per_day, body.orbit.center,
+                          order)
+
+
+def spin_harmonics(e: float, a_au: float, hd: float, spin_rate_rad_per_day: float, center: str = "Sun",
+                   order: int | None = None) -> int:
+    """:func:`nutation_harmonics` of a body given by its values (a population's row): K/n = 3 n H_d / ω (Petit
+    et al. eq. 10)."""
+    n = mean_motion_rad_per_day(a_au, center)
+    return nutation_harmonics(e, order, 3.0 * n * hd / spin_rate_rad_per_day)

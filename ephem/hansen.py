@@ -331,6 +331,12 @@ def _fourier_coefficients(g: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.
     return c0, c2, s2
 
 
+def fft_lengths(e) -> np.ndarray:
+    """:func:`fft_length`'s N (no kmax, no limit) for each eccentricity of ``e`` (vectorised), as
+    :func:`hansen_exact_many` groups a population by it: what a population's cost counts before the work."""
+    return _sample_counts(np.asarray(e, dtype=float))
+
+
 def exact_available(e) -> np.ndarray:
     """Whether the exact coefficients can be had at each eccentricity of ``e`` (the vectorised
     :func:`exact_unavailable`: no more than 2**23 FFT samples)."""

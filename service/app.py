@@ -19,6 +19,7 @@ import ephem
 from ephem import api
 from ephem.catalogue import (DEFAULT_DATASET, KNOWN_PERTURBERS, MIN_ROTATION_PERIOD_HOURS, Body, Orbit, Pole,
                              available_datasets, load_catalogue)
+from ephem.errors import InvalidInputError
 from ephem.free_motion import SERIES_MAX_DELTA
 from ephem.geometry import icrf_to_ecliptic_matrix
 from ephem.ladder import AXES, LAPLACE_LIMIT, MAX_NUMERICAL_ORBITS
@@ -373,8 +374,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
               openapi_extra={"requestBody": {"required": True, "content": {
                   "application/json": {"schema": {"oneOf": [
                       {"type": "array", "items": {"type": "object"}},
-                      {"type": "object", "properties": {"rows": {"type": "array", "items": {"type": "object"}},
-                                                        "history": {"type": "object"}}}]}},
+                      {"type": "object", "additionalProperties": False, "properties": {
+                          "rows": {"type": "array", "items": {"type": "object"}},
+                          "history": {"type": "object", "additionalProperties": False,
+                                      "required": ["start_year", "stop_year", "step_years"],
+                                      "properties": {k: {"type": "number"}
+                                                     for k in ("start_year", "stop_year", "step_years")}}}}]}},
                   "text/csv": {"schema": {"type": "string"}}}}})
     async def batch(request: Request,
                     start_year: Annotated[Optional[float], Query(description="with stop_year and step_years: each "
@@ -384,10 +389,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         """Precession and nutation of up to EPHEM_MAX_BATCH_ROWS bodies at once: a JSON array of row objects (or
         {rows, history}) or CSV with the columns of docs/batch_input.md. Beyond, run `ephem batch` (Dask)."""
         rows, history = _batch_rows(await request.body(), request.headers.get("content-type", ""))
+        path = "history."
         if start_year is not None or stop_year is not None or step_years is not None:
             history = {"start_year": start_year, "stop_year": stop_year, "step_years": step_years}
+            path = ""       # its errors name ?step_years=, as the client wrote it
         # the work in a thread (the event loop stays free), in this request's budget (the context is copied)
-        return finite_json(await run_in_threadpool(api.batch, rows, history, settings.max_batch_rows))
+        return finite_json(await run_in_threadpool(api.batch, rows, history, settings.max_batch_rows, path))
 
     @app.post("/v1/precession-nutation", response_model=schemas.PrecessionNutation, tags=["theory"],
               response_model_exclude_unset=True,
@@ -532,10 +539,14 @@ def _rule_texts(settings: Settings) -> dict[str, str]:
                    "tolerance_mas, not both; nbody for a body without a shipped orbit is run on request within the "
                    "budget.",
         "batch": f"rows: 1 to {settings.max_batch_rows} objects (EPHEM_MAX_BATCH_ROWS; for more, `ephem batch` on "
-                 "Dask), each with only the columns of docs/batch_input.md (a bad value gets its reason in the row's "
-                 "`error`, with a 200); history, the object's or start_year, stop_year and step_years together: "
-                 "finite numbers, start_year < stop_year, step_years > 0; the body is JSON (an array of rows, or "
-                 "{rows, history}) or CSV (text/csv) with a header of column names.",
+                 "Dask), each with only the columns of docs/batch_input.md (a bad value, or a cell that is not a "
+                 "number, gets its reason in the row's `error`, with a 200); history, the object's or start_year, "
+                 "stop_year and step_years together: finite numbers, start_year < stop_year within 2e7 years, "
+                 "step_years > 0 leaving at most 100001 epochs; the body is JSON (an array of rows, or {rows, "
+                 "history} and nothing else) or CSV (text/csv, UTF-8) with a header of distinct column names and "
+                 "as many cells on every line. Each row is priced before the work at its own eccentricity (the "
+                 "FFT of its Hansen coefficients grows like (1 - e^2)^(-3/2)) and, with a history, at its "
+                 "integration from its pole's epoch through the span (docs/batch.md).",
         "na": na,
     }
     if hasattr(settings, "max_request_cpu_s"):      # service/guards.py: the per-request budget
@@ -624,24 +635,63 @@ def _document_rules(schema: dict, settings: Settings) -> dict:
 
 def _batch_rows(raw: bytes, content_type: str) -> tuple[list, dict | None]:
     """The rows (and history) of a POST /v1/batch body: a JSON array of row objects, a JSON object {rows, history},
-    or CSV (text/csv) with a header of column names."""
-    import csv
-    import io
-
-    from ephem.errors import InvalidInputError
-
+    or CSV (text/csv) with a header of column names. What is not one of these is refused naming where (``body``,
+    a key, ``rows[j]`` for a CSV line); the rows' values are ephem.api.batch's to judge."""
     if content_type.split(";")[0].strip().lower() == "text/csv":
-        try:
-            return list(csv.DictReader(io.StringIO(raw.decode("utf-8")))), None
-        except (UnicodeDecodeError, csv.Error) as exc:
-            raise InvalidInputError("body", f"not CSV with a header of column names: {exc}") from None
+        return _csv_batch_rows(raw), None
     try:
         doc = orjson.loads(raw)
     except orjson.JSONDecodeError as exc:
         raise InvalidInputError("body", f"not JSON: {exc}") from None
     if isinstance(doc, dict):
+        extra = sorted(set(doc) - {"rows", "history"})
+        if extra:     # a misspelt "history" would otherwise be dropped without a word
+            raise InvalidInputError(extra[0], f"not JSON of a batch: unknown key {extra[0]!r}; the body is an array "
+                                    "of rows or {rows, history}")
         return doc.get("rows"), doc.get("history")
     return doc, None
+
+
+def _csv_batch_rows(raw: bytes) -> list[dict]:
+    """CSV rows as {column: text}: every line with as many cells as the header (a surplus or a missing cell
+    cannot be matched to its column: the request is refused naming the row and its line, as ephem batch refuses
+    the file). A cell that is not UTF-8 is its raw bytes, which ephem.api.batch makes its row's error; a UTF-8
+    byte-order mark is dropped."""
+    import csv
+    import io
+
+    why = "not CSV with a header of column names"
+    reader = csv.reader(io.StringIO(raw.decode("utf-8-sig", errors="surrogateescape"), newline=""))
+    rows: list[dict] = []
+    try:
+        header = next(reader, None)
+        if header is None:
+            return rows
+        if not all(_utf8(h) for h in header):
+            raise InvalidInputError("body", f"{why}: the header line is not UTF-8 text")
+        twice = sorted({h for h in header if header.count(h) > 1})
+        if twice:
+            raise InvalidInputError(twice[0], f"{why}: the header has the column {twice[0]!r} more than once")
+        for cells in reader:
+            if not cells:       # a blank line
+                continue
+            if len(cells) != len(header):
+                raise InvalidInputError(f"rows[{len(rows)}]", f"{why}: line {reader.line_num} has {len(cells)} "
+                                        f"cell{'s' if len(cells) != 1 else ''} for the header's {len(header)} "
+                                        "columns")
+            rows.append({h: c if _utf8(c) else c.encode("utf-8", "surrogateescape") for h, c in zip(header, cells)})
+    except csv.Error as exc:
+        raise InvalidInputError(f"rows[{len(rows)}]", f"{why}: line {reader.line_num}: {exc}") from None
+    return rows
+
+
+def _utf8(text: str) -> bool:
+    """Whether a cell decoded with surrogateescape was UTF-8 (no escaped byte in it)."""
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
 
 
 def finite_json(content) -> Response:
