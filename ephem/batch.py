@@ -37,7 +37,6 @@ import difflib
 import hashlib
 import importlib
 import json
-import math
 import os
 import shutil
 import time
@@ -144,11 +143,16 @@ def _batches(path: Path, fmt: str, known: tuple[str, ...]):
         return columns, ignored, pf.iter_batches(batch_size=65536, columns=columns)
 
     # every known column as text: a cell that is not a number spoils its row, not the file (see _as_float);
-    # a line with too many or too few fields is the file's fault (pyarrow's message names the row)
-    reader = pacsv.open_csv(
-        path, read_options=pacsv.ReadOptions(use_threads=False, block_size=1 << 20),
-        convert_options=pacsv.ConvertOptions(include_columns=columns, column_types={c: pa.string() for c in columns},
-                                             strings_can_be_null=True, null_values=[""]))
+    # a line with too many or too few fields, or text that is not UTF-8, is the file's fault (pyarrow's message
+    # names the row); the first block is read here, the others as _split streams them (which refuses the same way)
+    try:
+        reader = pacsv.open_csv(
+            path, read_options=pacsv.ReadOptions(use_threads=False, block_size=1 << 20),
+            convert_options=pacsv.ConvertOptions(include_columns=columns,
+                                                 column_types={c: pa.string() for c in columns},
+                                                 strings_can_be_null=True, null_values=[""]))
+    except (OSError, pa.ArrowException) as exc:
+        raise InvalidInputError("input", f"cannot read {path.name} as {fmt}: {exc}") from None
     return columns, ignored, reader
 
 
@@ -354,17 +358,11 @@ def _history_dict(history) -> dict | None:
 
 
 def _check_history(history) -> None:
+    """The span, refused before any work as every row's history would refuse it (too many epochs, beyond 2e7
+    years, a step so small that the count overflows): not in each row of the output, or as a failed task."""
     if history is None:
         return
-    for field in ("start_year", "stop_year", "step_years"):
-        value = getattr(history, field)
-        if not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise InvalidInputError(field, f"must be a finite number of years, got {value!r}")
-    if history.step_years <= 0:
-        raise InvalidInputError("step_years", f"must be positive, got {history.step_years}")
-    if history.stop_year <= history.start_year:
-        raise InvalidInputError("stop_year", f"must be after start_year ({history.start_year}), got "
-                                f"{history.stop_year}")
+    importlib.import_module(CORE).history_epochs(history)
 
 
 def _read_manifest(out: Path) -> dict | None:

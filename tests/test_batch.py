@@ -282,12 +282,21 @@ def test_bad_inputs_are_refused_naming_the_field(tmp_path):
     no_inertia = "\n".join(",".join(c for i, c in enumerate(line.split(",")) if i not in (12, 13)) for line in lines)
     assert refused(no_inertia).field == "dynamical_ellipticity"
     assert "Row #3: Expected 16 columns, got 3: a,b,c" in str(refused("\n".join(lines[:2] + ["a,b,c"] + lines[3:])))
+    surplus = refused("\n".join(lines[:2] + [lines[2] + ",9"] + lines[3:]))      # a cell more than the header
+    assert surplus.field == "input" and "Expected 16 columns, got 17" in str(surplus)
+    # not UTF-8 in the first block: pyarrow raised from open_csv, an uncaught ArrowInvalid (a traceback, status 1)
+    latin = refused("\n".join(lines[:2]).encode() + b"\n\xff" + "\n".join(lines[2:]).encode() + b"\n")
+    assert latin.field == "input" and "UTF8" in str(latin)
     assert refused(b"PAR1 not parquet", name="x.parquet").field == "input"
     assert refused("", name="empty.csv").field == "input"
     assert refused(source.read_text(), name="x.xlsx").field == "input"
     assert refused(source.read_text(), partition_rows=0).field == "partition_rows"
     assert refused(source.read_text(), output_format="xls").field == "format"
     assert refused(source.read_text(), history=population.HistorySpec(0, -10, 1)).field == "stop_year"
+    # refused once, before the work, as each row's history would be: a step whose count of epochs overflowed
+    # int() in every task (failed partitions), and one over the cap of epochs (every row's history_error)
+    assert refused(source.read_text(), history=population.HistorySpec(0, 10, 5e-324)).field == "step_years"
+    assert refused(source.read_text(), history=population.HistorySpec(0, 1e6, 1)).field == "step_years"
     with pytest.raises(InvalidInputError, match="no such file") as exc:
         batch.run(tmp_path / "missing.csv", tmp_path / "never")
     assert exc.value.field == "input" and not (tmp_path / "never").exists()
