@@ -53,6 +53,8 @@ SHORTLIST_SLACK = 10.0
 #: carry NOISE_ULPS ulps of rounding (different SIMD kernels move it by 1), the exact scores RELATIVE_TIE.
 NOISE_ULPS = 16
 RELATIVE_TIE = 1e-8
+#: ... the columns scored exactly are kept (orthogonalised, updated per basis vector) up to this many bytes
+KEPT_COLUMNS_BYTES = 64 << 20
 #: A track that comes nearer than this to the J2000 pole (degrees of declination) is fitted in ECLIPJ2000.
 MAX_J2000_DEC_DEG = 80.0
 #: SPICE's ECLIPJ2000 is J2000 turned about its x axis by the IAU 1976 obliquity of J2000 (SPICELIB
@@ -273,6 +275,12 @@ class _Ols:
         self.m = 0
         self.r: list[np.ndarray] = []                           # column j of R, length j + 1
         self.keys: list = []                                    # what each basis column is
+        # candidates already scored exactly keep their columns orthogonalised against the first kept_m[slot]
+        # basis vectors; rescoring one projects out only the vectors added since (the near-dependent ones are
+        # rescored at every step: O(N) each instead of O(m N))
+        self.kept_index: dict[int, int] = {}                    # candidate -> its slot (a pair of columns)
+        self.kept_rows = np.empty((0, data.size))
+        self.kept_m = np.empty(0, dtype=int)
 
     def add(self, column: np.ndarray, key) -> bool:
         v = self.w * column
@@ -322,16 +330,47 @@ class _Ols:
 
     def exact_scores(self, idx: np.ndarray) -> np.ndarray:
         """:meth:`scores` of candidates ``idx`` from their columns orthogonalised explicitly (twice) against the
-        basis: relative error ~ ε |c|/|c'| <= 1e-10, against up to 1e-2 for the downdated ones."""
-        cols = self.cand[:, np.repeat(2 * idx, 2) + np.tile([0, 1], idx.size)]       # (N, 2k): sin, cos, ...
-        if self.m:
-            Q = self.Q[: self.m]
-            for _ in range(2):
-                cols = cols - Q.T @ (Q @ cols)
-        s, c = cols[:, 0::2], cols[:, 1::2]
-        ss, cc = np.einsum("ij,ij->j", s, s), np.einsum("ij,ij->j", c, c)
-        return _pair_scores(ss, cc, np.einsum("ij,ij->j", s, c), self.residual @ s, self.residual @ c,
+        basis: relative error ~ ε |c|/|c'| <= 1e-10, against up to 1e-2 for the downdated ones. Columns are
+        held as rows here (contiguous: gathered and projected without strides)."""
+        Q = self.Q[: self.m]
+        rows = np.empty((2 * len(idx), self.data.size))
+        new = [j for j, i in enumerate(idx) if int(i) not in self.kept_index]
+        if new:
+            fresh = self.cand[:, np.repeat(2 * idx[new], 2) + np.tile([0, 1], len(new))].T.copy()
+            for _ in range(2 if self.m else 0):
+                fresh -= (fresh @ Q.T) @ Q
+            rows[[2 * j + p for j in new for p in (0, 1)]] = fresh
+            self._keep(idx[new], fresh)
+        old = [(j, self.kept_index[int(i)]) for j, i in enumerate(idx) if j not in set(new)]
+        for m0 in sorted({int(self.kept_m[slot]) for _, slot in old}):
+            group = [(j, slot) for j, slot in old if self.kept_m[slot] == m0]
+            src = np.array([2 * slot + p for _, slot in group for p in (0, 1)])
+            block = self.kept_rows[src]
+            if m0 < self.m:                 # orthogonal to the first m0 already: the vectors added since, once
+                Qn = Q[m0:]
+                block -= (block @ Qn.T) @ Qn
+                self.kept_rows[src] = block
+                self.kept_m[[slot for _, slot in group]] = self.m
+            rows[[2 * j + p for j, _ in group for p in (0, 1)]] = block
+        s, c = rows[0::2], rows[1::2]
+        ss, cc = np.einsum("ij,ij->i", s, s), np.einsum("ij,ij->i", c, c)
+        return _pair_scores(ss, cc, np.einsum("ij,ij->i", s, c), s @ self.residual, c @ self.residual,
                             self.ss0[idx], self.cc0[idx], SCORED)
+
+    def _keep(self, idx: np.ndarray, rows: np.ndarray) -> None:
+        """Keep candidates ``idx``'s columns (``rows``, orthogonal to the whole basis), within KEPT_COLUMNS_BYTES."""
+        used = len(self.kept_index)
+        take = min(KEPT_COLUMNS_BYTES // (16 * self.data.size) - used, idx.size)
+        if take <= 0:
+            return
+        if 2 * (used + take) > self.kept_rows.shape[0]:          # grow by doubling: no copy per step
+            grown = np.empty((max(2 * (used + take), 2 * self.kept_rows.shape[0]), self.data.size))
+            grown[:2 * used] = self.kept_rows[:2 * used]
+            self.kept_rows = grown
+            self.kept_m = np.concatenate([self.kept_m, np.empty(grown.shape[0] // 2 - self.kept_m.size, int)])
+        self.kept_rows[2 * used:2 * (used + take)] = rows[:2 * take]
+        self.kept_m[used:used + take] = self.m
+        self.kept_index.update({int(i): used + j for j, i in enumerate(idx[:take])})
 
     def tie_width(self, best: float) -> float:
         """How far apart (in score units) two candidates' exact scores can be moved by rounding, near a best
