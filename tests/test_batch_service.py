@@ -257,7 +257,7 @@ def test_a_large_batch_takes_the_slot_for_large_work(tmp_path, monkeypatch):
 
 
 def test_a_history_row_is_priced_with_the_model_its_secular_spin_builds(client, monkeypatch):
-    """Three histories at e = 0.95 were estimated at 0.05 s and took ~40 s: each row's secular spin builds the body's
+    """Three histories at e = 0.95 were estimated at 0.05 s and took 6-13 s: each row's secular spin builds the body's
     first-order model and its nutation's extremes over one orbit, which the single-body nutation answer prices at
     seconds. Priced so, they are over the budget."""
     monkeypatch.setattr(population, "evaluate", _no_work)
