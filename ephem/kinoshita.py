@@ -203,8 +203,22 @@ def pole_displacement_sum(coefficients, obliquity: float) -> float:
     return float(np.sum(pole_displacements(coefficients, obliquity)))
 
 
+#: the amplitude (radians; 2 nano-arcseconds) under which the trailing harmonics of a series are dropped
+TERM_FLOOR = 1e-14
+#: the relative rounding of an exact (FFT) Hansen coefficient and the nutation coefficient made from it, with
+#: margin: an FFT of length N rounds to ~ε log2 N (N <= 2^16 here), the coefficient's formula adds a few ε
+EXACT_ROUNDING = 64.0 * float(np.finfo(float).eps)
+
+
+def exact_series_floor(dropped, kept_displacement):
+    """The estimate of a series with exact Hansen coefficients (radians; arrays broadcast): the trailing
+    harmonics dropped under TERM_FLOOR, twice (they also move the mean pole through the nutation removed at the
+    pole epoch), and EXACT_ROUNDING of what the kept terms can move the pole. Never 0 for a real series."""
+    return 2.0 * dropped + EXACT_ROUNDING * kept_displacement
+
+
 def nutation_series(K: float, n: float, obliquity: float, e: float, equinox_to_pericentre: float,
-                    order: int | None = None, min_amplitude: float = 1e-14) -> NutationSeries:
+                    order: int | None = None, min_amplitude: float = TERM_FLOOR) -> NutationSeries:
     """Nutation coefficients (Petit et al. eqs. 20, 22; radians).
 
     K and n in rad/day; ``order`` None for exact Hansen coefficients, else the

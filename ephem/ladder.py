@@ -77,7 +77,8 @@ from .constants import ARCSEC, J2000_JD, JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS, 
 from .errors import InvalidInputError, NotApplicableError
 from .hansen import LAPLACE_LIMIT, hansen_exact, hansen_series
 from .kepler import mean_motion_rad_per_day
-from .kinoshita import eccentricity_factor, nutation_coefficients, pole_displacement_sum, pole_displacements
+from .kinoshita import (eccentricity_factor, exact_series_floor, nutation_coefficients, pole_displacement_sum,
+                        pole_displacements)
 from .model import (MAX_ORDER, MIN_SPIN_ORBIT_RATIO, PrecessionNutation, Track, cached_model, check_domain,
                     model_for)
 from .free_motion import Wobble, add_free_wobble, free_wobble_bound, wobble_model_bound
@@ -141,11 +142,6 @@ def _truncation_parts(model: PrecessionNutation, order: int) -> tuple[float, flo
     rate_diff = 0.5 * model.scaling_factor * abs(math.cos(model.obliquity)) * abs(
         eccentricity_factor(model.eccentricity, order) - eccentricity_factor(model.eccentricity))
     return 2.0 * pole_displacement_sum(diff.T, model.obliquity), abs(math.sin(model.obliquity)) * rate_diff
-
-
-#: the relative rounding of an exact (FFT) Hansen coefficient and the nutation coefficient made from it, with
-#: margin: an FFT of length N rounds to ~ε log2 N (N <= 2^16 here), the coefficient's formula adds a few ε
-EXACT_ROUNDING = 64.0 * float(np.finfo(float).eps)
 
 
 # --- the theory terms over given epochs -------------------------------------------------------------
@@ -1252,7 +1248,7 @@ class SunLadder(SpinAxisTheory):
         m = cached_model(self.body)
         # never 0 (issue 29): the exact coefficients' own floor, the harmonics dropped under their amplitude cut
         # (twice: they also move the mean pole) and the rounding of every coefficient kept, is part of both
-        floor = 2.0 * m.nutation.dropped + EXACT_ROUNDING * pole_displacement_sum(m.nutation, m.obliquity)
+        floor = exact_series_floor(m.nutation.dropped, pole_displacement_sum(m.nutation, m.obliquity))
         estimate = floor + (0.0 if order is None else truncation_bound(m, order, 0.0))
         if tol is not None and estimate > tol:
             raise NotApplicableError(self.body.name, (

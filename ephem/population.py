@@ -26,12 +26,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from .catalogue import MIN_ROTATION_PERIOD_HOURS, spin_rate_rad_per_day
-from .constants import ARCSEC, CENTER_HILL_AU, CENTER_RADIUS_AU, J2000_JD, JD_RANGE, JULIAN_YEAR_DAYS
+from .constants import ARCSEC, CENTER_HILL_AU, CENTER_RADIUS_AU, J2000_JD, JD_RANGE, JULIAN_YEAR_DAYS, MAS
 from .geometry import icrf_to_ecliptic_matrix, spin_angles, unit_vector
 from .hansen import exact_available, fft_lengths, hansen_exact_many
 from .inertia import hd_of_moments, moments_from_ellipsoid
 from .kepler import mean_motion_rad_per_day
-from .kinoshita import mean_pole, nutation_coefficients, precession_rate, scaling_factor
+from .kinoshita import (TERM_FLOOR, exact_series_floor, mean_pole, nutation_coefficients, precession_rate,
+                        scaling_factor)
 from .model import MIN_SPIN_ORBIT_RATIO
 
 #: The input columns: name -> (unit, meaning). Required: name, the orbit, the pole, the period and one of the
@@ -193,7 +194,7 @@ def _theory(x: dict, ok: np.ndarray, errors: _Errors | None) -> dict:
     them converted here); the others NaN. ``errors``: where a row's theory-level reason goes (None: a perturbed
     evaluation of the uncertainties, whose rejected rows are only NaN)."""
     n_rows = ok.size
-    out = {k: np.full(n_rows, np.nan) for k in UNCERTAIN}
+    out = {k: np.full(n_rows, np.nan) for k in UNCERTAIN + ("_estimate",)}
     terms = {k: np.full(n_rows, np.nan) for k in _term_columns()}
     rows = np.nonzero(ok)[0]
     if rows.size == 0:
@@ -240,7 +241,20 @@ def _theory(x: dict, ok: np.ndarray, errors: _Errors | None) -> dict:
         out["scaling_factor_arcsec_per_year"][target] = K[g] * per_year
         out["precession_rate_arcsec_per_year"][target] = precession_rate(K[g], eps_mean, e[g], None) * per_year
         _leading_terms(terms, target, kk, n[g], eps_mean, lon_s, lon_c, obl_s, obl_c)
+        out["_estimate"][target] = _exact_floor(eps_mean, lon_s, lon_c, obl_s, obl_c)
     return {**out, **terms}
+
+
+def _exact_floor(eps, lon_s, lon_c, obl_s, obl_c) -> np.ndarray:
+    """Each row's estimate as the single-body answer gives it (:func:`kinoshita.exact_series_floor`, radians):
+    the trailing harmonics whose four coefficients are under TERM_FLOOR (which the single-body series drops),
+    and the rounding of the others."""
+    disp = np.abs(np.sin(eps))[:, None] * np.hypot(lon_s, lon_c) + np.hypot(obl_s, obl_c)
+    big = np.max(np.abs(np.stack([lon_s, lon_c, obl_s, obl_c])), axis=0) >= TERM_FLOOR
+    width = big.shape[1]
+    last = np.where(big.any(axis=1), width - np.argmax(big[:, ::-1], axis=1), 0)
+    tail = np.where(np.arange(width)[None, :] >= last[:, None], disp, 0.0).sum(axis=1)
+    return exact_series_floor(tail, disp.sum(axis=1) - tail)
 
 
 def _scatter(rows: np.ndarray, mask: np.ndarray, n_rows: int) -> np.ndarray:
@@ -300,9 +314,9 @@ def evaluate(columns: Mapping, history: HistorySpec | None = None) -> dict[str, 
     out = {"name": names.astype(str)}
     out.update({k: result[k] for k in UNCERTAIN + _term_columns()})
     out["model"] = np.where(bad, "", MODEL)
-    # the single-body answer's estimate of this model: exact Hansen coefficients truncate nothing (0); the
-    # first-order theory itself is taken as exact, as there (docs/accuracy.md)
-    out["estimated_error_mas"] = np.where(bad, np.nan, 0.0)
+    # the single-body answer's estimate of this model, the truncation alone (model.estimate_covers): exact Hansen
+    # coefficients' floor, never 0 (issue 29); the first-order theory's own error is a track's (docs/accuracy.md)
+    out["estimated_error_mas"] = np.where(bad, np.nan, result["_estimate"] / MAS)
     out.update({f"{k}_uncertainty": result[f"{k}_uncertainty"] for k in UNCERTAIN})
     out["error"] = errors.reason.astype(str)
     if history is not None:

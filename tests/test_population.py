@@ -65,7 +65,11 @@ def test_each_row_is_the_single_body_answer(evaluated, j):
                 "precession_rate_arcsec_per_year"):
         assert evaluated[key][j] == pytest.approx(p[key], rel=RTOL, abs=1e-14), key
     assert evaluated["model"][j] == p["model"]["name"] == "hansen"
-    assert evaluated["estimated_error_mas"][j] == pytest.approx(p["model"]["estimated_error_mas"], abs=1e-12)
+    # the exact coefficients' floor (never 0, issue 29): the tail under the amplitude cut counts the harmonics the
+    # FFT produced, and a row's FFT group may produce a few more (each below the Hansen coefficients' 1e-16
+    # significance): up to 8e-6 of the floor measured over these 30 rows, 1e-4 allowed
+    assert evaluated["estimated_error_mas"][j] == pytest.approx(p["model"]["estimated_error_mas"], rel=1e-4)
+    assert evaluated["estimated_error_mas"][j] > 0.0
     terms = api.nutation(b)["terms"]
     # the leading terms: the largest pole displacement |sin ε| |Δψ| + |Δε|, i.e. the paper's two amplitudes
     ranked = sorted(terms, key=lambda t: -(t["longitude_amplitude_arcsec"] + t["obliquity_amplitude_arcsec"]))

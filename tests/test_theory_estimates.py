@@ -249,9 +249,7 @@ def test_an_unreachable_tolerance_is_refused_with_the_floor():
 def test_the_exact_series_floor_bounds_what_its_amplitude_cut_drops(name):
     """Independent route: the series with no amplitude cut against the one served, at 4096 mean anomalies: the
     pole moves by no more than the floor (twice the dropped tail plus the coefficients' rounding)."""
-    from ephem.kinoshita import nutation_series
-    from ephem.ladder import EXACT_ROUNDING
-    from ephem.kinoshita import pole_displacement_sum
+    from ephem.kinoshita import EXACT_ROUNDING, nutation_series, pole_displacement_sum
     from ephem.model import cached_model
 
     m = cached_model(get_body(name))
