@@ -73,7 +73,12 @@ def history_grid(start_year, stop_year, step_years, max_samples: int = MAX_HISTO
                                 "no orbit of the solar system is known beyond ~20 Myr")
     if not step > 0.0:
         raise InvalidInputError("step_years", f"must be positive, got {step:g}")
-    count = int(math.floor((stop - start) / step * (1.0 + 1e-12))) + 1
+    steps = (stop - start) / step * (1.0 + 1e-12)          # inf for a subnormal step: compared before int()
+    if steps + 1 > max_samples:
+        count = f"{steps + 1:.4g}" if steps + 1 >= 1e15 else str(int(math.floor(steps)) + 1)
+        raise InvalidInputError("step_years", f"gives {count} epochs over [{start:g}, {stop:g}]; at most "
+                                f"{max_samples} (a step of at least {(stop - start) / (max_samples - 1):.4g} years)")
+    count = int(math.floor(steps)) + 1
     if count > max_samples:
         raise InvalidInputError("step_years", f"gives {count} epochs over [{start:g}, {stop:g}]; at most "
                                 f"{max_samples} (a step of at least {(stop - start) / (max_samples - 1):.4g} years)")

@@ -94,11 +94,20 @@ def test_itokawa_is_not_applicable_with_the_reason():
     ((-1.0e4, 1.0e4, "100"), "step_years"),
     ((-3.0e7, 1.0e6, 1000.0), "stop_year"),
     ((-3.0e6, 1.0e6, 1.0), "step_years"),
+    ((0.0, 10.0, 5e-324), "step_years"),        # a subnormal step: inf epochs, was an OverflowError (a 500)
 ])
 def test_bad_input_names_the_field(args, field):
     with pytest.raises(InvalidInputError) as exc:
         api.history("ceres", *args)
     assert exc.value.field == field
+
+
+def test_the_epoch_count_in_a_refusal_is_the_count():
+    """Not '1e+05' for 100 078: the count is printed whole (issue 29), and a subnormal step's as a number."""
+    with pytest.raises(InvalidInputError, match=r"gives 100078 epochs"):
+        api.history("ceres", 0.0, 100077.0, 1.0)
+    with pytest.raises(InvalidInputError, match=r"gives inf epochs"):
+        api.history("ceres", 0.0, 10.0, 5e-324)
 
 
 def test_an_orbit_model_with_a_tolerance_or_an_unknown_one_is_refused():
