@@ -398,8 +398,9 @@ def epoch_grid(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPL
     if t1 < t0:
         raise InvalidInputError("stop", f"stop (JD {t1}) is before start (JD {t0})")
     steps = (t1 - t0) / step_days      # inf for a subnormal step: compared before it becomes an int
-    if steps + 1 > max_samples:
-        raise InvalidInputError("step_days", f"{steps + 1:.3g} samples exceed the cap of {max_samples}; "
+    if not steps < max_samples:        # floor(steps) + 1 > the cap (steps + 1 > it would refuse a part step)
+        from .errors import count_text
+        raise InvalidInputError("step_days", f"{count_text(steps + 1)} samples exceed the cap of {max_samples}; "
                                 "use a larger step or a shorter span")
     count = int(math.floor(steps + 1e-9)) + 1
     if count > max_samples:
@@ -461,7 +462,7 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
             raise InvalidInputError("rotation_phase_deg", "the rotation-scale terms and a modelled free wobble are "
                                     "not combined: give the rotation phase or the wobble's phase, not both", b.name)
         if not theory.models_rotation_scale:
-            raise InvalidInputError("rotation_phase_deg", f"the {theory.summary} does not model the rotation "
+            raise InvalidInputError("rotation_phase_deg", f"{theory.summary} does not model the rotation "
                                     "scale: leave it out", b.name)
         theory = theory.with_rotation_phase(math.radians(phase))
     t_end = t0 + step * (count - 1)

@@ -27,6 +27,7 @@ from typing import Any, Optional
 import typer
 from typer.core import TyperCommand, TyperGroup
 
+from . import tables as _tables
 from .errors import EphemError, NotApplicableError
 
 try:  # typer >= 0.2x vendors click as typer._click
@@ -300,9 +301,19 @@ def _rows_to_table(rows: list[dict]) -> str:
     return "\n".join([line(cols), line(["-" * w for w in widths])] + [line(r) for r in cells]) + "\n"
 
 
+def _jsonable(value):
+    """json.dumps' fallback: some answers carry numpy arrays or scalars (``api.history``'s columns, as the
+    service serialises them natively); their ``tolist`` gives the plain lists and numbers JSON takes. Duck-typed
+    so that the CLI module itself does not import numpy (see the module docstring)."""
+    tolist = getattr(value, "tolist", None)
+    if tolist is None:
+        raise TypeError(f"Object of type {type(value).__name__} is not JSON serializable")
+    return tolist()
+
+
 def _emit(answer, fmt: Format, rows: list[dict] | None = None) -> None:
     if fmt is Format.json:
-        sys.stdout.write(json.dumps(answer, indent=2, allow_nan=False) + "\n")
+        sys.stdout.write(json.dumps(answer, indent=2, allow_nan=False, default=_jsonable) + "\n")
         return
     rows = rows if rows is not None else [answer]
     sys.stdout.write(_rows_to_csv(rows) if fmt is Format.csv else _rows_to_table(rows))
@@ -324,15 +335,36 @@ def bodies(dataset: str = DatasetOpt, fmt: Format = FormatOpt):
     _emit(rows, fmt, rows)
 
 
+#: the columns of ``ephem body``'s CSV (every scalar of a value) and table (what fits a terminal's line: the
+#: reasons for a missing sigma and the notes are sentences)
+BODY_CSV_COLUMNS = ("quantity", "value", "unit", "uncertainty", "no_uncertainty", "source", "note")
+BODY_TABLE_COLUMNS = ("quantity", "value", "unit", "uncertainty", "source")
+
+
 @app.command()
-def body(name: str = typer.Argument(..., metavar="BODY"), dataset: str = DatasetOpt):
-    """Full catalogue record of BODY (name or NAIF id): values, units, uncertainties, sources."""
+def body(name: str = typer.Argument(..., metavar="BODY"), dataset: str = DatasetOpt, fmt: Format = FormatOpt):
+    """Full catalogue record of BODY (name or NAIF id): values, units, uncertainties, sources.
+
+    JSON (the default) is the whole record. CSV and table give one row per value (CSV: quantity, value, unit,
+    uncertainty, no_uncertainty, source, note; the table leaves out the reasons and notes); the body's identity,
+    H_d and the correlations of the values' errors then go to stderr.
+    """
     from . import api
 
     try:
-        _emit(api.body_record(name, dataset), Format.json)
+        record = api.body_record(name, dataset)
     except EphemError as exc:
         _fail(exc)
+    if fmt is Format.json:
+        _emit(record, fmt)
+        return
+    corr = "; ".join(f"{a} ~ {b}: {c['value']:.4g}" for c in record["correlations"] for a, b in [c["inputs"]])
+    typer.echo(f"{record['name']} (NAIF {record['naif_id']}, {record['kind']}), dataset {record['dataset']}: H_d "
+               f"{record['dynamical_ellipticity']:.10g} from {record['dynamical_ellipticity_from']}, perturbers "
+               f"{', '.join(record['perturbers'])}" + (f"; correlations {corr}" if corr else ""), err=True)
+    columns = BODY_CSV_COLUMNS if fmt is Format.csv else BODY_TABLE_COLUMNS
+    rows = [{c: key if c == "quantity" else value[c] for c in columns} for key, value in record["values"].items()]
+    _emit(record, fmt, rows)
 
 
 @app.command()
@@ -517,14 +549,21 @@ def free_motion(name: str = typer.Argument(..., metavar="BODY"),
     _emit(ans, fmt, rows or [dict.fromkeys(api.FREE_MOTION_KEYS, "")])
 
 
+# ephem.tables' own lists (a light module: csv, io, json, math), as choices the option parser checks before any
+# body is computed and that `--help` and the tests read
+TableFormat = Enum("TableFormat", [(f, f) for f in _tables.FORMATS], type=str)
+TableLayout = Enum("TableLayout", [(x, x) for x in _tables.LAYOUTS], type=str)
+
+
 @app.command()
 def tables(names: Optional[list[str]] = typer.Argument(None, metavar="[BODY]...",
                                                       help="Bodies (default: the whole catalogue)."),
            dataset: str = DatasetOpt,
-           formats: list[str] = typer.Option(["csv", "markdown", "latex", "json"], "--format",
-                                             help="csv, markdown, latex or json; repeat for several."),
-           layouts: list[str] = typer.Option(["sin-cos", "amp-period"], "--layout",
-                                             help="sin-cos (Petit et al. Tables 5-8) or amp-period (Tables 9-10)."),
+           formats: list[TableFormat] = typer.Option(list(TableFormat), "--format",
+                                                     help="csv, markdown, latex or json; repeat for several."),
+           layouts: list[TableLayout] = typer.Option(list(TableLayout), "--layout",
+                                                     help="sin-cos (Petit et al. Tables 5-8) or amp-period (Tables "
+                                                     "9-10); repeat for both."),
            order: Optional[int] = OrderOpt,
            out: Path = typer.Option(Path("tables"), "--out", help="Directory for the files.")):
     """Nutation tables in the paper's layouts for BODY... or the whole catalogue: one file per body, layout
@@ -542,7 +581,7 @@ def tables(names: Optional[list[str]] = typer.Argument(None, metavar="[BODY]..."
                     answers.append(api.nutation(name, dataset, order))
                 except NotApplicableError as exc:
                     skipped.append(str(exc))
-        written = write_tables(answers, out, formats, layouts)
+        written = write_tables(answers, out, [f.value for f in formats], [x.value for x in layouts])
     except EphemError as exc:
         _fail(exc)
     for why in skipped:
@@ -708,28 +747,53 @@ def batch(input_path: str = typer.Argument(..., metavar="INPUT", help="The bodie
         raise typer.Exit(1)
 
 
+#: the columns of the demo's nutation table: the paper's (Petit et al. Tables 5-8) and the amplitudes; the sigmas,
+#: ~1e-5 arcsec, would print as 0 at its four decimals (``ephem nutation BODY --format table`` gives them)
+DEMO_NUTATION_COLUMNS = ("multiple", "period_days", "period_years", "longitude_sin_arcsec", "longitude_cos_arcsec",
+                         "obliquity_sin_arcsec", "obliquity_cos_arcsec", "longitude_amplitude_arcsec",
+                         "obliquity_amplitude_arcsec")
+
+
 @app.command()
 def demo(dataset: str = DatasetOpt):
-    """A short tour: precession of every body of the catalogue (the Moon: its Cassini state), and Vesta's
-    nutation."""
+    """A short tour: precession of every body of the dataset (the Moon: its Cassini state), and Vesta's
+    nutation (in a dataset without Vesta, its first body whose series is in harmonics of the mean anomaly)."""
     from . import api
 
+    try:
+        bodies = [b["name"] for b in api.list_bodies(dataset)]
+    except EphemError as exc:
+        _fail(exc)
     typer.echo(f"Precession rates ({dataset} dataset)")
     rows = []
-    for b in api.list_bodies(dataset):
+    for name in bodies:
         try:
-            p = api.precession(b["name"], dataset)
-            rows.append({"body": b["name"], "obliquity_deg": round(p["obliquity_deg"], 4),
+            p = api.precession(name, dataset)
+            rows.append({"body": name, "obliquity_deg": round(p["obliquity_deg"], 4),
                          "H_d": round(p["dynamical_ellipticity"], 6),
                          "K_arcsec_per_yr": round(p["scaling_factor_arcsec_per_year"], 4),
                          "psi_dot_arcsec_per_yr": round(p["precession_rate_arcsec_per_year"], 4)})
         except NotApplicableError as exc:
-            rows.append({"body": b["name"], "obliquity_deg": "-", "H_d": "-", "K_arcsec_per_yr": "-",
+            rows.append({"body": name, "obliquity_deg": "-", "H_d": "-", "K_arcsec_per_yr": "-",
                          "psi_dot_arcsec_per_yr": f"not applicable ({exc.reason})"})
+        except EphemError as exc:       # a user's dataset: a body the catalogue took but an answer refuses
+            rows.append({"body": name, "obliquity_deg": "-", "H_d": "-", "K_arcsec_per_yr": "-",
+                         "psi_dot_arcsec_per_yr": f"error ({exc})"})
     typer.echo(_rows_to_table(rows))
-    typer.echo("Nutation of Vesta (arcsec), harmonics of the mean anomaly")
-    terms = api.nutation("vesta", dataset)["terms"][:6]
-    typer.echo(_rows_to_table([{k: (round(v, 4) if isinstance(v, float) else v) for k, v in t.items()}
+    # Vesta's, as the paper's; a user's dataset may not hold it. The Earth's and the Moon's series are in the
+    # Delaunay arguments, not in harmonics of the mean anomaly: not what the title says.
+    for name in sorted(bodies, key=lambda n: n.lower() != "vesta"):
+        try:
+            terms = api.nutation(name, dataset)["terms"][:6]
+        except EphemError:              # its row above says why
+            continue
+        if terms and all(t.get("multiple") is not None for t in terms):
+            break
+    else:
+        typer.echo("No body of this dataset has a nutation series in harmonics of the mean anomaly.")
+        return
+    typer.echo(f"Nutation of {name} (arcsec), harmonics of the mean anomaly")
+    typer.echo(_rows_to_table([{k: (round(t[k], 4) if isinstance(t[k], float) else t[k]) for k in DEMO_NUTATION_COLUMNS}
                                for t in terms]))
 
 

@@ -5,6 +5,8 @@ pass the message straight to the user (a 4xx, never a 500).
 """
 from __future__ import annotations
 
+import math
+
 
 class EphemError(Exception):
     """Base class of every error the library raises on purpose."""
@@ -53,3 +55,17 @@ class NotApplicableError(EphemError):
         self.ratio = ratio
         self.threshold = threshold
         super().__init__(f"not applicable to {body}: {reason}")
+
+
+def count_text(count: float) -> str:
+    """A count of samples or epochs for a message ("100078 samples exceed the cap of 100000"), from the float
+    ``span / step + 1`` whose whole part it is: that integer while a float holds it exactly (below 2**53), its
+    order of magnitude beyond ("about 1.2e+20"), and a bound for a count that overflowed to infinity (a span
+    over a subnormal step). A count printed as "1e+05" read as the cap itself."""
+    if math.isnan(count):
+        return "an undefined number of"
+    if math.isinf(count):
+        return "more than 1e+308"
+    if count < 2.0 ** 53:
+        return str(math.floor(count))
+    return f"about {count:.3g}"

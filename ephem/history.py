@@ -74,7 +74,7 @@ def history_grid(start_year, stop_year, step_years, max_samples: int = MAX_HISTO
     if not step > 0.0:
         raise InvalidInputError("step_years", f"must be positive, got {step:g}")
     steps = (stop - start) / step * (1.0 + 1e-12)          # inf for a subnormal step: compared before int()
-    if steps + 1 > max_samples:
+    if not steps < max_samples:        # floor(steps) + 1 > the cap (steps + 1 > it would refuse a part step)
         count = f"{steps + 1:.4g}" if steps + 1 >= 1e15 else str(int(math.floor(steps)) + 1)
         raise InvalidInputError("step_years", f"gives {count} epochs over [{start:g}, {stop:g}]; at most "
                                 f"{max_samples} (a step of at least {(stop - start) / (max_samples - 1):.4g} years)")

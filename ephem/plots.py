@@ -57,7 +57,7 @@ import numpy as np
 
 from .catalogue import DEFAULT_DATASET
 from .constants import J2000_JD, JULIAN_YEAR_DAYS
-from .errors import InvalidInputError
+from .errors import InvalidInputError, count_text
 
 #: The kinds of plot, as ``figure(kind, …)`` takes them.
 KINDS = ("precession", "nutation-loop", "obliquity", "free-wobble", "obliquity-history")
@@ -257,10 +257,10 @@ def _check_step_years(step_years, y0: float, y1: float) -> float:
         raise InvalidInputError("step_years", f"must be a finite number of Julian years, got {step_years!r}")
     if step_years <= 0:
         raise InvalidInputError("step_years", f"must be positive, got {step_years:g}")
-    count = (y1 - y0) / step_years + 1
-    if count > MAX_PLOT_POINTS:
-        raise InvalidInputError("step_years", f"{count:.3g} epochs exceed the cap of {MAX_PLOT_POINTS}; use a step "
-                                f"of at least {(y1 - y0) / (MAX_PLOT_POINTS - 1):.4g} years or a shorter span")
+    count = (y1 - y0) / step_years + 1      # the epochs are its whole part (ephem.history.history_grid)
+    if not count < MAX_PLOT_POINTS + 1:    # inf too (a subnormal step)
+        raise InvalidInputError("step_years", f"{count_text(count)} epochs exceed the cap of {MAX_PLOT_POINTS}; use a "
+                                f"step of at least {(y1 - y0) / (MAX_PLOT_POINTS - 1):.4g} years or a shorter span")
     if count < 2:
         raise InvalidInputError("step_years", f"a step of {step_years:g} years leaves a single epoch between start "
                                 "and stop; a plot needs at least two")

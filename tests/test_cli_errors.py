@@ -11,6 +11,9 @@ from ephem.errors import InvalidInputError
 runner = CliRunner()
 SPAN = ["--start", "2020-01-01", "--stop", "2021-01-01"]
 TRACK = ["track", "vesta", *SPAN]
+HISTORY = ["history", "ceres", "--start-year", "-2000", "--stop-year", "0", "--step-years", "1000"]
+BATCH = ["batch", "bodies.csv", "--out", "out", "--history", "--start-year", "-1000", "--stop-year", "0",
+         "--step-years", "100"]
 
 
 def refused(args: list[str], field: str) -> str:
@@ -71,7 +74,39 @@ FLOAT_OPTIONS = [  # every float option of every command
     (["free-motion", "mars", *SPAN, "--step-days", "30"], "--J-arcsec", "J_arcsec"),
     (["plot", "vesta", *SPAN, "--out", "x.png"], "--J-arcsec", "J_arcsec"),
     (["plot", "vesta", *SPAN, "--out", "x.png"], "--dpi", "dpi"),
+    ([*TRACK, "--step-days", "30"], "--rotation-phase-deg", "rotation_phase_deg"),
+    (HISTORY, "--start-year", "start_year"),
+    (HISTORY, "--stop-year", "stop_year"),
+    (HISTORY, "--step-years", "step_years"),
+    (HISTORY, "--tolerance-mas", "tolerance_mas"),
+    (["plot", "ceres", "--kind", "obliquity-history", "--start", "-2000", "--stop", "0", "--out", "x.png"],
+     "--step-years", "step_years"),
+    (BATCH, "--start-year", "start_year"),
+    (BATCH, "--stop-year", "stop_year"),
+    (BATCH, "--step-years", "step_years"),
 ]
+
+
+def _float_options() -> set[tuple[str, str]]:
+    """(command, option) of every float option of the CLI, read from its command tree."""
+    from typing import get_args
+
+    import typer
+
+    def walk(command, path):
+        for name, sub in getattr(command, "commands", {}).items():
+            yield from walk(sub, (*path, name))
+        for param in command.params:
+            annotation = param.type_descriptor.annotation
+            if param.param_type_name == "option" and (annotation is float or float in get_args(annotation)):
+                yield " ".join(path), max(param.opts, key=len)
+    return set(walk(typer.main.get_command(app), ()))
+
+
+def test_the_float_options_listed_are_every_float_option():
+    # a new float option must join FLOAT_OPTIONS (its NaN and infinity refused), so the list is checked whole
+    listed = {(args[0] if args[0] != "catalogue" else " ".join(args[:2]), option) for args, option, _ in FLOAT_OPTIONS}
+    assert listed == _float_options()
 
 
 @pytest.mark.parametrize("args, option, field", FLOAT_OPTIONS, ids=[f"{a[0]}{o}" for a, o, _ in FLOAT_OPTIONS])
@@ -113,3 +148,61 @@ def test_good_values_still_parse():
     res = runner.invoke(app, [*TRACK, "--step-days", " 120 ", "--format", "csv", "--order", "+4", "--model", "series"])
     assert res.exit_code == 0, res.output
     assert res.stdout.splitlines()[0].startswith("jd_tdb,") and len(res.stdout.splitlines()) == 5
+
+
+# ------------------------------------------------------------------ messages a user met (issue 29)
+
+def test_a_count_over_the_cap_is_the_integer_count():
+    # 100 077.3 days at 1 d/sample are 100 078 samples; the message said "1e+05 samples exceed the cap of 100000"
+    jd = 2451545.0
+    for stop, step, count in [(jd + 100077.3, 1.0, "100078"), (jd + 1e6, 1e-12, "about 1e+18"),
+                              (jd + 10.0, 5e-324, "more than 1e+308")]:      # the count overflows to inf
+        with pytest.raises(InvalidInputError) as info:
+            api.epoch_grid(jd, stop, step, 100_000)
+        assert info.value.field == "step_days"
+        assert info.value.reason.startswith(f"{count} samples exceed the cap of 100000; "), info.value.reason
+    # a part step past the last sample is not a sample: 99 999.5 days at 1 d are 100 000 samples, within the cap
+    assert api.epoch_grid(jd, jd + 99999.5, 1.0, 100_000)[2] == 100_000
+    # the CLI's cap (10^6) through the option parser and the library
+    err = refused(["track", "vesta", "--start", "2451545", "--stop", "3451545.4", "--step-days", "1"], "step_days")
+    assert "1000001 samples exceed the cap of 1000000" in err
+
+
+def test_a_plot_over_the_cap_of_epochs_says_how_many():
+    from ephem import plots
+
+    cap = plots.MAX_PLOT_POINTS
+    err = refused(["plot", "ceres", "--kind", "obliquity-history", "--start", "-2000", "--stop", "0",
+                   "--step-years", "0.01", "--out", "x.png"], "step_years")
+    assert f"200001 epochs exceed the cap of {cap}" in err
+    with pytest.raises(InvalidInputError, match=r"^step_years: more than 1e\+308 epochs exceed"):
+        plots._check_step_years(5e-324, -2000.0, 0.0)
+    # a part step past the cap's last epoch is within the cap, here and in the history's own grid
+    from ephem.history import history_grid
+
+    step = 2000.0 / (cap - 0.5)
+    assert plots._check_step_years(step, -2000.0, 0.0) == step
+    assert len(history_grid(-2000.0, 0.0, step, cap)) == cap
+
+
+@pytest.mark.parametrize("body, theory", [("earth", "the Earth's lunisolar theory"),
+                                          ("moon", "the Cassini-state theory")])
+def test_a_theory_is_named_once(body, theory):
+    # the theory's summary already starts with "the": the message read "the the Earth's lunisolar theory"
+    err = refused(["track", body, *SPAN, "--step-days", "30", "--rotation-phase-deg", "10"],
+                  f"{body.capitalize()}: rotation_phase_deg")
+    assert f"rotation_phase_deg: {theory}" in err and "does not model the rotation scale" in err
+    assert "the the" not in err
+
+
+def test_every_theory_summary_reads_after_a_verb():
+    # the summaries are put into messages as they are ("is served by {summary}"): each carries its article
+    from ephem.registry import THEORIES
+
+    for family in THEORIES:
+        assert family.summary.startswith("the ") and not family.summary.startswith("the the "), family
+
+
+def test_demo_of_an_unknown_dataset_names_it():
+    err = refused(["demo", "--dataset", "nosuch"], "dataset")
+    assert "unknown dataset 'nosuch'" in err
