@@ -575,7 +575,7 @@ def tables(names: Optional[list[str]] = typer.Argument(None, metavar="[BODY]..."
     try:
         bodies = names or [b["name"] for b in api.list_bodies(dataset)]
         answers, skipped = [], []
-        with typer.progressbar(bodies, label="tables", item_show_func=lambda b: b or "") as bar:
+        with typer.progressbar(bodies, label="tables", item_show_func=lambda b: b or "", file=sys.stderr) as bar:
             for name in bar:
                 try:
                     answers.append(api.nutation(name, dataset, order))
