@@ -37,7 +37,7 @@ from . import cost
 from .budget import charge, checkpoint
 from .catalogue import DEFAULT_DATASET, Body
 from .constants import MAS
-from .errors import InvalidInputError, NotApplicableError
+from .errors import InvalidInputError, NotApplicableError, count_text
 from .geometry import angle_between
 from .spin_history import MEANINGFUL_LIMIT, SpinHistory, outward_max
 
@@ -75,13 +75,10 @@ def history_grid(start_year, stop_year, step_years, max_samples: int = MAX_HISTO
         raise InvalidInputError("step_years", f"must be positive, got {step:g}")
     steps = (stop - start) / step * (1.0 + 1e-12)          # inf for a subnormal step: compared before int()
     if not steps < max_samples:        # floor(steps) + 1 > the cap (steps + 1 > it would refuse a part step)
-        count = f"{steps + 1:.4g}" if steps + 1 >= 1e15 else str(int(math.floor(steps)) + 1)
-        raise InvalidInputError("step_years", f"gives {count} epochs over [{start:g}, {stop:g}]; at most "
-                                f"{max_samples} (a step of at least {(stop - start) / (max_samples - 1):.4g} years)")
+        raise InvalidInputError("step_years", f"gives {count_text(steps + 1)} epochs over [{start:g}, {stop:g}]; at "
+                                f"most {max_samples} (a step of at least {(stop - start) / (max_samples - 1):.4g} "
+                                "years)")
     count = int(math.floor(steps)) + 1
-    if count > max_samples:
-        raise InvalidInputError("step_years", f"gives {count} epochs over [{start:g}, {stop:g}]; at most "
-                                f"{max_samples} (a step of at least {(stop - start) / (max_samples - 1):.4g} years)")
     return start + step * np.arange(count)
 
 

@@ -106,7 +106,7 @@ def test_the_epoch_count_in_a_refusal_is_the_count():
     """Not '1e+05' for 100 078: the count is printed whole (issue 29), and a subnormal step's as a number."""
     with pytest.raises(InvalidInputError, match=r"gives 100078 epochs"):
         api.history("ceres", 0.0, 100077.0, 1.0)
-    with pytest.raises(InvalidInputError, match=r"gives inf epochs"):
+    with pytest.raises(InvalidInputError, match=r"gives more than 1e\+308 epochs"):
         api.history("ceres", 0.0, 10.0, 5e-324)
 
 
