@@ -79,7 +79,12 @@ FREE = Cost()
 
 
 class OverBudgetError(EphemError):
-    """The predicted cost of a request exceeds its budget; raised before any work."""
+    """The predicted cost of a request exceeds its budget; raised before any work.
+
+    ``cost`` is the part being charged when the budget broke, ``spent_cpu_s`` what the request's earlier
+    parts had charged already; the request's estimate is both together (``total``, ``estimated_cpu_s``): the
+    number the message prints and the service's problem reports, so that the two agree and the estimate
+    refused is the one that exceeds the budget."""
 
     def __init__(self, cost: Cost, limit: "Budget", spent_cpu_s: float, body: str | None = None,
                  prefix: str = ""):
@@ -89,15 +94,32 @@ class OverBudgetError(EphemError):
         self.body = body
         self.cpu_s_budget = limit.cpu_s
         self.memory_mb_budget = limit.memory_mb
+        # the earlier parts as one part of the whole: its parts then sum to the estimate reported
+        earlier = (Part("request", "the request's earlier parts, already charged", spent_cpu_s, 0.0),) \
+            if spent_cpu_s > 0 else ()
+        self.total = Cost(earlier + cost.parts)
         over_memory = cost.memory_mb > limit.memory_mb
-        part = cost.largest("memory_mb" if over_memory else "cpu_s")
+        part = cost.largest("memory_mb" if over_memory else "cpu_s")     # the refused part names the parameter
         self.field = prefix + (part.parameter if part is not None else "request")
         what = (f"{cost.memory_mb:.3g} MB of memory, over the budget of {limit.memory_mb:.3g} MB" if over_memory
-                else f"{spent_cpu_s + cost.cpu_s:.3g} s of one core, over the budget of {limit.cpu_s:.3g} s")
-        self.reason = (f"this request is estimated to need {what} (estimate: {cost.describe()}); "
-                       f"change {self.field} to ask for less")
+                else f"{self.estimated_cpu_s:.3g} s of one core, over the budget of {limit.cpu_s:.3g} s")
+        estimate = cost.describe()
+        if spent_cpu_s > 0:
+            estimate = f"{spent_cpu_s:.3g} s already charged for its earlier parts, then {estimate}"
+        self.reason = (f"this request is estimated to need {what} (estimate: {estimate}); change {self.field} to "
+                       "ask for less")
         where = f"{body}: " if body else ""
         super().__init__(f"{where}{self.field}: {self.reason}")
+
+    @property
+    def estimated_cpu_s(self) -> float:
+        """The whole request's estimated CPU time, s: what was charged already and the part refused."""
+        return self.total.cpu_s
+
+    @property
+    def estimated_memory_mb(self) -> float:
+        """The request's estimated peak memory, MB (parts run one after another: the largest)."""
+        return self.total.memory_mb
 
     def within(self, prefix: str) -> "OverBudgetError":
         """The same refusal with the parameter named by its full path (``track.step_days``)."""

@@ -173,10 +173,11 @@ def install(app: FastAPI, settings: Settings) -> None:
 
     @app.exception_handler(OverBudgetError)
     async def over_budget(request: Request, exc: OverBudgetError):
-        c = exc.cost
+        # the whole request's estimate, as the detail prints it: the parts charged already and the refused one
         return problem(422, "over-budget", "Over budget", str(exc), errors=[{"field": exc.field, "reason": exc.reason}],
-                       estimated_cpu_s=c.cpu_s, estimated_memory_mb=c.memory_mb, budget_cpu_s=exc.cpu_s_budget,
-                       budget_memory_mb=exc.memory_mb_budget, estimate=c.as_dict())
+                       estimated_cpu_s=exc.estimated_cpu_s, already_charged_cpu_s=exc.spent_cpu_s,
+                       estimated_memory_mb=exc.estimated_memory_mb, budget_cpu_s=exc.cpu_s_budget,
+                       budget_memory_mb=exc.memory_mb_budget, estimate=exc.total.as_dict())
 
     @app.exception_handler(BusyError)
     async def busy(request: Request, exc: BusyError):

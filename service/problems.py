@@ -43,12 +43,18 @@ class Problem(BaseModel):
     spin_orbit_ratio: Optional[float] = Field(None, description="not-applicable: spin rate over orbital mean "
                                                                 "motion, when that decided it")
     min_spin_orbit_ratio: Optional[float] = Field(None, description="not-applicable: the ratio's lower limit")
-    estimated_cpu_s: Optional[float] = Field(None, description="over-budget, busy: the request's estimated CPU "
-                                                               "time, s")
-    estimated_memory_mb: Optional[float] = Field(None, description="over-budget: its estimated memory, MB")
+    estimated_cpu_s: Optional[float] = Field(None, description="over-budget, busy: the whole request's estimated "
+                                                               "CPU time, s (the number the detail prints): the "
+                                                               "parts charged before the refusal and the refused one")
+    already_charged_cpu_s: Optional[float] = Field(None, description="over-budget: of estimated_cpu_s, what the "
+                                                                     "request's earlier parts had charged when the "
+                                                                     "refused part came (0: none)")
+    estimated_memory_mb: Optional[float] = Field(None, description="over-budget: its estimated peak memory, MB")
     budget_cpu_s: Optional[float] = Field(None, description="over-budget: the CPU budget of a request, s")
     budget_memory_mb: Optional[float] = Field(None, description="over-budget: the memory budget of a request, MB")
-    estimate: Optional[dict] = Field(None, description="over-budget: the estimate, part by part")
+    estimate: Optional[dict] = Field(None, description="over-budget: the estimate, part by part (cpu_s is "
+                                                       "estimated_cpu_s, the sum of the parts; the earlier parts "
+                                                       "charged appear as one, parameter 'request')")
     deadline_s: Optional[float] = Field(None, description="deadline: the wall-clock deadline of a request, s")
     heavy_request_cpu_s: Optional[float] = Field(None, description="busy: a request estimated above this many "
                                                                    "seconds of CPU is large")
