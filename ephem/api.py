@@ -14,7 +14,7 @@ import numpy as np
 
 from . import cost
 from .budget import OverBudgetError, charge, checkpoint, prepaid
-from .catalogue import (DEFAULT_DATASET, Body, get_body, load_catalogue, load_references, resolve_body,
+from .catalogue import (DEFAULT_DATASET, Body, check_angle, get_body, load_catalogue, load_references, resolve_body,
                         resolve_perturbers)
 from .constants import ARCSEC, MAS
 from .errors import InvalidInputError, NotApplicableError
@@ -185,7 +185,8 @@ def _within(part: str, answer):
     try:
         return answer()
     except InvalidInputError as exc:
-        if exc.field.startswith(("orbit.", "pole.", "moments", "order", "rotation", "dynamical")):
+        # the body's own fields (rotation_period_hours, not the track's rotation_phase_deg)
+        if exc.field.startswith(("orbit.", "pole.", "moments", "order", "rotation_period", "dynamical")):
             raise
         raise InvalidInputError(f"{part}.{exc.field}", exc.reason, exc.body) from None
     except OverBudgetError as exc:
@@ -456,8 +457,7 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     theory = theory.with_wobble(wobble)
     phase = in_unit(rotation_phase_deg, "deg", "rotation_phase_deg")
     if phase is not None:
-        if not math.isfinite(phase):
-            raise InvalidInputError("rotation_phase_deg", f"must be a finite angle, got {phase!r}", b.name)
+        check_angle(b.name, "rotation_phase_deg", phase)
         if wobble is not None:
             raise InvalidInputError("rotation_phase_deg", "the rotation-scale terms and a modelled free wobble are "
                                     "not combined: give the rotation phase or the wobble's phase, not both", b.name)

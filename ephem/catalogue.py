@@ -82,6 +82,24 @@ def _check_finite(body: str | None, name: str, value: float) -> None:
         raise InvalidInputError(name, f"must be a finite number, got {value!r}", body)
 
 
+#: Largest |angle| accepted for an angle taken modulo 360 deg (an orbit's node, argument of pericentre and mean
+#: anomaly, a pole's right ascension or ecliptic longitude, a phase), deg: any number of turns up to 2778. Near
+#: 1e6 the doubles are 2^-33 deg = 1.2e-10 deg (0.4 µas) apart, the rounding the answers carry already; each
+#: decade beyond loses another digit of the remainder (1e308 keeps none), so a larger angle is refused rather
+#: than silently rounded: reduce it modulo 360 first.
+MAX_ANGLE_DEG = 1e6
+
+
+def check_angle(body: str | None, name: str, value: float) -> None:
+    """``value`` (deg) a finite number within ±:data:`MAX_ANGLE_DEG`, else :class:`InvalidInputError` naming
+    ``name`` (its full path: ``pole.ra_deg``)."""
+    _check_finite(body, name, value)
+    if abs(value) > MAX_ANGLE_DEG:
+        raise InvalidInputError(name, f"an angle must lie within ±{MAX_ANGLE_DEG:g} deg: beyond it the doubles are "
+                                f"more than {math.ulp(MAX_ANGLE_DEG):.2g} deg apart and its remainder modulo 360 deg "
+                                f"loses the digits the answer needs; reduce it modulo 360, got {value!r}", body)
+
+
 #: Shortest rotation period accepted, hours: ten times faster than the fastest known asteroid rotator
 #: (2020 HS7, 2.99 s), and far from the floats where 2π/P overflows.
 MIN_ROTATION_PERIOD_HOURS = 1e-4
@@ -134,6 +152,8 @@ class Orbit:
         b = self.body
         for name in ("a_au", "e", "i_deg", "node_deg", "peri_deg", "mean_anomaly_deg", "epoch_jd_tdb"):
             _check_finite(b, f"orbit.{name}", getattr(self, name))
+        for name in ("node_deg", "peri_deg", "mean_anomaly_deg"):
+            check_angle(b, f"orbit.{name}", getattr(self, name))
         if self.node_rate_deg_per_year is not None:
             _check_finite(b, "orbit.node_rate_deg_per_year", self.node_rate_deg_per_year)
         if self.theory is not None and self.theory not in ORBIT_THEORIES:
@@ -171,6 +191,7 @@ class Pole:
     def __post_init__(self):
         for name in ("ra_deg", "dec_deg", "epoch_jd_tdb"):
             _check_finite(self.body, f"pole.{name}", getattr(self, name))
+        check_angle(self.body, "pole.ra_deg", self.ra_deg)
         _check_epoch(self.body, "pole.epoch_jd_tdb", self.epoch_jd_tdb)
         if abs(self.dec_deg) > 90.0:
             raise InvalidInputError("pole.dec_deg", f"declination must lie in [-90, 90] deg, got {self.dec_deg}", self.body)
@@ -182,6 +203,7 @@ class Pole:
         obliquity of a pole on an orbit in the ecliptic is 90° - latitude)."""
         from .geometry import ecliptic_to_icrf, lon_lat   # numpy: the catalogue module itself does without it
 
+        check_angle(body, "pole.lon", lon_deg)        # before the rotation turns it into another angle
         ra, dec = lon_lat(ecliptic_to_icrf(math.radians(lon_deg), math.radians(lat_deg)))
         return cls(math.degrees(float(ra)), math.degrees(float(dec)), epoch_jd_tdb, body=body)
 

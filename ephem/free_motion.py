@@ -27,7 +27,7 @@ from functools import lru_cache
 import numpy as np
 
 from .budget import checkpoint
-from .catalogue import Body, data_dir
+from .catalogue import Body, check_angle, data_dir
 from .constants import ARCSEC
 from .errors import InvalidInputError, NotApplicableError
 from .geometry import carry
@@ -230,9 +230,7 @@ def make_wobble(body: Body, phase_deg, J_arcsec=None, epoch_jd_tdb: float | None
     _moments(body)
     if epoch_jd_tdb is None:
         epoch_jd_tdb = body.pole.epoch_jd_tdb
-    if isinstance(phase_deg, bool) or not isinstance(phase_deg, (int, float)) or not math.isfinite(phase_deg):
-        raise InvalidInputError("free_wobble_phase_deg", f"must be a finite angle in degrees, got {phase_deg!r}",
-                                body.name)
+    check_angle(body.name, "free_wobble_phase_deg", phase_deg)
     J_arcsec = _wobble_angle(body, J_arcsec, "free_wobble_J_arcsec", 3600.0,
                              "(the wobble is added to the forced track as a small offset)")
     return Wobble(float(J_arcsec), float(phase_deg), float(epoch_jd_tdb))

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .catalogue import MIN_ROTATION_PERIOD_HOURS, spin_rate_rad_per_day
+from .catalogue import MAX_ANGLE_DEG, MIN_ROTATION_PERIOD_HOURS, spin_rate_rad_per_day
 from .constants import ARCSEC, CENTER_HILL_AU, CENTER_RADIUS_AU, J2000_JD, JD_RANGE, JULIAN_YEAR_DAYS, MAS
 from .geometry import icrf_to_ecliptic_matrix, spin_angles, unit_vector
 from .hansen import exact_available, fft_lengths, hansen_exact_many
@@ -173,6 +173,11 @@ def _check(x: dict, errors: _Errors) -> None:
         errors.add(a * (1.0 - e) <= CENTER_RADIUS_AU["Sun"],
                    lambda j: f"a_au: the pericentre a(1 - e) = {a[j] * (1 - e[j]):.6g} AU lies inside the Sun")
         errors.add(a > CENTER_HILL_AU["Sun"], lambda j: f"a_au: a = {a[j]:.6g} AU is not bound to the Sun")
+        for key in ("node_deg", "peri_deg", "mean_anomaly_deg", "pole_ra_deg"):    # as catalogue.check_angle
+            errors.add(np.abs(x[key]) > MAX_ANGLE_DEG,
+                       lambda j, key=key: f"{key}: an angle must lie within ±{MAX_ANGLE_DEG:g} deg: beyond it its "
+                                          "remainder modulo 360 deg loses the digits the answer needs; reduce it "
+                                          f"modulo 360, got {float(x[key][j])!r}")
         errors.add(~(np.abs(x["pole_dec_deg"]) <= 90.0),
                    lambda j: f"pole_dec_deg: declination must lie in [-90, 90] deg, got {x['pole_dec_deg'][j]:.10g}")
         errors.add(~(x["rotation_period_hours"] >= MIN_ROTATION_PERIOD_HOURS),

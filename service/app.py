@@ -17,8 +17,8 @@ from starlette.concurrency import run_in_threadpool
 
 import ephem
 from ephem import api
-from ephem.catalogue import (DEFAULT_DATASET, KNOWN_PERTURBERS, MIN_ROTATION_PERIOD_HOURS, Body, Orbit, Pole,
-                             available_datasets, load_catalogue)
+from ephem.catalogue import (DEFAULT_DATASET, KNOWN_PERTURBERS, MAX_ANGLE_DEG, MIN_ROTATION_PERIOD_HOURS, Body, Orbit,
+                             Pole, available_datasets, load_catalogue)
 from ephem.errors import InvalidInputError
 from ephem.free_motion import SERIES_MAX_DELTA
 from ephem.geometry import icrf_to_ecliptic_matrix
@@ -230,12 +230,13 @@ def create_app(settings: Settings | None = None) -> FastAPI:
               free_wobble_phase_deg: Annotated[Optional[float], Query(
                   description="the figure axis's position angle about the angular momentum at free_wobble_epoch, "
                               "from the ICRF north through east, deg: lets the track add the free wobble when the "
-                              "tolerance needs it (always, with a named model)")] = None,
+                              "tolerance needs it (always, with a named model)" + schemas.ANGLE_RULE)] = None,
               free_wobble_J_arcsec: Annotated[Optional[float], Query(
                   ge=0, le=3600, description="the wobble's amplitude (default: the published one)")] = None,
               free_wobble_epoch: Annotated[Optional[str], Query(
                   description="epoch of the phase, ISO 8601 or JD TDB (default: the pole epoch)")] = None,
-              rotation_phase_deg: Annotated[Optional[float], Query(description=schemas.RotationPhase)] = None,
+              rotation_phase_deg: Annotated[Optional[float], Query(
+                  description=schemas.RotationPhase + schemas.ANGLE_RULE)] = None,
               format: Annotated[TrackFormat, Query(description="json or csv (streamed)")] = TrackFormat.json,
               perturbers: Annotated[Optional[str], Query(
                        description="the torquing bodies: default the catalogue's (the Earth: the Moon and the Sun, "
@@ -470,6 +471,8 @@ PARAMETER_RULES = {
     "start": {"pattern": TIME_PATTERN_ECMA}, "stop": {"pattern": TIME_PATTERN_ECMA},
     "free_wobble_epoch": {"pattern": TIME_PATTERN_ECMA}, "step_days": _POSITIVE,
     "perturbers": {"pattern": PERTURBERS_PATTERN},
+    # angles taken modulo 360 deg (ephem.catalogue.MAX_ANGLE_DEG; the body's are stated by service.schemas.Angle)
+    "free_wobble_phase_deg": schemas.ANGLE_BOUNDS, "rotation_phase_deg": schemas.ANGLE_BOUNDS,
 }
 #: constraints of the POST body's fields: (component, field) -> constraints (on the number or string branch)
 BODY_RULES = {
@@ -519,7 +522,9 @@ def _rule_texts(settings: Settings) -> dict[str, str]:
         "cut": "cut_mas applies to the lunisolar series (the Earth with the Moon) only, and not with tolerance_mas.",
         "wobble": "free_wobble_J_arcsec and free_wobble_epoch need free_wobble_phase_deg, which needs axis=figure; "
                   "a body without a published wobble amplitude (Earth, Moon, Mars and Eros have one) needs "
-                  "free_wobble_J_arcsec with the phase.",
+                  "free_wobble_J_arcsec with the phase; rotation_phase_deg is not given with free_wobble_phase_deg, "
+                  "and only where the single-perturber ladder serves the body (not the Earth with the Moon, nor "
+                  "the Moon: their theories do not model the rotation scale).",
         "free_motion": "J_arcsec is needed for a body without a published wobble amplitude (Earth, Moon, Mars and "
                        f"Eros have one); method=series only in the short-axis mode with δ = 2 sin²(J/2) <= "
                        f"{SERIES_MAX_DELTA} (else 422 not-applicable); a body needs its three principal moments, "
@@ -531,9 +536,10 @@ def _rule_texts(settings: Settings) -> dict[str, str]:
                 "without a published wobble amplitude (Earth, Moon, Mars and Eros have one).",
         "user": "orbit: a_au > 0, 0 <= e < 1, 0 <= i_deg <= 180, and a bound orbit clear of the Sun: the "
                 "pericentre a(1 - e) outside the Sun's radius and a inside its Hill sphere; pole: -90 <= dec_deg <= "
-                f"90; rotation_period_hours >= {MIN_ROTATION_PERIOD_HOURS:g} (0.36 s); give moments (0 < A <= B "
-                "<= C <= A + B) or dynamical_ellipticity in (0, 0.5]; epochs are Julian dates in (0, 1e7); track "
-                "as GET /v1/bodies/{body}/track.",
+                f"90; angles (node_deg, peri_deg, mean_anomaly_deg, ra_deg, the track's phases) within "
+                f"±{MAX_ANGLE_DEG:g} deg; rotation_period_hours >= {MIN_ROTATION_PERIOD_HOURS:g} (0.36 s); give "
+                "moments (0 < A <= B <= C <= A + B) or dynamical_ellipticity in (0, 0.5]; epochs are Julian dates "
+                "in (0, 1e7); track as GET /v1/bodies/{body}/track.",
         "history": "stop_year must be after start_year, within 2e7 years of it; step_years must be positive and "
                    "leave at most 100001 epochs in the span (a plot: 2 to 100000); give orbit_model or "
                    "tolerance_mas, not both; nbody for a body without a shipped orbit is run on request within the "

@@ -1,10 +1,12 @@
 """Pydantic schemas: the JSON contract of the routes (units in the key names)."""
 from __future__ import annotations
 
+import math
 from typing import Annotated, Literal, Optional, Union
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 
+from ephem.catalogue import MAX_ANGLE_DEG
 from ephem.constants import GM_CENTER
 from ephem.ladder import AXES
 from ephem.model import MAX_ORDER
@@ -17,6 +19,28 @@ RungName = Literal[MODELS]
 Perturbers = Field(None, description="the bodies whose torque the answer includes: the orbit's centre (the Sun), "
                                      "and for the Earth by default the Moon too (the lunisolar theory)")
 AxisName = Literal[AXES]
+
+
+#: what an angle taken modulo 360 deg accepts (ephem.catalogue.MAX_ANGLE_DEG), appended to its description
+ANGLE_RULE = (f"; any number of turns within ±{MAX_ANGLE_DEG:g} deg (beyond it the doubles are more than "
+              f"{math.ulp(MAX_ANGLE_DEG):.2g} deg apart and the angle modulo 360 loses its digits: 422 naming the "
+              "field)")
+
+
+ANGLE_BOUNDS = {"minimum": -MAX_ANGLE_DEG, "maximum": MAX_ANGLE_DEG}
+
+
+def _angle_bounds(schema: dict) -> None:
+    """State MAX_ANGLE_DEG in the JSON Schema, on the number branch (anyOf with null for an optional angle). The
+    library enforces it (ephem.catalogue.check_angle), with the reason in the 422, so pydantic is not asked to."""
+    for branch in schema.get("anyOf", [schema]):
+        if branch.get("type") == "number":
+            branch.update(ANGLE_BOUNDS)
+
+
+def Angle(description: str, default=...):
+    """A field holding an angle in degrees, taken modulo 360 deg."""
+    return Field(default, description=description + ANGLE_RULE, json_schema_extra=_angle_bounds)
 
 
 RotationPhase = ("the angle of the long (least-inertia) axis in the body's equator from the ascending node of the "
@@ -296,9 +320,9 @@ class OrbitIn(BaseModel):
     a_au: float = Field(description="semi-major axis, AU")
     e: float = Field(description="eccentricity, 0 <= e < 1")
     i_deg: float = Field(description="inclination to the ecliptic J2000, deg")
-    node_deg: float = Field(description="longitude of the ascending node, deg")
-    peri_deg: float = Field(description="argument of perihelion, deg")
-    mean_anomaly_deg: float = Field(description="mean anomaly at the epoch, deg")
+    node_deg: float = Angle("longitude of the ascending node, deg")
+    peri_deg: float = Angle("argument of perihelion, deg")
+    mean_anomaly_deg: float = Angle("mean anomaly at the epoch, deg")
     epoch_jd_tdb: float = Field(description="epoch of the elements, JD TDB")
     center: Literal[tuple(GM_CENTER)] = Field("Sun", description="the body orbited (and torquing): the Sun, or the "
                                                                 "Earth for a satellite of it")
@@ -312,8 +336,8 @@ class OrbitIn(BaseModel):
 class PoleIn(BaseModel):
     """The instantaneous spin axis (positive pole) in the ICRF at ``epoch_jd_tdb``."""
     model_config = Finite
-    ra_deg: float
-    dec_deg: float
+    ra_deg: float = Angle("right ascension, ICRF, deg")
+    dec_deg: float = Field(description="declination, ICRF, deg, -90 to 90")
     epoch_jd_tdb: float = 2451545.0
 
 
@@ -334,14 +358,14 @@ class TrackIn(BaseModel):
                                                                    "within this many mas of the truth")
     model: Optional[RungName] = Field(None, description="use this rung of the ladder (not with tolerance_mas)")
     axis: AxisName = Field("figure", description="the pole to follow: the figure axis or the angular momentum")
-    free_wobble_phase_deg: Optional[float] = Field(None, description="the figure axis's position angle about the "
-                                                   "angular momentum at free_wobble_epoch (north through east), deg: "
-                                                   "lets the track add the free wobble")
+    free_wobble_phase_deg: Optional[float] = Angle("the figure axis's position angle about the angular momentum at "
+                                                   "free_wobble_epoch (north through east), deg: lets the track add "
+                                                   "the free wobble", None)
     free_wobble_J_arcsec: Optional[float] = Field(None, ge=0, le=3600, description="the wobble's amplitude, arcsec "
                                                   "(a body of your own has no published one)")
     free_wobble_epoch: Optional[Union[float, str]] = Field(None, description="epoch of the phase (default: the "
                                                            "pole epoch), ISO 8601 or JD TDB")
-    rotation_phase_deg: Optional[float] = Field(None, description=RotationPhase)
+    rotation_phase_deg: Optional[float] = Angle(RotationPhase, None)
 
 
 class UserBody(BaseModel):

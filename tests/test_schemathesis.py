@@ -52,6 +52,8 @@ REASON_RULES = [
     (r"an amplitude cut applies to the lunisolar series|give either cut_mas or tolerance_mas", {"cut"}),
     (r"give the wobble's phase|the free wobble moves the figure axis", {"wobble"}),
     (r"give the wobble amplitude J", {"wobble", "free_motion", "plot"}),
+    (r"are not combined: give the rotation phase or the wobble's phase|does not model the rotation scale",
+     {"wobble"}),
     (r"A = B = C|needs the three principal moments", {"free_motion"}),
     (r"stop equals start|applies to the track kinds|applies to kind free-wobble|aliases the free wobble|"
      r"leaves a single epoch|cannot be drawn within", {"plot"}),

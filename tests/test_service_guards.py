@@ -7,6 +7,8 @@ import re
 import pytest
 from fastapi.testclient import TestClient
 
+from ephem.catalogue import MAX_ANGLE_DEG, Orbit, Pole
+from ephem.errors import InvalidInputError
 from service.app import create_app
 from service.problems import PROBLEM
 from service.settings import Settings
@@ -80,3 +82,79 @@ def test_a_single_charge_over_budget_has_nothing_already_charged(client):
     assert body["estimated_cpu_s"] > body["budget_cpu_s"]
     assert _printed_cpu_s(body["detail"]) == f"{body['estimated_cpu_s']:.3g}"
     assert "already charged" not in body["detail"]
+
+
+# ------------------------------------------------------------------ angles too large to reduce modulo 360 deg
+
+BODY_ANGLES = [("pole", "ra_deg"), ("orbit", "node_deg"), ("orbit", "peri_deg"), ("orbit", "mean_anomaly_deg")]
+
+
+@pytest.mark.parametrize("section, key", BODY_ANGLES)
+@pytest.mark.parametrize("value", [1e308, -1e300, 2.0 * MAX_ANGLE_DEG])
+def test_an_angle_with_no_digits_left_modulo_360_is_refused_naming_its_path(client, section, key, value):
+    body = _problem(client.post("/v1/precession-nutation", json=_user(**{f"{section}__{key}": value})), 422,
+                    "invalid-input")
+    assert body["errors"] == [{"field": f"{section}.{key}", "reason": body["errors"][0]["reason"]}]
+    assert "modulo 360" in body["errors"][0]["reason"] and f"{MAX_ANGLE_DEG:g}" in body["errors"][0]["reason"]
+
+
+@pytest.mark.parametrize("section, key", BODY_ANGLES)
+def test_many_turns_within_the_bound_are_the_same_angle(client, section, key):
+    """An angle of a thousand turns more is accepted and gives the answer of the angle itself (the bound refuses
+    only what cannot be reduced: 360 000 deg is exact in a double, so only the trigonometry's rounding differs)."""
+    ref = client.post("/v1/precession-nutation", json=USER).json()
+    turned = _user(**{f"{section}__{key}": USER[section][key] + 1000 * 360.0})
+    got = client.post("/v1/precession-nutation", json=turned)
+    assert got.status_code == 200, got.text
+    for k in ("obliquity_deg", "precession_rate_arcsec_per_year"):
+        assert got.json()["precession"][k] == pytest.approx(ref["precession"][k], rel=1e-9)
+
+
+@pytest.mark.parametrize("key", ["free_wobble_phase_deg", "rotation_phase_deg"])
+def test_a_phase_with_no_digits_left_is_refused_in_the_query_and_the_post(client, key):
+    q = {"start": "2020-01-01", "stop": "2020-02-01", "step_days": 10, key: 1e300}
+    body = _problem(client.get("/v1/bodies/mars/track", params=q), 422, "invalid-input")
+    assert body["errors"][0]["field"] == key and "modulo 360" in body["errors"][0]["reason"]
+    track = {"start": "2020-01-01", "stop": "2020-02-01", "step_days": 10, key: -1e300}
+    if key == "free_wobble_phase_deg":
+        track["free_wobble_J_arcsec"] = 1.0       # a body of one's own has no published wobble amplitude
+    user = _user(track=track, moments={"A": 0.3433, "B": 0.3546, "C": 0.42})
+    del user["dynamical_ellipticity"]
+    body = _problem(client.post("/v1/precession-nutation", json=user), 422, "invalid-input")
+    assert body["errors"][0]["field"] == f"track.{key}"          # the full path, as the client wrote it
+    assert client.get("/v1/bodies/mars/track", params={**q, key: 720.5}).status_code == 200
+
+
+def test_the_library_and_a_batch_row_refuse_it_too():
+    from ephem import api
+
+    with pytest.raises(InvalidInputError) as info:
+        Pole(1e308, 10.0)
+    assert info.value.field == "pole.ra_deg"
+    with pytest.raises(InvalidInputError) as info:
+        Orbit(2.36, 0.1, 7.0, 0.0, -1e300, 0.0, 2451545.0)
+    assert info.value.field == "orbit.peri_deg"
+    with pytest.raises(InvalidInputError) as info:
+        Pole.from_ecliptic(1e308, 10.0)
+    assert info.value.field == "pole.lon"
+    row = {"name": "r", "a_au": 2.36, "e": 0.09, "i_deg": 7.1, "node_deg": 103.7, "peri_deg": 151.7,
+           "mean_anomaly_deg": 169.2, "epoch_jd_tdb": 2460200.5, "pole_ra_deg": 309.0, "pole_dec_deg": 42.2,
+           "rotation_period_hours": 5.342, "dynamical_ellipticity": 0.1}
+    rows = api.batch([dict(row, pole_ra_deg=1e308), dict(row, mean_anomaly_deg=-1e300), row])["rows"]
+    assert rows[0]["error"].startswith("pole_ra_deg: an angle must lie within")
+    assert rows[1]["error"].startswith("mean_anomaly_deg: an angle must lie within")
+    assert rows[0]["obliquity_deg"] is None and rows[2]["error"] == ""
+
+
+def test_the_bound_is_stated_in_the_openapi_document(client):
+    doc = client.get("/openapi.json").json()
+    schemas = doc["components"]["schemas"]
+    for section, key in BODY_ANGLES:
+        prop = schemas["PoleIn" if section == "pole" else "OrbitIn"]["properties"][key]
+        assert (prop["minimum"], prop["maximum"]) == (-MAX_ANGLE_DEG, MAX_ANGLE_DEG)
+    for key in ("free_wobble_phase_deg", "rotation_phase_deg"):
+        number = next(b for b in schemas["TrackIn"]["properties"][key]["anyOf"] if b.get("type") == "number")
+        assert number["maximum"] == MAX_ANGLE_DEG
+        param = next(p for p in doc["paths"]["/v1/bodies/{body}/track"]["get"]["parameters"] if p["name"] == key)
+        number = next(b for b in param["schema"]["anyOf"] if b.get("type") == "number")
+        assert number["minimum"] == -MAX_ANGLE_DEG
