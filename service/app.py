@@ -9,7 +9,7 @@ from typing import Annotated, Optional
 
 import numpy as np
 import orjson
-from fastapi import Body as BodyParam, FastAPI, Path, Query, Request
+from fastapi import Body as BodyParam, Depends, FastAPI, Path, Query, Request
 from fastapi.openapi.docs import get_redoc_html, get_swagger_ui_html
 from fastapi.responses import JSONResponse, PlainTextResponse, Response, StreamingResponse
 from fastapi.staticfiles import StaticFiles
@@ -109,8 +109,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                               "(Kinoshita's theory, Petit et al. 2014). Angles in degrees, precession and nutation "
                               "in arcseconds, times as JD TDB or ISO 8601 (UTC unless a scale follows). "
                               "Errors are RFC 9457 problems (application/problem+json); the accuracy of each "
-                              "model is documented at /docs/accuracy.",
-                  lifespan=lifespan, docs_url=None, redoc_url=None)
+                              "model is documented at /docs/accuracy. Each query parameter is given at most "
+                              "once: a repeated one (?order=2&order=4) is a 422 naming it, never a silent choice.",
+                  lifespan=lifespan, docs_url=None, redoc_url=None,
+                  dependencies=[Depends(problems.single_query_values)])     # every route: no repeated parameter
     app.state.settings = settings
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     problems.install(app)

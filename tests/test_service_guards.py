@@ -3,12 +3,15 @@ parameters, angles too large to reduce modulo 360 deg, and the model cache's bou
 from __future__ import annotations
 
 import re
+from typing import Annotated
 
 import pytest
+from fastapi import Depends, FastAPI, Query
 from fastapi.testclient import TestClient
 
 from ephem.catalogue import MAX_ANGLE_DEG, Orbit, Pole
 from ephem.errors import InvalidInputError
+from service import problems
 from service.app import create_app
 from service.problems import PROBLEM
 from service.settings import Settings
@@ -158,3 +161,67 @@ def test_the_bound_is_stated_in_the_openapi_document(client):
         param = next(p for p in doc["paths"]["/v1/bodies/{body}/track"]["get"]["parameters"] if p["name"] == key)
         number = next(b for b in param["schema"]["anyOf"] if b.get("type") == "number")
         assert number["minimum"] == -MAX_ANGLE_DEG
+
+
+# ------------------------------------------------------------------ a query parameter given twice
+
+def _api_routes(app):
+    """(method, path) of every route the app serves through FastAPI (the API, the docs pages)."""
+    from fastapi.routing import APIRoute
+
+    return [(m, r.path) for r in app.routes if isinstance(r, APIRoute) for m in sorted(r.methods)]
+
+
+def test_a_repeated_query_parameter_is_refused_naming_it(client):
+    # the last value won without a word: ?order=2&order=4 answered order 4
+    body = _problem(client.get("/v1/bodies/vesta/precession?order=2&order=4"), 422, "invalid-input")
+    assert [e["field"] for e in body["errors"]] == ["order"]
+    assert "order=2&order=4" in body["errors"][0]["reason"] and "given 2 times" in body["errors"][0]["reason"]
+    assert client.get("/v1/bodies/vesta/precession?order=4").status_code == 200
+
+
+@pytest.mark.parametrize("query, field", [
+    ("order=abc&order=4", "order"),                   # refused as repeated before either value is read
+    ("or%64er=2&order=4", "order"),                   # the names as decoded, as the route would see them
+    ("dataset=current&dataset=current", "dataset"),   # even the same value twice
+    ("order=4&colour=1&colour=2", "colour"),          # a parameter no route takes
+])
+def test_the_repeated_name_is_the_one_named(client, query, field):
+    body = _problem(client.get(f"/v1/bodies/vesta/nutation?{query}"), 422, "invalid-input")
+    assert body["errors"][0]["field"] == field
+
+
+def test_every_route_refuses_a_repeated_parameter(client):
+    """Each route the app serves, read from its route list (a new route is covered by itself), with its first
+    query parameter (or any name) given twice: 422 naming it, before its own checks or its work."""
+    doc = client.get("/openapi.json").json()
+    routes = _api_routes(client.app)
+    assert ("GET", "/v1/bodies/{body}/track") in routes and ("POST", "/v1/batch") in routes
+    for method, path in routes:
+        op = doc["paths"].get(path, {}).get(method.lower(), {})
+        names = [p["name"] for p in op.get("parameters", []) if p["in"] == "query"] or ["anything"]
+        url = path.replace("{body}", "vesta") + f"?{names[0]}=1&{names[0]}=2"
+        r = client.request(method, url, json=USER if method == "POST" else None)
+        if method == "HEAD":
+            assert r.status_code == 422, (method, path)      # a HEAD answer has no body to name it in
+            continue
+        body = _problem(r, 422, "invalid-input")
+        assert body["errors"][0]["field"] == names[0], (method, path, body)
+
+
+def test_a_parameter_a_route_takes_as_a_list_may_repeat():
+    """The exception, with a route of its own (no route of the service takes a list today)."""
+    app = FastAPI(dependencies=[Depends(problems.single_query_values)])
+    problems.install(app)
+
+    @app.get("/t")
+    def t(tag: Annotated[list[str] | None, Query()] = None, n: int = 0):
+        return {"tag": tag, "n": n}
+
+    c = TestClient(app)
+    assert c.get("/t?tag=a&tag=b&n=1").json() == {"tag": ["a", "b"], "n": 1}
+    assert _problem(c.get("/t?tag=a&n=1&n=2"), 422, "invalid-input")["errors"][0]["field"] == "n"
+
+
+def test_the_rule_is_stated_in_the_openapi_document(client):
+    assert "?order=2&order=4) is a 422" in client.get("/openapi.json").json()["info"]["description"]
