@@ -63,8 +63,6 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field, replace
-import threading
-from collections import OrderedDict
 from functools import cached_property, lru_cache
 
 import numpy as np
@@ -77,6 +75,7 @@ from .constants import ARCSEC, J2000_JD, JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS, 
 from .errors import InvalidInputError, NotApplicableError
 from .hansen import LAPLACE_LIMIT, hansen_exact, hansen_series
 from .kepler import mean_motion_rad_per_day
+from .memo import bytes_bounded
 from .kinoshita import (eccentricity_factor, exact_series_floor, nutation_coefficients, pole_displacement_sum,
                         pole_displacements)
 from .model import (MAX_ORDER, MIN_SPIN_ORBIT_RATIO, PrecessionNutation, Track, cached_model, check_domain,
@@ -401,36 +400,18 @@ def theory_tables(model: PrecessionNutation, theory: SecondOrderTheory) -> Theor
                         PhasedBounds.of(rem.rephasing, w, phi0, np.zeros(2)))
 
 
-#: Bodies whose tables a process keeps: up to a few MB each at e = 0.9 (the remainder's grids, 75 MB at e = 0.95),
-#: fewer kept than models.
-TABLES_KEPT = 128
-_tables: OrderedDict = OrderedDict()
-_tables_lock = threading.Lock()
-
-
+# A body's tables are up to a few MB at e = 0.9 (the remainder's grids, 75 MB at e = 0.95), and they keep the
+# grids asked of them: kept within the per-body caches' byte budget (ephem.memo), weighed again as they grow.
+@bytes_bounded(grows=True)
 def cached_tables(body: Body) -> TheoryTables:
-    """The body's :class:`TheoryTables`, built once and kept (the last :data:`TABLES_KEPT` bodies): the cost model
-    charges their build only while :func:`tables_built` says no."""
-    with _tables_lock:
-        tables = _tables.get(body)
-        if tables is not None:
-            _tables.move_to_end(body)
-            return tables
-    tables = theory_tables(cached_model(body), cached_theory(body))
-    with _tables_lock:
-        _tables[body] = tables
-        while len(_tables) > TABLES_KEPT:
-            _tables.popitem(last=False)
-    return tables
+    """The body's :class:`TheoryTables`, built once and kept while the byte budget of the per-body caches lets
+    them (:mod:`ephem.memo`): the cost model charges their build only while :func:`tables_built` says no."""
+    return theory_tables(cached_model(body), cached_theory(body))
 
 
 def tables_built(body: Body) -> bool:
     """Whether :func:`cached_tables` holds the body's tables (a request then does not pay for them)."""
-    with _tables_lock:
-        return body in _tables
-
-
-cached_tables.cache_clear = lambda: _tables.clear()     # as the lru_caches beside it (the benchmarks empty them)
+    return cached_tables.cached(body)
 
 
 def nutation_omitted_bound(tables: TheoryTables, window: Window) -> float:
@@ -739,7 +720,7 @@ def pole_vectors(track: Track) -> np.ndarray:
 
 # --- the ladder of one body -----------------------------------------------------------------------
 
-@lru_cache(maxsize=512)
+@bytes_bounded      # a body of the caller's: bounded in bytes with the model (ephem.memo)
 def cached_theory(body: Body) -> SecondOrderTheory:
     return second_order_theory(cached_model(body))
 

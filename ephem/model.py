@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
@@ -27,6 +26,7 @@ from .geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from .hansen import LAPLACE_LIMIT, exact_unavailable
 from .harmonics import MAX_SHIFT, cos_sin_shifted, uniform_cos_sin
 from .kepler import mean_motion_rad_per_day
+from .memo import bytes_bounded
 from .kinoshita import NutationSeries, eccentricity_factor, mean_pole, nutation_series, precession_rate, scaling_factor
 
 #: Rotation-averaging needs the spin much faster than the orbital motion. Against the full rigid
@@ -260,9 +260,11 @@ def check_order(order: int | None) -> int | None:
     return order
 
 
-@lru_cache(maxsize=512)
+@bytes_bounded
 def cached_model(body: Body, order: int | None = None) -> PrecessionNutation:
-    """:func:`build_model`, memoised (a pure function of immutable inputs)."""
+    """:func:`build_model`, memoised (a pure function of immutable inputs). The bodies are the callers' (a
+    service's clients'), and a model's size grows with the eccentricity: the cache is bounded in bytes, shared
+    with the other per-body caches (:mod:`ephem.memo`), not in entries."""
     return build_model(body, order)
 
 

@@ -42,6 +42,7 @@ from .hansen import hansen_exact, hansen_series
 from .harmonics import series_extrema
 from .kepler import mean_motion_rad_per_day
 from .kinoshita import mean_pole, nutation_coefficients, precession_rate, scaling_factor
+from .memo import bytes_bounded
 from .model import cached_model, model_for
 
 #: Central-difference step as a fraction of the input's σ. The linear σ is J·σ with J the
@@ -521,7 +522,7 @@ def monte_carlo(body: str | int | Body, n: int = 1000, seed: int = 0, dataset: s
     return ans
 
 
-@lru_cache(maxsize=256)
+@bytes_bounded      # a user's body of many harmonics holds ~0.5 MB here (e = 0.9): bounded in bytes (ephem.memo)
 def propagated(b: Body, order: int | None) -> dict:
     """The 1-σ uncertainties of :func:`propagate`, with 0 (no input of known σ moves the value: its σ is
     unknown, not zero) replaced by None. A body none of whose inputs has a σ (a user's body) skips the

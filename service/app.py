@@ -16,7 +16,7 @@ from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
 import ephem
-from ephem import api
+from ephem import api, memo
 from ephem.catalogue import (DEFAULT_DATASET, KNOWN_PERTURBERS, MAX_ANGLE_DEG, MIN_ROTATION_PERIOD_HOURS, Body, Orbit,
                              Pole, available_datasets, load_catalogue)
 from ephem.errors import InvalidInputError
@@ -114,6 +114,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                   lifespan=lifespan, docs_url=None, redoc_url=None,
                   dependencies=[Depends(problems.single_query_values)])     # every route: no repeated parameter
     app.state.settings = settings
+    memo.set_budget_mb(settings.model_cache_mb)      # the process's per-body caches (one app per worker process)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     problems.install(app)
     guards.install(app, settings)

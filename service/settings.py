@@ -77,6 +77,10 @@ class Settings:
     #: the most bodies one POST /v1/batch takes (422 beyond, pointing to `ephem batch`); the body size limit
     #: (max_body_bytes: about 300 bytes a row of JSON) and the CPU budget bound it too
     max_batch_rows: int = 200
+    #: the bytes a worker's per-body caches (models, theories, the ladder's tables, uncertainties: ephem.memo) hold
+    #: together, MB: the bodies are the clients', and one eccentric body's entries weigh megabytes (a cache
+    #: counted in entries let 512 of them walk a worker to its recycle threshold)
+    model_cache_mb: float = 64.0
 
     @classmethod
     def from_env(cls) -> "Settings":
@@ -92,4 +96,5 @@ class Settings:
                    hard_kill_after_s=_float_env("EPHEM_HARD_KILL_AFTER_S", cls.hard_kill_after_s),
                    worker_memory_mb=_float_env("EPHEM_WORKER_MEMORY_MB", cls.worker_memory_mb),
                    supervised=_bool_env("EPHEM_SUPERVISED", cls.supervised),
-                   max_batch_rows=_int_env("EPHEM_MAX_BATCH_ROWS", cls.max_batch_rows))
+                   max_batch_rows=_int_env("EPHEM_MAX_BATCH_ROWS", cls.max_batch_rows),
+                   model_cache_mb=_float_env("EPHEM_MODEL_CACHE_MB", cls.model_cache_mb))

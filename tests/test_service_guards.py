@@ -2,13 +2,17 @@
 parameters, angles too large to reduce modulo 360 deg, and the model cache's bound in bytes."""
 from __future__ import annotations
 
+import gc
 import re
+import tracemalloc
 from typing import Annotated
 
+import numpy as np
 import pytest
 from fastapi import Depends, FastAPI, Query
 from fastapi.testclient import TestClient
 
+from ephem import memo
 from ephem.catalogue import MAX_ANGLE_DEG, Orbit, Pole
 from ephem.errors import InvalidInputError
 from service import problems
@@ -225,3 +229,81 @@ def test_a_parameter_a_route_takes_as_a_list_may_repeat():
 
 def test_the_rule_is_stated_in_the_openapi_document(client):
     assert "?order=2&order=4) is a 422" in client.get("/openapi.json").json()["info"]["description"]
+
+
+# ------------------------------------------------------------------ the per-body caches, bounded in bytes
+
+def test_the_pool_evicts_the_least_recently_used_to_its_budget():
+    pool = memo.BytePool(3 * 8_000 + 2_000)            # three 8000-byte arrays and their headers
+    cached = memo.bytes_bounded(lambda k: np.zeros(1000) + k, name="t", pool=pool)
+    for k in range(3):
+        cached(k)
+    cached(0)                                          # 0 is now the most recently used: 1 goes first
+    cached(3)
+    assert [cached.cached(k) for k in range(4)] == [True, False, True, True]
+    assert pool.nbytes <= pool.budget_bytes and cached.cache_info().currsize == 3
+    big = memo.bytes_bounded(lambda: np.zeros(10_000), name="big", pool=pool)
+    assert big().size == 10_000 and not big.cached()   # larger than the whole budget: answered, not kept
+    assert cached.cache_info().currsize == 3
+
+
+def test_an_entry_that_grows_is_weighed_again():
+    pool = memo.BytePool(100_000)
+    grow = memo.bytes_bounded(lambda k: {"grids": []}, name="g", grows=True, pool=pool)
+    grow(0)["grids"].append(np.zeros(5_000))           # 40 kB added after it was stored
+    grow(1)["grids"].append(np.zeros(5_000))
+    grow(2)["grids"].append(np.zeros(5_000))
+    assert pool.nbytes <= pool.budget_bytes            # weighed again: the oldest went
+    assert not grow.cached(0) and grow.cached(2)
+
+
+def test_sizeof_counts_array_buffers_once_and_python_objects():
+    a = np.zeros(100_000)
+    assert memo.sizeof(a) >= a.nbytes
+    assert memo.sizeof([a, a[10:], a.reshape(1000, 100)]) < 1.01 * memo.sizeof(a) + 1_000   # views share a
+    assert memo.sizeof([{"k": None} for _ in range(1000)]) > 1000 * 64       # pure-Python entries count too
+
+
+def test_the_model_caches_stay_within_their_byte_budget_for_many_distinct_bodies(monkeypatch):
+    """A client sending distinct eccentric bodies with a track: each left ~1 MB per body in the worker (its
+    ladder tables, model, theory, uncertainties), kept by count (512 models, 128 tables). Bounded in bytes,
+    the caches hold at most their budget, by their own accounting and by what the process allocated."""
+    budget_mb = 2.0
+    previous = memo.budget_mb()
+    stored: list[int] = []
+    put = memo.POOL.put
+    monkeypatch.setattr(memo.POOL, "put", lambda key, value, grows=False: (stored.append(memo.sizeof(value)),
+                                                                           put(key, value, grows)))
+    try:
+        with TestClient(create_app(Settings(warm_up=False, model_cache_mb=budget_mb))) as c:
+            assert memo.budget_mb() == budget_mb
+            memo.POOL.clear()
+            gc.collect()
+            tracemalloc.start()
+            base = tracemalloc.get_traced_memory()[0]
+            for k in range(8):
+                user = _user(orbit__e=0.3, pole__ra_deg=10.0 + 7.0 * k,
+                             track={"start": "2020-01-01", "stop": "2020-03-01", "step_days": 30})
+                _post_ok(c, user)
+                assert memo.POOL.nbytes <= budget_mb * 2**20, k
+            gc.collect()
+            growth = tracemalloc.get_traced_memory()[0] - base
+            tracemalloc.stop()
+    finally:
+        memo.set_budget_mb(previous)
+    assert sum(stored) > 3 * budget_mb * 2**20            # unbounded, the caches would have held this much
+    assert growth < (budget_mb + 1.0) * 2**20, growth / 2**20    # 1 MB for the small caches keyed by body
+
+
+def _post_ok(c, user):
+    r = c.post("/v1/precession-nutation", json=user)
+    assert r.status_code == 200, r.text
+    return r
+
+
+def test_the_budget_is_a_setting(monkeypatch):
+    monkeypatch.setenv("EPHEM_MODEL_CACHE_MB", "16")
+    assert Settings.from_env().model_cache_mb == 16.0
+    monkeypatch.setenv("EPHEM_MODEL_CACHE_MB", "-1")
+    with pytest.raises(SystemExit, match="EPHEM_MODEL_CACHE_MB"):
+        Settings.from_env()
