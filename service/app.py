@@ -349,7 +349,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         # the figure's errors name start and stop: the client wrote start_year and stop_year
         problems.FIELD_PATHS[("GET", path)] = {"start": "start_year", "stop": "stop_year"}
 
-    @app.get("/v1/bodies/{body}/free-motion", tags=["theory"], responses={**ERRORS, 200: {"content": {
+    @app.get("/v1/bodies/{body}/free-motion", response_model=schemas.FreeMotion, tags=["theory"],
+             responses={**ERRORS, 200: {"content": {
         "application/json": {"example": {
             "body": "Mars", "dataset": "current", "jd_tdb": [2451544.5007], "figure_axis_offset_x_arcsec": [0.0],
             "figure_axis_offset_y_arcsec": [-0.1], "wobble_angle_J_arcsec": [0.1], "andoyer_nu_deg": [0.0],

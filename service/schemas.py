@@ -275,6 +275,8 @@ class HistoryModel(BaseModel):
     estimated_error_mas: float = Field(description="estimated upper bound on the pole's distance from the truth "
                                                    "over the span, mas")
     error_terms_mas: dict[str, float] = Field(description="the estimate's largest value of each named term, mas")
+    obliquity_error_terms_mas: dict[str, float] = Field(description="the same for the obliquity alone (the terms of "
+                                                                    "obliquity_error_deg), mas")
     probed_terms: list[str] = Field(description="terms whose input has no published 1-sigma: a probe was used")
     estimates_mas: dict[str, float] = Field(description="each orbit model tried, its estimate, mas")
     tolerance_mas: Optional[float]
@@ -295,6 +297,8 @@ class History(BaseModel):
     pole_dec_deg: list[float]
     orbit_inclination_deg: list[float] = Field(description="the orbit normal from the J2000 ecliptic pole, deg")
     estimated_error_deg: list[float] = Field(description="the estimate at each epoch, deg")
+    obliquity_error_deg: list[float] = Field(description="the estimate of the obliquity alone at each epoch, deg "
+                                                         "(docs/long_term.md)")
     meaningful_from_year: Optional[float] = Field(description="before this the history means nothing (neighbouring "
                                                               "solutions part by more than 1 deg), or null; equal "
                                                               "to meaningful_to_year: nowhere")
@@ -390,6 +394,29 @@ class UserBody(BaseModel):
         None, description=f"e-power order of the Hansen coefficients (0 to {MAX_ORDER}); omit for exact")
     track: Optional[TrackIn] = None
     history: Optional[HistoryIn] = None
+
+
+class FreeMotion(BaseModel):
+    """The torque-free wobble of the figure axis about the angular momentum (ephem.free_motion)."""
+    body: str
+    dataset: str
+    jd_tdb: list[float]
+    figure_axis_offset_x_arcsec: list[float] = Field(description="the figure axis from the angular momentum, in "
+                                                                 "the plane normal to it, first axis, arcsec")
+    figure_axis_offset_y_arcsec: list[float] = Field(description="the same, second axis, arcsec")
+    wobble_angle_J_arcsec: list[float] = Field(description="the angle between the angular momentum and the C axis "
+                                                           "at each epoch, arcsec")
+    andoyer_nu_deg: list[float] = Field(description="Andoyer's angle ν of the angular momentum about the C axis in "
+                                                    "the body frame, deg")
+    wobble_period_days: float = Field(description="the period of the angular momentum about the C (long-axis "
+                                                  "mode: A) axis in the body frame, days")
+    precession_period_days: float = Field(description="the mean period of the figure axis about the angular "
+                                                      "momentum in space, days")
+    mode: Literal["short-axis", "long-axis", "separatrix"]
+    method: Literal["exact", "series", "numeric"] = Field(description="the method run (auto: exact)")
+    J_arcsec: float = Field(description="the wobble amplitude at start, arcsec")
+    moments_over_C: list[float] = Field(description="A/C, B/C, 1", min_length=3, max_length=3)
+    cost_ms: float = Field(description="wall time of the computation, ms")
 
 
 class Batch(BaseModel):
