@@ -16,7 +16,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 #: lowest first; a module may import from its own layer or below (docs/architecture.md)
 LAYERS = {
-    "foundation": ("constants", "errors", "budget", "units", "timeparse"),
+    "foundation": ("constants", "errors", "budget", "memo", "units", "timeparse"),
     "orbit, geometry and data": ("kepler", "geometry", "inertia", "catalogue", "hansen", "harmonics", "cost", "andoyer",
                                  "euler_poinsot", "polynomials", "deprit", "lie_series"),
     "theories": ("kinoshita", "model", "rotation_scale", "second_order", "numerical", "ephemeris", "lunisolar",
