@@ -10,6 +10,7 @@ from ephem import api, cost, hansen, population
 from ephem.catalogue import Body, Orbit, Pole
 from service.app import create_app
 from service.settings import Settings
+from tests.test_bounded_work import _problem  # one home for the problem+json check
 
 ROW = {"name": "testa", "a_au": 2.36, "e": 0.09, "i_deg": 7.1, "node_deg": 103.7, "peri_deg": 151.7,
        "mean_anomaly_deg": 169.2, "epoch_jd_tdb": 2460200.5, "pole_ra_deg": 309.03, "pole_dec_deg": 42.23,
@@ -90,13 +91,6 @@ def _csv(client, text):
     return client.post("/v1/batch", content=text if isinstance(text, bytes) else text.encode(),
                        headers={"content-type": "text/csv"})
 
-
-def _problem(r, status: int, kind: str) -> dict:
-    assert r.status_code == status, r.text
-    assert r.headers["content-type"].startswith("application/problem+json")
-    body = r.json()
-    assert body["type"].endswith("/" + kind), body
-    return body
 
 
 @pytest.mark.parametrize("text, field, says", [
