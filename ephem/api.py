@@ -243,17 +243,7 @@ def batch(rows, history: dict | None = None, max_rows: int = MAX_BATCH_ROWS, his
             raise exc.within(history_path) from None
         raise
     checkpoint()    # the whole batch is charged: a large one takes its turn (or is refused busy) before any row
-    out = pop.evaluate(columns, spec)
-    if bad:     # a cell that is not a number spoils its row only, as in ephem batch
-        spoilt = np.fromiter(bad, dtype=np.intp)
-        for key in out:
-            if key == "name":
-                continue
-            text = out[key].dtype.kind in "UOS"
-            out[key] = out[key].astype(object if text else float)   # fixed-width text would cut a reason short
-            out[key][spoilt] = "" if text else np.nan
-        for j, reason in bad.items():
-            out["error"][j] = reason
+    out = pop.spoil_rows(pop.evaluate(columns, spec), bad)     # a cell that is not a number spoils its row only
 
     def plain(key, v):
         if isinstance(v, (float, np.floating)):

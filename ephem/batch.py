@@ -277,19 +277,13 @@ def _output_table(result: Mapping[str, Any], n: int, bad: Mapping[int, str], fmt
     import numpy as np
     import pyarrow as pa
 
+    from .population import spoil_rows
+
     arrays, names = [], []
     for key, value in result.items():
-        value = np.asarray(value)
-        if value.shape[:1] != (n,):
-            raise ValueError(f"{CORE}.evaluate gave {key!r} of shape {value.shape} for {n} rows")
-        if bad and key not in ("error", "name"):
-            rows = np.fromiter(bad, dtype=np.intp)
-            value = value.astype(np.float64 if value.dtype.kind in "fiub" else object)  # a copy that takes NaN
-            value[rows] = np.nan if value.dtype.kind == "f" else ""     # text: "" as the core leaves a bad row's
-        if key == "error" and bad:
-            value = value.astype(object)
-            for row, reason in bad.items():
-                value[row] = reason
+        if np.shape(value)[:1] != (n,):
+            raise ValueError(f"{CORE}.evaluate gave {key!r} of shape {np.shape(value)} for {n} rows")
+    for key, value in spoil_rows(result, bad).items():
         if value.ndim == 2:         # a history column: one value per epoch
             if fmt == "csv":        # CSV has no lists: a column per epoch
                 for j in range(value.shape[1]):
