@@ -341,7 +341,8 @@ class _Ols:
                 fresh -= (fresh @ Q.T) @ Q
             rows[[2 * j + p for j in new for p in (0, 1)]] = fresh
             self._keep(idx[new], fresh)
-        old = [(j, self.kept_index[int(i)]) for j, i in enumerate(idx) if j not in set(new)]
+        fresh_at = set(new)
+        old = [(j, self.kept_index[int(i)]) for j, i in enumerate(idx) if j not in fresh_at]
         for m0 in sorted({int(self.kept_m[slot]) for _, slot in old}):
             group = [(j, slot) for j, slot in old if self.kept_m[slot] == m0]
             src = np.array([2 * slot + p for _, slot in group for p in (0, 1)])
