@@ -470,6 +470,7 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     else:
         est = theory.named(t, name, order)
         name = name or theory.default_model(order)
+    checkpoint()    # the track is charged: a large one takes its turn (or is refused busy) before it is built
     tr = theory.track(est, name, order, t0, step, count)
     with_wobble = wobble is not None and (est is None or est.free_wobble)
     estimate = None if est is None or not est.available else est.total
