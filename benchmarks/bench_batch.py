@@ -41,11 +41,11 @@ def generate(path: Path, rows: int) -> None:
 
 
 def core_throughput(path: Path, rows: int, sigmas: bool = True) -> tuple[float, float]:
-    """(bodies/s of CPU, CPU s per body) of ephem.population.evaluate on the first ``rows`` rows, in this process;
+    """(bodies/s of CPU, CPU s per body) of ephem.batch.population.evaluate on the first ``rows`` rows, in this process;
     ``sigmas=False`` drops the ``_sigma`` columns (no uncertainties to propagate)."""
     import pyarrow.parquet as pq
 
-    from ephem.population import evaluate
+    from ephem.batch.population import evaluate
 
     table = pq.read_table(path).slice(0, rows)
     cols = {name: table.column(name).to_numpy(zero_copy_only=False) for name in table.column_names
@@ -63,7 +63,7 @@ def partition_memory(path: Path) -> list[tuple[int, float]]:
 
     import pyarrow.parquet as pq
 
-    from ephem.population import evaluate
+    from ephem.batch.population import evaluate
 
     out = []
     table = pq.read_table(path)
@@ -86,13 +86,13 @@ def _peak_rss_mb() -> float:
 
 
 def engine(path: Path, workers: int, partition_rows: int, history=None) -> tuple[float, int, float]:
-    """(wall s, rows, the workers' largest peak RSS in MB) of ephem.batch.run on a LocalCluster of ``workers``."""
+    """(wall s, rows, the workers' largest peak RSS in MB) of ephem.batch.distributed.run on a LocalCluster of ``workers``."""
     import logging
 
     import dask
     from distributed import Client, LocalCluster
 
-    from ephem import batch
+    from ephem.batch import distributed as batch
 
     out = Path(tempfile.mkdtemp(prefix="bench_batch_"))
     with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
@@ -116,7 +116,7 @@ def main(argv=None) -> int:
     ap.add_argument("--rows", type=int, default=1_000_000)
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "RESULTS_batch.md"))
     args = ap.parse_args(argv)
-    from ephem.population import HistorySpec
+    from ephem.batch.population import HistorySpec
 
     work = Path(tempfile.mkdtemp(prefix="bench_population_"))
     lines = ["# Batch answers: bodies per second, scaling, memory", "",
@@ -132,7 +132,7 @@ def main(argv=None) -> int:
         rate, cpu = core_throughput(small, 100_000, sigmas=False)
         rate_s, cpu_s = core_throughput(small, 100_000)
         lines += ["## The core, in one process", "",
-                  f"`ephem.population.evaluate` on 100 000 rows, precession and nutation: **{rate:,.0f} bodies/s** "
+                  f"`ephem.batch.population.evaluate` on 100 000 rows, precession and nutation: **{rate:,.0f} bodies/s** "
                   f"of one core ({cpu * 1e6:.0f} µs of CPU per body; the target is 10^4 bodies/s per core). With "
                   f"the population's sigma columns (30 % of the rows carry 3-4 of them; each costs two more "
                   f"evaluations of its rows): {rate_s:,.0f} bodies/s ({cpu_s * 1e6:.0f} µs per body).", ""]
@@ -141,7 +141,7 @@ def main(argv=None) -> int:
         lines += [f"| {r:,} | {mb:.0f} | {mb * 2**20 / r:,.0f} |" for r, mb in partition_memory(small)] + [""]
         print(lines[-6:])
         rows = {}
-        lines += ["## The engine (ephem.batch.run on a LocalCluster)", "",
+        lines += ["## The engine (ephem.batch.distributed.run on a LocalCluster)", "",
                   "| run | workers | partition rows | rows | wall s | bodies/s | workers' peak RSS MB |",
                   "|---|---:|---:|---:|---:|---:|---:|"]
         for workers in (1, 2):

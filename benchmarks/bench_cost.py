@@ -1,17 +1,17 @@
-"""Benchmark: the cost predictions of ``ephem.cost`` against the measured CPU time and memory.
+"""Benchmark: the cost predictions of ``ephem.theory.cost`` against the measured CPU time and memory.
 
-``ephem.cost`` predicts what a request will cost (CPU seconds of one core, peak MB) from its
+``ephem.theory.cost`` predicts what a request will cost (CPU seconds of one core, peak MB) from its
 parameters, with the unit costs of ``data/cost_model.toml``; the service refuses a request whose
 prediction exceeds its budget (5 s, 500 MB) before running it. This script runs the real library
 calls on representative inputs, from small to near that budget, and prints each prediction
 against the measurement (ratio measured / predicted: above 1 the prediction was optimistic):
 
-* predictors, one at a time: each function of ``ephem.cost`` that ``data/cost_model.toml``
+* predictors, one at a time: each function of ``ephem.theory.cost`` that ``data/cost_model.toml``
   calibrates, against the library call it stands for (the Hansen FFT by eccentricity, the e-power
   series by order, the nutation's extremes, the harmonic sums over epochs x harmonics, the
   second-order theory, the spin integration of the numerical rungs, the real orbit by years, the
   free rotation by method, the lunisolar sum, the serialisation of the answer as JSON and CSV);
-* requests: ``ephem.api`` entry points run inside ``ephem.budget.budget(1e9, 1e9)``; the
+* requests: ``ephem.api`` entry points run inside ``ephem.base.budget.budget(1e9, 1e9)``; the
   prediction is the budget's ``spent_cpu_s`` afterwards (what the service charges) and the
   largest memory of the costs charged;
 * the unit costs these measurements imply on this machine, beside those of the toml.
@@ -80,10 +80,19 @@ if __name__ == "__main__":
 
 import numpy as np  # noqa: E402
 
-from ephem import api, budget, cost, earth, ephemeris, free_motion, hansen, ladder, lie_series, uncertainty  # noqa: E402
-from ephem.catalogue import Body, Orbit, Pole, get_body  # noqa: E402
-from ephem.model import build_model  # noqa: E402
-from ephem.second_order import second_order_theory  # noqa: E402
+from ephem import api
+from ephem.base import budget
+from ephem.theory import cost
+from ephem.earth import family as earth
+from ephem.orbit import de421 as ephemeris
+from ephem.rotation import free_motion
+from ephem.orbit import hansen
+from ephem.sun import ladder
+from ephem.rotation import lie_series
+from ephem.forced import uncertainty  # noqa: E402
+from ephem.bodies.catalogue import Body, Orbit, Pole, get_body  # noqa: E402
+from ephem.forced.precession_nutation import build_model  # noqa: E402
+from ephem.forced.second_order import second_order_theory  # noqa: E402
 
 BUDGET_CPU_S = 5.0
 BUDGET_MB = 500.0
@@ -95,7 +104,7 @@ J2050 = 2469807.5
 MB = 1024.0 * 1024.0
 
 # Why a case may come out optimistic: read from the code, printed with the numbers of any case over 2x.
-WHY_MODEL = ("ephem.model.build_model iterates the nutation at the pole epoch three times, and each pass calls "
+WHY_MODEL = ("ephem.forced.precession_nutation.build_model iterates the nutation at the pole epoch three times, and each pass calls "
              "kinoshita.nutation_series, which recomputes hansen_exact(e): three FFTs (plus the series' evaluation), "
              "while cost.hansen_build charges one.")
 WHY_SERIES = ("hansen.hansen_series(order < 20) cuts the order-20 series (_SHARED_ORDER), built on first use, while "
@@ -380,7 +389,7 @@ def build_cases() -> list[Case]:
                  extra={"n": n, "k": k}, why=WHY_BLOCK))
 
     # --- the spin axis integrated (numerical, real_orbit rungs) -----------------------------------
-    from ephem.numerical import integrate_spin_axis
+    from ephem.forced.integration import integrate_spin_axis
     # tracemalloc slows the Python right-hand side several times: the memory of two is traced, the rest by RSS
     for e, a, years, n, hd, period, quick, trace in ((0.1, 1.0, 50, 1000, 0.1, 6.0, True, True),
                                                      (0.1, 1.0, 300, 1000, 0.1, 6.0, False, False),
@@ -840,7 +849,7 @@ def main(argv=None) -> int:
               "RSS above the start (max over the timed runs); an MB ratio '-' where the run was not traced and the RSS "
               "did not grow (memory freed earlier was reused: no measurement). Flags: 'small' when the measurement is below "
               f"{SIGNIFICANT_CPU_S:g} s and {SIGNIFICANT_MB:g} MB (5% of the budget).", "",
-              "ephem/cost.py and data/cost_model.toml say their unit costs were measured with this script and set "
+              "ephem/theory/cost.py and data/cost_model.toml say their unit costs were measured with this script and set "
               "about twice the measurement (cost.py: 'a factor 1-3 above'): the script prints every prediction "
               "against the measurement and the units the measurements imply (below); it does not write the toml.", "",
               "## Verdict per predictor", "", *verdicts(cases), "",

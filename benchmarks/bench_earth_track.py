@@ -2,7 +2,7 @@
 
 "Before" is the direct route the library used until now, reproduced here (``direct_nutation_at``: per block of
 4096 epochs, φ = a @ k, then sin φ and cos φ of every term and epoch and four matrix-vector products per
-axis); "after" is :meth:`ephem.lunisolar.LunisolarSeries.nutation_at` (:class:`ephem.lunisolar.TermProducts`).
+axis); "after" is :meth:`ephem.earth.lunisolar.LunisolarSeries.nutation_at` (:class:`ephem.earth.lunisolar.TermProducts`).
 Both run in the same process on the same epochs: an even grid over the track's accepted window 1900-2100.
 
 Measured: the series evaluation (Δψ, Δε) at 10^4, 10^5 and 3.6 x 10^5 epochs, for the served series
@@ -30,7 +30,7 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 BLAS_VARS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
-WINDOW = (2415020.5, 2488069.5)          # 1900-01-01 .. 2100-01-01 TDB (ephem.earth.window())
+WINDOW = (2415020.5, 2488069.5)          # 1900-01-01 .. 2100-01-01 TDB (ephem.earth.family.window())
 TRACK_STEP = 0.2                         # days: 3.6 x 10^5 epochs span 197 years
 DEFAULT_OUTPUT = ROOT / "benchmarks" / "RESULTS_earth_track.md"
 
@@ -63,12 +63,12 @@ def _floats(text: str) -> list[float]:
 
 
 def direct_nutation_at(series, jd_tdb):
-    """The evaluation before this change (ephem/lunisolar.py until then), verbatim in its arithmetic."""
+    """The evaluation before this change (ephem/earth/lunisolar.py until then), verbatim in its arithmetic."""
     import numpy as np
 
-    from ephem.budget import checkpoint
-    from ephem.constants import MAS
-    from ephem.lunisolar import centuries, delaunay_arguments
+    from ephem.base.budget import checkpoint
+    from ephem.base.constants import MAS
+    from ephem.orbit.lunar import centuries, delaunay_arguments
 
     jd = np.asarray(jd_tdb, dtype=float)
     flat = jd.ravel()
@@ -131,7 +131,7 @@ def main(argv=None) -> int:
     from unittest import mock
 
     from ephem import api
-    from ephem import lunisolar as L
+    from ephem.earth import lunisolar as L
 
     sizes, cuts, track_sizes = _ints(args.sizes), _floats(args.cuts), _ints(args.track_sizes)
     rows = []
@@ -184,7 +184,7 @@ def main(argv=None) -> int:
         "arguments, their powers, the terms' products on a prefix tree, one matrix product). The track rows time "
         "the whole request (series, pole, error estimate; `track` also the conversion to lists) with the direct "
         "route patched in for 'before'. The last column: the largest difference of Δψ, Δε between the two routes "
-        "(the stated budget, ephem/lunisolar.py TermProducts: at most 1.9e-18 rad in Δψ and 1.0e-18 in Δε for "
+        "(the stated budget, ephem/earth/lunisolar.py TermProducts: at most 1.9e-18 rad in Δψ and 1.0e-18 in Δε for "
         "the served series, 8.9e-18 and 4.6e-18 for 414 terms). The series and DE421 are loaded before the timing "
         "(the series' build, ~1.6 s once per process, is not part of this change); the service caps a track at "
         "10^5 epochs, the library at 10^6. CPU = process CPU time, all threads.",

@@ -1,4 +1,4 @@
-"""The spin axis over millions of years: what a history costs, predicted (ephem.cost, charged before the work)
+"""The spin axis over millions of years: what a history costs, predicted (ephem.theory.cost, charged before the work)
 against measured (CPU of one core), for every catalogue body over the shipped span.
 
     python benchmarks/bench_history.py [--out benchmarks/RESULTS_history.md]
@@ -14,8 +14,8 @@ import time
 from pathlib import Path
 
 from ephem import api
-from ephem.budget import budget
-from ephem.errors import EphemError
+from ephem.base.budget import budget
+from ephem.base.errors import EphemError
 
 ROOT = Path(__file__).resolve().parent.parent
 CASES = [(body, -3.0e6, 1.0e6, 1000.0) for body in ("earth", "mars", "ceres", "vesta", "eros", "steins", "moon",

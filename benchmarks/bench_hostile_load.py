@@ -354,12 +354,12 @@ async def solo_pass(base: str, requests: list) -> list:
 
 
 def budget_estimate(path: str, max_track_samples: int) -> dict | None:
-    """The service's own cost estimate for a GET track (ephem.cost), computed in a child process by asking
+    """The service's own cost estimate for a GET track (ephem.theory.cost), computed in a child process by asking
     under a zero budget (the estimate is charged before any work, so nothing is computed)."""
     code = f"""
 import json, urllib.parse
 from ephem import api
-from ephem.budget import budget, OverBudgetError
+from ephem.base.budget import budget, OverBudgetError
 q = dict(urllib.parse.parse_qsl(urllib.parse.urlsplit({path!r}).query))
 try:
     with budget(1e-12, 1e-12):

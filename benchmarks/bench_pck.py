@@ -1,5 +1,5 @@
 """What the PCK fit's stable choice costs: the kernel of each body written with the greedy step of today
-(`ephem.pck_fit._pick`: a shortlist scored exactly, ties within rounding broken by the lowest sideband) and
+(`ephem.exports.pck_fit._pick`: a shortlist scored exactly, ties within rounding broken by the lowest sideband) and
 with the step before issue 29 (the argmax of the downdated scores), interleaved in one process.
 
     .venv/bin/python benchmarks/bench_pck.py [-n 5]
@@ -16,7 +16,8 @@ import time
 
 import numpy as np
 
-from ephem import pck, pck_fit
+from ephem.exports import pck
+from ephem.exports import pck_fit
 
 BODIES = ("vesta", "ceres", "eros", "itokawa", "steins", "mars", "earth")
 SPAN = ("2020-01-01", "2040-01-01")

@@ -34,7 +34,7 @@ def import_time() -> tuple[float, float]:
     code = "import time; t=time.perf_counter(); import {mod}; print(time.perf_counter()-t)"
     light = [float(subprocess.check_output([sys.executable, "-c", code.format(mod="ephem")]))
              for _ in range(5)]
-    full = [float(subprocess.check_output([sys.executable, "-c", code.format(mod="ephem.model, ephem.api")]))
+    full = [float(subprocess.check_output([sys.executable, "-c", code.format(mod="ephem.forced.precession_nutation, ephem.api")]))
             for _ in range(5)]
     return statistics.median(light), statistics.median(full)
 
@@ -58,7 +58,7 @@ def main() -> None:
     print(f"{'numpy.sin of the same array':36s} {sin_t * 1e3:8.2f} ms   1.00x")
     for name, v in rows:
         print(f"{name:36s} {v * 1e3:8.2f} ms  {v / sin_t:5.2f}x")
-    print(f"import ephem: {light * 1e3:.0f} ms; import ephem.model + ephem.api: {full * 1e3:.0f} ms")
+    print(f"import ephem: {light * 1e3:.0f} ms; import ephem.forced.precession_nutation + ephem.api: {full * 1e3:.0f} ms")
 
 
 if __name__ == "__main__":

@@ -1,8 +1,8 @@
 """ephem: forced precession and nutation of the spin axes of asteroids, planets and moons.
 
 Kinoshita's theory with exact Hansen coefficients (Petit, Souchay & Lhotka 2014, A&A 565, A79),
-checked against a numerical integration of the torque. Start with :mod:`ephem.api` (answers with
-units in the key names) or :func:`ephem.api.model_for` (the numeric model: radians, days).
+checked against a numerical integration of the torque. Start with :mod:`ephem.answers.requests` (answers with
+units in the key names) or :func:`ephem.answers.requests.model_for` (the numeric model: radians, days).
 
 Importing the package is cheap; astropy loads on the first catalogue read.
 """

@@ -10,7 +10,7 @@ with exit status 2 (bad input, unknown body, and what the option parser refuses:
 number, an unknown option or command, a missing one), 3 (theory not applicable) or 1 (``ephem batch``:
 partitions that still failed after their retries; the others are written and a rerun resumes).
 
-Start-up is kept short for one-body answers: :mod:`ephem.api` (numpy, the catalogue, the models)
+Start-up is kept short for one-body answers: :mod:`ephem.answers.requests` (numpy, the catalogue, the models)
 is imported by each command rather than here, so ``--help`` and usage errors never load it, and
 option values are parsed here rather than by typer's pydantic adapters (see :func:`_plain_values`).
 """
@@ -32,8 +32,8 @@ from typing import Any, Optional
 import typer
 from typer.core import TyperCommand, TyperGroup
 
-from . import tables as _tables
-from .errors import EphemError, NotApplicableError
+from .exports import tables as _tables
+from .base.errors import EphemError, NotApplicableError
 
 try:  # typer >= 0.2x vendors click as typer._click
     from typer._click import exceptions as _usage
@@ -278,7 +278,7 @@ DatasetOpt = typer.Option("current", "--dataset", "-d", help="Catalogue dataset:
 FormatOpt = typer.Option(Format.json, "--format", "-f", help="Output format.")
 OrderOpt = typer.Option(None, "--order", help="Truncate the Hansen coefficients at this power of e "
                         "(the paper: 4). Default: exact.")
-# no min=0 here: ephem.api refuses a tolerance <= 0 (zero too) with the service's message
+# no min=0 here: ephem.answers.requests refuses a tolerance <= 0 (zero too) with the service's message
 ToleranceOpt = typer.Option(None, "--tolerance-mas", help="Let the fidelity ladder pick the cheapest "
                             "model estimated within this many milliarcseconds of the truth.")
 
@@ -331,7 +331,7 @@ def _flat(answer: dict) -> dict:
 @app.command()
 def bodies(dataset: str = DatasetOpt, fmt: Format = FormatOpt):
     """List the catalogue's bodies."""
-    from . import api
+    from .answers import requests as api
 
     try:
         rows = api.list_bodies(dataset)
@@ -354,7 +354,7 @@ def body(name: str = typer.Argument(..., metavar="BODY"), dataset: str = Dataset
     uncertainty, no_uncertainty, source, note; the table leaves out the reasons and notes); the body's identity,
     H_d and the correlations of the values' errors then go to stderr.
     """
-    from . import api
+    from .answers import requests as api
 
     try:
         record = api.body_record(name, dataset)
@@ -380,7 +380,7 @@ def precession(name: str = typer.Argument(..., metavar="BODY"), dataset: str = D
                                           "catalogue's (the Earth: moon,sun, the lunisolar theory); sun for the "
                                           "single-perturber answer.")):
     """Obliquity, dynamical ellipticity, scaling factor K and precession rate of BODY."""
-    from . import api
+    from .answers import requests as api
 
     try:
         ans = api.precession(name, dataset, order, tolerance_mas, perturbers=perturbers)
@@ -401,8 +401,8 @@ def nutation(name: str = typer.Argument(..., metavar="BODY"), dataset: str = Dat
                                                      "many mas (default 0.1).")):
     """Nutation series of BODY in longitude and obliquity (harmonics of the mean anomaly; for the Earth with
     the Moon, integer combinations of the Delaunay arguments l, l', F, D, Omega)."""
-    from . import api
-    from .tables import DELAUNAY_COLUMNS
+    from .answers import requests as api
+    from .exports.tables import DELAUNAY_COLUMNS
 
     try:
         ans = api.nutation(name, dataset, order, tolerance_mas, perturbers=perturbers, cut_mas=cut_mas)
@@ -449,7 +449,7 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
 
     The model used (rung, order, estimated error, cost) goes to stderr with --format csv or table.
     """
-    from . import api
+    from .answers import requests as api
 
     try:
         ans = api.track(name, start, stop, step_days, dataset, order, tolerance_mas=tolerance_mas, model=model,
@@ -494,7 +494,7 @@ def history(name: str = typer.Argument(..., metavar="BODY"),
     The model (orbit, estimate, where the history stops meaning anything, cost) goes to stderr with --format csv
     or table. A progress bar shows on stderr while the spin is integrated (not with --quiet).
     """
-    from . import api
+    from .answers import requests as api
 
     bar = None if quiet else typer.progressbar(length=1000, label="integrating", file=sys.stderr)
     shown = [0]
@@ -541,7 +541,7 @@ def free_motion(name: str = typer.Argument(..., metavar="BODY"),
                 method: str = typer.Option("auto", "--method", help="auto, exact, series or numeric."),
                 dataset: str = DatasetOpt, fmt: Format = FormatOpt):
     """Torque-free wobble of BODY: the figure axis about the angular momentum, and its periods."""
-    from . import api
+    from .answers import requests as api
 
     try:
         ans = api.free_motion_answer(name, start, stop, step_days, j_arcsec, method, dataset)
@@ -554,7 +554,7 @@ def free_motion(name: str = typer.Argument(..., metavar="BODY"),
     _emit(ans, fmt, rows or [dict.fromkeys(api.FREE_MOTION_KEYS, "")])
 
 
-# ephem.tables' own lists (a light module: csv, io, json, math), as choices the option parser checks before any
+# ephem.exports.tables' own lists (a light module: csv, io, json, math), as choices the option parser checks before any
 # body is computed and that `--help` and the tests read
 TableFormat = Enum("TableFormat", [(f, f) for f in _tables.FORMATS], type=str)
 TableLayout = Enum("TableLayout", [(x, x) for x in _tables.LAYOUTS], type=str)
@@ -574,8 +574,8 @@ def tables(names: Optional[list[str]] = typer.Argument(None, metavar="[BODY]..."
     """Nutation tables in the paper's layouts for BODY... or the whole catalogue: one file per body, layout
     and format (<body>_<dataset>_<layout>.csv|md|tex|json). Bodies no theory applies to
     are skipped with the reason."""
-    from . import api
-    from .tables import write_tables
+    from .answers import requests as api
+    from .exports.tables import write_tables
 
     try:
         bodies = names or [b["name"] for b in api.list_bodies(dataset)]
@@ -598,7 +598,7 @@ def tables(names: Optional[list[str]] = typer.Argument(None, metavar="[BODY]..."
 def plot(name: str = typer.Argument(..., metavar="BODY"),
          kind: str = typer.Option("precession", "--kind", help="precession (Petit et al. Fig. 4), nutation-loop "
                                   "(Fig. 5), obliquity, free-wobble, or obliquity-history (the obliquity over "
-                                  "millennia to millions of years, ephem.api.history)."),
+                                  "millennia to millions of years, ephem.answers.requests.history)."),
          start: str = typer.Option(..., "--start", help="ISO 8601 (UTC unless a scale follows) or JD TDB; for "
                                    "--kind obliquity-history, Julian years from J2000.0 TDB (negative: the past, "
                                    "e.g. --start -3e6)."),
@@ -619,12 +619,12 @@ def plot(name: str = typer.Argument(..., metavar="BODY"),
          dpi: float = typer.Option(150, "--dpi", help="PNG resolution.")):
     """A figure of BODY's track (or free wobble, or obliquity history) as PNG or SVG, axes in units, title with
     body and dataset."""
-    from . import plots
+    from .exports import plots
 
     fmt = out.suffix.lower().lstrip(".")
     try:
         if fmt not in plots.CONTENT_TYPES:
-            from .errors import InvalidInputError
+            from .base.errors import InvalidInputError
 
             raise InvalidInputError("out", f"the file must end in .png or .svg, got {out.name!r}")
         image = plots.render(kind, name, start, stop, step_days, fmt, dataset, dpi=dpi, tolerance_mas=tolerance_mas,
@@ -648,7 +648,7 @@ def pck(names: list[str] = typer.Argument(..., metavar="BODY..."),
                                        "them until it is under 0.1 mas).")):
     """A NAIF text PCK (KPL/PCK) whose pole reproduces BODY...'s track over the span, with a comment block
     stating the model, dataset, validity span and fitting error (docs/pck.md)."""
-    from .pck import write_pck_file
+    from .exports.pck import write_pck_file
 
     try:
         result = write_pck_file(out, names, start, stop, dataset=dataset, tolerance_mas=tolerance_mas, model=model,
@@ -696,7 +696,7 @@ def batch(input_path: str = typer.Argument(..., metavar="INPUT", help="The bodie
     ``error`` column. A rerun of the same command resumes: finished partitions are skipped. Notes and a
     progress bar go to stderr; the summary line to stdout.
     """
-    from .errors import InvalidInputError
+    from .base.errors import InvalidInputError
 
     years = {"start_year": start_year, "stop_year": stop_year, "step_years": step_years}
     try:
@@ -708,11 +708,11 @@ def batch(input_path: str = typer.Argument(..., metavar="INPUT", help="The bodie
             raise InvalidInputError(given, "only with --history")
     except EphemError as exc:
         _fail(exc)
-    from . import batch as engine
+    from .batch import distributed as engine
 
     spec = None
     if history:
-        from .population import HistorySpec
+        from .batch.population import HistorySpec
 
         spec = HistorySpec(start_year, stop_year, step_years)
     bar, shown = [None], [0]
@@ -763,7 +763,7 @@ DEMO_NUTATION_COLUMNS = ("multiple", "period_days", "period_years", "longitude_s
 def demo(dataset: str = DatasetOpt):
     """A short tour: precession of every body of the dataset (the Moon: its Cassini state), and Vesta's
     nutation (in a dataset without Vesta, its first body whose series is in harmonics of the mean anomaly)."""
-    from . import api
+    from .answers import requests as api
 
     try:
         bodies = [b["name"] for b in api.list_bodies(dataset)]
@@ -830,7 +830,7 @@ def catalogue_import(orbits: str = typer.Option(..., "--orbits", help="Orbit fil
                      force: bool = typer.Option(False, "--force", help="Replace an imported dataset of that name.")):
     """Write a dataset from your own orbit file and pole/period table, into $EPHEM_USER_CATALOGUE_DIR (default
     ~/.local/share/ephem/catalogue); nothing is fetched from the network."""
-    from .catalogue_import import import_catalogue
+    from .bodies.importer import import_catalogue
 
     try:
         result = import_catalogue(orbits, poles, name, orbit_format.value if orbit_format else None,

@@ -16,24 +16,26 @@ from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
 import ephem
-from ephem import api, memo
-from ephem.catalogue import (DEFAULT_DATASET, KNOWN_PERTURBERS, MAX_ANGLE_DEG, MIN_ROTATION_PERIOD_HOURS, Body, Orbit,
-                             Pole, available_datasets, load_catalogue)
-from ephem.errors import InvalidInputError
-from ephem.free_motion import SERIES_MAX_DELTA
-from ephem.geometry import icrf_to_ecliptic_matrix
-from ephem.ladder import AXES, LAPLACE_LIMIT, MAX_NUMERICAL_ORBITS
-from ephem.plots import MAX_PLOT_POINTS
-from ephem.registry import MODELS
-from ephem.tables import FORMATS, render_nutation
-from ephem.timeparse import TIME_PATTERN_ECMA, ut1_span
+from ephem import api
+from ephem.base import memo
+from ephem.bodies.catalogue import (DEFAULT_DATASET, KNOWN_PERTURBERS, MAX_ANGLE_DEG, MIN_ROTATION_PERIOD_HOURS, Body,
+                                    Orbit, Pole, available_datasets, load_catalogue)
+from ephem.base.errors import InvalidInputError
+from ephem.rotation.free_motion import SERIES_MAX_DELTA
+from ephem.orbit.geometry import icrf_to_ecliptic_matrix
+from ephem.theory.tracks import AXES
+from ephem.sun.ladder import LAPLACE_LIMIT, MAX_NUMERICAL_ORBITS
+from ephem.exports.plots import MAX_PLOT_POINTS
+from ephem.families import MODELS
+from ephem.exports.tables import FORMATS, render_nutation
+from ephem.base.times import TIME_PATTERN_ECMA, ut1_span
 
 from . import guards, problems, schemas
 from .limits import BodySizeLimit
 from .settings import Settings
 
 
-# the names the library knows, one source each: datasets (data/catalogue), models (ephem.registry), axes
+# the names the library knows, one source each: datasets (data/catalogue), models (ephem.families), axes
 Dataset = Enum("Dataset", {name: name for name in available_datasets()}, type=str)
 Rung = Enum("Rung", {name: name for name in MODELS}, type=str)
 Axis = Enum("Axis", {name: name for name in AXES}, type=str)
@@ -274,7 +276,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                 perturbers: Annotated[Optional[str], Query(
                     description="the torquing bodies (default the catalogue's)", examples=["sun", "moon,sun"],
                     max_length=100)] = None):
-        """The spin axis over millennia and millions of years (ephem.history): obliquity, precession angle, pole
+        """The spin axis over millennia and millions of years (ephem.longterm.history): obliquity, precession angle, pole
         and the orbit's inclination, with the estimate at each epoch and where the history stops meaning
         anything."""
         return finite_json(api.history(body, start_year, stop_year, step_years, dataset.value, tolerance_mas,
@@ -296,14 +298,14 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                  J_arcsec: Annotated[Optional[float], Query(ge=0, le=648000, description="free-wobble amplitude "
                                                                                           "(free-wobble kind)")] = None,
                  dpi: Annotated[float, Query(ge=30, le=300, description="PNG resolution")] = 100):
-            from ephem import plots
+            from ephem.exports import plots
 
             image = plots.render(kind.value, body, start, stop, step_days, ext, dataset.value, dpi=dpi,
                                  tolerance_mas=tolerance_mas, model=None if model is None else model.value,
                                  order=order, J_arcsec=J_arcsec)
             return Response(image, media_type=plots.CONTENT_TYPES[ext])
         plot.__name__ = f"track_{ext}"
-        plot.__doc__ = f"The track (or the free wobble) as a {ext.upper()} figure, axes in units (ephem.plots)."
+        plot.__doc__ = f"The track (or the free wobble) as a {ext.upper()} figure, axes in units (ephem.exports.plots)."
         return plot
 
     for ext in ("png", "svg"):
@@ -328,7 +330,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                  "catalogue's bodies); not with tolerance_mas. Default: the shipped N-body orbit "
                                  "where it covers the span, else the secular one")] = None,
                  dpi: Annotated[float, Query(ge=30, le=300, description="PNG resolution")] = 100):
-            from ephem import plots
+            from ephem.exports import plots
 
             image = plots.render(plots.HISTORY_KIND, body, start_year, stop_year, None, ext, dataset.value, dpi=dpi,
                                  tolerance_mas=tolerance_mas, step_years=step_years, orbit_model=orbit_model)
@@ -336,7 +338,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         plot.__name__ = f"history_{ext}"
         plot.__doc__ = (f"The obliquity history (ephem.api.history) as a {ext.upper()} figure: obliquity with its "
                         "estimated error band, the orbit's inclination to the J2000 ecliptic, and the span where "
-                        "the history stops meaning anything hatched (ephem.plots, kind obliquity-history).")
+                        "the history stops meaning anything hatched (ephem.exports.plots, kind obliquity-history).")
         return plot
 
     for ext in ("png", "svg"):
@@ -370,7 +372,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                                                     "mode, δ <= 0.1) or numeric")]
                     = None,
                     dataset: DatasetQuery = DEFAULT_DATASET_VALUE):
-        """The torque-free wobble of the figure axis about the angular momentum (ephem.free_motion)."""
+        """The torque-free wobble of the figure axis about the angular momentum (ephem.rotation.free_motion)."""
         return finite_json(api.free_motion_arrays(body, start, stop, step_days, J_arcsec,
                                                   (method or FreeMethod.auto).value, dataset.value,
                                                   settings.max_track_samples))
@@ -475,7 +477,7 @@ PARAMETER_RULES = {
     "start": {"pattern": TIME_PATTERN_ECMA}, "stop": {"pattern": TIME_PATTERN_ECMA},
     "free_wobble_epoch": {"pattern": TIME_PATTERN_ECMA}, "step_days": _POSITIVE,
     "perturbers": {"pattern": PERTURBERS_PATTERN},
-    # angles taken modulo 360 deg (ephem.catalogue.MAX_ANGLE_DEG; the body's are stated by service.schemas.Angle)
+    # angles taken modulo 360 deg (ephem.bodies.catalogue.MAX_ANGLE_DEG; the body's are stated by service.schemas.Angle)
     "free_wobble_phase_deg": schemas.ANGLE_BOUNDS, "rotation_phase_deg": schemas.ANGLE_BOUNDS,
 }
 #: constraints of the POST body's fields: (component, field) -> constraints (on the number or string branch)

@@ -1,9 +1,9 @@
 """Bounded work per request: the budget every request runs under, and what answers when it is broken.
 
-- Before the work: each request runs inside :func:`ephem.budget.budget` with the service's limits, so
+- Before the work: each request runs inside :func:`ephem.base.budget.budget` with the service's limits, so
   every entry point of :mod:`ephem.api` charges its predicted cost first and a request over budget
   gets a 422 naming the parameter and the estimate (``over-budget``).
-- During the work: the deadline (:func:`ephem.budget.checkpoint` in the long loops) stops a request
+- During the work: the deadline (:func:`ephem.base.budget.checkpoint` in the long loops) stops a request
   whose estimate was wrong with a 503 (``deadline``); a ``MemoryError`` under the worker's memory
   ceiling (``service/gunicorn_conf.py``) is a 503 (``memory``) too, and the worker recycles itself.
 - Beside it, admission: a request whose estimate exceeds ``heavy_request_cpu_s`` must hold one of
@@ -29,7 +29,7 @@ import time
 
 from fastapi import FastAPI, Request
 
-from ephem.budget import Budget, BusyError, DeadlineExceededError, OverBudgetError, budget
+from ephem.base.budget import Budget, BusyError, DeadlineExceededError, OverBudgetError, budget
 
 from .problems import problem
 from .settings import Settings

@@ -6,22 +6,22 @@ from typing import Annotated, Literal, Optional, Union
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 
-from ephem.catalogue import MAX_ANGLE_DEG
-from ephem.constants import GM_CENTER
-from ephem.ladder import AXES
-from ephem.model import MAX_ORDER
-from ephem.registry import MODELS
+from ephem.bodies.catalogue import MAX_ANGLE_DEG
+from ephem.base.constants import GM_CENTER
+from ephem.theory.tracks import AXES
+from ephem.forced.precession_nutation import MAX_ORDER
+from ephem.families import MODELS
 
 # strict: JSON true is not a number, nor "2.36" (a string) one; JSON integers are still numbers
 Finite = ConfigDict(allow_inf_nan=False, extra="forbid", strict=True)
-# the names come from the library (one source each): the models of ephem.registry, the axes of ephem.ladder
+# the names come from the library (one source each): the models of ephem.families, the axes of ephem.sun.ladder
 RungName = Literal[MODELS]
 Perturbers = Field(None, description="the bodies whose torque the answer includes: the orbit's centre (the Sun), "
                                      "and for the Earth by default the Moon too (the lunisolar theory)")
 AxisName = Literal[AXES]
 
 
-#: what an angle taken modulo 360 deg accepts (ephem.catalogue.MAX_ANGLE_DEG), appended to its description
+#: what an angle taken modulo 360 deg accepts (ephem.bodies.catalogue.MAX_ANGLE_DEG), appended to its description
 ANGLE_RULE = (f"; any number of turns within ±{MAX_ANGLE_DEG:g} deg (beyond it the doubles are more than "
               f"{math.ulp(MAX_ANGLE_DEG):.2g} deg apart and the angle modulo 360 loses its digits: 422 naming the "
               "field)")
@@ -32,7 +32,7 @@ ANGLE_BOUNDS = {"minimum": -MAX_ANGLE_DEG, "maximum": MAX_ANGLE_DEG}
 
 def _angle_bounds(schema: dict) -> None:
     """State MAX_ANGLE_DEG in the JSON Schema, on the number branch (anyOf with null for an optional angle). The
-    library enforces it (ephem.catalogue.check_angle), with the reason in the 422, so pydantic is not asked to."""
+    library enforces it (ephem.bodies.catalogue.check_angle), with the reason in the 422, so pydantic is not asked to."""
     for branch in schema.get("anyOf", [schema]):
         if branch.get("type") == "number":
             branch.update(ANGLE_BOUNDS)
@@ -91,7 +91,7 @@ class ModelInfo(BaseModel):
     free_wobble: Optional[FreeWobbleInfo] = Field(None, description="tracks: the free wobble added to the figure "
                                                                     "axis, or null when it is left out")
     rotation_scale: Optional[RotationScaleInfo] = Field(None, description="tracks: the rotation-scale terms added "
-                                                        "(ephem.rotation_scale), or null when none are")
+                                                        "(ephem.forced.rotation_scale), or null when none are")
     perturbers: Optional[list[str]] = Perturbers
     cut_mas: Optional[float] = Field(None, description="the lunisolar theory (name \"lunisolar\"): the amplitude cut "
                                                        "of its nutation series, mas")
@@ -157,7 +157,7 @@ Sigma = Field(None, description="1-sigma uncertainty from the catalogue's, same 
 
 
 class CassiniInfo(BaseModel):
-    """The Cassini state of a synchronous rotator (ephem.cassini): the served mean pole and what the theory derives."""
+    """The Cassini state of a synchronous rotator (ephem.moon.cassini): the served mean pole and what the theory derives."""
     equator_inclination_deg: float = Field(description="the served mean pole's inclination to the Laplace plane "
                                                        "(the Moon: the ecliptic of date), from the catalogue pole")
     derived_equator_inclination_deg: float = Field(description="the same from the torque's balance against the "
@@ -334,7 +334,7 @@ class OrbitIn(BaseModel):
         None, description="a synchronous satellite (rotation period = orbital period): the rate of its orbit's node "
                           "on its Laplace plane, deg per Julian year (negative: regressing); the Laplace plane is the "
                           "plane the elements are referred to (the ecliptic J2000), so i_deg is the orbit's "
-                          "inclination to it. The pole is then the Cassini state's (ephem.synchronous)")
+                          "inclination to it. The pole is then the Cassini state's (ephem.moon.family)")
 
 
 class PoleIn(BaseModel):
@@ -397,7 +397,7 @@ class UserBody(BaseModel):
 
 
 class FreeMotion(BaseModel):
-    """The torque-free wobble of the figure axis about the angular momentum (ephem.free_motion)."""
+    """The torque-free wobble of the figure axis about the angular momentum (ephem.rotation.free_motion)."""
     body: str
     dataset: str
     jd_tdb: list[float]

@@ -77,7 +77,7 @@ class Settings:
     #: the most bodies one POST /v1/batch takes (422 beyond, pointing to `ephem batch`); the body size limit
     #: (max_body_bytes: about 300 bytes a row of JSON) and the CPU budget bound it too
     max_batch_rows: int = 200
-    #: the bytes a worker's per-body caches (models, theories, the ladder's tables, uncertainties: ephem.memo) hold
+    #: the bytes a worker's per-body caches (models, theories, the ladder's tables, uncertainties: ephem.base.memo) hold
     #: together, MB: the bodies are the clients', and one eccentric body's entries weigh megabytes (a cache
     #: counted in entries let 512 of them walk a worker to its recycle threshold)
     model_cache_mb: float = 64.0

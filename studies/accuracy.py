@@ -13,12 +13,12 @@ SVG, with the plotted numbers as CSV beside it:
 2. ``error_vs_order``: the pole displacement between the nutation with Hansen coefficients
    truncated at e^N and with the exact ones, against N, for Vesta-like bodies of several
    eccentricities (including one beyond the Laplace limit, where the series diverge),
-   with :func:`ephem.ladder.truncation_bound` as the estimate.
+   with :func:`ephem.sun.ladder.truncation_bound` as the estimate.
 3. ``error_vs_span``: each rung's true error against the numerical rung (the same
    fixed Keplerian orbit) from 1 to 1000 years, with the estimates, and where each rung
    crosses 1, 10 and 100 mas (``error_vs_span_crossings.csv``).
 4. ``averaging_vs_spin``: where rotation averaging fails. The rotation-averaged pole (rung 5,
-   ``numerical``) against the full rigid body (rung 7, :mod:`ephem.rigid`) over one orbit, as
+   ``numerical``) against the full rigid body (rung 7, :mod:`ephem.forced.rigid_body`) over one orbit, as
    a fraction of the pole's largest displacement, against ω/n, for the synthetic rotators of
    :func:`studies.rigid_body.averaging_error_study` (figure axis and angular momentum, one panel
    each), with the 10% criterion, the product's
@@ -46,12 +46,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ephem.catalogue import Body, get_body
-from ephem.constants import JULIAN_YEAR_DAYS, MAS
-from ephem.errors import EphemError
-from ephem.hansen import LAPLACE_LIMIT
-from ephem.ladder import Estimate, Ladder, cached_model, pole_vectors, truncation_bound
-from ephem.numerical import angular_separation
+from ephem.bodies.catalogue import Body, get_body
+from ephem.base.constants import JULIAN_YEAR_DAYS, MAS
+from ephem.base.errors import EphemError
+from ephem.orbit.hansen import LAPLACE_LIMIT
+from ephem.sun.ladder import Estimate, Ladder, cached_model, truncation_bound
+from ephem.theory.tracks import pole_vectors
+from ephem.forced.integration import angular_separation
 
 from ._command import chart_app
 
@@ -436,9 +437,9 @@ SPAN_RUNGS = (("secular", None), ("series", SPAN_SERIES_ORDER), ("hansen", None)
 
 def _reference_track(ladder: Ladder, t: np.ndarray):
     """Rung 5 over any span: a benchmark may integrate past the serving cap of
-    :data:`ephem.ladder.MAX_NUMERICAL_ORBITS` (the Earth's 1000 years are 1000 orbits)."""
-    from ephem.ladder import NUMERICAL_RTOL, track_from_vectors
-    from ephem.numerical import integrate_spin_axis
+    :data:`ephem.sun.ladder.MAX_NUMERICAL_ORBITS` (the Earth's 1000 years are 1000 orbits)."""
+    from ephem.sun.ladder import NUMERICAL_RTOL, track_from_vectors
+    from ephem.forced.integration import integrate_spin_axis
 
     m = ladder.model
     return track_from_vectors(m, ladder.theory, t, integrate_spin_axis(m, t, rtol=NUMERICAL_RTOL))
@@ -625,8 +626,8 @@ def falls_below(ratios: list[float], values: list[float], level: float) -> float
 
 def averaging_rows(s: Settings) -> list[dict]:
     """Per study case and ω/n: rung 5 against rung 7 over one orbit (:func:`studies.rigid_body.averaging_error_study`)."""
-    from ephem.model import MIN_SPIN_ORBIT_RATIO
-    from ephem.rigid import normalised_moments
+    from ephem.forced.precession_nutation import MIN_SPIN_ORBIT_RATIO
+    from ephem.forced.rigid_body import normalised_moments
 
     from .rigid_body import averaging_error_study, study_cases
 
@@ -648,7 +649,7 @@ def averaging_rows(s: Settings) -> list[dict]:
 
 def averaging_crossing_rows(rows: list[dict]) -> list[dict]:
     """Per case: the ω/n above which each relative error stays below :data:`AVERAGING_LEVEL`."""
-    from ephem.model import MIN_SPIN_ORBIT_RATIO
+    from ephem.forced.precession_nutation import MIN_SPIN_ORBIT_RATIO
 
     out = []
     for case in dict.fromkeys(r["case"] for r in rows):
@@ -665,9 +666,9 @@ def averaging_crossing_rows(rows: list[dict]) -> list[dict]:
 
 def catalogue_ratio_rows() -> list[dict]:
     """ω/n of every catalogue body, as the product computes it, and whether it refuses the body."""
-    from ephem.catalogue import load_catalogue
-    from ephem.errors import NotApplicableError
-    from ephem.model import MIN_SPIN_ORBIT_RATIO, build_model
+    from ephem.bodies.catalogue import load_catalogue
+    from ephem.base.errors import NotApplicableError
+    from ephem.forced.precession_nutation import MIN_SPIN_ORBIT_RATIO, build_model
 
     rows = []
     for body in load_catalogue().bodies:
@@ -696,7 +697,7 @@ def _draw_averaging_vs_spin(rows: list[dict], crossings: list[dict], bodies: lis
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    from ephem.model import MIN_SPIN_ORBIT_RATIO
+    from ephem.forced.precession_nutation import MIN_SPIN_ORBIT_RATIO
 
     fig = _figure(11.5, 5.6)
     axes = fig.subplots(1, 2, sharey=True)

@@ -4,8 +4,8 @@ transfer function. The chart of docs/earth.md (docs/charts/earth_nutation_residu
 A study, not the library (see :mod:`studies`): run from the project root as
 ``python -m studies.earth_nutation_residual [PREFIX]`` (default ``earth_nutation_residual``; the committed chart:
 ``docs/charts/earth_nutation_residual``). It prints the rms and max (mas) it drew. The library's side is
-:mod:`ephem.lunisolar` (the series, :func:`ephem.lunisolar.residual_vs_iau2000a`) and :mod:`ephem.nonrigid`
-(:func:`ephem.nonrigid.non_rigid_series`).
+:mod:`ephem.earth.lunisolar` (the series, :func:`ephem.earth.lunisolar.residual_vs_iau2000a`) and :mod:`ephem.earth.nonrigid`
+(:func:`ephem.earth.nonrigid.non_rigid_series`).
 """
 from __future__ import annotations
 
@@ -13,9 +13,9 @@ import sys
 
 import numpy as np
 
-from ephem.constants import J2000_JD, JULIAN_YEAR_DAYS, MAS
-from ephem.lunisolar import earth_lunisolar, residual_vs_iau2000a
-from ephem.nonrigid import non_rigid_series
+from ephem.base.constants import J2000_JD, JULIAN_YEAR_DAYS, MAS
+from ephem.earth.lunisolar import earth_lunisolar, residual_vs_iau2000a
+from ephem.earth.nonrigid import non_rigid_series
 
 #: The chart's file prefix when none is given.
 DEFAULT_PREFIX = "earth_nutation_residual"
@@ -24,7 +24,7 @@ DEFAULT_PREFIX = "earth_nutation_residual"
 def write_residual_chart(prefix: str, step_days: float = 2.0) -> dict:
     """The residual against IAU 2000A over 1900-2100 of the rigid series (IERS H_d, figure axis,
     0.1 mas cut) and of the same series times the IERS 1996 transfer function
-    (:func:`ephem.nonrigid.non_rigid_series`): ``prefix``.csv, .png and .svg. Returns the rms and
+    (:func:`ephem.earth.nonrigid.non_rigid_series`): ``prefix``.csv, .png and .svg. Returns the rms and
     max (mas) it drew."""
     import csv
 
@@ -64,7 +64,7 @@ def write_residual_chart(prefix: str, step_days: float = 2.0) -> dict:
         ax.set_xlabel("year (TDB)")
     fig.suptitle("Left: first-order rigid-Earth lunisolar nutation (H_d = 0.0032737949, figure axis, 0.1 mas cut) "
                  "minus erfa.nut00a (IAU 2000A).\nRight: the same, plus the precession-nutation coupling, times the "
-                 "IERS 1996 transfer function T (elastic mantle, fluid core; ephem.nonrigid)", fontsize=10)
+                 "IERS 1996 transfer function T (elastic mantle, fluid core; ephem.earth.nonrigid)", fontsize=10)
     fig.tight_layout()
     fig.savefig(prefix + ".png", dpi=110)
     fig.savefig(prefix + ".svg")

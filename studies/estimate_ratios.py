@@ -9,7 +9,7 @@ A study, not the library (see :mod:`studies`): run from the project root as
   from days to a century, both signs);
 * ``orbit_motion`` against the gap between ``numerical`` and ``real_orbit`` for the catalogue bodies, over
   random spans inside DE421 (a day to 150 years, either side of the pole epoch, most not reaching it);
-* ``rotation_averaging`` (:func:`ephem.rotation_scale.error_terms`) against the full rigid body, read from
+* ``rotation_averaging`` (:func:`ephem.forced.rotation_scale.error_terms`) against the full rigid body, read from
   ``rotation_scale_population.csv`` (:mod:`studies.rotation_scale`, which integrates it; a run of its own).
 
 It writes ``estimate_ratios.csv`` (one row per case and rung or term), ``estimate_ratios_summary.csv`` (count,
@@ -25,11 +25,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ephem.catalogue import Body, Orbit, Pole, get_body
-from ephem.constants import JULIAN_YEAR_DAYS, MAS
-from ephem.hansen import LAPLACE_LIMIT
-from ephem.ladder import ROUNDING, Ladder, pole_vectors
-from ephem.numerical import angular_separation
+from ephem.bodies.catalogue import Body, Orbit, Pole, get_body
+from ephem.base.constants import JULIAN_YEAR_DAYS, MAS
+from ephem.orbit.hansen import LAPLACE_LIMIT
+from ephem.theory.tracks import ROUNDING, pole_vectors
+from ephem.sun.ladder import Ladder
+from ephem.forced.integration import angular_separation
 
 from ._command import chart_app
 from .rotation_scale import write_csv
@@ -95,7 +96,7 @@ def theory_rows(count: int) -> list[dict]:
 
 def orbit_rows(count_per_body: int, seed: int = 7, bodies=ORBIT_BODIES) -> list[dict]:
     """``orbit_motion`` against the gap between rungs 5 and 6, random spans inside DE421 per catalogue body."""
-    from ephem.ephemeris import de421_span
+    from ephem.orbit.de421 import de421_span
 
     lo, hi = de421_span()
     lo, hi = lo + 60.0, hi - 60.0

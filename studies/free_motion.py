@@ -8,7 +8,7 @@ Each writes one chart into ``out_dir`` as PNG (150 dpi) and SVG, with the plotte
 1. ``free_motion_work_precision``: the error of the body-frame angular momentum direction (the
    largest angle over ~1000 epochs spread over three wobble periods, radians) against the CPU time
    of one evaluation of all those epochs, for the exact Euler-Poinsot solution (construction of the
-   :class:`~ephem.euler_poinsot.FreeRotation` included), Lara's series truncated at orders
+   :class:`~ephem.rotation.euler_poinsot.FreeRotation` included), Lara's series truncated at orders
    N = 1, 2, 4, 8, 12 (``SamSeriesSolution.propagate(..., upto=N)``; the one-off build of the series,
    ~0.1-0.5 s, *excluded*: it is cached per body) and DOP853 on Euler's equations at rtol 1e-8, 1e-10,
    1e-12. The reference is the exact solution; the exact point itself is plotted at its difference from
@@ -39,9 +39,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ephem.catalogue import get_body
-from ephem.constants import ARCSEC
-from ephem.free_motion import SERIES_MAX_DELTA
+from ephem.bodies.catalogue import get_body
+from ephem.base.constants import ARCSEC
+from ephem.rotation.free_motion import SERIES_MAX_DELTA
 
 from ._command import chart_app
 from .accuracy import chart_job, new_figure as _figure, save_chart
@@ -108,7 +108,7 @@ def synthetic_moments(alpha: float, beta: float) -> tuple[float, float, float]:
 
 
 def _initial(M: float, J: float) -> np.ndarray:
-    return np.array([0.0, M * math.sin(J), M * math.cos(J)])   # ν = 0, as ephem.free_motion
+    return np.array([0.0, M * math.sin(J), M * math.cos(J)])   # ν = 0, as ephem.rotation.free_motion
 
 
 def direction_error(m: np.ndarray, ref: np.ndarray) -> float:
@@ -146,7 +146,7 @@ def _cpu(fn, repeats: int):
 
 
 def _series(moments, order: int):
-    from ephem.lie_series import SamSeriesSolution
+    from ephem.rotation.lie_series import SamSeriesSolution
 
     return SamSeriesSolution(moments, order)
 
@@ -162,13 +162,13 @@ def _series_error(sol, L0: np.ndarray, t: np.ndarray, upto: int, ref: np.ndarray
 
 
 def _exact_momentum(moments, L0: np.ndarray, t: np.ndarray) -> np.ndarray:
-    from ephem.euler_poinsot import FreeRotation
+    from ephem.rotation.euler_poinsot import FreeRotation
 
     return FreeRotation.from_body_momentum(moments, L0).body_momentum(t)
 
 
 def work_precision_rows(s: Settings) -> list[dict]:
-    from ephem.euler_poinsot import FreeRotation
+    from ephem.rotation.euler_poinsot import FreeRotation
 
     rows = []
     for name in s.bodies:
@@ -197,7 +197,7 @@ def work_precision_rows(s: Settings) -> list[dict]:
 
 
 def _failure_case(sols: dict, moments, omega: float, J: float, s: Settings, extra: dict) -> list[dict]:
-    from ephem.euler_poinsot import FreeRotation
+    from ephem.rotation.euler_poinsot import FreeRotation
 
     L0 = _initial(omega, J)
     fr = FreeRotation.from_body_momentum(moments, L0)

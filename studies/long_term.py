@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ephem.population import crossing_period   # the obliquity period, as the batch answers measure it
+from ephem.batch.population import crossing_period  # the obliquity period, as the batch answers measure it
 
 from ._command import chart_app
 
@@ -73,7 +73,7 @@ def span(quick: bool = False) -> tuple[float, float, float]:
 def histories(start: float, stop: float, step: float) -> dict[str, dict]:
     """Per body: ``answer`` (the :func:`ephem.api.history` dict) and ``cost_s`` (wall seconds), or ``reason``."""
     from ephem import api
-    from ephem.errors import EphemError
+    from ephem.base.errors import EphemError
 
     out = {}
     for name in BODIES:
@@ -88,19 +88,19 @@ def histories(start: float, stop: float, step: float) -> dict[str, dict]:
 
 
 def spin_constants(name: str):
-    """The body's :class:`ephem.spin_history.SpinConstants` (its theory's averaged spin)."""
-    from ephem.catalogue import resolve_body
-    from ephem.registry import theory_for
+    """The body's :class:`ephem.longterm.averaged_spin.SpinConstants` (its theory's averaged spin)."""
+    from ephem.bodies.catalogue import resolve_body
+    from ephem.families import theory_for
 
     b = resolve_body(name, "current")
     return theory_for(b, b.perturbers).secular_spin()
 
 
 def scaled_history(name: str, scale: float, years: np.ndarray):
-    """The body's spin history (:func:`ephem.spin_history.integrate`) along its shipped N-body orbit, with the
+    """The body's spin history (:func:`ephem.longterm.averaged_spin.integrate`) along its shipped N-body orbit, with the
     precession constant of the orbit's centre scaled by ``scale``."""
-    from ephem.orbit_history import shipped_orbit_history
-    from ephem.spin_history import integrate
+    from ephem.longterm.nbody_orbit import shipped_orbit_history
+    from ephem.longterm.averaged_spin import integrate
 
     spin = spin_constants(name)
     return integrate(replace(spin, orbit_constant=spin.orbit_constant * scale), shipped_orbit_history(name), years)
@@ -226,7 +226,7 @@ def vondrak_poles(years: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _angle(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    from ephem.geometry import angle_between      # not at import: the study's --help stays light
+    from ephem.orbit.geometry import angle_between  # not at import: the study's --help stays light
 
     return angle_between(u, v)
 
@@ -482,7 +482,7 @@ def obliquities(out_dir: Path, quick: bool = False) -> list[dict]:
 # ----------------------------------------------------------------------------- 4. the summary and the inputs
 
 def history_measures(label: str, body: str, h, past_from: float) -> dict:
-    """Range, present value and period of a :class:`~ephem.spin_history.SpinHistory` (obliquity in radians)."""
+    """Range, present value and period of a :class:`~ephem.longterm.averaged_spin.SpinHistory` (obliquity in radians)."""
     y, o = h.years, np.degrees(h.obliquity)
     past = in_span(y, past_from, 0.0)
     return {"section": "inputs", "body": body, "case": label, "present_deg": float(np.interp(0.0, y, o)),

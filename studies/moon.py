@@ -90,7 +90,7 @@ def route_pole(start: float, stop: float, step: float, **request) -> tuple[np.nd
 
 def poles(start: float, stop: float, step: float, tolerance_mas: float = TOLERANCE_MAS) -> list[dict]:
     """One entry per row: label, the model served, JD, vectors, wall time, or the reason there is none."""
-    from ephem.errors import EphemError
+    from ephem.base.errors import EphemError
 
     jd = _jd(start, stop, step)
     out = []

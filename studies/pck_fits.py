@@ -15,8 +15,9 @@ from pathlib import Path
 import numpy as np
 import typer
 
-from ephem import api, pck
-from ephem.errors import InvalidInputError
+from ephem import api
+from ephem.exports import pck
+from ephem.base.errors import InvalidInputError
 
 MAS = math.pi / 648_000_000.0
 STAMP = datetime(2026, 1, 1, tzinfo=UTC)

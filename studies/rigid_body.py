@@ -3,10 +3,10 @@ falls, and rung 7's cost. The numbers of docs/rigid_body_study.md.
 
 A study, not the library (see :mod:`studies`): run from the project root as ``python -m studies.rigid_body``
 (prints the study's tables, then rung 7's CPU cost for Vesta and Itokawa). The library's side, the rigid body
-and the error bound the study checks, is :mod:`ephem.rigid` (:func:`ephem.rigid.compare_with_averaged`,
-:func:`ephem.rigid.synthetic_model`, and the threshold ``ephem.rigid.RECOMMENDED_MIN_SPIN_ORBIT_RATIO`` the
+and the error bound the study checks, is :mod:`ephem.forced.rigid_body` (:func:`ephem.forced.rigid_body.compare_with_averaged`,
+:func:`ephem.forced.rigid_body.synthetic_model`, and the threshold ``ephem.forced.rigid_body.RECOMMENDED_MIN_SPIN_ORBIT_RATIO`` the
 study sets); chart 4 of :mod:`studies.accuracy` draws this study. The error estimate of what averaging leaves
-out (:func:`ephem.rotation_scale.error_terms`) is checked against the rigid body by :mod:`studies.rotation_scale`,
+out (:func:`ephem.forced.rotation_scale.error_terms`) is checked against the rigid body by :mod:`studies.rotation_scale`,
 from the forced start this study does not use.
 """
 from __future__ import annotations
@@ -17,16 +17,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ephem.model import PrecessionNutation
-from ephem.rigid import compare_with_averaged, integrate_rigid_body, model_moments, study_epochs, synthetic_model
+from ephem.forced.precession_nutation import PrecessionNutation
+from ephem.forced.rigid_body import (compare_with_averaged, integrate_rigid_body, model_moments, study_epochs,
+                                     synthetic_model)
 
 STUDY_RATIOS = (1.2, 1.5, 2.0, 3.0, 5.0, 10.0, 20.0, 50.0, 100.0, 300.0, 1000.0)
 
 
 def study_cases() -> list[tuple[str, PrecessionNutation, tuple[float, float, float]]]:
     """(label, catalogue model, normalised moments): each geometry axisymmetric (same H_d) and as catalogued."""
-    from ephem.catalogue import get_body
-    from ephem.model import build_model
+    from ephem.bodies.catalogue import get_body
+    from ephem.forced.precession_nutation import build_model
 
     cases = []
     for name in ("Vesta", "Eros", "Itokawa", "Earth"):
@@ -61,7 +62,7 @@ def averaging_error_study(ratios=STUDY_RATIOS, span_orbits: float = 1.0, cases=N
     """Rung 5 against rung 7 as ω/n falls, over ``span_orbits`` orbits from the pole epoch.
 
     Each case keeps its geometry (orbit, pole) and moments; ω = ratio × n sets K = 3 n² H_d/ω
-    (:func:`ephem.rigid.synthetic_model`). Epochs: ``per_rotation`` a rotation, at least 400.
+    (:func:`ephem.forced.rigid_body.synthetic_model`). Epochs: ``per_rotation`` a rotation, at least 400.
     """
     rows = []
     for label, base, mom in (study_cases() if cases is None else cases):
@@ -131,8 +132,8 @@ def _print_study(rows: list[StudyRow]) -> None:
 
 def main() -> None:
     """The study's tables (markdown), then rung 7's CPU cost for Vesta and Itokawa (300 rotations each)."""
-    from ephem.catalogue import get_body
-    from ephem.model import build_model
+    from ephem.bodies.catalogue import get_body
+    from ephem.forced.precession_nutation import build_model
 
     _print_study(averaging_error_study())
     print()

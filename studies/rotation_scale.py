@@ -1,10 +1,10 @@
 """The rotation-scale study: what averaging over the rotation leaves out, against the full rigid body, and how
-close the error estimate of :func:`ephem.rotation_scale.error_terms` comes to it.
+close the error estimate of :func:`ephem.forced.rotation_scale.error_terms` comes to it.
 
 A study, not the library (see :mod:`studies`): run from the project root as
 ``python -m studies.rotation_scale [--out DIR] [--quick]``. For a population of generated bodies (e to 0.95,
 obliquities near 0°, 30°, 60°, 90°, 120° and 180°, ω/n from 30 up, A + B - C from near 0 to near 1, spans
-from a fraction of an orbit to tens of orbits) it integrates the full rigid body (:mod:`ephem.rigid`, DOP853 at
+from a fraction of an orbit to tens of orbits) it integrates the full rigid body (:mod:`ephem.forced.rigid_body`, DOP853 at
 1e-12, started in the forced state: no free wobble) and the rotation-averaged pole (rung 5) without and with the
 closed-form rotation-scale terms, and writes ``rotation_scale_population.csv``: per case, variant (what the
 track includes: "none", "oppolzer", "all") and axis (figure or angular momentum), the true largest error, the
@@ -23,14 +23,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ephem import rotation_scale as rs
-from ephem.catalogue import Body, Pole, get_body
-from ephem.constants import MAS
-from ephem.geometry import lon_lat
-from ephem.ladder import ROUNDING
-from ephem.model import cached_model
-from ephem.numerical import angular_separation, integrate_spin_axis
-from ephem.rigid import integrate_rigid_body, normalised_moments, rotation_matrices, study_epochs
+from ephem.forced import rotation_scale as rs
+from ephem.bodies.catalogue import Body, Pole, get_body
+from ephem.base.constants import MAS
+from ephem.orbit.geometry import lon_lat
+from ephem.theory.tracks import ROUNDING
+from ephem.forced.precession_nutation import cached_model
+from ephem.forced.integration import angular_separation, integrate_spin_axis
+from ephem.forced.rigid_body import integrate_rigid_body, normalised_moments, rotation_matrices, study_epochs
 
 from ._command import chart_app
 
@@ -164,7 +164,7 @@ def case_rows(case: Case, index: int) -> list[dict]:
 
 
 def re_estimate(rows: list[dict]) -> list[dict]:
-    """The rows with the estimate and its pieces recomputed by today's :func:`ephem.rotation_scale.error_terms`
+    """The rows with the estimate and its pieces recomputed by today's :func:`ephem.forced.rotation_scale.error_terms`
     (the truth kept): a change of the estimate is judged on the stored population without integrating again."""
     fields = [f.name for f in dataclasses.fields(Case)]
     out = []

@@ -20,8 +20,8 @@ from pathlib import Path
 import typer
 
 from ephem import api
-from ephem.catalogue import Body, get_body
-from ephem.errors import NotApplicableError
+from ephem.bodies.catalogue import Body, get_body
+from ephem.base.errors import NotApplicableError
 
 #: (label, start, stop, step in days)
 SPANS = (("30 days", "2020-01-01", "2020-01-31", 1.0), ("1 year", "2020-01-01", "2021-01-01", 5.0),

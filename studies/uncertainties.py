@@ -5,16 +5,16 @@ It prints three Markdown tables for docs/uncertainties.md (*Results*, *Sensitivi
 
 * the precession answer's 1σ of every body of the ``current`` dataset (``ephem.api.precession``, whichever theory
   serves it), whether they are complete (every input with a σ) and which inputs carry one;
-* for the single-perturber theory's bodies, the linear σ of :func:`ephem.uncertainty.propagate` against
-  :func:`ephem.uncertainty.monte_carlo` (N = 1000, seed 0), as ratios MC/linear for ε, ψ̇, Δψ, Δε;
+* for the single-perturber theory's bodies, the linear σ of :func:`ephem.forced.uncertainty.propagate` against
+  :func:`ephem.forced.uncertainty.monte_carlo` (N = 1000, seed 0), as ratios MC/linear for ε, ψ̇, Δψ, Δε;
 * the sensitivities of ε and ψ̇ to the pole, the period, a and e, for a σ from elsewhere.
 """
 from __future__ import annotations
 
 from ephem import api
-from ephem.catalogue import load_catalogue
-from ephem.errors import NotApplicableError
-from ephem.uncertainty import input_sigmas, monte_carlo, propagate
+from ephem.bodies.catalogue import load_catalogue
+from ephem.base.errors import NotApplicableError
+from ephem.forced.uncertainty import input_sigmas, monte_carlo, propagate
 
 KEYS = ("obliquity_deg", "precession_rate_arcsec_per_year", "dynamical_ellipticity", "scaling_factor_arcsec_per_year")
 RATIO_KEYS = ("obliquity_deg", "precession_rate_arcsec_per_year", "delta_psi_half_peak_to_peak_arcsec",

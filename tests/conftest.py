@@ -25,7 +25,7 @@ os.environ["EPHEM_USER_CATALOGUE_DIR"] = tempfile.mkdtemp(prefix="ephem-test-use
 import pytest  # noqa: E402
 from hypothesis import settings  # noqa: E402
 
-from ephem.catalogue import Body, Orbit, Pole  # noqa: E402
+from ephem.bodies.catalogue import Body, Orbit, Pole  # noqa: E402
 
 
 
@@ -56,7 +56,7 @@ def vesta_like():
 @pytest.fixture(scope="session")
 def nf():
     """Lara's normal form of the free rigid body at the order the Lie-series suites use."""
-    from ephem.lie_series import sam_normal_form
+    from ephem.rotation.lie_series import sam_normal_form
     from tests.test_lie_series import ORDER
 
     return sam_normal_form(ORDER)
@@ -75,7 +75,7 @@ def moderate_reference():
 
     import numpy as np
 
-    from ephem.lie_series import SamParameters
+    from ephem.rotation.lie_series import SamParameters
     from tests.test_lie_series import MODERATE, _initial_m, _reference_quaternion
 
     p = SamParameters(*MODERATE)
@@ -98,6 +98,6 @@ def run_quick_charts(tasks, out, count: int):
 @pytest.fixture(scope="session")
 def rigid():
     """The Earth's rigid lunisolar series: figure axis, IERS 2010 H_d, 0.1 mas cut (compared with IAU 2000A)."""
-    from ephem import lunisolar
+    from ephem.earth import lunisolar
 
     return lunisolar.earth_lunisolar(cut_mas=0.1, hd="iers2010")

@@ -3,7 +3,7 @@ cap on the memory a property sweep may take."""
 import contextlib
 import os
 
-from ephem.catalogue import Body, Orbit, Pole
+from ephem.bodies.catalogue import Body, Orbit, Pole
 
 
 def synthetic_body(e=0.1, obliquity_deg=30.0, hd=0.1, period_hours=5.0, a_au=2.0, node_of_equator_deg=40.0,

@@ -1,8 +1,8 @@
 """A&A (2017) article aa30490-17, Table A.4, "Main orbital coefficients for Moon and Sun" (data/lunisolar.toml):
-the forcing spectrum of ephem.lunisolar (the Moon's and the Sun's B0, B1, B2 functions) against it."""
+the forcing spectrum of ephem.earth.lunisolar (the Moon's and the Sun's B0, B1, B2 functions) against it."""
 import pytest
 
-from ephem import lunisolar as L
+from ephem.earth import lunisolar as L
 
 
 # Table A.4 of A&A 2017 (aa30490-17), "main orbital coefficients" (data/lunisolar.toml): the

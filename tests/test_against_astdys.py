@@ -1,14 +1,14 @@
-"""AstDyS synthetic proper elements: Vesta's orbit (ephem.ephemeris, integrated with the planets) regresses on
+"""AstDyS synthetic proper elements: Vesta's orbit (ephem.orbit.de421, integrated with the planets) regresses on
 the invariable plane (Souami & Souchay 2012) at AstDyS's proper frequency s."""
 import math
 
 import numpy as np
 import pytest
 
-from ephem import ephemeris as E
-from ephem.catalogue import get_body
-from ephem.constants import ARCSEC
-from ephem.geometry import icrf_to_ecliptic_matrix
+from ephem.orbit import de421 as E
+from ephem.bodies.catalogue import get_body
+from ephem.base.constants import ARCSEC
+from ephem.orbit.geometry import icrf_to_ecliptic_matrix
 from tests.test_ephemeris import Y1925
 
 

@@ -1,5 +1,5 @@
-"""astropy: the library's UT1 -> TDB (ephem.timeparse) against astropy's own conversion through the same
-bundled IERS tables, and the free wobble's phase (ephem.free_motion through ephem.api) against astropy's
+"""astropy: the library's UT1 -> TDB (ephem.base.times) against astropy's own conversion through the same
+bundled IERS tables, and the free wobble's phase (ephem.rotation.free_motion through ephem.api) against astropy's
 position angle and separation."""
 from functools import lru_cache
 
@@ -9,12 +9,12 @@ from astropy.time import Time
 from astropy.utils import iers
 
 from ephem import api
-from ephem.timeparse import to_jd_tdb
+from ephem.base.times import to_jd_tdb
 
 J2000 = 2451545.0
 
 
-# ----------------------------------------------------------------------------- ephem.timeparse
+# ----------------------------------------------------------------------------- ephem.base.times
 
 #: agreement with astropy's conversion through the same bundled table: 0.1 ms. Both round the JD to one
 #: float64 (2.5e6 d carries ~40 µs), so this is the resolution, with margin; the conversions themselves
@@ -52,7 +52,7 @@ def test_ut1_inside_the_bundled_span_agrees_with_astropy(text):
         assert abs(_seconds(ours, _astropy_bundled_tdb(text, a))) < CROSS_SERIES_BUDGET_S
 
 
-# ----------------------------------------------------------------------------- ephem.free_motion
+# ----------------------------------------------------------------------------- ephem.rotation.free_motion
 
 def test_the_phase_is_the_position_angle_from_north_through_east():
     ans = api.track("eros", J2000, J2000 + 1.0, 1.0, model="hansen", free_wobble_phase_deg=250.0)

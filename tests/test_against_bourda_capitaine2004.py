@@ -1,8 +1,8 @@
 """Bourda & Capitaine (2004, A&A 428, Table 2): the first-order lunisolar precession rate of the rigid Earth
-(ephem.lunisolar) against theirs, "5494.062986 x cos eps0 = 5040.7047″/cy" for H = 3.27379492e-3."""
+(ephem.earth.lunisolar) against theirs, "5494.062986 x cos eps0 = 5040.7047″/cy" for H = 3.27379492e-3."""
 import pytest
 
-from ephem import lunisolar as L
+from ephem.earth import lunisolar as L
 
 
 def test_first_order_precession_against_bourda_capitaine_2004(rigid):

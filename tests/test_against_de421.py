@@ -1,7 +1,7 @@
 """JPL DE421 (read through skyfield): the Sun paths and the planetary integrator of
-ephem.ephemeris, and the Moon's and the Sun's positions of ephem.lunisolar, against the positions DE421 gives.
+ephem.orbit.de421, and the Moon's and the Sun's positions of ephem.earth.lunisolar, against the positions DE421 gives.
 
-(The integrations of the torque along DE421 positions, ephem.lunisolar.integrate_de421 and the real-orbit rung,
+(The integrations of the torque along DE421 positions, ephem.earth.lunisolar.integrate_de421 and the real-orbit rung,
 are the library's own independent routes: tests/test_lunisolar.py, tests/test_physics_errors.py.)
 """
 import math
@@ -10,15 +10,15 @@ import erfa
 import numpy as np
 import pytest
 
-from ephem import ephemeris as E
-from ephem import lunisolar as L
-from ephem.constants import ARCSEC
+from ephem.orbit import de421 as E
+from ephem.earth import lunisolar as L
+from ephem.base.constants import ARCSEC
 from tests.test_ephemeris import Y1900, Y1950, Y2050
 
 J2000 = 2451545.0
 
 
-# ----------------------------------------------------------------------------- ephem.ephemeris
+# ----------------------------------------------------------------------------- ephem.orbit.de421
 
 @pytest.mark.parametrize("name, key", [("Earth", "earth"), ("Mars", "mars")])
 def test_planet_path_is_skyfields_geometric_sun_vector(name, key):
@@ -52,12 +52,12 @@ def test_integrator_started_on_de421_mars_follows_de421_mars_for_a_century():
     assert err.max() < 1e-6
 
 
-# ----------------------------------------------------------------------------- ephem.lunisolar
+# ----------------------------------------------------------------------------- ephem.earth.lunisolar
 
 def test_moon_and_sun_follow_de421_to_meeus_accuracy():
     # Meeus (1998, ch. 47) quotes ~10" in longitude and 4" in latitude with all his terms; we drop
     # his three planetary terms (largest 14") and use Kepler for the Sun (planetary terms ~20").
-    from ephem.ephemeris import barycentric
+    from ephem.orbit.de421 import barycentric
 
     jd = np.arange(2447892.5, 2455197.5, 3.7)          # 1990-2010
     a = tuple(L.delaunay_arguments(jd).T)

@@ -1,11 +1,11 @@
 """ERFA (pyerfa: the IAU's SOFA routines): the library against the IAU 2006/2000A models as ERFA evaluates them.
 
 - the mean pole of J2000 (ERFA's frame bias, ``erfa.bp06``) gives the IAU 2006 obliquity and the equinox
-  (ephem.geometry); the catalogue's Earth pole is ERFA's CIP at J2000 (``erfa.xy06``);
+  (ephem.orbit.geometry); the catalogue's Earth pole is ERFA's CIP at J2000 (``erfa.xy06``);
 - the Delaunay arguments are ERFA's (``erfa.fal03`` ... ``erfa.faom03``), the IAU 2000A coefficients stored in
-  data/lunisolar.toml are recovered from ``erfa.nut00a``, and the whole rigid nutation (ephem.lunisolar) and the
-  non-rigid one (ephem.nonrigid) are held against ``erfa.nut00a`` over 1900-2100;
-- the served Earth (ephem.earth): its precession rate against ψ_A of ``erfa.p06e``, its track against the CIP
+  data/lunisolar.toml are recovered from ``erfa.nut00a``, and the whole rigid nutation (ephem.earth.lunisolar) and the
+  non-rigid one (ephem.earth.nonrigid) are held against ``erfa.nut00a`` over 1900-2100;
+- the served Earth (ephem.earth.family): its precession rate against ψ_A of ``erfa.p06e``, its track against the CIP
   (``erfa.xy06``) within its error estimate, and the estimate's ingredients (``erfa.p06e``, ``erfa.bp06``).
 """
 import csv
@@ -17,14 +17,15 @@ import numpy as np
 import pytest
 
 from ephem import api
-from ephem import lunisolar as L
-from ephem import nonrigid as N
-from ephem.catalogue import get_body
-from ephem.constants import ARCSEC, J2000_JD, MAS
-from ephem.earth import estimate_terms, lunisolar_earth
-from ephem.geometry import icrf_to_ecliptic_matrix, spin_geometry
-from ephem.ladder import pole_vectors
-from ephem.lunisolar import earth_lunisolar, lunisolar_data, residual_vs_iau2000a
+from ephem.earth import lunisolar as L
+from ephem.earth import nonrigid as N
+from ephem.bodies.catalogue import get_body
+from ephem.base.constants import ARCSEC, J2000_JD, MAS
+from ephem.earth.family import estimate_terms, lunisolar_earth
+from ephem.orbit.geometry import icrf_to_ecliptic_matrix, spin_geometry
+from ephem.theory.tracks import pole_vectors
+from ephem.earth.lunisolar import earth_lunisolar, residual_vs_iau2000a
+from ephem.orbit.lunar import lunisolar_data
 from tests.test_against_iau2006 import DOCUMENTED_DIFFERENCE
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -33,7 +34,7 @@ YEAR = 365.25
 CY = 36525.0
 
 
-# ----------------------------------------------------------------------------- ephem.geometry
+# ----------------------------------------------------------------------------- ephem.orbit.geometry
 
 def test_earth_equinox_and_obliquity():
     # Earth: spin axis = mean pole of J2000 (the ICRF pole moved by ERFA's frame bias), orbit in
@@ -48,7 +49,7 @@ def test_earth_equinox_and_obliquity():
     assert math.degrees(geo.equinox_to_pericentre) == pytest.approx(102.94, abs=1e-10)
 
 
-# ----------------------------------------------------------------------------- ephem.catalogue
+# ----------------------------------------------------------------------------- ephem.bodies.catalogue
 
 def test_earth_pole_is_the_cip_at_j2000():
     # the catalogue holds the instantaneous axis: for the Earth, ERFA's IAU 2006/2000A CIP at J2000.0
@@ -60,7 +61,7 @@ def test_earth_pole_is_the_cip_at_j2000():
     assert math.cos(dec) * math.sin(ra) == pytest.approx(y, abs=1e-9)
 
 
-# ----------------------------------------------------------------------------- ephem.lunisolar
+# ----------------------------------------------------------------------------- ephem.earth.lunisolar
 
 def test_delaunay_arguments_are_erfas():
     jd = np.array([2415020.5, 2444239.5, J2000, 2460000.5, 2488069.5])
@@ -134,7 +135,7 @@ def test_whole_nutation_against_erfa_1900_2100(rigid):
     assert np.sqrt(np.mean(rpsi**2)) < 4.0 and np.sqrt(np.mean(reps**2)) < 2.5      # measured 3.1, 2.1
 
 
-# ----------------------------------------------------------------------------- ephem.nonrigid
+# ----------------------------------------------------------------------------- ephem.earth.nonrigid
 
 def test_whole_nutation_times_transfer_function_against_erfa_1900_2100(rigid):
     # rigid: 63 / 22 mas rms (test_whole_nutation_against_erfa_1900_2100 above); rigid x T: 1.8 / 1.7 (docs/earth.md chart)
@@ -156,7 +157,7 @@ def test_whole_nutation_times_transfer_function_against_erfa_1900_2100(rigid):
     assert np.sqrt(np.mean(rpsi**2)) < 1.3 and np.sqrt(np.mean(reps**2)) < 0.6
 
 
-# ----------------------------------------------------------------------------- ephem.earth
+# ----------------------------------------------------------------------------- ephem.earth.family
 
 def angle(a, b):
     return np.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.einsum("ij,ij->i", a, b))

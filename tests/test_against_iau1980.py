@@ -1,10 +1,10 @@
 """The IAU 1980 nutation (Seidelmann 1982): the signs of its solar semi-annual term are those of Kinoshita's
-circular-orbit terms (ephem.kinoshita)."""
+circular-orbit terms (ephem.forced.kinoshita)."""
 import math
 
 import numpy as np
 
-from ephem.kinoshita import nutation_series
+from ephem.forced.kinoshita import nutation_series
 
 
 def test_semiannual_signs_match_the_iau_1980_solar_term():

@@ -3,13 +3,13 @@
 data/lunisolar.toml from ERFA's nut00a.c). Their printed numbers against the library.
 
 - the ICRF -> ecliptic-of-J2000 rotation is the frame bias (ξ0, η0, dα0) then the J2000 obliquity 84381.406″
-  (ephem.geometry); the catalogue Earth's spin rate is Table 1.1's ω;
-- the Earth's orbit normal (ephem.ephemeris) turns with P03's ecliptic precession;
+  (ephem.orbit.geometry); the catalogue Earth's spin rate is Table 1.1's ω;
+- the Earth's orbit normal (ephem.orbit.de421) turns with P03's ecliptic precession;
 - the first-order lunisolar precession plus P03 Table 3's other contributions is the ψ_A rate; the rigid
   series' leading terms differ from IAU 2000A's by the documented amounts, and the IAU/rigid ratios show the
-  free core nutation (ephem.lunisolar); the published non-rigid correction (ephem.nonrigid) closes those
+  free core nutation (ephem.earth.lunisolar); the published non-rigid correction (ephem.earth.nonrigid) closes those
   differences, the out-of-phase terms included;
-- the served Earth's (ephem.earth) mean obliquity is ε_A, its terms IAU 2000A's up to the documented differences.
+- the served Earth's (ephem.earth.family) mean obliquity is ε_A, its terms IAU 2000A's up to the documented differences.
 
 The same models as ERFA computes them: tests/test_against_erfa.py.
 """
@@ -19,18 +19,18 @@ import numpy as np
 import pytest
 
 from ephem import api
-from ephem import ephemeris as E
-from ephem import lunisolar as L
-from ephem import nonrigid as N
-from ephem.catalogue import get_body
-from ephem.constants import ARCSEC, MAS
-from ephem.geometry import icrf_to_ecliptic, icrf_to_ecliptic_matrix, lon_lat, spin_geometry
-from ephem.lunisolar import lunisolar_data
+from ephem.orbit import de421 as E
+from ephem.earth import lunisolar as L
+from ephem.earth import nonrigid as N
+from ephem.bodies.catalogue import get_body
+from ephem.base.constants import ARCSEC, MAS
+from ephem.orbit.geometry import icrf_to_ecliptic, icrf_to_ecliptic_matrix, lon_lat, spin_geometry
+from ephem.orbit.lunar import lunisolar_data
 from tests.test_ephemeris import Y1900, Y2050
 from tests.test_nonrigid import _reference
 
 
-# ----------------------------------------------------------------------------- ephem.geometry
+# ----------------------------------------------------------------------------- ephem.orbit.geometry
 
 def _rotation(axis: int, angle: float) -> np.ndarray:
     """R_axis(angle) of the IERS Conventions: a rotation of the coordinate axes (positive anticlockwise)."""
@@ -73,7 +73,7 @@ def test_icrf_pole_differs_from_the_mean_pole_by_the_frame_bias():
     assert abs(shift_mas) == pytest.approx(16.617 / math.sin(math.radians(84381.406 / 3600)), rel=0.02)
 
 
-# ----------------------------------------------------------------------------- ephem.catalogue
+# ----------------------------------------------------------------------------- ephem.bodies.catalogue
 
 def test_spin_rate_of_the_earth_is_the_iers_nominal_one():
     # IERS Conventions (2010), Table 1.1: the Earth's nominal mean angular velocity ω = 7.292115e-5 rad/s,
@@ -82,7 +82,7 @@ def test_spin_rate_of_the_earth_is_the_iers_nominal_one():
     assert get_body("earth").spin_rate_rad_per_day / 86400.0 == pytest.approx(7.292115e-5, abs=0.5e-11)
 
 
-# ----------------------------------------------------------------------------- ephem.ephemeris
+# ----------------------------------------------------------------------------- ephem.orbit.de421
 
 def test_earth_orbit_normal_turns_with_the_iau2006_ecliptic_precession():
     # P03 ecliptic (Capitaine et al. 2003, IAU 2006): P_A = 4.199094 T + 0.1939873 T^2,
@@ -97,7 +97,7 @@ def test_earth_orbit_normal_turns_with_the_iau2006_ecliptic_precession():
     assert slope == pytest.approx(p03, abs=0.3)   # arcsec/century; measured within 0.04
 
 
-# ----------------------------------------------------------------------------- ephem.lunisolar
+# ----------------------------------------------------------------------------- ephem.earth.lunisolar
 
 def test_precession_against_iau2006_with_the_p03_contributions(rigid):
     # IAU 2006 psi_A rate = first-order lunisolar + P03 Table 3's other contributions (second
@@ -114,7 +114,7 @@ def test_precession_against_iau2006_with_the_p03_contributions(rigid):
 
 # Rigid (ours, figure axis, IERS H_d) minus IAU 2000A in-phase coefficients, mas, as documented
 # in docs/earth.md. Their explanation, the published non-rigid correction of each term (IERS 1996
-# transfer function: elastic mantle, fluid core, FCN resonance), is tested below (ephem.nonrigid).
+# transfer function: elastic mantle, fluid core, FCN resonance), is tested below (ephem.earth.nonrigid).
 # Margin 0.5 mas.
 DOCUMENTED_DIFFERENCE = {
     "18.6 yr": (-76.97, 22.77), "9.3 yr": (0.21, -0.27), "annual": (-22.08, -7.52),
@@ -168,7 +168,7 @@ def test_non_rigid_ratios_show_the_fcn_resonance(rigid):
     assert ratios[("18.6 yr", "retrograde")] == pytest.approx(1.0, abs=0.005)
 
 
-# ----------------------------------------------------------------------------- ephem.nonrigid
+# ----------------------------------------------------------------------------- ephem.earth.nonrigid
 
 # Ours x T minus IAU 2000A, mas (docs/earth.md); the rigid-minus-IAU differences themselves are
 # up to 77 mas (DOCUMENTED_DIFFERENCE above).
@@ -223,7 +223,7 @@ def test_the_18_6_year_residual_is_the_precession_nutation_coupling(rigid):
     assert abs(nr["longitude_sin_mas"] - _reference("18.6 yr")["psi"][0]) < 0.5
 
 
-# ----------------------------------------------------------------------------- ephem.earth
+# ----------------------------------------------------------------------------- ephem.earth.family
 
 @pytest.fixture(scope="module")
 def prec():

@@ -1,8 +1,8 @@
-"""The IERS 1996 nutation series (KSV_1996_3, data/nonrigid.toml): our rigid series (ephem.lunisolar) times the
-IERS 1996 transfer function (ephem.nonrigid) gives its coefficients."""
+"""The IERS 1996 nutation series (KSV_1996_3, data/nonrigid.toml): our rigid series (ephem.earth.lunisolar) times the
+IERS 1996 transfer function (ephem.earth.nonrigid) gives its coefficients."""
 import pytest
 
-from ephem import nonrigid as N
+from ephem.earth import nonrigid as N
 
 
 def test_rigid_times_transfer_function_is_the_iers_1996_series(rigid):

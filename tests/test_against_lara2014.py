@@ -1,9 +1,9 @@
 """Lara (2014), the SAM perturbation theory of the free rigid body: its printed numbers against the library.
 
 - Table 1: the free-wobble data shipped in data/free_motion.toml (β follows from the printed moments), the
-  catalogue's moments, and the orders of δ stated under eq. 28 (ephem.andoyer); the δ values printed after eq. 28;
+  catalogue's moments, and the orders of δ stated under eq. 28 (ephem.rotation.andoyer); the δ values printed after eq. 28;
 - Tables 2-5 (data/lara/lara2014_tables.csv, verbatim, typos kept) term by term against the normal form and the
-  transformation of ephem.lie_series, and the two errata of data/lara/errata.toml for them, one test each
+  transformation of ephem.rotation.lie_series, and the two errata of data/lara/errata.toml for them, one test each
   (against an integration of the motion, tests/test_lie_series.py).
 """
 import csv
@@ -15,10 +15,11 @@ import tomllib
 import numpy as np
 import pytest
 
-from ephem import andoyer as an
-from ephem.catalogue import data_dir, get_body
-from ephem.lie_series import Lara2014Series, Lara2014Tables
-from ephem.polynomials import beta_poly, parse_polynomial
+from ephem.rotation import andoyer as an
+from ephem.base.paths import data_dir
+from ephem.bodies.catalogue import get_body
+from ephem.rotation.lie_series import Lara2014Series, Lara2014Tables
+from ephem.rotation.polynomials import beta_poly, parse_polynomial
 from tests.test_lie_series import MODERATE, ORDER
 
 LARA = data_dir() / "lara"

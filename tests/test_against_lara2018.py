@@ -1,8 +1,8 @@
 """Lara (2018), the SAM problem in complex variables: its printed polynomials (data/lara/lara2018_polynomials.toml,
-verbatim, typos kept) against the normal form of ephem.lie_series, its statement that they are Lara (2014)'s,
+verbatim, typos kept) against the normal form of ephem.rotation.lie_series, its statement that they are Lara (2014)'s,
 and its three errata of data/lara/errata.toml, one test each: p₀'s sign and p₂ (against the quadrature of
 the exact action, tests/test_lie_series.py), and the sign of n_ℓ in eq. A6 (along the exact motion of
-ephem.euler_poinsot).
+ephem.rotation.euler_poinsot).
 """
 import math
 import tomllib
@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from scipy.special import ellipk
 
-from ephem.euler_poinsot import FreeRotation, sadov_action_angle
-from ephem.lie_series import SamSeriesSolution, body_to_action_angle
-from ephem.polynomials import beta_poly, parse_polynomial
+from ephem.rotation.euler_poinsot import FreeRotation, sadov_action_angle
+from ephem.rotation.lie_series import SamSeriesSolution, body_to_action_angle
+from ephem.rotation.polynomials import beta_poly, parse_polynomial
 from tests.test_against_lara2014 import ERRATA, LARA, _as_beta_poly, _printed_2014
 from tests.test_euler_poinsot import TRIAXIAL
 from tests.test_lie_series import EROS, MODERATE, ORDER, _initial_m, _quadrature

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from ephem import api
-from ephem.catalogue import data_dir
-from ephem.spin_history import outward_max
+from ephem.base.paths import data_dir
+from ephem.longterm.averaged_spin import outward_max
 
 SPANS = {"±100 kyr": (-1.0e5, 1.0e5), "past 1 Myr": (-1.0e6, 0.0), "past 3 Myr": (-3.0e6, 0.0),
          "next 1 Myr": (0.0, 1.0e6)}
@@ -39,7 +39,7 @@ def mars_at_la2004s_rate():
     largest difference, scanned in steps of 2e-5 of H_D and refined by a parabola through the best three)."""
     import dataclasses
 
-    from ephem.catalogue import get_body
+    from ephem.bodies.catalogue import get_body
 
     years, la = solution("mars_la2004")
     m = (years >= FIT_SPAN[0]) & (years <= FIT_SPAN[1])

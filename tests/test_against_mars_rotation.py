@@ -4,7 +4,7 @@
 data/long_term_references.toml.
 
 What this checks is our formula (Kinoshita's first-order rate with the exact e-factor, Petit et al. eq. 25, and the
-geodesic precession of ephem.relativity) against the measurement through an independent model's H: Baland et al.
+geodesic precession of ephem.orbit.relativity) against the measurement through an independent model's H: Baland et al.
 include the Sun's, the other planets', Phobos' and Deimos' torques and the geodesic precession (6.754 mas/yr,
 Baland et al. 2023). Ours has the Sun's torque and the geodesic term; the others move the rate by well under the
 measurement's σ (they are part of Baland's 0.03 % budget)."""
@@ -13,10 +13,11 @@ import tomllib
 
 import pytest
 
-from ephem.catalogue import data_dir, get_body
-from ephem.constants import JULIAN_YEAR_DAYS, MAS
-from ephem.model import build_model
-from ephem.relativity import geodesic_precession_rate
+from ephem.base.paths import data_dir
+from ephem.bodies.catalogue import get_body
+from ephem.base.constants import JULIAN_YEAR_DAYS, MAS
+from ephem.forced.precession_nutation import build_model
+from ephem.orbit.relativity import geodesic_precession_rate
 
 
 def reference(key: str) -> dict:

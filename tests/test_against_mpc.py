@@ -1,13 +1,13 @@
-"""The Minor Planet Center's osculating elements: the Sun path of ephem.ephemeris, integrated back from the
+"""The Minor Planet Center's osculating elements: the Sun path of ephem.orbit.de421, integrated back from the
 2025 MPC elements of Ceres, meets the MPC's 2013 elements (kept in the petit2014 dataset)."""
 import math
 
 import numpy as np
 import pytest
 
-from ephem import ephemeris as E
-from ephem.catalogue import get_body
-from ephem.geometry import icrf_to_ecliptic_matrix
+from ephem.orbit import de421 as E
+from ephem.bodies.catalogue import get_body
+from ephem.orbit.geometry import icrf_to_ecliptic_matrix
 
 
 def _ecliptic_elements(r, v, gm):

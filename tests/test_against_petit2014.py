@@ -1,7 +1,7 @@
 """Petit, Souchay & Lhotka (2014) in CI: Tables 3-10 reproduced, and every erratum asserted as recorded.
 
-Also the paper's other printed numbers: the Hansen coefficients of Eqs. 16-18 and 23-25 (ephem.hansen),
-Tables 9-10 in the amp-period layout of ephem.tables, and Itokawa's ±6.57″/yr (ephem.uncertainty).
+Also the paper's other printed numbers: the Hansen coefficients of Eqs. 16-18 and 23-25 (ephem.orbit.hansen),
+Tables 9-10 in the amp-period layout of ephem.exports.tables, and Itokawa's ±6.57″/yr (ephem.forced.uncertainty).
 
 The printed tables live verbatim in data/petit2014/; the errata in data/errata.toml. Tolerances
 come from the printed precision: half a unit of the last printed digit (the paper rounds; only
@@ -23,15 +23,16 @@ import numpy as np
 import pytest
 
 from ephem import api
-from ephem.catalogue import data_dir, dynamical_ellipticity, load_catalogue
-from ephem.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
-from ephem.geometry import icrf_to_ecliptic, spin_geometry
-from ephem.hansen import hansen_series
-from ephem.kepler import orbit_normal
-from ephem.kinoshita import nutation_series
-from ephem.model import build_model
-from ephem.tables import render_nutation
-from ephem.uncertainty import monte_carlo, propagate
+from ephem.base.paths import data_dir
+from ephem.bodies.catalogue import dynamical_ellipticity, load_catalogue
+from ephem.base.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
+from ephem.orbit.geometry import icrf_to_ecliptic, spin_geometry
+from ephem.orbit.hansen import hansen_series
+from ephem.orbit.kepler import orbit_normal
+from ephem.forced.kinoshita import nutation_series
+from ephem.forced.precession_nutation import build_model
+from ephem.exports.tables import render_nutation
+from ephem.forced.uncertainty import monte_carlo, propagate
 from tests.test_hansen import _poly
 from tests.test_tables import parse
 
@@ -492,7 +493,7 @@ def test_erratum_table4_hd_ceres():
 
 def _geometric_obliquity(name, ra, dec, ecliptic=False):
     o = load_catalogue("current").get(name).orbit
-    from ephem.geometry import unit_vector
+    from ephem.orbit.geometry import unit_vector
     s = unit_vector(math.radians(ra), math.radians(dec)) if ecliptic else \
         icrf_to_ecliptic(math.radians(ra), math.radians(dec))
     return math.degrees(spin_geometry(s, *(math.radians(x) for x in (o.i_deg, o.node_deg, o.peri_deg))).obliquity)
@@ -601,7 +602,7 @@ def test_every_erratum_has_its_test():
 
 
 def test_erratum_itokawa_precession_uncertainty():
-    from ephem.uncertainty import propagate
+    from ephem.forced.uncertainty import propagate
 
     r = propagate("Itokawa", "petit2014", order=4)
     ours = r["precession_rate_arcsec_per_year_uncertainty"]

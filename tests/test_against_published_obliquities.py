@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from ephem import api
-from ephem.catalogue import data_dir
-from ephem.population import crossing_period
+from ephem.base.paths import data_dir
+from ephem.batch.population import crossing_period
 
 
 def published(key: str) -> dict:

@@ -1,4 +1,4 @@
-"""Text PCK kernels (ephem.pck) read back by SPICE itself (spiceypy's CSPICE), against our track.
+"""Text PCK kernels (ephem.exports.pck) read back by SPICE itself (spiceypy's CSPICE), against our track.
 
 The authority is SPICE's own evaluation of the kernel (tipbod's third row, pxform to IAU_<BODY>): its
 pole is compared with the track served by ephem.api.track_arrays at epochs that are on neither the fit
@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 import spiceypy as spice
 
-from ephem import api, pck
+from ephem import api
+from ephem.exports import pck
 
 MAS = math.pi / 648_000_000.0
 J2000 = 2451545.0
@@ -125,7 +126,7 @@ def test_kernel_text_and_pool_contents(furnish):
     assert _pool(2000004, "MAX_PHASE_DEGREE", 1)[0] == 1
     assert spice.gipool("BODY2000004_CONSTANTS_REF_FRAME", 0, 1)[0] == 1
     # the numbers read back are the fit's, to SPICE's parser (not correctly rounded: seen 1 unit in the last
-    # place off; ephem.pck.rounding_bound allows 4 per term)
+    # place off; ephem.exports.pck.rounding_bound allows 4 per term)
     assert np.allclose(_pool(2000004, "POLE_RA", 3), f.pole_ra, rtol=4 * np.finfo(float).eps, atol=0.0)
     assert np.allclose(_pool(2000004, "NUT_PREC_ANGLES", 400), np.ravel(f.angles), rtol=4 * np.finfo(float).eps,
                        atol=0.0)

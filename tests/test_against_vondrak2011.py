@@ -12,9 +12,9 @@ import pytest
 
 import erfa
 from ephem import api
-from ephem.catalogue import data_dir
-from ephem.geometry import icrf_to_ecliptic_matrix
-from ephem.spin_history import outward_max
+from ephem.base.paths import data_dir
+from ephem.orbit.geometry import icrf_to_ecliptic_matrix
+from ephem.longterm.averaged_spin import outward_max
 
 SPANS = {"±1 kyr": (1.0e3, 10.0), "±10 kyr": (1.0e4, 100.0), "±200 kyr": (2.0e5, 1000.0)}
 ARCSEC_DEG = 1.0 / 3600.0

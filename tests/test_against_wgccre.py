@@ -5,8 +5,8 @@ import math
 
 import pytest
 
-from ephem.catalogue import get_body
-from ephem.geometry import angle_between, unit_vector
+from ephem.bodies.catalogue import get_body
+from ephem.orbit.geometry import angle_between, unit_vector
 
 # the catalogue stores the report's printed digits; 1e-9 deg is far below the last one (1e-3 deg)
 PRINTED = 1e-9

@@ -19,7 +19,7 @@ from functools import lru_cache
 import numpy as np
 import pytest
 
-from ephem.catalogue import get_body
+from ephem.bodies.catalogue import get_body
 from studies import moon
 from studies import wgccre_moon as iau
 

@@ -1,4 +1,4 @@
-"""Andoyer, Poincaré-type and complex variables (ephem.andoyer) against independent routes.
+"""Andoyer, Poincaré-type and complex variables (ephem.rotation.andoyer) against independent routes.
 
 Every seed formula is checked by a route that does not share its algebra:
 rotation matrices against the printed entries and the kinematics, Hamiltonians
@@ -12,8 +12,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ephem import andoyer as an
-from ephem.errors import InvalidInputError
+from ephem.rotation import andoyer as an
+from ephem.base.errors import InvalidInputError
 
 EPS = np.finfo(float).eps
 MOMENTS = [(0.6, 0.8, 1.0), (0.9, 0.9, 1.0), (0.55, 0.95, 1.0), (0.229427, 0.963754, 1.0), (0.99672, 0.9967222, 1.0)]

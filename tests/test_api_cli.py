@@ -8,9 +8,9 @@ import pytest
 from typer.testing import CliRunner
 
 from ephem import api
-from ephem.catalogue import Body, Orbit, Pole
+from ephem.bodies.catalogue import Body, Orbit, Pole
 from ephem.cli import app
-from ephem.errors import InvalidInputError, NotApplicableError
+from ephem.base.errors import InvalidInputError, NotApplicableError
 
 runner = CliRunner()
 TERM_KEYS = {"multiple", "period_days", "period_years", "longitude_sin_arcsec", "longitude_cos_arcsec",

@@ -1,4 +1,4 @@
-"""ephem.batch: a catalogue of bodies through ephem.population.evaluate on a dask.distributed cluster.
+"""ephem.batch.distributed: a catalogue of bodies through ephem.batch.population.evaluate on a dask.distributed cluster.
 
 Every cluster here is on 127.0.0.1 (the socket guard allows nothing else). The runs that must start their own
 LocalCluster (the two-worker run, the killed worker) do; the others share one two-worker cluster of this module
@@ -20,9 +20,10 @@ import pyarrow.parquet as pq
 import pytest
 from typer.testing import CliRunner
 
-from ephem import batch, population
+from ephem.batch import distributed as batch
+from ephem.batch import population
 from ephem.cli import app
-from ephem.errors import InvalidInputError
+from ephem.base.errors import InvalidInputError
 
 #: a Vesta-like body (tests/conftest.py's vesta_like), the mean anomaly and eccentricity varied per row
 BASE = {"a_au": 2.3615413, "e": 0.0901676, "i_deg": 7.14406, "node_deg": 103.70232, "peri_deg": 151.53711,

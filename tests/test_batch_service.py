@@ -6,8 +6,11 @@ import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 
-from ephem import api, cost, hansen, population
-from ephem.catalogue import Body, Orbit, Pole
+from ephem import api
+from ephem.theory import cost
+from ephem.orbit import hansen
+from ephem.batch import population
+from ephem.bodies.catalogue import Body, Orbit, Pole
 from service.app import create_app
 from service.settings import Settings
 from tests.test_bounded_work import _problem  # one home for the problem+json check
@@ -264,7 +267,7 @@ def test_a_history_row_is_priced_with_the_model_its_secular_spin_builds(client, 
 
 def test_a_history_is_priced_from_its_poles_epoch(client, monkeypatch):
     """1000 years a million years ago: each history integrates from its pole's epoch (J2000.0) through the span, as
-    ephem.history.history_cost counts it, so a million years a row, not the thousand asked for; the end of the span
+    ephem.longterm.history.history_cost counts it, so a million years a row, not the thousand asked for; the end of the span
     that sets it is named as the client wrote it."""
     monkeypatch.setattr(population, "evaluate", _no_work)
     span = {"start_year": -1_000_000, "stop_year": -999_000, "step_years": 100}

@@ -1,5 +1,5 @@
 """Bounded work per request: each hostile case of the trust issue, refused before the work or stopped by
-the backstop (the budget of ephem.budget, the deadline, the memory handler, the supervisor)."""
+the backstop (the budget of ephem.base.budget, the deadline, the memory handler, the supervisor)."""
 from __future__ import annotations
 
 import copy
@@ -16,9 +16,12 @@ import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 
-from ephem import api, budget, cost, harmonics
-from ephem.budget import DeadlineExceededError, OverBudgetError
-from ephem.catalogue import Body, Orbit, Pole
+from ephem import api
+from ephem.base import budget
+from ephem.theory import cost
+from ephem.orbit import harmonics
+from ephem.base.budget import DeadlineExceededError, OverBudgetError
+from ephem.bodies.catalogue import Body, Orbit, Pole
 from service.app import create_app
 from service.settings import Settings
 
@@ -68,17 +71,17 @@ def test_a_pericentre_inside_the_sun_is_refused():
 
 
 def test_e_099_is_over_budget_before_any_model_is_built(client, monkeypatch):
-    import ephem.model
+    import ephem.forced.precession_nutation
 
     def no_build(*args, **kwargs):       # the refusal must come from the estimate, not from the work
         raise AssertionError("a model was built before the cost was checked")
 
-    monkeypatch.setattr(ephem.model, "build_model", no_build)
-    ephem.model.cached_model.cache_clear()
+    monkeypatch.setattr(ephem.forced.precession_nutation, "build_model", no_build)
+    ephem.forced.precession_nutation.cached_model.cache_clear()
     try:
         body = _problem(client.post("/v1/precession-nutation", json=_user(orbit__e=0.99)), 422, "over-budget")
     finally:
-        ephem.model.cached_model.cache_clear()
+        ephem.forced.precession_nutation.cached_model.cache_clear()
     assert body["errors"][0]["field"] == "orbit.e"
     assert body["estimated_cpu_s"] > body["budget_cpu_s"] == Settings().max_request_cpu_s
 
@@ -186,9 +189,9 @@ def test_the_budget_is_charged_before_the_work_and_sums_the_parts():
 
 
 def test_the_predicted_cost_grows_with_what_drives_it():
-    from ephem.ladder import Ladder
+    from ephem.sun.ladder import Ladder
 
-    from ephem.ladder import cached_tables
+    from ephem.sun.ladder import cached_tables
 
     ladder = Ladder(Body("x", Orbit(2.36, 0.3, 7.0, 0.0, 0.0, 0.0, 2451545.0), Pole(10.0, 20.0), 5.0,
                              dynamical_ellipticity=0.1))
@@ -301,8 +304,8 @@ def _hold_slot(lock_dir: str, index: int = 0):
 def test_a_large_request_finds_the_slot_taken_by_another_worker_and_is_told_when_to_retry(tmp_path, monkeypatch):
     # refused before any large step: a spy on the two (the Hansen FFT, the track's evaluation) shows that the
     # refused requests reached neither (a property, not a time: RESULTS_load.md measures the refusal's speed)
-    from ephem import hansen
-    from ephem.ladder import SunLadder
+    from ephem.orbit import hansen
+    from ephem.sun.ladder import SunLadder
     large_steps = []
 
     def spy(name, original):
@@ -406,11 +409,11 @@ def test_a_csv_track_is_charged_for_its_slower_serialisation():
 
 
 def test_the_real_orbit_is_charged_from_the_elements_epoch():
-    """The orbit is integrated from its elements' epoch (ephem.ephemeris): elements of 1900 for a track in
+    """The orbit is integrated from its elements' epoch (ephem.orbit.de421): elements of 1900 for a track in
     2040 cost 140 years of integration, not the 40 from the pole epoch (J2000)."""
     import dataclasses
 
-    from ephem.ladder import Ladder
+    from ephem.sun.ladder import Ladder
 
     vesta = api.resolve_body("vesta")
     t0, t1 = 2466154.5, 2466519.5                      # 2040-2041

@@ -1,4 +1,4 @@
-"""The Cassini state of a synchronous rotator (ephem.cassini): each formula against an independent route (a direct
+"""The Cassini state of a synchronous rotator (ephem.moon.cassini): each formula against an independent route (a direct
 average of the torque, a limit, a symmetry), and the Moon's derived inclination and free-libration periods against
 their published values."""
 import math
@@ -6,11 +6,11 @@ import math
 import numpy as np
 import pytest
 
-from ephem.cassini import (SynchronousOrbit, cassini_state, free_librations, longitude_hansen_factor,
-                           precession_constant)
-from ephem.catalogue import get_body
-from ephem.errors import NotApplicableError
-from ephem.synchronous import synchronous_orbit
+from ephem.moon.cassini import (SynchronousOrbit, cassini_state, free_librations, longitude_hansen_factor,
+                                precession_constant)
+from ephem.bodies.catalogue import get_body
+from ephem.base.errors import NotApplicableError
+from ephem.moon.family import synchronous_orbit
 
 MOON = get_body("moon")
 # lunar laser ranging's moments: beta = (C-A)/B = 631.486e-6, gamma = (B-A)/C = 227.871e-6 (Williams et al. 2014,

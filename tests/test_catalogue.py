@@ -10,8 +10,8 @@ import re
 import numpy as np
 import pytest
 
-from ephem.catalogue import available_datasets, get_body, load_catalogue, load_references, parse_catalogue
-from ephem.errors import InvalidInputError, UnknownBodyError
+from ephem.bodies.catalogue import available_datasets, get_body, load_catalogue, load_references, parse_catalogue
+from ephem.base.errors import InvalidInputError, UnknownBodyError
 
 BODIES = ["Ceres", "Vesta", "Eros", "Steins", "Itokawa", "Earth", "Moon", "Mars"]
 
@@ -176,8 +176,8 @@ def test_a_pole_given_in_ecliptic_coordinates_comes_back_through_the_inverse_rot
 
     import numpy as np
 
-    from ephem.catalogue import Pole
-    from ephem.geometry import icrf_to_ecliptic_matrix
+    from ephem.bodies.catalogue import Pole
+    from ephem.orbit.geometry import icrf_to_ecliptic_matrix
 
     for lon, lat in ((0.0, 90.0), (17.0, 66.0), (200.5, -30.25), (359.0, 0.5), (123.0, -89.9)):
         p = Pole.from_ecliptic(lon, lat, body="x")

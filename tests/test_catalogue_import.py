@@ -1,4 +1,4 @@
-"""Bring your own data: `ephem catalogue import` (ephem/catalogue_import.py, docs/catalogue_import.md).
+"""Bring your own data: `ephem catalogue import` (ephem/bodies/importer.py, docs/catalogue_import.md).
 
 The sample files in tests/data/import/ carry the values of data/catalogue/current.toml (its MPCORB records for
 Ceres, Vesta and Eros, its WGCCRE poles and periods, its moments) in the formats users have: the MPC's MPCORB
@@ -19,11 +19,11 @@ import pytest
 from typer.testing import CliRunner
 
 from ephem import api
-from ephem.catalogue import available_datasets, load_catalogue, user_catalogue_dir
-from ephem.catalogue_import import (CatalogueImportError, import_catalogue, julian_day, parse_mpcorb, parse_orbits,
-                                    parse_poles, unpack_designation, unpack_epoch)
+from ephem.bodies.catalogue import available_datasets, load_catalogue, user_catalogue_dir
+from ephem.bodies.importer import (CatalogueImportError, import_catalogue, julian_day, parse_mpcorb, parse_orbits,
+                                   parse_poles, unpack_designation, unpack_epoch)
 from ephem.cli import app as cli
-from ephem.errors import InvalidInputError
+from ephem.base.errors import InvalidInputError
 
 ROOT = Path(__file__).resolve().parent.parent
 DATA = ROOT / "tests" / "data" / "import"
@@ -72,7 +72,7 @@ def test_parsing_reproduces_the_catalogue_elements(path):
 
 
 def test_the_format_is_detected_and_the_mpc_names_have_aliases():
-    from ephem.catalogue_import import detect_format
+    from ephem.bodies.importer import detect_format
 
     assert [detect_format(p.read_text(encoding="utf-8"), p.name) for p in (MPCORB, SBDB_JSON, SBDB_CSV)] == \
         ["mpcorb", "sbdb-json", "sbdb-csv"]
@@ -314,7 +314,7 @@ def test_the_service_selects_an_imported_dataset(user_dir):
 
 
 def test_the_import_module_uses_no_network():
-    tree = ast.parse((ROOT / "ephem" / "catalogue_import.py").read_text(encoding="utf-8"))
+    tree = ast.parse((ROOT / "ephem" / "bodies" / "importer.py").read_text(encoding="utf-8"))
     imported = {a.name.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
     imported |= {(n.module or "").split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.level == 0}
     assert not imported & {"urllib", "http", "requests", "httpx", "socket", "skyfield", "astroquery", "ftplib"}, imported

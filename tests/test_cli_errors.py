@@ -6,7 +6,7 @@ from typer.testing import CliRunner
 
 from ephem import api
 from ephem.cli import app
-from ephem.errors import InvalidInputError
+from ephem.base.errors import InvalidInputError
 
 runner = CliRunner()
 SPAN = ["--start", "2020-01-01", "--stop", "2021-01-01"]
@@ -169,7 +169,7 @@ def test_a_count_over_the_cap_is_the_integer_count():
 
 
 def test_a_plot_over_the_cap_of_epochs_says_how_many():
-    from ephem import plots
+    from ephem.exports import plots
 
     cap = plots.MAX_PLOT_POINTS
     err = refused(["plot", "ceres", "--kind", "obliquity-history", "--start", "-2000", "--stop", "0",
@@ -178,7 +178,7 @@ def test_a_plot_over_the_cap_of_epochs_says_how_many():
     with pytest.raises(InvalidInputError, match=r"^step_years: more than 1e\+308 epochs exceed"):
         plots._check_step_years(5e-324, -2000.0, 0.0)
     # a part step past the cap's last epoch is within the cap, here and in the history's own grid
-    from ephem.history import history_grid
+    from ephem.longterm.history import history_grid
 
     step = 2000.0 / (cap - 0.5)
     assert plots._check_step_years(step, -2000.0, 0.0) == step
@@ -197,7 +197,7 @@ def test_a_theory_is_named_once(body, theory):
 
 def test_every_theory_summary_reads_after_a_verb():
     # the summaries are put into messages as they are ("is served by {summary}"): each carries its article
-    from ephem.registry import THEORIES
+    from ephem.families import THEORIES
 
     for family in THEORIES:
         assert family.summary.startswith("the ") and not family.summary.startswith("the the "), family

@@ -6,9 +6,9 @@ The matrix is read from the CLI itself, so that nothing new escapes it:
   is not in :data:`SPECS` fails :func:`test_every_command_has_a_spec` until someone gives it arguments and a
   check, and a spec without a command fails it too;
 * the formats are the choices of each command's ``--format`` option (a command without one runs once with its
-  default output; ``plot`` takes its format from ``--out``'s suffix, checked against ``ephem.plots.CONTENT_TYPES``,
-  which is read here likewise, and its kinds from ``ephem.plots.KINDS``);
-* the families are one body each of the theories of ``ephem.registry.THEORIES`` (a Sun-only main-belt asteroid,
+  default output; ``plot`` takes its format from ``--out``'s suffix, checked against ``ephem.exports.plots.CONTENT_TYPES``,
+  which is read here likewise, and its kinds from ``ephem.exports.plots.KINDS``);
+* the families are one body each of the theories of ``ephem.families.THEORIES`` (a Sun-only main-belt asteroid,
   a Sun-only planet-crosser, the Earth, the Moon, Mars with its free wobble) and a body of a user's dataset that
   ``ephem catalogue import`` made from the samples in tests/data/import; a new theory family fails
   :func:`test_the_families_cover_every_theory` until a body of it joins :data:`FAMILIES`.
@@ -37,8 +37,10 @@ import pytest
 import typer
 from typer.testing import CliRunner
 
-from ephem import api, cli, plots, tables
-from ephem.catalogue import get_body, load_catalogue
+from ephem import api, cli
+from ephem.exports import plots
+from ephem.exports import tables
+from ephem.bodies.catalogue import get_body, load_catalogue
 from ephem.cli import app
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -573,7 +575,7 @@ def test_the_formats_are_read_from_the_options():
 
 def test_the_families_cover_every_theory():
     # one body per theory the registry serves, Mars' ladder with a published free wobble, a user's body
-    from ephem.registry import THEORIES, theory_for
+    from ephem.families import THEORIES, theory_for
 
     served = {}
     for key, fam in FAMILIES.items():

@@ -1,13 +1,13 @@
-"""Deprit's triangle (ephem/deprit.py), exact: on Lara's SAM problem (ephem/lie_series.py) the normal form
+"""Deprit's triangle (ephem/rotation/deprit.py), exact: on Lara's SAM problem (ephem/rotation/lie_series.py) the normal form
 equals the Hamiltonian composed with the transformation, the transformation is canonical and commutes with
 products to the truncation order, and an angle's seed (a first bracket) stands in for the function.
 """
 import math
 from fractions import Fraction
 
-from ephem.deprit import deprit_transform
-from ephem.lie_series import sam_normal_form
-from ephem.polynomials import GaussianPoly, parse_polynomial
+from ephem.rotation.deprit import deprit_transform
+from ephem.rotation.lie_series import sam_normal_form
+from ephem.rotation.polynomials import GaussianPoly, parse_polynomial
 from tests.test_lie_series import ORDER  # the normal form (sam_normal_form's cache) the suites share
 
 

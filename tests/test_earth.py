@@ -1,4 +1,4 @@
-"""The Earth under the Moon and the Sun, served (ephem.earth, issue 7): the catalogue's perturbers, the
+"""The Earth under the Moon and the Sun, served (ephem.earth.family, issue 7): the catalogue's perturbers, the
 lunisolar answers of ephem.api, the CLI and the service, and the Sun-only answer reproduced.
 
 Against IAU 2006/2000A: as ERFA computes it (the rate, the track against the CIP within the estimate, the
@@ -17,11 +17,11 @@ from fastapi.testclient import TestClient
 from typer.testing import CliRunner
 
 from ephem import api
-from ephem.catalogue import get_body, parse_catalogue, resolve_perturbers
+from ephem.bodies.catalogue import get_body, parse_catalogue, resolve_perturbers
 from ephem.cli import app as cli
-from ephem.errors import InvalidInputError, NotApplicableError
-from ephem.lunisolar import earth_lunisolar
-from ephem.tables import DELAUNAY_COLUMNS
+from ephem.base.errors import InvalidInputError, NotApplicableError
+from ephem.earth.lunisolar import earth_lunisolar
+from ephem.exports.tables import DELAUNAY_COLUMNS
 from service.app import app as web
 from tests.test_catalogue import GOOD
 
@@ -128,8 +128,8 @@ def test_sun_only_reproduces_the_answers_before_the_moon():
     dec = math.radians(89.96611899848224)
     assert (tr["pole_ra_deg"][1] - 357.2904923584953) * math.cos(dec) == pytest.approx(0.0, abs=math.degrees(SAME))
     assert tr["pole_dec_deg"][1] == same(89.96611899848224)
-    # issue 15 moved two terms: rotation_averaging is ephem.rotation_scale's (11.678 mas, the drift at its measured
-    # factor; 11.871 from ephem.rigid's older bound) and second_order the ladder's span-aware bound (2.244 mas over
+    # issue 15 moved two terms: rotation_averaging is ephem.forced.rotation_scale's (11.678 mas, the drift at its measured
+    # factor; 11.871 from ephem.forced.rigid_body's older bound) and second_order the ladder's span-aware bound (2.244 mas over
     # these two months; 7.753 before). The estimate was 1069.9952992958686; the rest is unchanged
     assert tr["model"]["name"] == "hansen" and tr["model"]["estimated_error_mas"] == same(1064.2934460185702)
     assert tr["model"]["error_terms_mas"]["orbit_motion"] == same(50.371370081093275, 1069.8)

@@ -1,4 +1,4 @@
-"""The real Sun direction (ephem.ephemeris): without planets the Kepler ellipse, the span DE421 covers, the cache.
+"""The real Sun direction (ephem.orbit.de421): without planets the Kepler ellipse, the span DE421 covers, the cache.
 
 Against outside references: DE421 through skyfield (tests/test_against_de421.py), the MPC's elements
 (tests/test_against_mpc.py), AstDyS's proper frequency (tests/test_against_astdys.py), the IAU 2006 ecliptic
@@ -9,19 +9,19 @@ import math
 import numpy as np
 import pytest
 
-from ephem import ephemeris as E
-from ephem.catalogue import get_body
-from ephem.constants import AU_M, DAY_S, GM_SUN
-from ephem.errors import NotApplicableError
-from ephem.geometry import icrf_to_ecliptic_matrix
-from ephem.kepler import mean_motion_rad_per_day, orbit_basis, true_anomaly
+from ephem.orbit import de421 as E
+from ephem.bodies.catalogue import get_body
+from ephem.base.constants import AU_M, DAY_S, GM_SUN
+from ephem.base.errors import NotApplicableError
+from ephem.orbit.geometry import icrf_to_ecliptic_matrix
+from ephem.orbit.kepler import mean_motion_rad_per_day, orbit_basis, true_anomaly
 
 Y1900, Y1925, Y1950, Y2050 = 2415020.5, 2424151.5, 2433282.5, 2469807.5
 
 
 def test_without_planet_masses_the_path_is_the_kepler_ellipse():
     orbit = get_body("Vesta").orbit
-    gm = GM_SUN * DAY_S**2 / AU_M**3          # the GM ephem.kepler uses
+    gm = GM_SUN * DAY_S**2 / AU_M**3          # the GM ephem.orbit.kepler uses
     r0, v0 = E.elements_to_state(orbit, gm)
     t0 = orbit.epoch_jd_tdb
     states = E.integrate_heliocentric(r0, v0, t0, t0 - 50 * 365.25, t0, gm_scale=0.0, gm_sun=gm,

@@ -1,4 +1,4 @@
-"""The exact torque-free motion (ephem.euler_poinsot) against numerical integration, classical limits,
+"""The exact torque-free motion (ephem.rotation.euler_poinsot) against numerical integration, classical limits,
 Sadov's action-angle variables and published periods."""
 import math
 
@@ -8,18 +8,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.special import ellipj, ellipk, ellipkm1
 
-from ephem import andoyer as an
-from ephem.catalogue import get_body, load_catalogue
-from ephem.errors import InvalidInputError
-from ephem.euler_poinsot import (
-    ARCSEC,
-    FreeRotation,
-    _differences,
-    free_motion_periods,
-    jacobi_reduced,
-    sadov_action_angle,
-)
-from ephem.rigid import integrate_states, quaternion_from_matrix, rotation_matrices
+from ephem.rotation import andoyer as an
+from ephem.bodies.catalogue import get_body, load_catalogue
+from ephem.base.errors import InvalidInputError
+from ephem.rotation.euler_poinsot import (ARCSEC, FreeRotation, _differences, free_motion_periods, jacobi_reduced,
+                                          sadov_action_angle)
+from ephem.forced.rigid_body import integrate_states, quaternion_from_matrix, rotation_matrices
 
 R0 = an.euler_matrix(0.3, 1.1, -0.7)
 TRIAXIAL = (0.6, 0.8, 1.0)
@@ -27,11 +21,11 @@ BINARY = (0.5, 0.75, 1.0)   # (B−A)/A and (C−B)/C exact in binary: a state e
 
 
 def integrate(moments, L0, R_init, t, rtol=1e-13):
-    """Euler's equations and the attitude quaternion, torque-free (ephem.rigid, DOP853): L_b(t), R(t)."""
+    """Euler's equations and the attitude quaternion, torque-free (ephem.forced.rigid_body, DOP853): L_b(t), R(t)."""
     I = np.asarray(moments, dtype=float)
     w = np.asarray(L0, dtype=float) / I
     w0 = float(np.linalg.norm(w))
-    y0 = np.concatenate([w / w0, quaternion_from_matrix(R_init.T)])   # ephem.rigid's q: body -> inertial
+    y0 = np.concatenate([w / w0, quaternion_from_matrix(R_init.T)])   # ephem.forced.rigid_body's q: body -> inertial
     states, _ = integrate_states(tuple(I), w0, y0, 0.0, t, None, rtol=rtol, atol=1e-16)
     return states[:, :3] * w0 * I, np.transpose(rotation_matrices(states[:, 3:]), (0, 2, 1))
 
@@ -70,7 +64,7 @@ def test_exact_solution_matches_integration(name):
     t = np.linspace(0.0, periods * fr.wobble_period, 240)
     L_num, R_num = integrate(moments, L0, R0, t)
     # DOP853 at rtol 1e-13 over 2-3 wobble periods: ~1e-14 M and 1e-13-1e-12 on the attitude far from the
-    # separatrix (ephem.euler_poinsot's docstring); the near-separatrix cases (1 − m = 2e-3) amplify an initial
+    # separatrix (ephem.rotation.euler_poinsot's docstring); the near-separatrix cases (1 − m = 2e-3) amplify an initial
     # ε by ~1/(1 − m) (measured <= 1.4e-12 M): 1e-11 M and 1e-10
     assert np.abs(fr.body_momentum(t) - L_num).max() < 1e-11 * fr.M
     assert np.abs(fr.attitude(t) - R_num).max() < 1e-10
@@ -89,7 +83,7 @@ def test_exact_separatrix():
     # integration starts δ ~ ε|L| off it (the state rounded into y0 = ω/|ω|, a few roundings) and
     # DOP853 at rtol 1e-13 adds less: measured 0.3 ε M e^{λt} at the end, and 1.0 ε M e^{λt} for one
     # ulp moved in any component of L0. Budget per epoch: 4 ε M e^{λt} (4 ulp) on top of the
-    # integrator's own 1e-13 M (attitude: 1e-12, ephem.euler_poinsot's docstring). A flat 1e-12 M
+    # integrator's own 1e-13 M (attitude: 1e-12, ephem.rotation.euler_poinsot's docstring). A flat 1e-12 M
     # failed at 6e-12 M on the last epochs, on this and other machines: the conditioning, not the
     # formulas.
     grow = np.exp(fr.elliptic_rate * t)

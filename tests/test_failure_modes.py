@@ -7,13 +7,15 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from ephem import api
-from ephem.constants import JULIAN_YEAR_DAYS, MAS
-from ephem.errors import EphemError, InvalidInputError, NotApplicableError
-from ephem.model import MIN_SPIN_ORBIT_RATIO
-from ephem.rigid import RECOMMENDED_MIN_SPIN_ORBIT_RATIO, compare_with_averaged, study_epochs, synthetic_model
-from ephem.hansen import LAPLACE_LIMIT
-from ephem.ladder import RUNGS, Ladder, cached_model, pole_vectors, truncation_bound
-from ephem.numerical import angular_separation
+from ephem.base.constants import JULIAN_YEAR_DAYS, MAS
+from ephem.base.errors import EphemError, InvalidInputError, NotApplicableError
+from ephem.forced.precession_nutation import MIN_SPIN_ORBIT_RATIO
+from ephem.forced.rigid_body import (RECOMMENDED_MIN_SPIN_ORBIT_RATIO, compare_with_averaged, study_epochs,
+                                     synthetic_model)
+from ephem.orbit.hansen import LAPLACE_LIMIT
+from ephem.sun.ladder import RUNGS, Ladder, cached_model, truncation_bound
+from ephem.theory.tracks import pole_vectors
+from ephem.forced.integration import angular_separation
 from scenes import address_space_cap, synthetic_body
 
 YEAR = JULIAN_YEAR_DAYS
@@ -132,7 +134,7 @@ def test_obliquity_ninety_degrees_stops_the_precession_not_the_nutation():
 def averaging_failure(ratio: float) -> float:
     """Rung 5's figure-axis error against the full rigid body over one orbit, over the pole's motion:
     the catalogue Eros (the most triaxial shape, (B-A)/C = 0.73) spun at ω = ratio × n."""
-    from ephem.catalogue import get_body
+    from ephem.bodies.catalogue import get_body
     eros = get_body("eros")
     model = synthetic_model(cached_model(eros), ratio)
     t = study_epochs(model, 2 * math.pi / model.mean_motion)

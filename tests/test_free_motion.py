@@ -4,9 +4,9 @@ import math
 import numpy as np
 import pytest
 
-from ephem.catalogue import get_body
-from ephem.errors import InvalidInputError, NotApplicableError
-from ephem.free_motion import free_motion
+from ephem.bodies.catalogue import get_body
+from ephem.base.errors import InvalidInputError, NotApplicableError
+from ephem.rotation.free_motion import free_motion
 
 J2000 = 2451545.0
 
@@ -100,7 +100,7 @@ def test_route_and_cli_serve_the_free_motion():
 
 def test_from_andoyer_keeps_an_arcsecond_wobble_exact():
     # sin J must not come from cos J = N/M: at J = 0.1" that loses 4e-4 of it to cancellation
-    from ephem.euler_poinsot import FreeRotation
+    from ephem.rotation.euler_poinsot import FreeRotation
     J = 0.1 * math.pi / 648000.0
     rot = FreeRotation.from_andoyer((0.9942917, 0.9949813, 1.0), 6.1, J, 0.3, mu=0.2)
     f = rot.attitude(np.array([0.0]))[0][2]          # the C axis in inertial coordinates; L along +z

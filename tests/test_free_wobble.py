@@ -12,14 +12,14 @@ from astropy import units as u
 from astropy.coordinates import SkyCoord
 
 from ephem import api
-from ephem.catalogue import get_body
-from ephem.constants import ARCSEC, MAS
-from ephem.errors import InvalidInputError, NotApplicableError
-from ephem.free_motion import free_motion, free_wobble_bound, observed_wobble_period_days
-from ephem.ladder import Ladder, cached_model
-from ephem.numerical import angular_separation
-from ephem.rigid import SunOrbit, integrate_states, model_moments, quaternion_from_matrix, rotation_matrices
-from ephem.rotation_scale import SunGeometry, forced_angular_velocity
+from ephem.bodies.catalogue import get_body
+from ephem.base.constants import ARCSEC, MAS
+from ephem.base.errors import InvalidInputError, NotApplicableError
+from ephem.rotation.free_motion import free_motion, free_wobble_bound, observed_wobble_period_days
+from ephem.sun.ladder import Ladder, cached_model
+from ephem.forced.integration import angular_separation
+from ephem.forced.rigid_body import SunOrbit, integrate_states, model_moments, quaternion_from_matrix, rotation_matrices
+from ephem.forced.rotation_scale import SunGeometry, forced_angular_velocity
 
 J2000 = 2451545.0
 
@@ -31,7 +31,7 @@ def unit(ra_deg, dec_deg):
 
 @pytest.mark.parametrize("name", ["Mars", "Earth", "Eros"])
 def test_the_published_amplitude_is_the_largest_offset_over_a_wobble(name):
-    # J0 is the angle at ν = 0; energy conservation makes it the largest (ephem.free_motion.free_wobble_bound)
+    # J0 is the angle at ν = 0; energy conservation makes it the largest (ephem.rotation.free_motion.free_wobble_bound)
     body = get_body(name)
     first = free_motion(body, np.array([J2000]))
     t = J2000 + np.linspace(0.0, first["wobble_period_days"], 2001)
@@ -48,7 +48,7 @@ def test_the_published_amplitude_is_the_largest_offset_over_a_wobble(name):
 def rigid_figure_axis(name, phase_deg, t):
     """The C axis of the full rigid body started at the pole epoch with L along the catalogue pole and the
     C axis J0 away from it at position angle ``phase_deg`` (north through east), L in the b2-b3 plane, on top
-    of the forced motion (the forced transverse spin of :func:`ephem.rotation_scale.forced_angular_velocity`
+    of the forced motion (the forced transverse spin of :func:`ephem.forced.rotation_scale.forced_angular_velocity`
     added, to first order a superposition), so that the body's free wobble is the one asked for."""
     body = get_body(name)
     m = cached_model(body)
@@ -100,7 +100,7 @@ def test_the_ladder_adds_the_wobble_only_when_the_tolerance_needs_it():
     assert not loose.free_wobble and loose.terms["free_wobble"] == pytest.approx(0.1 * ARCSEC)
     with pytest.raises(NotApplicableError, match="largest term: free_wobble.*free_wobble_phase_deg"):
         ladder.choose(t, 50 * MAS)
-    from ephem.free_motion import make_wobble
+    from ephem.rotation.free_motion import make_wobble
 
     followed = Ladder(get_body("mars"), wobble=make_wobble(get_body("mars"), 10.0))
     assert not followed.choose(t, 1000 * MAS).free_wobble            # not needed: not added

@@ -1,4 +1,4 @@
-"""Geometry (ephem.geometry, ephem.kepler): hand-built limit cases and symmetries.
+"""Geometry (ephem.orbit.geometry, ephem.orbit.kepler): hand-built limit cases and symmetries.
 
 Against the IERS Conventions and IAU 2006 constants (the frame bias, the obliquity of J2000):
 tests/test_against_iau2006.py; against ERFA's frame bias: tests/test_against_erfa.py.
@@ -8,9 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from ephem.errors import InvalidInputError
-from ephem.geometry import signed_angle, spin_geometry, unit_vector
-from ephem.kepler import orbit_basis, orbit_normal, solve_kepler, solve_kepler_scalar, true_anomaly
+from ephem.base.errors import InvalidInputError
+from ephem.orbit.geometry import signed_angle, spin_geometry, unit_vector
+from ephem.orbit.kepler import orbit_basis, orbit_normal, solve_kepler, solve_kepler_scalar, true_anomaly
 
 
 def test_orbit_normal_is_angular_momentum_of_the_kepler_motion():

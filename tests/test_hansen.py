@@ -1,4 +1,4 @@
-"""Tests of ephem.hansen: exact (FFT) and series Hansen/Cayley coefficients.
+"""Tests of ephem.orbit.hansen: exact (FFT) and series Hansen/Cayley coefficients.
 
 Reference: Petit, Souchay & Lhotka (2014, A&A 565, A79), Eqs. 16-18 and 23-25; the series against
 their printed coefficients: tests/test_against_petit2014.py.
@@ -15,12 +15,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from ephem.hansen import (
-    LAPLACE_LIMIT,
-    HansenCoefficients,
-    hansen_exact,
-    hansen_series,
-)
+from ephem.orbit.hansen import LAPLACE_LIMIT, HansenCoefficients, hansen_exact, hansen_series
 
 
 def _poly(order: int, terms: dict[int, F]) -> tuple[F, ...]:
@@ -117,7 +112,7 @@ def test_exact_against_quadrature_over_E(e):
 
 
 def _kepler_brentq(M: float, e: float) -> float:
-    """Scalar Kepler solution by bracketing (independent of ephem.hansen)."""
+    """Scalar Kepler solution by bracketing (independent of ephem.orbit.hansen)."""
     return brentq(lambda E: E - e * math.sin(E) - M, M - 1.0, M + 1.0,
                   xtol=1e-15, rtol=4 * np.finfo(float).eps)
 
@@ -191,7 +186,7 @@ def test_default_kmax_and_requested_kmax():
     coefficient, i.e. round-off; observed 5e-17) and a requested larger kmax
     (N = 2048 samples against 512) agrees on the common harmonics to 1e-15 of
     the largest coefficient (2.1 here): the round-off of two FFTs, which
-    ephem.hansen measures at < 4e-16 of the largest when N doubles; observed
+    ephem.orbit.hansen measures at < 4e-16 of the largest when N doubles; observed
     2.2e-16 absolute."""
     h = hansen_exact(0.5)
     big = hansen_exact(0.5, kmax=300)

@@ -1,4 +1,4 @@
-"""The harmonic-sum engine (ephem/harmonics.py): both evaluators against direct sums in long double.
+"""The harmonic-sum engine (ephem/orbit/harmonics.py): both evaluators against direct sums in long double.
 
 :func:`rounding_bound` and :func:`direct_sums` are shared with tests/test_kinoshita.py (the nutation
 series summed by the same engine).
@@ -6,8 +6,8 @@ series summed by the same engine).
 import numpy as np
 import pytest
 
-from ephem.harmonics import (PeriodicTable, evaluate_harmonics, evaluate_harmonics_periodic, evaluate_harmonics_uniform,
-                             harmonic_norms)
+from ephem.orbit.harmonics import (PeriodicTable, evaluate_harmonics, evaluate_harmonics_periodic,
+                                   evaluate_harmonics_uniform, harmonic_norms)
 
 
 def rounding_bound(sin_c, cos_c):

@@ -1,4 +1,4 @@
-"""The history answer (ephem.history through ephem.api, the service and the CLI): its shape, its choices, its
+"""The history answer (ephem.longterm.history through ephem.api, the service and the CLI): its shape, its choices, its
 refusals and its bounded cost. The physics is tested in test_spin_history.py and against outside references in
 test_against_laskar2004.py and test_against_vondrak2011.py."""
 import math
@@ -9,10 +9,10 @@ from fastapi.testclient import TestClient
 from typer.testing import CliRunner
 
 from ephem import api
-from ephem.budget import OverBudgetError, budget
-from ephem.catalogue import get_body
+from ephem.base.budget import OverBudgetError, budget
+from ephem.bodies.catalogue import get_body
 from ephem.cli import app
-from ephem.errors import InvalidInputError, NotApplicableError
+from ephem.base.errors import InvalidInputError, NotApplicableError
 
 @pytest.fixture(scope="module")
 def client():
@@ -132,7 +132,7 @@ def test_a_users_body_takes_a_history_object_and_errors_name_its_path():
     """A body of the user's own (Vesta's elements, no shipped orbit): the secular orbit answers within the
     request's budget; a bad step is reported as history.step_years."""
     b = get_body("vesta")
-    from ephem.catalogue import Body
+    from ephem.bodies.catalogue import Body
 
     user = Body(name="my-asteroid", orbit=b.orbit, pole=b.pole, rotation_period_hours=b.rotation_period_hours,
                 moments=b.moments)

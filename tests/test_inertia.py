@@ -1,12 +1,12 @@
-"""The moments from what is measured (ephem.inertia): each method against an independent identity, and the
+"""The moments from what is measured (ephem.bodies.inertia): each method against an independent identity, and the
 moments' covariance against a Monte Carlo of the inputs."""
 import math
 
 import numpy as np
 import pytest
 
-from ephem.errors import InvalidInputError
-from ephem.inertia import derive, moments_from_ellipsoid, moments_from_gravity, moments_from_libration
+from ephem.base.errors import InvalidInputError
+from ephem.bodies.inertia import derive, moments_from_ellipsoid, moments_from_gravity, moments_from_libration
 
 # identities of exact formulas: the budget is double-precision rounding of a few operations
 RTOL = 1e-12
@@ -65,7 +65,7 @@ def test_moment_covariance_agrees_with_monte_carlo(method, values, sigmas):
     keys = list(values)
     n = 20_000
     draws = {k: values[k] + sigmas[k] * rng.standard_normal(n) for k in keys}
-    from ephem.inertia import METHODS
+    from ephem.bodies.inertia import METHODS
     f = METHODS[method].function
     samples = np.array([f(*(draws[k][i] for k in keys)) for i in range(n)])
     sd = samples.std(axis=0, ddof=1)

@@ -5,16 +5,16 @@ import math
 import numpy as np
 import pytest
 
-from ephem.catalogue import Body, Orbit, Pole, dynamical_ellipticity
-from ephem.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
-from ephem.errors import InvalidInputError, NotApplicableError
-from ephem.geometry import unit_vector
-from ephem.hansen import hansen_exact
-from ephem.kepler import solve_kepler, true_anomaly
-from ephem.kinoshita import (eccentricity_factor, mean_pole, nutation_coefficients, nutation_series,
-                             pole_displacement_sum, pole_displacements, precession_rate)
-from ephem.model import build_model
-from ephem.numerical import angular_separation, integrate_spin_axis
+from ephem.bodies.catalogue import Body, Orbit, Pole, dynamical_ellipticity
+from ephem.base.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
+from ephem.base.errors import InvalidInputError, NotApplicableError
+from ephem.orbit.geometry import unit_vector
+from ephem.orbit.hansen import hansen_exact
+from ephem.orbit.kepler import solve_kepler, true_anomaly
+from ephem.forced.kinoshita import (eccentricity_factor, mean_pole, nutation_coefficients, nutation_series,
+                                    pole_displacement_sum, pole_displacements, precession_rate)
+from ephem.forced.precession_nutation import build_model
+from ephem.forced.integration import angular_separation, integrate_spin_axis
 from tests.test_harmonics import direct_sums, rounding_bound
 
 YEAR = JULIAN_YEAR_DAYS
@@ -179,7 +179,7 @@ CATALOGUE_CASES = [(ds, name) for ds in ("current", "petit2014")
 def test_numerical_residual_within_the_first_order_bound(dataset, name):
     # issue 2 item 7: the analytic track against the integration of the averaged torque over
     # 20 years; measured (current): Vesta 6.7 mas, Eros 176 mas, Itokawa 252 mas, Ceres 0.3 mas
-    from ephem.catalogue import get_body
+    from ephem.bodies.catalogue import get_body
     m = build_model(get_body(name, dataset))
     span = 20 * YEAR
     t = m.pole_epoch + np.linspace(0.0, span, 1001)

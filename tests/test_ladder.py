@@ -13,11 +13,12 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from ephem import api
-from ephem.catalogue import Body, get_body
-from ephem.constants import JULIAN_YEAR_DAYS, MAS
-from ephem.errors import InvalidInputError, NotApplicableError
-from ephem.ladder import RUNGS, Ladder, pole_vectors
-from ephem.numerical import angular_separation
+from ephem.bodies.catalogue import Body, get_body
+from ephem.base.constants import JULIAN_YEAR_DAYS, MAS
+from ephem.base.errors import InvalidInputError, NotApplicableError
+from ephem.sun.ladder import RUNGS, Ladder
+from ephem.theory.tracks import pole_vectors
+from ephem.forced.integration import angular_separation
 from scenes import synthetic_body
 
 YEAR = JULIAN_YEAR_DAYS

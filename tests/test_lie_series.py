@@ -1,4 +1,4 @@
-"""Lara's SAM perturbation series (ephem/lie_series.py): the exactness of the Lie transform, and the series
+"""Lara's SAM perturbation series (ephem/rotation/lie_series.py): the exactness of the Lie transform, and the series
 against the torque-free motion computed independently.
 
 The printed polynomials (data/lara/, verbatim, typos kept) and their errata (data/lara/errata.toml, one test
@@ -15,16 +15,10 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
-from ephem.catalogue import get_body
-from ephem.lie_series import (
-    Lara2014Series,
-    SamParameters,
-    SamSeriesSolution,
-    body_to_action_angle,
-    body_to_poincare,
-    poincare_to_body,
-)
-from ephem.polynomials import parse_polynomial
+from ephem.bodies.catalogue import get_body
+from ephem.rotation.lie_series import (Lara2014Series, SamParameters, SamSeriesSolution, body_to_action_angle,
+                                       body_to_poincare, poincare_to_body)
+from ephem.rotation.polynomials import parse_polynomial
 
 ORDER = 16  # high enough for the g_{6,3} erratum to stand out of the truncation error; ~1.5 s
 EROS = get_body("eros").moments           # Lara 2014 Table 1: A/C = 0.229427, B/C = 0.963754

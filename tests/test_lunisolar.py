@@ -1,7 +1,7 @@
-"""The Earth's rigid lunisolar precession-nutation (ephem.lunisolar): the FFT grid of its forcing spectrum, the
+"""The Earth's rigid lunisolar precession-nutation (ephem.earth.lunisolar): the FFT grid of its forcing spectrum, the
 H_d it takes, a numerical integration of the torque along DE421's Moon and Sun (the independent route: the rate,
 the residuals, the precession-nutation coupling, the 9.3-yr second-order term), the Sun-only model of
-ephem.model, its properties (in-phase terms, the Oppolzer conversion) and its evaluation (TermProducts).
+ephem.forced.precession_nutation, its properties (in-phase terms, the Oppolzer conversion) and its evaluation (TermProducts).
 
 Against outside references: ERFA (tests/test_against_erfa.py), DE421's Moon and Sun (tests/test_against_de421.py),
 IAU 2006/2000A (tests/test_against_iau2006.py), Bourda & Capitaine 2004 (tests/test_against_bourda_capitaine2004.py),
@@ -13,11 +13,11 @@ import math
 import numpy as np
 import pytest
 
-from ephem import lunisolar as L
-from ephem.catalogue import get_body
-from ephem.constants import ARCSEC, MAS
-from ephem.errors import InvalidInputError
-from ephem.model import build_model
+from ephem.earth import lunisolar as L
+from ephem.bodies.catalogue import get_body
+from ephem.base.constants import ARCSEC, MAS
+from ephem.base.errors import InvalidInputError
+from ephem.forced.precession_nutation import build_model
 
 J2000 = 2451545.0
 CY = 36525.0
@@ -112,7 +112,7 @@ def test_de421_contains_the_9_3_year_difference_from_iau2000a(de421_run, rigid_l
     # 9.3 yr (tests/test_against_iau2006.py). The 9.3-yr remainder (IAU - ours x T: +1.37 mas in Δψ,
     # -0.32 in Δε) is rigid-Earth second order: the DE421 integration, which has every order of
     # the Newtonian torque, must show the same 2Ω term against our first-order series.
-    from ephem import nonrigid as N
+    from ephem.earth import nonrigid as N
 
     args = L.delaunay_arguments(de421_run.jd_tdb)
     corr = _coupling_at(de421_run.jd_tdb, rigid_l)
@@ -180,7 +180,7 @@ def test_oppolzer_conversion_is_exact_in_frequency(rigid, rigid_l):
     rational relation with no (ν/ω)² remainder. The series' per-component figure/angular-momentum
     ratios must be exactly the inverses, 1/(1 ∓ gν), not the linear 1 ± gν (0.5% apart at 13.66 d).
     """
-    from ephem.nonrigid import circular_components
+    from ephem.earth.nonrigid import circular_components
 
     hd, omega = rigid.hd, rigid.spin_rate
     k = (1.0 - hd) / omega                              # A/(Cω), days
@@ -232,7 +232,7 @@ def test_bad_inputs_name_the_field(kwargs, field):
 
 # ----------------------------------------------------------------------------- evaluation (TermProducts)
 #
-# nutation_at evaluates each term's e^{iφ} as a product of powers of e^{i a_j} (ephem.lunisolar.TermProducts)
+# nutation_at evaluates each term's e^{iφ} as a product of powers of e^{i a_j} (ephem.earth.lunisolar.TermProducts)
 # instead of sin and cos of φ = k · a. Checked here against two independent routes written from the series'
 # coefficients: the direct float64 sum (the evaluation used before, verbatim) and the same sum in long double
 # (64-bit mantissa), within the rounding budget TermProducts states.
@@ -242,7 +242,7 @@ U = 2.0**-53
 
 
 def _direct_sum(series, jd):
-    """The direct route: sin and cos of every term's argument (ephem/lunisolar.py before TermProducts)."""
+    """The direct route: sin and cos of every term's argument (ephem/earth/lunisolar.py before TermProducts)."""
     a, t = L.delaunay_arguments(jd), L.centuries(jd)
     phase = a @ series.multipliers.T.astype(float)
     s, c = np.sin(phase), np.cos(phase)

@@ -1,4 +1,4 @@
-"""The Moon through the one model interface (ephem.synchronous): every route, the CLI, the tables, the SPICE kernel
+"""The Moon through the one model interface (ephem.moon.family): every route, the CLI, the tables, the SPICE kernel
 and a user's own synchronous satellite, with "not applicable" and its reason where the inputs do not allow the
 theory."""
 import json
@@ -8,13 +8,15 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from ephem import api, pck, tables
-from ephem.catalogue import Body, Orbit, Pole, get_body
+from ephem import api
+from ephem.exports import pck
+from ephem.exports import tables
+from ephem.bodies.catalogue import Body, Orbit, Pole, get_body
 from ephem.cli import app as cli
-from ephem.constants import JULIAN_YEAR_DAYS
-from ephem.errors import NotApplicableError
-from ephem.registry import theory_for
-from ephem.synchronous import SynchronousTheory
+from ephem.base.constants import JULIAN_YEAR_DAYS
+from ephem.base.errors import NotApplicableError
+from ephem.families import theory_for
+from ephem.moon.family import SynchronousTheory
 
 MOON = get_body("moon")
 runner = CliRunner()
@@ -64,7 +66,7 @@ def test_the_moons_moment_uncertainties_come_from_lunar_laser_ranging():
     """H_d's and K's 1σ from β, γ's (Williams et al. 2014) with the correlation their derivation gives A and B,
     against 4000 samples of β and γ through the moments and the model's own K formula: the sampled σ's
     relative standard error 1/sqrt(2(N-1)) = 1.1 %, four of them 4.5 %."""
-    from ephem.inertia import moments_from_libration
+    from ephem.bodies.inertia import moments_from_libration
 
     p = api.precession("moon")
     rng = np.random.default_rng(11)

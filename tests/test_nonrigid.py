@@ -1,4 +1,4 @@
-"""The published non-rigid correction (ephem.nonrigid): the IERS 1996 transfer function (data/nonrigid.toml)
+"""The published non-rigid correction (ephem.earth.nonrigid): the IERS 1996 transfer function (data/nonrigid.toml)
 itself, and applied to our rigid series, term by term and as a series.
 
 That it explains our differences from IAU 2000A, as documented in docs/earth.md ("Why ours differs from
@@ -10,9 +10,9 @@ import math
 import numpy as np
 import pytest
 
-from ephem import lunisolar as L
-from ephem import nonrigid as N
-from ephem.errors import InvalidInputError
+from ephem.earth import lunisolar as L
+from ephem.earth import nonrigid as N
+from ephem.base.errors import InvalidInputError
 
 
 def _reference(name):

@@ -20,8 +20,8 @@ from pathlib import Path
 import pytest
 from astropy.time import Time
 
-from ephem.errors import InvalidInputError
-from ephem.timeparse import ACCEPTED, to_jd_tdb, ut1_span
+from ephem.base.errors import InvalidInputError
+from ephem.base.times import ACCEPTED, to_jd_tdb, ut1_span
 
 ROOT = Path(__file__).resolve().parent.parent
 #: internals that must never reach a user

@@ -1,6 +1,6 @@
-"""The shipped N-body orbit-plane histories (ephem.orbit_history, data/orbit_history/) against outside references:
+"""The shipped N-body orbit-plane histories (ephem.longterm.nbody_orbit, data/orbit_history/) against outside references:
 the long-term ecliptic of Vondrák, Capitaine & Wallace (2011) (ERFA ``ltpecl``), DE421 at J2000, an independent
-integrator for the asteroids' epochs (ephem.ephemeris.integrate_heliocentric), AstDyS synthetic proper
+integrator for the asteroids' epochs (ephem.orbit.de421.integrate_heliocentric), AstDyS synthetic proper
 frequencies, and a re-run of the same REBOUND setup."""
 import math
 
@@ -8,14 +8,14 @@ import erfa
 import numpy as np
 import pytest
 
-from ephem import ephemeris as E
-from ephem.catalogue import Orbit, get_body
-from ephem.constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS
-from ephem.errors import InvalidInputError, NotApplicableError
-from ephem.geometry import icrf_to_ecliptic_matrix
-from ephem.orbit_history import (SHIPPED_BODIES, OrbitHistory, load_metadata, nbody_cost_seconds,
-                                 nbody_orbit_history, shipped_orbit_history)
-from ephem.secular_orbit import laplace_lagrange
+from ephem.orbit import de421 as E
+from ephem.bodies.catalogue import Orbit, get_body
+from ephem.base.constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS
+from ephem.base.errors import InvalidInputError, NotApplicableError
+from ephem.orbit.geometry import icrf_to_ecliptic_matrix
+from ephem.longterm.nbody_orbit import (SHIPPED_BODIES, OrbitHistory, load_metadata, nbody_cost_seconds,
+                                        nbody_orbit_history, shipped_orbit_history)
+from ephem.longterm.secular_orbit import laplace_lagrange
 
 ECLIPTIC = icrf_to_ecliptic_matrix()
 
@@ -44,7 +44,7 @@ def _samples(h: OrbitHistory, lo: float, hi: float) -> np.ndarray:
 # Budgets: ±1 kyr 3″ (0.63″ short-period + ltpecl's "few arcsec"), ±10 kyr 10″ (the same, ltpecl's error growing
 # with the span: Vondrák et al. fit La2004 numerical solutions and IAU 2006 near J2000), ±200 kyr 0.1 deg (the
 # lower end of ERFA's "a few tenths of a degree"). Measured (largest over the shipped samples): ±1 kyr 0.48″,
-# ±10 kyr 5.3″ (at +10 kyr), ±200 kyr 143″ (at +200 kyr). First-order secular theory (ephem.secular_orbit,
+# ±10 kyr 5.3″ (at +10 kyr), ±200 kyr 143″ (at +200 kyr). First-order secular theory (ephem.longterm.secular_orbit,
 # below) is off by 6.1″, 60″ and 1980″ over the same spans.
 EARTH_VS_VONDRAK = [(1_000.0, 3.0), (10_000.0, 10.0), (200_000.0, 0.1 * 3600.0)]
 
@@ -62,7 +62,7 @@ def test_the_earths_orbit_normal_follows_the_long_term_ecliptic(span, budget_arc
 
 def test_the_earths_orbit_normal_beats_first_order_secular_theory():
     """Over ±10 kyr the N-body EMB normal is much closer to Vondrák et al.'s ecliptic than first-order
-    Laplace–Lagrange theory (ephem.secular_orbit), which leaves out the second order in the masses and the
+    Laplace–Lagrange theory (ephem.longterm.secular_orbit), which leaves out the second order in the masses and the
     eccentricity coupling (1-2 % of the motion, tests/test_secular_orbit.py). Measured at ±10 kyr: N-body 5.3″,
     Laplace–Lagrange 60″ from ltpecl (N-body vs Laplace–Lagrange 63″; 3.9 deg at most over -3..+1 Myr)."""
     h = shipped_orbit_history("Earth")
@@ -102,12 +102,12 @@ def test_the_planets_start_from_de421(name, naif):
                                                   ("Eros", 0.05), ("Itokawa", 2.0)])
 def test_the_asteroids_are_carried_from_their_element_epoch_to_j2000(name, budget_arcsec):
     """The shipped J2000 normal is the catalogue's elements (at their own epoch, 2015-2025) carried to J2000.0;
-    an independent integrator does the same (ephem.ephemeris.integrate_heliocentric: scipy DOP853, the DE421
+    an independent integrator does the same (ephem.orbit.de421.integrate_heliocentric: scipy DOP853, the DE421
     planets' positions rather than an N-body run, no relativity here as in REBOUND), and at the epoch both
     reproduce the catalogue's inclination and node. Budget: the planets of the REBOUND leg are integrated from
-    DE421 at the epoch and drift from DE421 by ~1e-7 au over 25 years (ephem.ephemeris docstring: 4e-8 au
+    DE421 at the epoch and drift from DE421 by ~1e-7 au over 25 years (ephem.orbit.de421 docstring: 4e-8 au
     after 10 years on Mars), moving a main-belt orbit normal by < 0.01″; Eros's Mars passages and Itokawa's
-    Earth encounters amplify that (ephem.ephemeris: a 1e-5 deg change of Itokawa's mean anomaly moves its normal
+    Earth encounters amplify that (ephem.orbit.de421: a 1e-5 deg change of Itokawa's mean anomaly moves its normal
     by 3.5″ over 150 years). Measured: Ceres 1.7e-5″, Vesta 8e-6″, Steins 3e-6″, Eros 2.6e-5″, Itokawa 0.26″
     (and the normal moves by 98-435″ between the epoch and J2000)."""
     orbit = get_body(name).orbit

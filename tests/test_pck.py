@@ -1,12 +1,12 @@
-"""Text PCK kernels (ephem.pck): the owner of the nutation-precession angles, and what the writer refuses
+"""Text PCK kernels (ephem.exports.pck): the owner of the nutation-precession angles, and what the writer refuses
 (bad requests, bodies it cannot write, a fit it cannot reach) before writing anything.
 
 The kernels it writes, read back by SPICE itself against our track: tests/test_against_spice.py.
 """
 import pytest
 
-from ephem import pck
-from ephem.errors import InvalidInputError, NotApplicableError, UnknownBodyError
+from ephem.exports import pck
+from ephem.base.errors import InvalidInputError, NotApplicableError, UnknownBodyError
 
 
 def test_angles_owner_is_zzbodbry():

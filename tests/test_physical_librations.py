@@ -1,6 +1,6 @@
-"""The Moon's forced physical librations (ephem.physical_librations): the linearised equations against the rigid
+"""The Moon's forced physical librations (ephem.moon.physical_librations): the linearised equations against the rigid
 body's, the harmonic balance against integrations (of the linear equations, of the rigid Moon in the frame of
-date, and of ephem.synchronous_rigid's rigid Moon in the J2000 frame), the structure of the series (degree 2 gives
+date, and of ephem.moon.rigid_integration's rigid Moon in the J2000 frame), the structure of the series (degree 2 gives
 only even multiples of F; the Laplace plane's 8″), and the series against Eckhardt (1981) as Meeus (1998,
 ch. 53) prints it, term by term, each with its budget.
 
@@ -16,11 +16,11 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.interpolate import CubicSpline
 
-from ephem import lunisolar
-from ephem import physical_librations as P
-from ephem.constants import ARCSEC, J2000_JD
-from ephem.errors import InvalidInputError
-from ephem.lunisolar import delaunay_arguments, delaunay_rates, moon_position, sun_position
+from ephem.orbit import lunar
+from ephem.moon import physical_librations as P
+from ephem.base.constants import ARCSEC, J2000_JD
+from ephem.base.errors import InvalidInputError
+from ephem.orbit.lunar import delaunay_arguments, delaunay_rates, moon_position, sun_position
 
 DEG = math.pi / 180.0
 YEAR = 365.25
@@ -141,7 +141,7 @@ def _euler_residual(t: float, theta_of_t, I: float, moments, h: float = 2e-2) ->
     for name, v in (("earth", -moon), ("sun", sun)):
         d = np.linalg.norm(v)
         u = b.T @ (v / d)
-        torque += 3.0 * lunisolar.gm_km3_day2(name) / d**3 * np.cross(u, mom * u)
+        torque += 3.0 * lunar.gm_km3_day2(name) / d**3 * np.cross(u, mom * u)
     return mom * wd + np.cross(w, mom * w) - torque
 
 
@@ -195,7 +195,7 @@ def test_harmonic_balance_solves_the_linear_equations():
 def _integrate_rigid_moon(series, years: float, step_out: float = 0.5):
     """The rigid Moon, eqs. (1)-(2) with no linearisation, integrated in the mean ecliptic and equinox of date
     (turning at −p_A about the ecliptic pole) as a quaternion and ω, DOP853 rtol 1e-12; the Earth and the Sun
-    from ephem.lunisolar splined every 0.02 d (relative error (hν)⁴/384 < 1e-11); started on the series'
+    from ephem.orbit.lunar splined every 0.02 d (relative error (hν)⁴/384 < 1e-11); started on the series'
     attitude and angular velocity. Returns the epochs and the series' (ρ, σ, τ) read from the integrated
     attitude by the Euler angles (E)."""
     mom = np.array(series.moments) / series.moments[2]
@@ -208,7 +208,7 @@ def _integrate_rigid_moon(series, years: float, step_out: float = 0.5):
     moon = np.stack([r * np.cos(bet) * np.cos(lam), r * np.cos(bet) * np.sin(lam), r * np.sin(bet)], 1)
     ls, _, rs = sun_position(args)
     sun = np.stack([rs * np.cos(ls), rs * np.sin(ls), 0 * ls], 1) - moon
-    splines = [(lunisolar.gm_km3_day2("earth"), CubicSpline(grid, -moon)), (lunisolar.gm_km3_day2("sun"), CubicSpline(grid, sun))]
+    splines = [(lunar.gm_km3_day2("earth"), CubicSpline(grid, -moon)), (lunar.gm_km3_day2("sun"), CubicSpline(grid, sun))]
     frame = np.array([0.0, 0.0, -P.GENERAL_PRECESSION_RATE])
 
     def qmul(p, q):
@@ -269,8 +269,8 @@ def test_full_series_follow_the_rigid_moon(catalogue):
 
 
 def test_against_synchronous_rigid(catalogue):
-    """ephem.synchronous_rigid (another author's rigid Moon: the J2000 ecliptic, the Earth and the Sun of
-    ephem.lunisolar rotated by IAU 2006's ecliptic matrices, cubic Lagrange tables) started on the series' pole,
+    """ephem.moon.rigid_integration (another author's rigid Moon: the J2000 ecliptic, the Earth and the Sun of
+    ephem.orbit.lunar rotated by IAU 2006's ecliptic matrices, cubic Lagrange tables) started on the series' pole,
     long axis and angular velocity, 4 years. Budget: that integrator's tolerance (rtol 1e-10: < 0.002″), its
     table (1e-4″), its GM (IAU nominal: 1e-7 of the torque, 6e-4″ of I), its E factor at the span's mean (2e-5
     of the solar terms: 0.002″), 0.01″ in all; plus what the series leave out and that integration has: the
@@ -278,8 +278,8 @@ def test_against_synchronous_rigid(catalogue):
     integrated one, started on it, lags behind the moving plane (a latitude-mode response whose start is the
     ecliptic pole's whole displacement since the start, turned by at most ω_lat t = 0.3 rad in 4 years): |Δ| ≤
     1.1 × the ecliptic pole's displacement + 0.01″."""
-    from ephem.cassini import SynchronousOrbit
-    from ephem.synchronous_rigid import ecliptic_j2000_from_date, integrate_synchronous, mean_longitude
+    from ephem.moon.cassini import SynchronousOrbit
+    from ephem.moon.rigid_integration import ecliptic_j2000_from_date, integrate_synchronous, mean_longitude
 
     t0 = J2000_JD
     args, rates = delaunay_arguments(t0), delaunay_rates(0.0)
@@ -361,7 +361,7 @@ def test_de421_offset_sign_from_the_frame_kernel():
 
 @pytest.fixture
 def fresh_caches():
-    """The module's caches cleared after the test (which changes ephem.lunisolar's data under them)."""
+    """The module's caches cleared after the test (which changes ephem.orbit.lunar's data under them)."""
     yield
     P._perturber_directions.cache_clear()
     P._build.cache_clear()
@@ -384,10 +384,10 @@ def test_the_pole_follows_the_laplace_plane(monkeypatch, fresh_caches):
     P._build.cache_clear()
     tilted = P.moon_physical_librations(**kwargs)
     tilted_pole = tilted.pole(jd)
-    data = copy.deepcopy(lunisolar.lunisolar_data())
+    data = copy.deepcopy(lunar.lunisolar_data())
     for row in data["moon"]["additive_latitude"]:
         row[5] = 0
-    monkeypatch.setattr(lunisolar, "lunisolar_data", lambda: data)
+    monkeypatch.setattr(lunar, "lunisolar_data", lambda: data)
     P._perturber_directions.cache_clear()
     P._build.cache_clear()
     flat = P.moon_physical_librations(**kwargs)
@@ -573,7 +573,7 @@ def test_the_shipped_series_are_a_fresh_build(which, catalogue):
     """data/moon_librations holds what tools/derive_moon_librations.py writes: the same terms as a build here, each
     coefficient within 1e-6″ (FFTs and BLAS differ in their last bits between machines: ~1e-16 rad of terms of
     1e-3 rad; the fixed point's stopping test leaves ~1e-12 rad, far below 1e-6″ = 5e-12 rad)."""
-    from ephem.physical_librations import shipped_series
+    from ephem.moon.physical_librations import shipped_series
 
     built = catalogue if which == "catalogue" else P.moon_physical_librations(P.EFFECTIVE_MOMENTS)
     shipped = shipped_series(built.moments)

@@ -6,11 +6,12 @@ import numpy as np
 import pytest
 
 from ephem import api
-from ephem.catalogue import get_body
-from ephem.constants import JULIAN_YEAR_DAYS, MAS
-from ephem.ladder import Ladder, cached_model, pole_vectors
-from ephem.numerical import angular_separation, integrate_spin_axis
-from ephem.physics_errors import _table, measure_orbit_motion, orbit_motion_for
+from ephem.bodies.catalogue import get_body
+from ephem.base.constants import JULIAN_YEAR_DAYS, MAS
+from ephem.sun.ladder import Ladder, cached_model
+from ephem.theory.tracks import pole_vectors
+from ephem.forced.integration import angular_separation, integrate_spin_axis
+from ephem.forced.physics_errors import _table, measure_orbit_motion, orbit_motion_for
 
 J2000 = 2451545.0
 YEAR = JULIAN_YEAR_DAYS
@@ -35,7 +36,7 @@ POPULATION = [("current", b) for b in ("Ceres", "Vesta", "Eros", "Steins", "Itok
 
 
 def _spans(body, rng) -> list[np.ndarray]:
-    from ephem.ephemeris import de421_span
+    from ephem.orbit.de421 import de421_span
 
     lo, hi = orbit_motion_for(body).window
     t0 = body.pole.epoch_jd_tdb
@@ -128,7 +129,7 @@ def test_the_rotation_scale_variants_gap_is_within_the_estimate():
 
 
 def test_orbit_motion_beyond_the_window_grows_continuously_from_its_edge():
-    from ephem.physics_errors import gap_bound
+    from ephem.forced.physics_errors import gap_bound
 
     for name in ("Mars", "Earth", "Vesta", "Itokawa", "Eros"):
         body = get_body(name)
@@ -169,7 +170,7 @@ def test_orbit_motion_table_rederives_for_mars():
 
 
 def test_pole_gap_table_rederives_for_mars():
-    from ephem.physics_errors import GAP_DIGITS
+    from ephem.forced.physics_errors import GAP_DIGITS
     from tools.derive_orbit_motion import pole_gap       # as the tool measures it
 
     body = get_body("mars")
@@ -185,7 +186,7 @@ def test_pole_gap_table_rederives_for_mars():
 
 
 def test_orbit_motion_table_covers_every_heliocentric_catalogue_body():
-    from ephem.catalogue import available_datasets, load_catalogue
+    from ephem.bodies.catalogue import available_datasets, load_catalogue
     for ds in available_datasets():
         for body in load_catalogue(ds).bodies:
             if body.orbit.center == "Sun":
@@ -197,7 +198,7 @@ def test_orbit_motion_table_covers_every_heliocentric_catalogue_body():
 
 
 def test_a_catalogue_body_given_another_h_d_falls_back_to_the_envelopes():
-    from ephem.physics_errors import envelope_bound, orbit_motion_bound
+    from ephem.forced.physics_errors import envelope_bound, orbit_motion_bound
 
     body = dataclasses.replace(get_body("mars"), dynamical_ellipticity=0.0059)   # its moments give 0.00536
     model = cached_model(body)
@@ -210,7 +211,7 @@ def test_a_catalogue_body_given_another_h_d_falls_back_to_the_envelopes():
 def test_real_orbit_code_path_reproduces_the_keplerian_rung_on_a_keplerian_sun():
     # feed the real-orbit integrator the model's own ellipse: it must give rung 5 back
     m = cached_model(get_body("vesta"))
-    from ephem.physics_errors import keplerian_sun_orbit_frame
+    from ephem.forced.physics_errors import keplerian_sun_orbit_frame
     a = get_body("vesta").orbit.a_au
 
     def sun(t):

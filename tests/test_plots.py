@@ -1,4 +1,4 @@
-"""ephem.plots: the figures draw exactly the API's arrays, with units, titles and clear errors."""
+"""ephem.exports.plots: the figures draw exactly the API's arrays, with units, titles and clear errors."""
 from __future__ import annotations
 
 import io
@@ -11,8 +11,10 @@ import matplotlib.image
 import numpy as np
 import pytest
 
-from ephem import api, plots
-from ephem.errors import InvalidInputError, NotApplicableError, UnknownBodyError
+from ephem import api
+from ephem.answers import requests as answers   # where the plots take their answers: patched there
+from ephem.exports import plots
+from ephem.base.errors import InvalidInputError, NotApplicableError, UnknownBodyError
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 UNIT = re.compile(r"\[(arcsec|mas|deg|yr|kyr|Myr)\]")
@@ -378,7 +380,7 @@ def test_history_hatches_where_it_stops_meaning_anything(monkeypatch):
             "orbit_inclination_deg": 1.8 + 0.1 * np.cos(years / 3e3),
             "meaningful_from_year": -4000.0, "meaningful_to_year": 2000.0,
             "model": {"name": "secular", "estimated_error_mas": 4.0e6, "warnings": ["..."]}}
-    monkeypatch.setattr(api, "history", lambda *a, **k: fake)
+    monkeypatch.setattr(answers, "history", lambda *a, **k: fake)
     assert plots.meaningless_spans(fake) == [pytest.approx((-10_000.0, -4000.0), abs=1e-9),
                                              pytest.approx((2000.0, 5000.0), abs=1e-9)]
     fig = plots.figure(HISTORY, "Mars", -10_000, 5_000, step_years=500)

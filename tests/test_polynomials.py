@@ -1,11 +1,11 @@
-"""The exact polynomial ring (ephem/polynomials.py): the Poisson bracket's algebra, the parser of printed
+"""The exact polynomial ring (ephem/rotation/polynomials.py): the Poisson bracket's algebra, the parser of printed
 expressions and the exact arithmetic, and the inverse of the Lie operator of uU."""
 import random
 from fractions import Fraction
 
 import pytest
 
-from ephem.polynomials import GaussianPoly, beta_poly, beta_poly_shift_down, parse_polynomial
+from ephem.rotation.polynomials import GaussianPoly, beta_poly, beta_poly_shift_down, parse_polynomial
 
 
 def _random_poly(rng: random.Random, terms: int = 5) -> GaussianPoly:

@@ -1,4 +1,4 @@
-"""The population core (ephem.population): a whole partition through the theory at once, equal to the single-body
+"""The population core (ephem.batch.population): a whole partition through the theory at once, equal to the single-body
 answers body by body; a bad row gets its reason and spoils nothing else; σ columns give the single-body σ."""
 import dataclasses
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from ephem import api
-from ephem.catalogue import Body, Orbit, Pole, get_body
-from ephem.population import LEADING_TERMS, OUTPUT_COLUMNS, HistorySpec, evaluate
+from ephem.bodies.catalogue import Body, Orbit, Pole, get_body
+from ephem.batch.population import LEADING_TERMS, OUTPUT_COLUMNS, HistorySpec, evaluate
 
 # the same formulas on columns: what differs is the order of a few floating-point operations (the mean pole's
 # sums, a Kepler solve that stops a step later): a few 1e-16 relative, amplified by 1/cos ε for the rate near
@@ -125,12 +125,12 @@ def test_a_row_without_inertia_or_with_text_is_refused():
 
 
 def test_sigma_columns_give_the_single_body_sigma():
-    """A pole and period with σ: the linear σ of ephem.uncertainty.propagate for the same body (both central
+    """A pole and period with σ: the linear σ of ephem.forced.uncertainty.propagate for the same body (both central
     differences of σ/100; they differ in the order of operations only)."""
     vesta = get_body("vesta")
     sig = {"pole_ra_deg_sigma": 0.5, "pole_dec_deg_sigma": 0.3, "rotation_period_hours_sigma": 1e-4}
     out = evaluate(columns([row_of(vesta, **sig), row_of(vesta)]))
-    from ephem.uncertainty import propagate
+    from ephem.forced.uncertainty import propagate
     ref = propagate(vesta, uncertainties={"pole.ra": 0.5, "pole.dec": 0.3, "rotation.period": 1e-4, **{
         k: None for k in ("orbit.a", "orbit.e", "orbit.i", "orbit.node", "orbit.peri", "orbit.mean_anomaly",
                           "inertia.A", "inertia.B", "inertia.C")}})
@@ -163,8 +163,8 @@ def test_any_rows_give_rows_of_finite_numbers_or_reasons():
 
     from hypothesis import HealthCheck, given, settings, strategies as st
 
-    from ephem.errors import EphemError
-    from ephem.population import INPUT_COLUMNS, SIGMA_INPUTS
+    from ephem.base.errors import EphemError
+    from ephem.batch.population import INPUT_COLUMNS, SIGMA_INPUTS
 
     keys = list(INPUT_COLUMNS) + [f"{k}_sigma" for k in SIGMA_INPUTS]
     good = row_of(BODIES[1])

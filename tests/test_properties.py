@@ -7,8 +7,8 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from ephem import api
-from ephem.catalogue import Body, Orbit, Pole
-from ephem.errors import EphemError, NotApplicableError
+from ephem.bodies.catalogue import Body, Orbit, Pole
+from ephem.base.errors import EphemError, NotApplicableError
 from scenes import address_space_cap
 
 #: Address space the sweep may add to the process. The costliest bodies are the most eccentric: at

@@ -1,4 +1,4 @@
-"""The geodesic (de Sitter) precession (ephem.relativity): against IAU 2006's value for the Earth, against the orbit
+"""The geodesic (de Sitter) precession (ephem.orbit.relativity): against IAU 2006's value for the Earth, against the orbit
 average of the instantaneous precession (an independent route), and its scaling with the orbit; and the Earth's
 track turning with it."""
 import math
@@ -6,12 +6,12 @@ import math
 import numpy as np
 import pytest
 
-from ephem.catalogue import get_body
-from ephem.constants import ARCSEC, AU_M, GM_SUN, JULIAN_CENTURY_DAYS, SPEED_OF_LIGHT_M_S
-from ephem.earth import lunisolar_earth
-from ephem.kepler import mean_motion_rad_per_day, solve_kepler
-from ephem.lunisolar import lunisolar_data
-from ephem.relativity import geodesic_precession_rate
+from ephem.bodies.catalogue import get_body
+from ephem.base.constants import ARCSEC, AU_M, GM_SUN, JULIAN_CENTURY_DAYS, SPEED_OF_LIGHT_M_S
+from ephem.earth.family import lunisolar_earth
+from ephem.orbit.kepler import mean_motion_rad_per_day, solve_kepler
+from ephem.orbit.lunar import lunisolar_data
+from ephem.orbit.relativity import geodesic_precession_rate
 
 
 def test_the_earths_is_iau_2006s():

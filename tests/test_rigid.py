@@ -5,13 +5,13 @@ import math
 import numpy as np
 import pytest
 
-from ephem.catalogue import get_body
-from ephem.kepler import solve_kepler_scalar
-from ephem.model import build_model
-from ephem.numerical import angular_separation, integrate_spin_axis
-from ephem.rigid import (compare_with_averaged, integrate_rigid_body, model_moments, quaternion_from_matrix,
-                         rotation_matrices, synthetic_model, warm_kepler, worst_case_moments)
-from ephem.rotation_scale import SunGeometry
+from ephem.bodies.catalogue import get_body
+from ephem.orbit.kepler import solve_kepler_scalar
+from ephem.forced.precession_nutation import build_model
+from ephem.forced.integration import angular_separation, integrate_spin_axis
+from ephem.forced.rigid_body import (compare_with_averaged, integrate_rigid_body, model_moments, quaternion_from_matrix,
+                                     rotation_matrices, synthetic_model, warm_kepler, worst_case_moments)
+from ephem.forced.rotation_scale import SunGeometry
 
 
 @pytest.fixture(scope="module")
@@ -210,7 +210,7 @@ def test_triaxial_two_omega_term_has_the_predicted_radius(vesta, ratio):
 def test_worst_case_moments_bound_the_catalogue_shapes():
     # a body known only by H_d is estimated with the worst triaxiality its H_d allows: every piece of the
     # rotation-scale estimate must be at least the catalogue shape's
-    from ephem.rotation_scale import error_terms
+    from ephem.forced.rotation_scale import error_terms
 
     for name in ("Vesta", "Eros", "Itokawa", "Mars"):
         model = build_model(get_body(name))

@@ -1,4 +1,4 @@
-"""The rotation-scale terms (ephem.rotation_scale) against the integrated full rigid body (ephem.rigid).
+"""The rotation-scale terms (ephem.forced.rotation_scale) against the integrated full rigid body (ephem.forced.rigid_body).
 
 The reference is our own integration of Euler's equations and the attitude under the solar
 gravity-gradient torque (DOP853 at rtol 1e-12, direction errors ~1e-14 rad a year), started in the
@@ -13,12 +13,12 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from ephem import rotation_scale as rs
-from ephem.catalogue import Body, Pole, get_body
-from ephem.constants import MAS
-from ephem.model import cached_model
-from ephem.numerical import angular_separation, integrate_spin_axis
-from ephem.rigid import integrate_rigid_body, normalised_moments, rotation_matrices
+from ephem.forced import rotation_scale as rs
+from ephem.bodies.catalogue import Body, Pole, get_body
+from ephem.base.constants import MAS
+from ephem.forced.precession_nutation import cached_model
+from ephem.forced.integration import angular_separation, integrate_spin_axis
+from ephem.forced.rigid_body import integrate_rigid_body, normalised_moments, rotation_matrices
 from studies.rotation_scale import compare, generated_population, true_error
 from studies.rung_choice import issue_bodies
 
@@ -130,7 +130,7 @@ ISSUE_REQUESTS = {"itokawa-like": ("2000-01-01", "2020-01-01", 365.25), "eros-li
 @pytest.mark.parametrize("name", ISSUE_REQUESTS)
 def test_the_issue_s_requests_are_served_within_their_tolerance_of_the_rigid_body(name):
     from ephem import api
-    from ephem.rigid import body_moments
+    from ephem.forced.rigid_body import body_moments
 
     b = issue_bodies()[name]
     m = cached_model(b)
@@ -149,7 +149,7 @@ def test_the_issue_s_requests_are_served_within_their_tolerance_of_the_rigid_bod
         assert error.max() <= ans["model"]["estimated_error_mas"] * MAS, (axis, error.max() / MAS, ans["model"])
 
 
-#: Below this (radians) a truth is rounding, not error: the ladder's own rounding term (ephem.ladder.ROUNDING); the
+#: Below this (radians) a truth is rounding, not error: the ladder's own rounding term (ephem.theory.tracks.ROUNDING); the
 #: rigid reference's integration error is ~1e-14 rad (rtol 1e-12 against 1e-13, measured).
 ROUNDING = 1e-12
 
@@ -185,7 +185,7 @@ def test_error_terms_are_close_bounds_of_the_rigid_body_on_a_generated_populatio
 def test_the_forced_start_s_rates_against_their_analytic_forms():
     # λ̇ and d(g p²)/dt enter the forced start's spin oscillation; checked against the Kepler-orbit derivatives:
     # ν̇ = n (1 + e cos ν)²/(1 - e²)^(3/2), u̇ = ν̇ W × u, dg/dν = -3 g e sin ν/(1 + e cos ν), ż = s·u̇
-    from ephem.kepler import true_anomaly
+    from ephem.orbit.kepler import true_anomaly
 
     for e, ra, dec in ((0.0, 90.0, 21.56), (0.6, 270.0, 36.56), (0.9, 10.0, -40.0)):
         b = make_body(e=e, ra=ra, dec=dec)
@@ -220,7 +220,7 @@ def test_the_rotation_phase_at_the_interfaces():
     from fastapi.testclient import TestClient
 
     from ephem import api
-    from ephem.errors import InvalidInputError
+    from ephem.base.errors import InvalidInputError
     from service.app import app
 
     q = dict(start="2020-01-01", stop="2020-01-03", step_days=0.25)

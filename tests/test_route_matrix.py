@@ -12,7 +12,7 @@ The matrix is read from the service itself, so that nothing new escapes it:
   The other enumerated parameters that choose what is drawn or followed (:data:`ENUMERATED`: a plot's ``kind``,
   the tables' ``layout``, the track's ``axis``) are crossed in; a request body offered in several media types
   (POST /v1/batch: JSON and CSV) is sent in each. Routes outside the document state their media type here;
-* the families are one body of each theory of ``ephem.registry.THEORIES`` (a Sun-only main-belt asteroid, a
+* the families are one body of each theory of ``ephem.families.THEORIES`` (a Sun-only main-belt asteroid, a
   Sun-only planet-crosser, the Earth, the Moon, Mars with its free wobble) for the routes that name a body, and
   bodies of the user's own (an asteroid, a synchronous satellite) for the POSTs; a new theory fails
   :func:`test_the_families_cover_every_theory` until a body of it joins :data:`FAMILIES`.
@@ -45,7 +45,7 @@ from fastapi.testclient import TestClient
 from starlette.routing import Mount, Route
 
 from ephem import api
-from ephem.catalogue import Body, Orbit, Pole, get_body
+from ephem.bodies.catalogue import Body, Orbit, Pole, get_body
 from service.app import create_app
 from service.problems import PROBLEM, TYPE_BASE
 from service.settings import Settings
@@ -487,7 +487,7 @@ def test_every_documented_media_type_is_reached():
 
 
 def test_the_families_cover_every_theory():
-    from ephem.registry import THEORIES, theory_for
+    from ephem.families import THEORIES, theory_for
 
     served = {}
     for key, fam in FAMILIES.items():

@@ -1,10 +1,10 @@
-"""Laplace–Lagrange secular theory (ephem.secular_orbit): the Laplace coefficients by an independent route, the
+"""Laplace–Lagrange secular theory (ephem.longterm.secular_orbit): the Laplace coefficients by an independent route, the
 secular matrix's conservation law, the Earth's orbit plane against IAU 2006 and the long-term ecliptic of Vondrák,
 Capitaine & Wallace (2011) as ERFA implements them, the Earth's eccentricity against Simon et al. (1994); a small
 body in the planets' field: its free frequencies against Gauss's averaging over the planets' rings and against
 AstDyS's synthetic proper frequencies, its free elements against AstDyS's proper elements, its pole against the
 integrated orbit, the one-planet limit, the refusals (crossing orbits, secular resonances), the horizons and the
-interface shared with ephem.orbit_history."""
+interface shared with ephem.longterm.nbody_orbit."""
 import math
 from dataclasses import replace
 
@@ -13,14 +13,14 @@ import numpy as np
 import pytest
 from scipy.special import hyp2f1
 
-from ephem import ephemeris as E
-from ephem import secular_orbit as S
-from ephem.catalogue import Orbit, get_body
-from ephem.constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS
-from ephem.ephemeris import GM_SUN_DE421
-from ephem.errors import NotApplicableError
-from ephem.geometry import icrf_to_ecliptic_matrix
-from ephem.secular_orbit import laplace_coefficient, laplace_lagrange, secular_matrix
+from ephem.orbit import de421 as E
+from ephem.longterm import secular_orbit as S
+from ephem.bodies.catalogue import Orbit, get_body
+from ephem.base.constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS
+from ephem.orbit.de421 import GM_SUN_DE421
+from ephem.base.errors import NotApplicableError
+from ephem.orbit.geometry import icrf_to_ecliptic_matrix
+from ephem.longterm.secular_orbit import laplace_coefficient, laplace_lagrange, secular_matrix
 
 ECLIPTIC = icrf_to_ecliptic_matrix()
 
@@ -298,7 +298,7 @@ def test_the_earths_eccentricity_and_its_rate_are_simons():
 
 
 def test_the_horizon_holds_for_the_earth_and_the_asteroids():
-    """The horizon (:data:`ephem.secular_orbit.FREQUENCY_ERROR` of each frequency turning the pole by 1′): the
+    """The horizon (:data:`ephem.longterm.secular_orbit.FREQUENCY_ERROR` of each frequency turning the pole by 1′): the
     Earth's pole at ± its horizon (2.8 kyr) within 1′ of Vondrák et al.'s (measured 16″); Ceres' and Vesta's
     pole with AstDyS's s in place of ours within 1′ of ours at their horizons, their elements' epoch ± 199 and
     421 years (measured 14″, 42″)."""
@@ -324,7 +324,7 @@ def test_the_horizon_holds_for_the_earth_and_the_asteroids():
 
 
 def test_the_interface_is_vectorised_and_shared():
-    """The duck-typed interface of ephem.orbit_history: pole_at, eccentricity_at, semi_major_axis_at (any shape of
+    """The duck-typed interface of ephem.longterm.nbody_orbit: pole_at, eccentricity_at, semi_major_axis_at (any shape of
     years), horizon_years, source; planets and small bodies alike."""
     for history in (_history("Vesta"), S.planet_secular_history("Mars")):
         years = np.linspace(-500.0, 500.0, 12).reshape(3, 4)

@@ -12,9 +12,9 @@ import pytest
 from fastapi import Depends, FastAPI, Query
 from fastapi.testclient import TestClient
 
-from ephem import memo
-from ephem.catalogue import MAX_ANGLE_DEG, Orbit, Pole
-from ephem.errors import InvalidInputError
+from ephem.base import memo
+from ephem.bodies.catalogue import MAX_ANGLE_DEG, Orbit, Pole
+from ephem.base.errors import InvalidInputError
 from service import problems
 from service.app import create_app
 from service.problems import PROBLEM

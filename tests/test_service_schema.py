@@ -10,10 +10,10 @@ import pytest
 from fastapi.testclient import TestClient
 from hypothesis import given, settings, strategies as st
 
-from ephem.catalogue import get_body, resolve_perturbers
-from ephem.constants import JD_RANGE
-from ephem.errors import InvalidInputError, NotApplicableError
-from ephem.timeparse import TIME_PATTERN, TIME_PATTERN_ECMA, to_jd_tdb, ut1_span
+from ephem.bodies.catalogue import get_body, resolve_perturbers
+from ephem.base.constants import JD_RANGE
+from ephem.base.errors import InvalidInputError, NotApplicableError
+from ephem.base.times import TIME_PATTERN, TIME_PATTERN_ECMA, to_jd_tdb, ut1_span
 from service.app import BODY_RULES, OPERATION_RULES, PARAMETER_RULES, PERTURBERS_PATTERN, create_app
 from service.problems import PROBLEM
 from service.settings import Settings
@@ -186,12 +186,12 @@ def test_dynamical_ellipticity_bounds_and_the_moments_or_ellipticity_rule(client
 
 
 def test_the_service_takes_its_names_from_the_library():
-    """One source of names: a model added to ephem.registry, a dataset to data/catalogue, an axis to the
-    ladder, or a higher e-order to ephem.model is what the service accepts and documents."""
-    from ephem.catalogue import available_datasets
-    from ephem.ladder import AXES
-    from ephem.model import MAX_ORDER
-    from ephem.registry import MODELS
+    """One source of names: a model added to ephem.families, a dataset to data/catalogue, an axis to the
+    ladder, or a higher e-order to ephem.forced.precession_nutation is what the service accepts and documents."""
+    from ephem.bodies.catalogue import available_datasets
+    from ephem.theory.tracks import AXES
+    from ephem.forced.precession_nutation import MAX_ORDER
+    from ephem.families import MODELS
     from service.app import Axis, Dataset, Rung
 
     assert [r.value for r in Rung] == list(MODELS)

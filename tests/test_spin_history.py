@@ -1,4 +1,4 @@
-"""The averaged spin equation over long spans (ephem.spin_history): its limit cases (a fixed orbit: a uniform
+"""The averaged spin equation over long spans (ephem.longterm.averaged_spin): its limit cases (a fixed orbit: a uniform
 precession at α cos ε − Ω_gp, the geodesic term alone: a prograde turn), the unaveraged equation over a short span
 (the ladder's numerical rung), the integrator's tolerance (halved), and the neighbours that measure divergence."""
 import dataclasses
@@ -7,11 +7,11 @@ import math
 import numpy as np
 import pytest
 
-import ephem.spin_history as sh
-from ephem.catalogue import get_body
-from ephem.constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS
-from ephem.geometry import angle_between, icrf_to_ecliptic_matrix
-from ephem.registry import theory_for
+import ephem.longterm.averaged_spin as sh
+from ephem.bodies.catalogue import get_body
+from ephem.base.constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS
+from ephem.orbit.geometry import angle_between, icrf_to_ecliptic_matrix
+from ephem.families import theory_for
 
 
 class FixedOrbit:
@@ -68,7 +68,7 @@ def test_the_obliquity_is_a_signed_angle_about_a_tilted_orbit():
 
 def test_the_averaged_equation_follows_the_unaveraged_one_over_two_centuries():
     """Ceres on its fixed Kepler orbit: the averaged history against the ladder's ``numerical`` rung (the spin
-    integrated under the torque resolved along the orbit, ephem.numerical) over 1900-2100. They differ by the
+    integrated under the torque resolved along the orbit, ephem.forced.integration) over 1900-2100. They differ by the
     nutation the averaged equation leaves out (its ``nutation`` term, the half peak-to-peak Δψ sin ε and Δε
     combined) and the first-order theory's own drift (its error bound over the span); Ceres' precession (1300″ in
     ψ at ε = 4°) moves the pole ~90″ over the span, 30 times the budget, so a wrong sign or rate could not hide in
@@ -94,7 +94,7 @@ def test_a_tighter_tolerance_moves_a_four_million_year_history_by_less_than_the_
     """The RTOL comment's claim, on the Earth along its shipped N-body orbit: 4 Myr at RTOL and at RTOL/100 agree
     within 2″ in the pole (measured 0.9″) and 0.2″ in the obliquity (0.03″), below the 12″ of nutation the
     averaged equation leaves out."""
-    from ephem.orbit_history import shipped_orbit_history
+    from ephem.longterm.nbody_orbit import shipped_orbit_history
 
 
     b = get_body("earth")

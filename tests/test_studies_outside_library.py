@@ -1,6 +1,6 @@
 """The studies are not the library: ``ephem`` and ``service`` never import ``studies`` (nor matplotlib just to
 load ``ephem.api``), the wheel does not ship it, and each study runs from the project root as
-``python -m studies.NAME``. And ephem.lunisolar and ephem.nonrigid no longer import each other: nonrigid builds on
+``python -m studies.NAME``. And ephem.earth.lunisolar and ephem.earth.nonrigid no longer import each other: nonrigid builds on
 lunisolar (imported at module top), lunisolar knows nothing of nonrigid.
 """
 import ast
@@ -19,7 +19,6 @@ def imported_modules(path: Path, top_level_only: bool = False) -> list[tuple[str
     """(absolute module name, line) of every import in ``path`` (relative imports resolved against ``ephem``
     or ``service``); ``top_level_only``: only the statements at module level."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
-    package = path.relative_to(ROOT).parts[0]
     nodes = tree.body if top_level_only else list(ast.walk(tree))
     found = []
     for node in nodes:
@@ -28,7 +27,8 @@ def imported_modules(path: Path, top_level_only: bool = False) -> list[tuple[str
         elif isinstance(node, ast.ImportFrom):
             base = node.module or ""
             if node.level:
-                base = f"{package}.{base}" if base else package
+                here = list(path.relative_to(ROOT).with_suffix("").parts[:-node.level])
+                base = ".".join(here + ([base] if base else []))
             found.append((base, node.lineno))
             found += [(f"{base}.{alias.name}", node.lineno) for alias in node.names]
     return found
@@ -60,16 +60,16 @@ def test_the_wheel_ships_the_library_not_the_studies():
 
 
 def test_nonrigid_builds_on_lunisolar_without_a_cycle():
-    lunisolar = [name for name, _ in imported_modules(ROOT / "ephem" / "lunisolar.py")]
-    assert not any(n == "ephem.nonrigid" or n.startswith("ephem.nonrigid.") for n in lunisolar), lunisolar
+    lunisolar = [name for name, _ in imported_modules(ROOT / "ephem" / "earth" / "lunisolar.py")]
+    assert not any(n == "ephem.earth.nonrigid" or n.startswith("ephem.earth.nonrigid.") for n in lunisolar), lunisolar
     assert not any(n == "matplotlib" or n.startswith("matplotlib.") for n in lunisolar), lunisolar
-    nonrigid_top = [name for name, _ in imported_modules(ROOT / "ephem" / "nonrigid.py", top_level_only=True)]
-    nonrigid_all = [name for name, _ in imported_modules(ROOT / "ephem" / "nonrigid.py")]
-    assert "ephem.lunisolar" in nonrigid_top
+    nonrigid_top = [name for name, _ in imported_modules(ROOT / "ephem" / "earth" / "nonrigid.py", top_level_only=True)]
+    nonrigid_all = [name for name, _ in imported_modules(ROOT / "ephem" / "earth" / "nonrigid.py")]
+    assert "ephem.earth.lunisolar" in nonrigid_top
     # every import of lunisolar is at module top (none hidden in a function), and no private name crosses
-    assert [n for n in nonrigid_all if n.startswith("ephem.lunisolar")] == \
-        [n for n in nonrigid_top if n.startswith("ephem.lunisolar")]
-    assert not any(n.startswith("ephem.lunisolar._") for n in nonrigid_all), nonrigid_all
+    assert [n for n in nonrigid_all if n.startswith("ephem.earth.lunisolar")] == \
+        [n for n in nonrigid_top if n.startswith("ephem.earth.lunisolar")]
+    assert not any(n.startswith("ephem.earth.lunisolar._") for n in nonrigid_all), nonrigid_all
 
 
 def test_the_cli_has_no_bench_command():

@@ -14,8 +14,8 @@ from itertools import pairwise
 
 import pytest
 
-from ephem.hansen import LAPLACE_LIMIT
-from ephem.model import MIN_SPIN_ORBIT_RATIO
+from ephem.orbit.hansen import LAPLACE_LIMIT
+from ephem.forced.precession_nutation import MIN_SPIN_ORBIT_RATIO
 from studies import accuracy as ab
 from tests.conftest import run_quick_charts
 
@@ -159,9 +159,9 @@ def test_crossing_interpolates_log_log():
 def test_work_precision_falls_back_to_numerical(monkeypatch):
     """Where the real orbit is unavailable, the fixed-orbit integration is the reference, the
     estimates without the shared physics terms are held against it, and the chart says why."""
-    import ephem.ladder
+    import ephem.sun.ladder
 
-    monkeypatch.setattr(ephem.ladder, "real_orbit_unavailable", lambda body, t: "outside DE421 (test)")
+    monkeypatch.setattr(ephem.sun.ladder, "real_orbit_unavailable", lambda body, t: "outside DE421 (test)")
     rows = ab.work_precision_rows("Vesta", ab.QUICK)
     assert {r["reference"] for r in rows} == {"numerical"}
     assert "real_orbit" not in {r["rung"] for r in rows}

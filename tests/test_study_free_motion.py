@@ -12,7 +12,7 @@ from itertools import pairwise
 
 import pytest
 
-from ephem.free_motion import SERIES_MAX_DELTA
+from ephem.rotation.free_motion import SERIES_MAX_DELTA
 from studies import free_motion as fb
 from tests.conftest import run_quick_charts
 

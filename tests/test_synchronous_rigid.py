@@ -1,5 +1,5 @@
-"""The rigid synchronous satellite integrated (ephem.synchronous_rigid) against the Cassini-state theory
-(ephem.cassini): the pole on a precessing circular orbit, the torque's B − A dependence, the free librations'
+"""The rigid synchronous satellite integrated (ephem.moon.rigid_integration) against the Cassini-state theory
+(ephem.moon.cassini): the pole on a precessing circular orbit, the torque's B − A dependence, the free librations'
 periods, and the Moon on its real orbit with the Sun.
 
 Every run uses loose DOP853 tolerances where the budget allows: the global error, measured against rtol 1e-10
@@ -14,11 +14,10 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from ephem.cassini import SynchronousOrbit, cassini_pole, cassini_state, free_librations, latitude_frequency
-from ephem.constants import ARCSEC, AU_M, DAY_S, GM_EARTH, GM_SUN, J2000_JD, JULIAN_CENTURY_DAYS
-from ephem.lunisolar import delaunay_arguments, delaunay_rates, lunisolar_data
-from ephem.synchronous_rigid import (integrate_synchronous, orbit_normal, perturber_table,
-                                     table_interpolation_error)
+from ephem.moon.cassini import SynchronousOrbit, cassini_pole, cassini_state, free_librations, latitude_frequency
+from ephem.base.constants import ARCSEC, AU_M, DAY_S, GM_EARTH, GM_SUN, J2000_JD, JULIAN_CENTURY_DAYS
+from ephem.orbit.lunar import delaunay_arguments, delaunay_rates, lunisolar_data
+from ephem.moon.rigid_integration import integrate_synchronous, orbit_normal, perturber_table, table_interpolation_error
 
 #: Lara (2014) Table 1, the Moon, C = 1 (the catalogue's values)
 MOON_MOMENTS = (0.999368, 0.999601, 1.0)
@@ -202,7 +201,7 @@ def free_run():
 
 def test_free_libration_in_longitude(free_run):
     """The longitude mode. Its restoring torque, the (B − A) part of ⟨u·I·u⟩ over an orbit of the tilted body,
-    varies as cos⁴(θ/2) cos² τ (:func:`ephem.synchronous_rigid.forced_start`): ω² = 3 g γ cos⁴(θ/2), a period
+    varies as cos⁴(θ/2) cos² τ (:func:`ephem.moon.rigid_integration.forced_start`): ω² = 3 g γ cos⁴(θ/2), a period
     sec²(θ/2) = 1 + 3.41e-3 times cassini.free_librations' √(3gγ) (which leaves the tilt out). Measured 1041.91 d
     against 1038.33 d × 1.00341 = 1041.87 d.
 
@@ -276,7 +275,7 @@ def test_the_real_moon_pole_stays_near_the_cassini_pole():
     Budget, each part sized here or measured:
     * the forced polar motion the real orbit's eccentricity drives: the primary's torque at the argument of
       perigee's rate ν in the body moves the figure axis about L by 3 g e sin θ (C − B)/(A ν n) = 126″ and
-      3 g e sin θ (C − A)/(2 B ν n) = 99″ (:func:`ephem.synchronous_rigid.forced_start`), at most the larger;
+      3 g e sin θ (C − A)/(2 B ν n) = 99″ (:func:`ephem.moon.rigid_integration.forced_start`), at most the larger;
     * the forced fortnightly nutation, P sin θ/(2Ḟ) = 11.2″;
     * the mean state off cassini_state: its omitted optical-libration term, (B − A) 2e² of P (0.2 %, the
       theory's docstring), and ΔI₂: the I these move, twice (the free latitude libration their offset starts),

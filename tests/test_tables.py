@@ -11,9 +11,9 @@ from typer.testing import CliRunner
 
 from ephem import api
 from ephem.cli import app
-from ephem.constants import MAS
-from ephem.errors import InvalidInputError
-from ephem.tables import DELAUNAY_COLUMNS, FORMATS, LAYOUTS, _COLUMNS, latex_escape, render_nutation, table_rows
+from ephem.base.constants import MAS
+from ephem.base.errors import InvalidInputError
+from ephem.exports.tables import DELAUNAY_COLUMNS, FORMATS, LAYOUTS, _COLUMNS, latex_escape, render_nutation, table_rows
 
 FORMAT_NAMES = tuple(FORMATS)
 

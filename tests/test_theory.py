@@ -1,19 +1,20 @@
-"""The one interface (ephem.theory, ephem.registry): every family behind it answers alike."""
+"""The one interface (ephem.theory.interface, ephem.families): every family behind it answers alike."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from ephem.catalogue import get_body
-from ephem.free_motion import make_wobble
-from ephem.ladder import ROUNDING, SunLadder, pole_vectors
-from ephem.earth import LunisolarTheory
-from ephem.registry import MODELS, THEORIES, theory_for
-from ephem.theory import SpinAxisTheory
+from ephem.bodies.catalogue import get_body
+from ephem.rotation.free_motion import make_wobble
+from ephem.theory.tracks import ROUNDING, pole_vectors
+from ephem.sun.ladder import SunLadder
+from ephem.earth.family import LunisolarTheory
+from ephem.families import MODELS, THEORIES, theory_for
+from ephem.theory.interface import SpinAxisTheory
 
 
 def test_each_body_is_served_by_the_family_its_perturbers_call_for():
-    """The family its perturbers call for, with the long-term model after the family's own (ephem.long_term)."""
+    """The family its perturbers call for, with the long-term model after the family's own (ephem.longterm.with_long_term)."""
     assert isinstance(theory_for(get_body("earth"), ("Moon", "Sun")).inner, LunisolarTheory)
     assert isinstance(theory_for(get_body("earth"), ("Sun",)).inner, SunLadder)
     vesta = theory_for(get_body("vesta"), ("Sun",))

@@ -1,4 +1,4 @@
-"""The span-aware theory terms of the fidelity ladder (ephem/ladder.py, issue 15): each rung's estimate against
+"""The span-aware theory terms of the fidelity ladder (ephem/sun/ladder.py, issue 15): each rung's estimate against
 its true error, measured against rung 5 (the averaged torque integrated along the same Keplerian orbit), over a
 generated population with the extremes; and the derivations the terms rest on, against the rungs' differences.
 
@@ -10,13 +10,14 @@ import math
 import numpy as np
 import pytest
 
-from ephem import ladder as lad
-from ephem.catalogue import get_body
-from ephem.constants import JULIAN_YEAR_DAYS
-from ephem.hansen import LAPLACE_LIMIT
-from ephem.ladder import Ladder, pole_vectors
-from ephem.numerical import angular_separation
-from ephem.second_order import eval_phi
+from ephem.sun import ladder as lad
+from ephem.bodies.catalogue import get_body
+from ephem.base.constants import JULIAN_YEAR_DAYS
+from ephem.orbit.hansen import LAPLACE_LIMIT
+from ephem.sun.ladder import Ladder
+from ephem.theory.tracks import pole_vectors
+from ephem.forced.integration import angular_separation
+from ephem.forced.second_order import eval_phi
 from scenes import synthetic_body
 
 YEAR = JULIAN_YEAR_DAYS
@@ -183,7 +184,7 @@ def test_a_series_rung_differs_from_hansen_by_the_difference_series_since_the_po
 
 def _remainder_predicted(ladder: Ladder, tables, t: np.ndarray) -> np.ndarray:
     """|(w, 1)(P2(M, φ) - P2(t0) + d(φ)(t - t0))| at the epochs, φ = θ̄0 + ψ̇ (t - t0): what rung 4 misses to third
-    order (ephem.second_order.Remainder)."""
+    order (ephem.forced.second_order.Remainder)."""
     m = ladder.model
     rem, wv = tables.remainder, np.array([tables.weight, 1.0])
     out = []
@@ -200,7 +201,7 @@ def _remainder_predicted(ladder: Ladder, tables, t: np.ndarray) -> np.ndarray:
 @pytest.mark.parametrize("name,e,eps", [("itokawa", None, None), ("eros", None, None), ("synthetic", 0.5, 60.0),
                                         ("synthetic", 0.9, 150.0)])
 def test_rung_4_misses_the_second_order_periodic_nutation_and_the_third_order_drift(name, e, eps):
-    # the derivation behind higher_order (ephem.second_order.Remainder): against rung 5, rung 4 is off by
+    # the derivation behind higher_order (ephem.forced.second_order.Remainder): against rung 5, rung 4 is off by
     # P2(t) - P2(t0) plus the drift d (t - t0), up to third-order terms of relative size r = (K/n) f(e) (1e-3 for
     # Itokawa): the budget, 3 r of the prediction, is the measured size of those terms (0.3-1.2 r for these four)
     # with a margin, plus rung 5's tolerance (1e-12 relative, well below 1e-13 rad here)
@@ -236,7 +237,7 @@ def test_an_unreachable_tolerance_is_refused_with_the_floor():
     """tolerance_mas=1e-30 was served with estimated_error_mas 0.0: the exact coefficients have a floor (the
     harmonics under their amplitude cut, the rounding), and a tolerance below it is not applicable."""
     from ephem import api
-    from ephem.errors import NotApplicableError
+    from ephem.base.errors import NotApplicableError
 
     with pytest.raises(NotApplicableError, match=r"exact Hansen coefficients are good to [0-9.e-]+ mas"):
         api.precession("vesta", tolerance_mas=1e-30)
@@ -249,8 +250,8 @@ def test_an_unreachable_tolerance_is_refused_with_the_floor():
 def test_the_exact_series_floor_bounds_what_its_amplitude_cut_drops(name):
     """Independent route: the series with no amplitude cut against the one served, at 4096 mean anomalies: the
     pole moves by no more than the floor (twice the dropped tail plus the coefficients' rounding)."""
-    from ephem.kinoshita import EXACT_ROUNDING, nutation_series, pole_displacement_sum
-    from ephem.model import cached_model
+    from ephem.forced.kinoshita import EXACT_ROUNDING, nutation_series, pole_displacement_sum
+    from ephem.forced.precession_nutation import cached_model
 
     m = cached_model(get_body(name))
     s = m.nutation

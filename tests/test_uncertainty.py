@@ -1,4 +1,4 @@
-"""Uncertainty propagation (ephem.uncertainty): the replica of the model, linear vs Monte Carlo, and
+"""Uncertainty propagation (ephem.forced.uncertainty): the replica of the model, linear vs Monte Carlo, and
 limit cases. Petit et al.'s (2014) ±6.57″/yr for Itokawa: tests/test_against_petit2014.py. See
 docs/uncertainties.md."""
 import dataclasses
@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from ephem import api
-from ephem.catalogue import get_body, load_catalogue, parse_catalogue
-from ephem.errors import InvalidInputError, NotApplicableError
-from ephem.uncertainty import SCALAR_KEYS, TERM_KEYS, _setup, input_sigmas, monte_carlo, propagate
+from ephem.bodies.catalogue import get_body, load_catalogue, parse_catalogue
+from ephem.base.errors import InvalidInputError, NotApplicableError
+from ephem.forced.uncertainty import SCALAR_KEYS, TERM_KEYS, _setup, input_sigmas, monte_carlo, propagate
 
 DATASETS = ("current", "petit2014")
 APPLICABLE = [(ds, b.name) for ds in DATASETS for b in load_catalogue(ds).bodies if b.name != "Moon"]
@@ -24,7 +24,7 @@ SYNTHETIC = {"orbit.a": 1e-5, "orbit.e": 1e-4, "orbit.i": 0.01, "orbit.node": 0.
 
 def _public_numbers(body, dataset, order):
     # the replica is the single-perturber (Sun) theory's: the Earth's default answer is the lunisolar one
-    # (ephem.earth), whose uncertainties are not propagated (tests/test_earth.py)
+    # (ephem.earth.family), whose uncertainties are not propagated (tests/test_earth.py)
     p = api.precession(body, dataset, order, perturbers="sun")
     nu = api.nutation(body, dataset, order, perturbers="sun")
     scalars = [p["obliquity_deg"], p["precession_rate_arcsec_per_year"], p["dynamical_ellipticity"],
@@ -241,7 +241,7 @@ def test_contributions_add_in_quadrature_and_name_the_dominant_input():
 
 def test_step_size_does_not_matter():
     """Central differences at σ/100 and σ/50 give the same contributions (truncation error negligible)."""
-    import ephem.uncertainty as unc
+    import ephem.forced.uncertainty as unc
 
     body = load_catalogue("current").get("Vesta")
     st = _setup(body, "current", None, SYNTHETIC, None)
@@ -305,7 +305,7 @@ def test_the_cost_is_two_model_evaluations_per_input(monkeypatch):
     """Central differences: the nominal model once and two evaluations per input (one-sided at a domain
     edge: still two), 1 + 2 n for the body's n inputs (10 to 12). A count, not a time: benchmarks/bench_cost.py measures
     the seconds (uncertainty.propagated)."""
-    from ephem.uncertainty import _Replica
+    from ephem.forced.uncertainty import _Replica
     calls = []
     original = _Replica.outputs
 
@@ -362,7 +362,7 @@ def test_linear_fails_for_a_5_degree_pole_near_the_orbit_normal():
 
 
 def test_the_poles_uncertainty_along_a_track_is_the_monte_carlo_one():
-    """The pole's 1-σ at each epoch (ephem.uncertainty.pole_uncertainty, linear, the RMS angle) against a Monte
+    """The pole's 1-σ at each epoch (ephem.forced.uncertainty.pole_uncertainty, linear, the RMS angle) against a Monte
     Carlo of 400 catalogue Eros (pole RA and Dec σ 0.02°, here correlated at ρ = 0.5 to use the covariance): the
     RMS angle of the sampled poles from the nominal one, over a century. Budget: the RMS of N normal samples is
     known to 1/sqrt(2N) = 3.5 % (1σ); 4σ, 14 %. At the pole epoch it is the pole's own σ, sqrt(σ_ra² cos²δ +
@@ -371,8 +371,8 @@ def test_the_poles_uncertainty_along_a_track_is_the_monte_carlo_one():
     import dataclasses
     import math
 
-    from ephem.model import build_model
-    from ephem.uncertainty import pole_uncertainty
+    from ephem.forced.precession_nutation import build_model
+    from ephem.forced.uncertainty import pole_uncertainty
 
     b = get_body("eros")
     t = 2451545.0 + np.array([0.0, 18262.5, 36525.0])
@@ -403,9 +403,9 @@ def test_the_poles_uncertainty_along_a_track_is_the_monte_carlo_one():
 
 def _vesta_with_a_polar_moment_sigma(sigma_c: float):
     """Vesta as the catalogue has it, with a σ on Park et al. (2025)'s polar moment (none is published), its
-    moments and their covariance derived as the loader derives them (ephem.inertia)."""
-    from ephem.catalogue import Measured
-    from ephem.inertia import derive
+    moments and their covariance derived as the loader derives them (ephem.bodies.inertia)."""
+    from ephem.bodies.catalogue import Measured
+    from ephem.bodies.inertia import derive
 
     vesta = get_body("vesta")
     keys = ("polar_moment", "J2", "C22", "S22")
@@ -423,7 +423,7 @@ def test_moments_from_one_polar_moment_carry_its_error_once():
     that of J2/C-bar, H_d σ_C/C (to the gravity's 1e-7 share), where independent moments of the same σ would
     give a σ five times larger; the precession rate's σ, linear, against 600 draws of C-bar and the gravity
     through the answers themselves (sampling error of a σ: 1/sqrt(2·599) = 2.9 %, 3 of them: 9 %)."""
-    from ephem.inertia import moments_from_gravity
+    from ephem.bodies.inertia import moments_from_gravity
 
     sigma_c = 0.003
     body = _vesta_with_a_polar_moment_sigma(sigma_c)

@@ -5,9 +5,9 @@ from astropy import units as u
 from astropy.time import Time
 
 from ephem import api
-from ephem.errors import InvalidInputError
-from ephem.timeparse import to_jd_tdb
-from ephem.units import unit_of, with_units
+from ephem.base.errors import InvalidInputError
+from ephem.base.times import to_jd_tdb
+from ephem.base.units import unit_of, with_units
 
 # building a UTC Time after the leap-second table ends warns "dubious year": the test's inputs, not ours
 pytestmark = pytest.mark.filterwarnings("ignore::erfa.ErfaWarning")

@@ -1,4 +1,4 @@
-"""Write the Moon's forced physical librations (ephem.physical_librations) for the moments the library uses: the
+"""Write the Moon's forced physical librations (ephem.moon.physical_librations) for the moments the library uses: the
 catalogues' (Lara 2014 Table 1, both datasets) and the effective ones (EFFECTIVE_BETA_GAMMA), to
 data/moon_librations/*.csv, so that a request reads them instead of building them (about 2 s each).
 
@@ -8,8 +8,9 @@ tests/test_physical_librations.py checks the shipped files against a fresh build
 """
 from __future__ import annotations
 
-from ephem.catalogue import available_datasets, data_dir, get_body
-from ephem.physical_librations import EFFECTIVE_MOMENTS, SHIPPED_DIR, moon_physical_librations, write_series_csv
+from ephem.bodies.catalogue import available_datasets, get_body
+from ephem.base.paths import data_dir
+from ephem.moon.physical_librations import EFFECTIVE_MOMENTS, SHIPPED_DIR, moon_physical_librations, write_series_csv
 
 
 def main() -> None:

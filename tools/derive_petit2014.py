@@ -32,11 +32,11 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq, least_squares
 
-from ephem.catalogue import load_catalogue
-from ephem.constants import ARCSEC, AU_M, DAY_S, GM_SUN, JULIAN_YEAR_DAYS
-from ephem.geometry import icrf_to_ecliptic, lon_lat, spin_geometry
-from ephem.kinoshita import eccentricity_factor, nutation_series
-from ephem.model import build_model
+from ephem.bodies.catalogue import load_catalogue
+from ephem.base.constants import ARCSEC, AU_M, DAY_S, GM_SUN, JULIAN_YEAR_DAYS
+from ephem.orbit.geometry import icrf_to_ecliptic, lon_lat, spin_geometry
+from ephem.forced.kinoshita import eccentricity_factor, nutation_series
+from ephem.forced.precession_nutation import build_model
 
 TABLES = Path(__file__).resolve().parent.parent / "data" / "petit2014"
 #: Orbital periods printed by the paper (Table 9 in days for Vesta; Table 7 in years for Ceres).
@@ -128,7 +128,7 @@ def effective_pole(body, obliquity_deg: float) -> tuple[float, float]:
     gamma, y, w = geo.orbit_frame
     eps = math.radians(obliquity_deg)
     s_new = math.sin(eps) * y + math.cos(eps) * w  # the pole is (0, sin ε, cos ε) in (γ, W×γ, W)
-    from ephem.geometry import icrf_to_ecliptic_matrix
+    from ephem.orbit.geometry import icrf_to_ecliptic_matrix
     ra, dec = lon_lat(icrf_to_ecliptic_matrix().T @ s_new)
     return math.degrees(float(ra)), math.degrees(float(dec))
 

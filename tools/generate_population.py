@@ -79,7 +79,7 @@ Spin
     rotators"); their coefficients were not taken, ours give the 2:1 ratio exactly (mean cos ε = -2/9).
   The azimuth of the pole about the orbit normal (from the ascending node) is uniform. The pole vector
   s = cos ε n + sin ε (cos φ u + sin φ (n × u)), with n the orbit normal and u the ascending node (both ecliptic
-  J2000), is turned to the ICRF by ``ephem.geometry.icrf_to_ecliptic_matrix`` (ERFA's ecm06 at J2000: the IAU
+  J2000), is turned to the ICRF by ``ephem.orbit.geometry.icrf_to_ecliptic_matrix`` (ERFA's ecm06 at J2000: the IAU
   2006 obliquity ε0 = 84381.406″ with the ICRS frame bias, ~0.02″), the rotation the library uses to compute
   the obliquity back, so a row's obliquity is what ``ephem`` will find. ``pole_epoch_jd_tdb`` is 2451545.0 in
   half the rows and left empty (its default) in the others.
@@ -121,7 +121,7 @@ from typing import Iterator
 
 import numpy as np
 
-from ephem.geometry import icrf_to_ecliptic_matrix
+from ephem.orbit.geometry import icrf_to_ecliptic_matrix
 
 EPOCH_JD = 2461000.5                       # JD TDB of every row's osculating elements
 J2000_JD = 2451545.0

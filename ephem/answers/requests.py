@@ -1,0 +1,632 @@
+"""The library's public answers: plain dicts with the contract's keys and units.
+
+The CLI and the HTTP service both render these; the science stays in
+:mod:`ephem.forced.precession_nutation` and below. Angles in degrees, precession and nutation in
+arcseconds, rates per Julian year, times as JD TDB.
+"""
+from __future__ import annotations
+
+import json
+import math
+import time
+
+import numpy as np
+
+from ..theory import cost
+from ..base.budget import OverBudgetError, charge, checkpoint, prepaid
+from ..bodies.catalogue import (DEFAULT_DATASET, Body, check_angle, get_body, load_catalogue, load_references,
+                                resolve_body, resolve_perturbers)
+from ..base.constants import ARCSEC, MAS
+from ..base.errors import InvalidInputError, NotApplicableError
+from ..orbit.hansen import hansen_series
+from ..longterm.history import MAX_HISTORY_SAMPLES, MAX_SPAN_YEARS, history_answer
+from ..theory.tracks import AXES
+# model_for and MAX_ORDER are part of this facade (the numeric model of a body; the highest e-order)
+from ..forced.precession_nutation import MAX_ORDER, check_order, model_for  # noqa: F401
+from ..families import MODELS, refuse_model, theory_for
+from ..theory.interface import cheapest_within, selection_info
+from ..forced.uncertainty import input_sigmas, pole_uncertainty, propagated
+from ..base.times import to_jd_tdb
+from ..base.units import in_unit, with_units
+
+#: Highest e-power order served: the exact-rational series costs ~0.7 s to build at 30 and grows
+#: steeply beyond (a request could tie up a worker); exact Hansen coefficients have no such limit.
+#: Default cap on the number of epochs in one track.
+MAX_TRACK_SAMPLES = 1_000_000
+#: A track whose estimated error exceeds this (mas; 1°) carries a warning that its poles are uncertain by
+#: more than a degree.
+WARN_ESTIMATE_MAS = 3.6e6
+#: ... and beyond this (mas; 10°) it is refused: the pole could be anywhere within a cone wider than most
+#: asteroids' obliquity changes, so no number served would mean anything.
+REFUSE_ESTIMATE_MAS = 3.6e7
+
+
+
+def _tolerance(tolerance_mas) -> float | None:
+    tolerance_mas = in_unit(tolerance_mas, "mas", "tolerance_mas")
+    if tolerance_mas is None:
+        return None
+    if isinstance(tolerance_mas, bool) or not isinstance(tolerance_mas, (int, float)) \
+            or not math.isfinite(tolerance_mas) or tolerance_mas <= 0.0:
+        raise InvalidInputError("tolerance_mas", f"must be a positive finite number of milliarcseconds, "
+                                f"got {tolerance_mas!r}")
+    return float(tolerance_mas) * MAS
+
+
+def _rung(name) -> str | None:
+    if name is None:
+        return None
+    if name not in MODELS:
+        raise InvalidInputError("model", f"unknown model {name!r}; one of {', '.join(MODELS)}")
+    return name
+
+
+def _perturbers(b: Body, perturbers) -> tuple[str, ...]:
+    """The perturbers of a request: the catalogue's (None), or validated names (a list, or a comma-separated
+    string such as "moon,sun")."""
+    if perturbers is None:
+        return b.perturbers
+    return resolve_perturbers(perturbers, b)
+
+
+def _moon_left_out(b: Body, per: tuple[str, ...]) -> list[str]:
+    """The warning a single-perturber answer carries when the catalogue gives the body the Moon too."""
+    if "Moon" not in b.perturbers or "Moon" in per:
+        return []
+    return [f"perturbers={','.join(per)} leaves out the Moon, which the catalogue lists for {b.name}: this is the "
+            f"Sun's part of the motion only (about a third of the Earth's precession), and its error estimate is "
+            f"against a Sun-only {b.name}, not the real one"]
+
+
+def _tag_perturbers(ans: dict, b: Body, per: tuple[str, ...]) -> dict:
+    model = ans.pop("model")        # the perturbers go before the model object, which closes every answer
+    ans["perturbers"] = list(per)
+    ans["model"] = model
+    ans["model"]["perturbers"] = list(per)
+    ans["model"]["warnings"].extend(_moon_left_out(b, per))
+    return ans
+
+
+def warm_up(dataset: str = DEFAULT_DATASET) -> None:
+    """Build the caches the Earth's answers share, so the first request does not pay for them.
+
+    The lunisolar series (FFT of the Moon's and the Sun's forcing, about 1.5 s), its cut-free
+    companion and the track's error-estimate ingredients: about 2.3 s once per process, after
+    which an Earth precession, nutation or track answer takes milliseconds; and the Moon's libration
+    series (read from data/moon_librations: 0.1 s; built, 2 s a moment set, if the catalogue's moments change). Also the rational
+    Hansen series every e-order is cut from (~0.1 s), which every track's error estimate needs and
+    no request's cost counts. The service calls it at start-up.
+    """
+    hansen_series(4)
+    track("moon", "2000-01-01", "2000-01-02", 1.0, dataset=dataset)    # the Moon's shipped libration series
+    precession("earth", dataset=dataset)
+    nutation("earth", dataset=dataset)
+    track("earth", "2000-01-01", "2000-02-01", 10.0, dataset=dataset)
+
+
+def list_bodies(dataset: str = DEFAULT_DATASET) -> list[dict]:
+    cat = load_catalogue(dataset)
+    return [{
+        "name": b.name, "naif_id": b.naif_id, "kind": b.kind, "dataset": b.dataset,
+        "a_au": b.orbit.a_au, "e": b.orbit.e, "orbit_center": b.orbit.center,
+        "rotation_period_hours": b.rotation_period_hours,
+        "pole_ra_deg": b.pole.ra_deg, "pole_dec_deg": b.pole.dec_deg,
+        "dynamical_ellipticity": b.hd,
+    } for b in cat.bodies]
+
+
+def body_record(body: str | int, dataset: str = DEFAULT_DATASET) -> dict:
+    """The full catalogue record: every value with unit, uncertainty (or the reason none is published) and resolved
+    source, the values derived from others (``inertia.derived_from.*`` are the inputs of the moments), and the
+    correlations of their errors (``correlations``: [{inputs: [key, key], value: ρ}])."""
+    b = get_body(body, dataset)
+    refs = load_references()
+    values = {}
+    for key, m in b.values.items():
+        values[key] = {"value": m.value, "unit": m.unit, "uncertainty": m.uncertainty,
+                       "no_uncertainty": m.no_uncertainty, "source": m.source, "reference": refs.get(m.source),
+                       "note": m.note}
+    return {"name": b.name, "naif_id": b.naif_id, "kind": b.kind, "dataset": b.dataset,
+            "orbit_center": b.orbit.center, "dynamical_ellipticity": b.hd,
+            "dynamical_ellipticity_from": b.hd_from, "perturbers": list(b.perturbers), "values": values,
+            "correlations": [{"inputs": list(pair), "value": rho} for pair, rho in b.correlations.items()]}
+
+
+def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None,
+               tolerance_mas: float | None = None, quantities: bool = False, perturbers=None) -> dict:
+    """Obliquity, H_d, K and the precession rate ψ̇ (Petit et al. Table 4 columns).
+
+    ``tolerance_mas`` picks the lowest e-order whose truncated nutation stays within it
+    (the rate is then the truncated one); ``model`` reports what was used.
+
+    ``perturbers``: None for the catalogue's (the Earth: the Moon and the Sun), or names ("sun",
+    ["Sun"], "moon,sun"). With the Moon the Earth's rate is the lunisolar theory's
+    (:mod:`ephem.earth.family`); the Sun alone reproduces the single-perturber answer.
+    """
+    start = time.perf_counter()
+    b = resolve_body(body, dataset)
+    per = _perturbers(b, perturbers)
+    tol, order = _tolerance(tolerance_mas), check_order(order)
+    ans = _tag_perturbers(theory_for(b, per).precession_answer(order, tol, start), b, per)
+    return with_units(ans) if quantities else ans
+
+
+def answer_cost(b: Body, order: int | None, nutation: bool = False, tolerance: bool = False) -> cost.Cost:
+    """What a precession (or, with ``nutation``, a nutation) answer for ``b`` under its catalogue perturbers
+    will cost (:meth:`ephem.theory.interface.SpinAxisTheory.answer_cost`)."""
+    return theory_for(b, b.perturbers).answer_cost(order, nutation, tolerance)
+
+
+def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None,
+             tolerance_mas: float | None = None, quantities: bool = False, perturbers=None,
+             cut_mas: float | None = None) -> dict:
+    """Nutation terms: Δψ = Σ S sin kM + C cos kM (likewise Δε), arcsec.
+
+    ``tolerance_mas`` picks the lowest e-order whose terms move the pole by no more than
+    that from the exact-coefficient series (the bound in ``model.estimated_error_mas``).
+
+    ``perturbers`` as :func:`precession`. With the Moon (the Earth) the terms are the lunisolar
+    series' in the Delaunay arguments: each carries ``delaunay_multipliers`` [l, l′, F, D, Ω] (and
+    ``multiple`` null), signed periods (negative where the argument decreases) and its Poisson rates;
+    ``cut_mas`` (default 0.1) or ``tolerance_mas`` (the largest cut whose omitted terms move the pole by
+    no more than that in all) chooses the amplitude cut.
+    """
+    start = time.perf_counter()
+    b = resolve_body(body, dataset)
+    per = _perturbers(b, perturbers)
+    tol, order = _tolerance(tolerance_mas), check_order(order)
+    ans = _tag_perturbers(theory_for(b, per).nutation_answer(order, tol, cut_mas, start), b, per)
+    return with_units(ans) if quantities else ans
+
+
+def _within(part: str, answer):
+    """``answer()``, a part of the POST answer (``track``, ``history``): errors in the part's own inputs name
+    their full path (``track.step_days``); those in the body's (orbit, pole, moments...) stay as they are."""
+    try:
+        return answer()
+    except InvalidInputError as exc:
+        # the body's own fields (rotation_period_hours, not the track's rotation_phase_deg)
+        if exc.field.startswith(("orbit.", "pole.", "moments", "order", "rotation_period", "dynamical")):
+            raise
+        raise InvalidInputError(f"{part}.{exc.field}", exc.reason, exc.body) from None
+    except OverBudgetError as exc:
+        if exc.field.startswith("orbit."):
+            raise
+        raise exc.within(f"{part}.") from None
+
+
+#: the most rows :func:`batch` takes in one call (the service's is EPHEM_MAX_BATCH_ROWS); a catalogue streams through
+#: ``ephem batch`` (ephem.batch.distributed, on Dask) instead
+MAX_BATCH_ROWS = 100_000
+
+
+def batch(rows, history: dict | None = None, max_rows: int = MAX_BATCH_ROWS, history_path: str = "history.") -> dict:
+    """Precession and nutation of several bodies at once, synchronously (:mod:`ephem.batch.population`): ``rows`` a list of
+    {column: value} (docs/batch_input.md: the orbit, the pole, the period, one inertia form, optional ``_sigma``
+    columns); ``history`` {start_year, stop_year, step_years} adds each body's obliquity range and period (its
+    errors name ``history_path`` + the key: the service passes "" when the client gave them as query parameters).
+
+    Returns ``rows`` (one {output column: value} per input row, in order: docs/batch.md; a bad row has its reason
+    in ``error`` and nulls, the others are unaffected), ``columns`` (the output columns, in order) and ``model``.
+    A malformed request (rows not a list of objects, an unknown column, a bad history) raises
+    :class:`InvalidInputError` naming its path (``rows[3]``, ``rows[0].colour``, ``history.step_years``); a cell
+    that is not a number (or not text, for ``name``) is its row's ``error``, as in ``ephem batch``.
+    The cost is charged before the work, each row at its own eccentricity (:func:`ephem.batch.population.batch_cost`),
+    and a batch above the service's threshold for large work takes its turn before any row is computed.
+    """
+    from ..batch import population as pop
+
+    if not isinstance(rows, list):
+        raise InvalidInputError("rows", "expected a list of objects, one per body, with the columns of "
+                                f"docs/batch_input.md, got {_json_kind(rows)}")
+    for j, r in enumerate(rows):
+        if not isinstance(r, dict):
+            raise InvalidInputError(f"rows[{j}]", "expected a list of objects, one per body, with the columns of "
+                                    f"docs/batch_input.md: this row is {_json_kind(r)}")
+    if not rows:
+        raise InvalidInputError("rows", "no rows: give at least one body")
+    if len(rows) > max_rows:
+        raise InvalidInputError("rows", f"{len(rows)} rows is more than {max_rows} in one request; run "
+                                f"`ephem batch INPUT --out OUTPUT` (ephem.batch.distributed.run) for a catalogue")
+    known = set(pop.INPUT_COLUMNS) | {f"{k}_sigma" for k in pop.SIGMA_INPUTS}
+    for j, r in enumerate(rows):
+        unknown = sorted((k for k in r if k not in known), key=str)
+        if unknown:
+            raise InvalidInputError(f"rows[{j}].{unknown[0]}", f"unknown column(s) {', '.join(map(repr, unknown))}; "
+                                    "the columns are those of docs/batch_input.md")
+    spec = None if history is None else _batch_history(history, history_path)
+    columns, bad = _batch_columns(rows, pop)
+    try:
+        charge(pop.batch_cost(len(rows), spec, pop.sigma_inputs(columns), columns))
+    except OverBudgetError as exc:
+        if exc.field in _HISTORY_KEYS:      # a history's span: named where the client wrote it
+            raise exc.within(history_path) from None
+        raise
+    checkpoint()    # the whole batch is charged: a large one takes its turn (or is refused busy) before any row
+    out = pop.spoil_rows(pop.evaluate(columns, spec), bad)     # a cell that is not a number spoils its row only
+
+    def plain(key, v):
+        if isinstance(v, (float, np.floating)):
+            return None if not math.isfinite(v) else int(v) if key.endswith("_multiple") else float(v)
+        if isinstance(v, np.integer):
+            return int(v)
+        return str(v) if isinstance(v, np.str_) else v
+
+    names = list(out)
+    return {"columns": names, "rows": [{k: plain(k, out[k][j]) for k in names} for j in range(len(rows))],
+            "model": {"name": pop.MODEL, "theory": "Kinoshita's first-order theory with exact Hansen coefficients, "
+                      "vectorised over the bodies (ephem.batch.population); each row equals the single-body answer",
+                      "leading_terms": pop.LEADING_TERMS}}
+
+
+#: the keys of a batch's history, all three required
+_HISTORY_KEYS = ("start_year", "stop_year", "step_years")
+
+
+def _batch_history(history, path: str):
+    """The batch's :class:`ephem.batch.population.HistorySpec`, validated once as every row's history would be
+    (:func:`ephem.batch.population.history_epochs`); errors name ``path`` + the key (``history.step_years``)."""
+    from ..batch import population as pop
+
+    if not isinstance(history, dict):
+        raise InvalidInputError(path.rstrip(".") or "history", "expected {start_year, stop_year, step_years}, "
+                                f"numbers, got {_json_kind(history)}")
+    for key in list(history) + list(_HISTORY_KEYS):
+        if key not in _HISTORY_KEYS:
+            raise InvalidInputError(f"{path}{key}", "unknown key: expected {start_year, stop_year, step_years}")
+        if history.get(key) is None:
+            raise InvalidInputError(f"{path}{key}", "missing: expected {start_year, stop_year, step_years}, numbers")
+    spec = pop.HistorySpec(*(history[k] for k in _HISTORY_KEYS))
+    try:
+        pop.history_epochs(spec)
+    except InvalidInputError as exc:
+        # the batch's rule in the reason too: the OpenAPI document states it in these words
+        raise InvalidInputError(f"{path}{exc.field}", f"{exc.reason} (start_year < stop_year and step_years > 0, "
+                                f"finite numbers, within {MAX_SPAN_YEARS:.3g} years and {MAX_HISTORY_SAMPLES} "
+                                "epochs)") from None
+    return pop.HistorySpec(*(float(history[k]) for k in _HISTORY_KEYS))
+
+
+def _batch_columns(rows: list[dict], pop) -> tuple[dict, dict[int, str]]:
+    """The rows as the population's columns (name as text, the rest floats, NaN where a cell is absent or
+    empty) and {row: reason} for the cells that are not numbers (or not text, for name): ``ephem batch``'s reason
+    (``i_deg: not a number: 'abc'``), the row's error."""
+    n = len(rows)
+    keys = sorted({k for r in rows for k in r} | set(pop.REQUIRED))   # every row counted, absent values missing
+    columns, bad = {}, {}
+    for key in keys:
+        col = np.full(n, "", dtype=object) if key == "name" else np.full(n, np.nan)
+        for j, r in enumerate(rows):
+            v = r.get(key)
+            if v is None or v == "":
+                continue
+            try:
+                col[j] = _batch_cell(key, v)
+            except ValueError as exc:
+                bad.setdefault(j, f"{key}: {exc}")
+        columns[key] = col
+    return columns, bad
+
+
+def _batch_cell(key: str, v):
+    """A cell's value: text for name, else a float; ValueError (the reason) for what is neither."""
+    if isinstance(v, bytes):        # the service's CSV reader gives the raw bytes of a cell that is not UTF-8
+        raise ValueError(f"not UTF-8 text: {v[:40]!r}")
+    if key == "name":
+        if isinstance(v, str):
+            return v
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            return str(v)     # a number as a name (an asteroid's number) is its text
+        raise ValueError(f"not text: {_json_kind(v)}")
+    if isinstance(v, bool) or not isinstance(v, (int, float, str)):
+        raise ValueError(f"not a number: {_json_kind(v)}")
+    try:
+        return float(v)
+    except (ValueError, OverflowError):
+        raise ValueError(f"not a number: {str(v)[:40]!r}") from None
+
+
+def _json_kind(v) -> str:
+    """What a JSON value is, for an error message: its kind, and its JSON text when short."""
+    kind = {bool: "a boolean", dict: "an object", list: "an array", str: "a string", type(None): "null"}.get(
+        type(v), "a number" if isinstance(v, (int, float)) else type(v).__name__)
+    if v is None or isinstance(v, (dict, list)):
+        return kind
+    try:
+        text = json.dumps(v)
+    except (TypeError, ValueError):     # not a JSON value (a library caller's object)
+        text = repr(v)
+    return f"{kind} ({text})" if len(text) <= 40 else kind
+
+
+def precession_nutation(body: Body, order: int | None = None, track: dict | None = None,
+                        max_samples: int = MAX_TRACK_SAMPLES, history_request: dict | None = None) -> dict:
+    """The POST answer for a body of the user's own: ``precession``, ``nutation`` and, with ``track``
+    (the keyword arguments of :func:`track_arrays`: start, stop, step_days, tolerance_mas, model, axis,
+    free_wobble_*), ``track`` (arrays), and with ``history_request`` (the keyword arguments of :func:`history`:
+    start_year, stop_year, step_years, tolerance_mas, orbit_model), ``history``.
+
+    Every part's cost is charged before any part is computed (the track's own check comes first, then
+    the two answers'); errors in the track's inputs name their full path (``track.step_days``).
+    """
+    charge(answer_cost(body, check_order(order), nutation=True), body.name)
+    ans = {}
+    if track is not None:
+        ans["track"] = _within("track", lambda: track_arrays(body, order=order, max_samples=max_samples, **track))
+    if history_request is not None:
+        ans["history"] = _within("history", lambda: history(body, **history_request))
+    with prepaid():     # charged above
+        ans["precession"] = precession(body, order=order)
+        ans["nutation"] = nutation(body, order=order)
+    return {k: ans[k] for k in ("precession", "nutation", "track", "history") if k in ans}
+
+
+def history(body: str | int | Body, start_year, stop_year, step_years, dataset: str = DEFAULT_DATASET,
+            tolerance_mas=None, orbit_model: str | None = None, perturbers=None,
+            max_samples: int = MAX_HISTORY_SAMPLES, progress=None) -> dict:
+    """The spin axis over millennia and millions of years (:func:`ephem.longterm.history.history_answer`): times in Julian
+    years from J2000.0 TDB (negative: the past), the orbit model chosen by ``tolerance_mas`` or named by
+    ``orbit_model`` ("secular" or "nbody"), through the theory serving the body under ``perturbers``."""
+    b = resolve_body(body, dataset)
+    per = _perturbers(b, perturbers)
+    ans = history_answer(b, theory_for(b, per), start_year, stop_year, step_years, _tolerance(tolerance_mas),
+                         orbit_model, max_samples, progress)
+    return _tag_perturbers(ans, b, per)
+
+
+def epoch_grid(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPLES) -> tuple[float, float, int]:
+    """(first JD TDB, step in days, count) of the evenly spaced epochs from start to stop.
+
+    stop is included when it falls on the grid.
+    """
+    t0 = to_jd_tdb(start, "start")
+    t1 = to_jd_tdb(stop, "stop")
+    step_days = in_unit(step_days, "d", "step_days")
+    if isinstance(step_days, bool) or not isinstance(step_days, (int, float)) or not math.isfinite(step_days):
+        raise InvalidInputError("step_days", f"must be a finite number, got {step_days!r}")
+    if step_days <= 0:
+        raise InvalidInputError("step_days", f"must be positive, got {step_days}")
+    if t1 < t0:
+        raise InvalidInputError("stop", f"stop (JD {t1}) is before start (JD {t0})")
+    steps = (t1 - t0) / step_days      # inf for a subnormal step: compared before it becomes an int
+    if not steps < max_samples:        # floor(steps) + 1 > the cap (steps + 1 > it would refuse a part step)
+        from ..base.errors import count_text
+        raise InvalidInputError("step_days", f"{count_text(steps + 1)} samples exceed the cap of {max_samples}; "
+                                "use a larger step or a shorter span")
+    count = int(math.floor(steps + 1e-9)) + 1
+    if count > max_samples:
+        raise InvalidInputError("step_days", f"{count} samples exceed the cap of {max_samples}; "
+                                "use a larger step or a shorter span")
+    return t0, float(step_days), count
+
+
+TRACK_KEYS = ("jd_tdb", "psi_arcsec", "delta_psi_arcsec", "delta_epsilon_arcsec", "obliquity_deg",
+              "pole_ra_deg", "pole_dec_deg")
+
+
+def _wobble_request(b: Body, axis: str, phase_deg, J_arcsec, epoch):
+    if phase_deg is None:
+        for name, value in (("free_wobble_J_arcsec", J_arcsec), ("free_wobble_epoch", epoch)):
+            if value is not None:
+                raise InvalidInputError(name, "give the wobble's phase (free_wobble_phase_deg) with it", b.name)
+        return None
+    if axis != "figure":
+        raise InvalidInputError("free_wobble_phase_deg", "the free wobble moves the figure axis, not the "
+                                "angular momentum: ask for axis=figure", b.name)
+    from ..rotation.free_motion import make_wobble
+
+    return make_wobble(b, phase_deg, J_arcsec, None if epoch is None else to_jd_tdb(epoch, "free_wobble_epoch"))
+
+
+def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,
+                 order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES,
+                 tolerance_mas: float | None = None, model: str | None = None, axis: str = "figure",
+                 free_wobble_phase_deg: float | None = None, free_wobble_J_arcsec: float | None = None,
+                 free_wobble_epoch=None, perturbers=None, output: str = "json",
+                 rotation_phase_deg: float | None = None) -> dict:
+    """As :func:`track`, with numpy arrays instead of lists (for streaming and numerical use).
+
+    ``output``: how the caller will write the answer out (``json`` or ``csv``), which its cost includes."""
+    begin = time.perf_counter()
+    b = resolve_body(body, dataset)
+    t0, step, count = epoch_grid(start, stop, step_days, max_samples)
+    order, tol, name = check_order(order), _tolerance(tolerance_mas), _rung(model)
+    if axis not in AXES:
+        raise InvalidInputError("axis", f"must be one of {', '.join(AXES)}, got {axis!r}", b.name)
+    if tol is not None and (order is not None or name is not None):
+        raise InvalidInputError("tolerance_mas", "give a tolerance, or a model and order, not both")
+    per = _perturbers(b, perturbers)
+    if output not in cost.SERIALISATIONS:
+        raise InvalidInputError("format", f"must be one of {', '.join(cost.SERIALISATIONS)}, got {output!r}", b.name)
+    theory = theory_for(b, per, axis)
+    if name is not None and name not in theory.models:
+        refuse_model(theory, name)
+    theory.check_request(name, order)
+    wobble = _wobble_request(b, axis, in_unit(free_wobble_phase_deg, "deg", "free_wobble_phase_deg"),
+                             in_unit(free_wobble_J_arcsec, "arcsec", "free_wobble_J_arcsec"), free_wobble_epoch)
+    theory = theory.with_wobble(wobble)
+    phase = in_unit(rotation_phase_deg, "deg", "rotation_phase_deg")
+    if phase is not None:
+        check_angle(b.name, "rotation_phase_deg", phase)
+        if wobble is not None:
+            raise InvalidInputError("rotation_phase_deg", "the rotation-scale terms and a modelled free wobble are "
+                                    "not combined: give the rotation phase or the wobble's phase, not both", b.name)
+        if not theory.models_rotation_scale:
+            raise InvalidInputError("rotation_phase_deg", f"{theory.summary} does not model the rotation "
+                                    "scale: leave it out", b.name)
+        theory = theory.with_rotation_phase(math.radians(phase))
+    t_end = t0 + step * (count - 1)
+    output = cost.Cost((cost.serialised(count, len(TRACK_KEYS), output),))
+    # the estimates, and the named model's own cost, charged before anything is built
+    charge(theory.choice_cost(t0, t_end, count)
+           + (cost.FREE if tol is not None else theory.track_cost(name, order, t0, t_end, count, wobble is not None, phase is not None)
+              + output), b.name)
+    t = t0 + step * np.arange(count)
+    if tol is not None:
+        est = cheapest_within([e for e in theory.estimates(t) if e.available], tol, b.name, wobble is not None)
+        name, order = est.rung, est.order
+        charge(theory.track_cost(name, order, t0, t_end, count, est.free_wobble, est.rotation_scale is not None)
+               + output, b.name)
+    else:
+        est = theory.named(t, name, order)
+        name = name or theory.default_model(order)
+    checkpoint()    # the track is charged: a large one takes its turn (or is refused busy) before it is built
+    tr = theory.track(est, name, order, t0, step, count)
+    with_wobble = wobble is not None and (est is None or est.free_wobble)
+    estimate = None if est is None or not est.available else est.total
+    info = theory.describe(est, name, order, with_wobble)
+    for term in () if est is None else est.unestimated:
+        info["warnings"].append(UNESTIMATED_WARNINGS[term])
+    _meaningful(b, estimate, info)
+    selection = selection_info(theory, name, order, estimate, 1e3 * (time.perf_counter() - begin), tol,
+                                None if est is None else est.terms)
+    if est is not None and est.rotation_scale is not None:
+        selection["rotation_scale"] = {"modelled": est.rotation_scale, "rotation_phase_deg": phase}
+    # the mean obliquity's 1σ from the catalogue's uncertainties (null: unknown), as in precession(), and the
+    # pole's along the track (its angle's 1σ at each epoch, growing with the rate's)
+    sigma, pole_sigma = None, None
+    if theory.propagates_uncertainty:
+        sigma = propagated(b, order)["obliquity_deg_uncertainty"]
+        with_sigma = sum(1 for s in input_sigmas(b).values() if s)
+        charge(cost.pole_uncertainty(b, with_sigma, count, order), b.name)
+        pole_sigma = pole_uncertainty(b, tr.jd_tdb, b.dataset, order)
+    ans = _track_answer(b, tr, info, selection, axis, wobble if with_wobble else None, sigma,
+                        theory.extra_description())
+    ans["pole_uncertainty_deg"] = None if pole_sigma is None else np.degrees(pole_sigma)
+    ans["model"] = ans.pop("model")          # the model object closes every answer
+    return _tag_perturbers(ans, b, per)
+
+
+#: the warning an answer carries for each error term its estimate could not include
+UNESTIMATED_WARNINGS = {
+    "orbit_motion": "the real orbit's departure from the fixed Keplerian one was never measured for this body: the "
+                    "error estimate treats the given orbit as exact (see docs/accuracy.md)",
+    "free_wobble": "no free-wobble amplitude is published for this body: the estimate takes its figure axis to "
+                   "coincide with the angular momentum (a relaxed rotator)",
+    "rotation_averaging": "without moments of inertia the rotation-averaging error is not estimated",
+    "librations": "the forced physical librations of this synchronous body were not modelled (the library has a "
+                  "theory of the orbit's periodic terms for the Moon only): the estimate leaves them out",
+    "precession_constant_probe": "no 1-sigma is published for this body's precession constant (its moments): the "
+                                 "long-term estimate's precession_constant term is the divergence for a probe of "
+                                 "1e-3 of it, not for its uncertainty",
+    "pole_probe": "no 1-sigma is published for this body's pole: the long-term estimate's pole term is the "
+                  "divergence for a probe of 0.01 deg, not for its uncertainty",
+}
+
+
+def _meaningful(b: Body, estimate: float | None, info: dict) -> None:
+    """Refuse a track whose own error estimate makes it meaningless; warn when it exceeds a degree."""
+    if estimate is None:
+        return
+    mas = estimate / MAS
+    if mas > REFUSE_ESTIMATE_MAS:
+        raise NotApplicableError(b.name, f"the model's own error estimate over these epochs is {mas / 3.6e6:.3g} deg "
+                                 f"(over {REFUSE_ESTIMATE_MAS / 3.6e6:g} deg): no pole served would mean anything; "
+                                 "bring the epochs nearer the pole epoch or shorten the span")
+    if mas > WARN_ESTIMATE_MAS:
+        info["warnings"].append(f"the estimated error is {mas / 3.6e6:.3g} deg: over {WARN_ESTIMATE_MAS / 3.6e6:g} "
+                                "deg, these poles are rough; bring the epochs nearer the pole epoch for better")
+
+
+def _track_answer(b: Body, tr, info: dict, selection: dict, axis: str, wobble, obliquity_sigma,
+                  extra_model: dict | None = None, perturbers: tuple[str, ...] | None = None) -> dict:
+    """The track answer shared by every theory: the arrays of ``tr`` and the ``model`` object ``info``
+    completed with the selection, the axis and the free wobble added (``wobble`` or None)."""
+    if wobble is not None:
+        info["warnings"].append("the free wobble added is a rigid body's; its amplitude and phase are yours, "
+                                "and the estimate does not include their uncertainty")
+    info.update(selection)
+    info["axis"] = axis
+    info["free_wobble"] = None if wobble is None else {
+        "J_arcsec": wobble.J_arcsec, "phase_deg": wobble.phase_deg, "epoch_jd_tdb": wobble.epoch_jd_tdb}
+    info.update(extra_model or {})
+    ans = {
+        "body": b.name, "dataset": b.dataset,
+        "jd_tdb": tr.jd_tdb,
+        "psi_arcsec": tr.psi / ARCSEC,
+        "delta_psi_arcsec": tr.delta_psi / ARCSEC,
+        "delta_epsilon_arcsec": tr.delta_epsilon / ARCSEC,
+        "obliquity_deg": np.degrees(tr.obliquity),
+        "obliquity_deg_uncertainty": obliquity_sigma,
+        "pole_ra_deg": np.degrees(tr.pole_ra),
+        "pole_dec_deg": np.degrees(tr.pole_dec),
+    }
+    if perturbers is not None:
+        ans["perturbers"] = list(perturbers)
+    ans["model"] = info
+    return ans
+
+
+def track(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,
+          order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES, tolerance_mas: float | None = None,
+          model: str | None = None, axis: str = "figure", free_wobble_phase_deg: float | None = None,
+          free_wobble_J_arcsec: float | None = None, free_wobble_epoch=None, quantities: bool = False,
+          perturbers=None, rotation_phase_deg: float | None = None) -> dict:
+    """Spin-axis track: ψ, Δψ, Δε (arcsec), obliquity and pole RA/Dec (deg) at each epoch.
+
+    ``tolerance_mas`` lets the fidelity ladder (:mod:`ephem.sun.ladder`) pick the cheapest model
+    whose pole is estimated within that many milliarcseconds of the truth at every epoch;
+    ``model`` (a rung name) and ``order`` choose one explicitly. The answer's ``model``
+    reports ``name``, ``order``, ``estimated_error_mas`` and ``cost_ms``.
+
+    ``axis``: "figure" (default; the body's axis of largest inertia, which circles the angular
+    momentum by the free wobble) or "angular_momentum". ``free_wobble_phase_deg`` (the figure
+    axis's position angle about the angular momentum at ``free_wobble_epoch``, default the pole
+    epoch, from the ICRF north through east, with the angular momentum in the body's b2-b3 plane
+    then) lets the track add the free wobble when the tolerance needs it (or always, with a named
+    model); ``free_wobble_J_arcsec`` overrides the published amplitude.
+
+    ``rotation_phase_deg``: the angle of the body's long (A, least-inertia) axis in its equator from the
+    ascending node of the orbit on the equator at the pole epoch (counted towards the pole's right-hand
+    sense). With it a track can add the semi-diurnal terms of :mod:`ephem.forced.rotation_scale` (and does, with a
+    named model); without it the ladder can add the Oppolzer offset alone, and the semi-diurnal terms stay
+    in ``rotation_averaging``.
+
+    ``perturbers`` as :func:`precession`. The Earth with the Moon (its default) is served by the
+    ``lunisolar`` model (:mod:`ephem.earth.family`), whose estimate holds against IAU 2006/2000A over
+    1900-2100 (outside, not applicable); ``perturbers="sun"`` gives the single-perturber ladder.
+
+    Times may be astropy ``Time``, unit-named arguments ``Quantity`` (:mod:`ephem.base.units`);
+    ``quantities=True`` returns Quantity arrays and a TDB ``Time`` for ``jd_tdb``.
+    """
+    ans = track_arrays(body, start, stop, step_days, dataset, order, max_samples, tolerance_mas, model, axis,
+                       free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch, perturbers,
+                       rotation_phase_deg=rotation_phase_deg)
+    if quantities:
+        return with_units(ans)
+    for key in TRACK_KEYS:
+        ans[key] = ans[key].tolist()
+    if ans.get("pole_uncertainty_deg") is not None:
+        ans["pole_uncertainty_deg"] = np.asarray(ans["pole_uncertainty_deg"]).tolist()
+    return ans
+
+
+FREE_MOTION_KEYS = ("jd_tdb", "figure_axis_offset_x_arcsec", "figure_axis_offset_y_arcsec",
+                    "wobble_angle_J_arcsec", "andoyer_nu_deg")
+
+
+def free_motion_arrays(body: str | int | Body, start, stop, step_days: float, J_arcsec: float | None = None,
+                       method: str = "auto", dataset: str = DEFAULT_DATASET,
+                       max_samples: int = MAX_TRACK_SAMPLES) -> dict:
+    """The torque-free wobble: the figure axis's offsets from the angular momentum (arcsec) over time,
+    the angle J and Andoyer's ν, and the periods (see :mod:`ephem.rotation.free_motion`). J defaults to the
+    published amplitude (Lara 2014 Table 1: Earth, Moon, Mars, Eros)."""
+    from ..rotation.free_motion import free_motion
+
+    b = resolve_body(body, dataset)
+    t0, step, count = epoch_grid(start, stop, step_days, max_samples)
+    rotations = step * (count - 1) * 24.0 / b.rotation_period_hours
+    charge(cost.Cost((cost.free_rotation(method, count, rotations), cost.serialised(count, len(FREE_MOTION_KEYS)))),
+           b.name)
+    return free_motion(b, t0 + step * np.arange(count), in_unit(J_arcsec, "arcsec", "J_arcsec"), method)
+
+
+def free_motion_answer(body: str | int | Body, start, stop, step_days: float, J_arcsec: float | None = None,
+                       method: str = "auto", dataset: str = DEFAULT_DATASET, quantities: bool = False) -> dict:
+    """As :func:`free_motion_arrays`, with lists (or, with ``quantities=True``, Quantity arrays)."""
+    ans = free_motion_arrays(body, start, stop, step_days, J_arcsec, method, dataset)
+    if quantities:
+        return with_units(ans)
+    for key in FREE_MOTION_KEYS:
+        ans[key] = np.asarray(ans[key]).tolist()
+    return ans

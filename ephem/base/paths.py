@@ -1,0 +1,21 @@
+"""Where the shipped data live (the catalogue, the references, the reference tables, the lunar series)."""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+
+def data_dir() -> Path:
+    """Directory of the shipped data (catalogue, references, reference tables).
+
+    ``$EPHEM_DATA_DIR`` overrides; otherwise the copy inside an installed wheel
+    (``ephem/_data``) or the repository's ``data/``.
+    """
+    env = os.environ.get("EPHEM_DATA_DIR")
+    if env:
+        return Path(env)
+    here = Path(__file__).resolve().parent.parent
+    for candidate in (here / "_data", here.parent / "data"):
+        if (candidate / "catalogue").is_dir():
+            return candidate
+    raise FileNotFoundError("ephem data directory not found (set EPHEM_DATA_DIR)")

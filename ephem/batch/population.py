@@ -1,0 +1,531 @@
+"""Precession and nutation of a population of bodies at once: the single-perturber theory vectorised over bodies.
+
+A partition of a catalogue of bodies (one row per body: :data:`INPUT_COLUMNS`) goes through Kinoshita's first-order
+theory with exact Hansen coefficients, the model the single-body answers serve by default (``hansen``:
+:func:`ephem.forced.precession_nutation.build_model` with ``order=None``), with numpy broadcasting over the bodies: no Python loop per
+body. Each step is the single-body one applied to columns (the same functions: ``kinoshita.scaling_factor``,
+``geometry.spin_angles``, ``hansen.hansen_exact_many`` grouped by FFT length, ``kinoshita.nutation_coefficients``,
+the mean pole's fixed point ``kinoshita.mean_pole``, ``kinoshita.precession_rate``), so the outputs equal
+``ephem.answers.requests.precession`` / ``ephem.answers.requests.nutation`` for the same body (tests/test_population.py).
+
+A row the theory cannot take (a missing or impossible value, a slow rotator, an orbit too eccentric for the
+Fourier series, a pole normal to the orbit) gets its reason in ``error``, named by its column as the catalogue
+names a field, and NaN in the numbers; the other rows are untouched. ``*_sigma`` columns are propagated linearly
+(central differences of σ/100, the inputs independent) to ``*_uncertainty`` outputs. With a
+:class:`HistorySpec`, each row's obliquity is integrated over the span (the averaged spin equation along the
+secular orbit, as :func:`ephem.answers.requests.history` with ``orbit_model="secular"``: a loop per body, seconds each).
+
+Units: angles in degrees at the columns, radians inside; rates in arcsec per Julian year; periods in days.
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..bodies.catalogue import MAX_ANGLE_DEG, MIN_ROTATION_PERIOD_HOURS, spin_rate_rad_per_day
+from ..base.constants import ARCSEC, CENTER_HILL_AU, CENTER_RADIUS_AU, J2000_JD, JD_RANGE, JULIAN_YEAR_DAYS, MAS
+from ..orbit.geometry import icrf_to_ecliptic_matrix, spin_angles, unit_vector
+from ..orbit.hansen import exact_available, fft_lengths, hansen_exact_many
+from ..bodies.inertia import hd_of_moments, moments_from_ellipsoid
+from ..orbit.kepler import mean_motion_rad_per_day
+from ..forced.kinoshita import (TERM_FLOOR, exact_series_floor, mean_pole, nutation_coefficients, precession_rate,
+                                scaling_factor)
+from ..forced.precession_nutation import MIN_SPIN_ORBIT_RATIO
+
+#: The input columns: name -> (unit, meaning). Required: name, the orbit, the pole, the period and one of the
+#: three inertia forms (dynamical_ellipticity, else the moments, else the ellipsoid's semi-axes).
+INPUT_COLUMNS = {
+    "name": ("", "the body's name (any text)"),
+    "a_au": ("AU", "osculating heliocentric semi-major axis, ecliptic and equinox J2000"),
+    "e": ("", "eccentricity, 0 <= e < 1"),
+    "i_deg": ("deg", "inclination to the J2000 ecliptic, 0..180"),
+    "node_deg": ("deg", "longitude of the ascending node"),
+    "peri_deg": ("deg", "argument of pericentre"),
+    "mean_anomaly_deg": ("deg", "mean anomaly at epoch_jd_tdb"),
+    "epoch_jd_tdb": ("d", "the elements' epoch, JD TDB"),
+    "pole_ra_deg": ("deg", "the spin pole's right ascension, ICRF (the positive, right-hand pole)"),
+    "pole_dec_deg": ("deg", "the spin pole's declination, ICRF"),
+    "pole_epoch_jd_tdb": ("d", "optional: the pole's epoch, JD TDB (default J2000.0)"),
+    "rotation_period_hours": ("h", "sidereal rotation period"),
+    "dynamical_ellipticity": ("", "H_d = (C - (A+B)/2)/C, in (0, 0.5]"),
+    "moment_a": ("", "principal moment A (any common normalisation), A <= B <= C"),
+    "moment_b": ("", "principal moment B"),
+    "moment_c": ("", "principal moment C"),
+    "axis_a_km": ("km", "semi-axis a of a uniform-density ellipsoid, a >= b >= c"),
+    "axis_b_km": ("km", "semi-axis b"),
+    "axis_c_km": ("km", "semi-axis c"),
+}
+REQUIRED = ("name", "a_au", "e", "i_deg", "node_deg", "peri_deg", "mean_anomaly_deg", "epoch_jd_tdb",
+            "pole_ra_deg", "pole_dec_deg", "rotation_period_hours")
+#: the numeric inputs that may carry a ``<column>_sigma`` (1σ, the column's unit)
+SIGMA_INPUTS = tuple(c for c in INPUT_COLUMNS if c not in ("name", "epoch_jd_tdb", "pole_epoch_jd_tdb"))
+#: how many of the largest nutation terms (by the pole displacement each can make) the outputs list
+LEADING_TERMS = 3
+#: the values whose 1σ the outputs carry when the inputs have ``_sigma`` columns
+UNCERTAIN = ("obliquity_deg", "dynamical_ellipticity", "scaling_factor_arcsec_per_year",
+             "precession_rate_arcsec_per_year")
+#: central-difference step, a fraction of each input's σ (as :data:`ephem.forced.uncertainty.STEP_FRACTION`)
+STEP_FRACTION = 0.01
+MODEL = "hansen"
+
+
+def _term_columns() -> tuple[str, ...]:
+    return tuple(f"nutation_{j}_{what}" for j in range(1, LEADING_TERMS + 1)
+                 for what in ("multiple", "period_days", "longitude_amplitude_arcsec", "obliquity_amplitude_arcsec"))
+
+
+HISTORY_COLUMNS = ("obliquity_min_deg", "obliquity_max_deg", "obliquity_period_years", "history_error")
+OUTPUT_COLUMNS = (("name",) + UNCERTAIN + _term_columns() + ("model", "estimated_error_mas")
+                  + tuple(f"{k}_uncertainty" for k in UNCERTAIN) + ("error",))
+
+
+@dataclass(frozen=True)
+class HistorySpec:
+    """The span of the obliquity history asked for each row: Julian years from J2000.0 TDB."""
+
+    start_year: float
+    stop_year: float
+    step_years: float
+
+
+# --------------------------------------------------------------------------- inputs and their checks
+
+def _floats(columns: Mapping, key: str, n: int) -> np.ndarray:
+    """A numeric column as floats (NaN where absent, empty or not a number)."""
+    if key not in columns:
+        return np.full(n, np.nan)
+    col = np.asarray(columns[key])
+    if col.dtype.kind in "fiub":
+        return col.astype(float)
+    out = np.full(n, np.nan)
+    for j, v in enumerate(col):            # text columns (CSV read as strings): parse, NaN where not a number
+        try:
+            out[j] = float(v)
+        except (TypeError, ValueError):
+            pass
+    return out
+
+
+def _numbers(columns: Mapping, n_rows: int) -> dict[str, np.ndarray]:
+    """The numeric inputs as float columns (NaN where absent or not a number), the pole's epoch J2000.0 where
+    the row gives none."""
+    x = {key: _floats(columns, key, n_rows) for key in INPUT_COLUMNS if key != "name"}
+    x["pole_epoch_jd_tdb"] = np.where(np.isfinite(x["pole_epoch_jd_tdb"]), x["pole_epoch_jd_tdb"], J2000_JD)
+    return x
+
+
+class _Errors:
+    """The first reason found for each row (later checks do not overwrite it)."""
+
+    def __init__(self, n: int):
+        self.reason = np.full(n, "", dtype=object)
+
+    def add(self, bad: np.ndarray, message) -> None:
+        new = np.asarray(bad) & (self.reason == "")
+        for j in np.nonzero(new)[0]:       # only the bad rows are formatted
+            self.reason[j] = message(j) if callable(message) else message
+
+    @property
+    def ok(self) -> np.ndarray:
+        return self.reason == ""
+
+
+def _inertia(x: dict, errors: _Errors) -> np.ndarray:
+    """H_d per row from the first inertia form the row gives (dynamical_ellipticity, else the moments, else the
+    ellipsoid's semi-axes), with the catalogue's checks."""
+    hd = np.full(x["a_au"].shape, np.nan)
+    given = np.isfinite(x["dynamical_ellipticity"])
+    errors.add(given & ~((x["dynamical_ellipticity"] > 0.0) & (x["dynamical_ellipticity"] <= 0.5)),
+               lambda j: f"dynamical_ellipticity: must lie in (0, 0.5], got {x['dynamical_ellipticity'][j]:.10g}")
+    hd[given] = x["dynamical_ellipticity"][given]
+    A, B, C = x["moment_a"], x["moment_b"], x["moment_c"]
+    moments = ~given & np.isfinite(A) & np.isfinite(B) & np.isfinite(C)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        errors.add(moments & ~((A > 0.0) & (A <= B) & (B <= C) & (C <= A + B)),
+                   lambda j: f"moment_a, moment_b, moment_c: must satisfy 0 < A <= B <= C <= A + B, got "
+                             f"{A[j]:.10g}, {B[j]:.10g}, {C[j]:.10g}")
+        hd = np.where(moments, hd_of_moments(A, B, C), hd)
+    a, b, c = x["axis_a_km"], x["axis_b_km"], x["axis_c_km"]
+    axes = ~given & ~moments & np.isfinite(a) & np.isfinite(b) & np.isfinite(c)
+    errors.add(axes & ~((a >= b) & (b >= c) & (c > 0.0)),
+               lambda j: f"axis_a_km, axis_b_km, axis_c_km: must satisfy a >= b >= c > 0, got {a[j]:.10g}, {b[j]:.10g}, "
+                         f"{c[j]:.10g}")
+    with np.errstate(invalid="ignore", divide="ignore"):
+        hd = np.where(axes, hd_of_moments(*moments_from_ellipsoid(a, b, c)), hd)
+    errors.add(~given & ~moments & ~axes, "inertia: give dynamical_ellipticity, or moment_a, moment_b and "
+                                          "moment_c, or axis_a_km, axis_b_km and axis_c_km")
+    return hd
+
+
+def _check(x: dict, errors: _Errors) -> None:
+    """The catalogue's checks of a body (ephem.bodies.catalogue.Orbit, Pole, Body), per row and by column name."""
+    for key in REQUIRED[1:]:
+        errors.add(~np.isfinite(x[key]), f"{key}: missing or not a finite number")
+    a, e, i = x["a_au"], x["e"], x["i_deg"]
+    with np.errstate(invalid="ignore"):
+        errors.add(~(a > 0.0), lambda j: f"a_au: semi-major axis must be positive, got {a[j]:.10g}")
+        errors.add(~((e >= 0.0) & (e < 1.0)), lambda j: f"e: eccentricity must satisfy 0 <= e < 1 (a bound orbit), "
+                                                        f"got {e[j]:.10g}")
+        errors.add(~((i >= 0.0) & (i <= 180.0)), lambda j: f"i_deg: inclination must lie in [0, 180] deg, got {i[j]:.10g}")
+        errors.add(a * (1.0 - e) <= CENTER_RADIUS_AU["Sun"],
+                   lambda j: f"a_au: the pericentre a(1 - e) = {a[j] * (1 - e[j]):.6g} AU lies inside the Sun")
+        errors.add(a > CENTER_HILL_AU["Sun"], lambda j: f"a_au: a = {a[j]:.6g} AU is not bound to the Sun")
+        for key in ("node_deg", "peri_deg", "mean_anomaly_deg", "pole_ra_deg"):    # as catalogue.check_angle
+            errors.add(np.abs(x[key]) > MAX_ANGLE_DEG,
+                       lambda j, key=key: f"{key}: an angle must lie within ±{MAX_ANGLE_DEG:g} deg: beyond it its "
+                                          "remainder modulo 360 deg loses the digits the answer needs; reduce it "
+                                          f"modulo 360, got {float(x[key][j])!r}")
+        errors.add(~(np.abs(x["pole_dec_deg"]) <= 90.0),
+                   lambda j: f"pole_dec_deg: declination must lie in [-90, 90] deg, got {x['pole_dec_deg'][j]:.10g}")
+        errors.add(~(x["rotation_period_hours"] >= MIN_ROTATION_PERIOD_HOURS),
+                   lambda j: f"rotation_period_hours: must be at least {MIN_ROTATION_PERIOD_HOURS:g} h, got "
+                             f"{x['rotation_period_hours'][j]:.10g}")
+        lo, hi = JD_RANGE
+        for key in ("epoch_jd_tdb", "pole_epoch_jd_tdb"):
+            errors.add(~((x[key] > lo) & (x[key] < hi)),
+                       lambda j, key=key: f"{key}: Julian date {x[key][j]} is outside ({lo:g}, {hi:g})")
+        errors.add(~exact_available(np.where(errors.ok, e, 0.0)),
+                   lambda j: f"e: not applicable: e = {e[j]:.6g} is too close to 1 for the Fourier series of the "
+                             f"solar torque in the mean anomaly")
+
+
+# --------------------------------------------------------------------------- the theory over columns
+
+def _theory(x: dict, ok: np.ndarray, errors: _Errors | None) -> dict:
+    """The outputs for the rows ``ok`` of the inputs ``x`` (columns of floats, radians where the model wants
+    them converted here); the others NaN. ``errors``: where a row's theory-level reason goes (None: a perturbed
+    evaluation of the uncertainties, whose rejected rows are only NaN)."""
+    n_rows = ok.size
+    out = {k: np.full(n_rows, np.nan) for k in UNCERTAIN + ("_estimate",)}
+    terms = {k: np.full(n_rows, np.nan) for k in _term_columns()}
+    rows = np.nonzero(ok)[0]
+    if rows.size == 0:
+        return {**out, **terms}
+    hd = x["_hd"][rows]
+    n = mean_motion_rad_per_day(x["a_au"][rows])
+    omega = spin_rate_rad_per_day(x["rotation_period_hours"][rows])
+    slow = omega / n < MIN_SPIN_ORBIT_RATIO
+    K = scaling_factor(n, omega, hd)
+    s_ecl = unit_vector(np.radians(x["pole_ra_deg"][rows]), np.radians(x["pole_dec_deg"][rows])) @ \
+        icrf_to_ecliptic_matrix().T
+    eps, theta, _, _ = spin_angles(s_ecl, np.radians(x["i_deg"][rows]), np.radians(x["node_deg"][rows]),
+                                   np.radians(x["peri_deg"][rows]))
+    normal = ~np.isfinite(theta)
+    if errors is not None:
+        errors.add(_scatter(rows, slow, n_rows),
+                   lambda j: f"rotation_period_hours: not applicable: the rotation is too slow for the theory, which "
+                             f"averages the torque over it (needs omega/n >= {MIN_SPIN_ORBIT_RATIO:g})")
+        errors.add(_scatter(rows, normal & ~slow, n_rows),
+                   "pole_ra_deg, pole_dec_deg: the spin axis is normal to the orbit (obliquity 0 or 180 deg): the "
+                   "equinox is undefined")
+    good = ~slow & ~normal
+    rows, hd, n, K, eps, theta = rows[good], hd[good], n[good], K[good], eps[good], theta[good]
+    e = x["e"][rows]
+    m_t0 = np.radians(x["mean_anomaly_deg"][rows]) + n * (x["pole_epoch_jd_tdb"][rows] - x["epoch_jd_tdb"][rows])
+    per_year = JULIAN_YEAR_DAYS / ARCSEC
+    for group, k, c0, c2, s2 in hansen_exact_many(e):
+        g = group
+        kk = k[1:].astype(float)
+        Kg, ng, eg, tg = K[g, None], n[g, None], eps[g], theta[g]
+        skm, ckm = np.sin(np.outer(m_t0[g], kk)), np.cos(np.outer(m_t0[g], kk))
+        last = {}
+
+        def nutation_at_pole_epoch(eps_trial, theta_trial):
+            coef = last["coef"] = nutation_coefficients(Kg, ng, eps_trial[:, None], theta_trial[:, None], kk,
+                                                         c0[:, 1:], c2[:, 1:], s2[:, 1:])
+            return np.sum(coef[0] * skm + coef[1] * ckm, axis=1), np.sum(coef[2] * skm + coef[3] * ckm, axis=1)
+
+        eps_mean = mean_pole(eg, tg, nutation_at_pole_epoch)[0]
+        lon_s, lon_c, obl_s, obl_c = last["coef"]
+        target = rows[g]
+        out["obliquity_deg"][target] = np.degrees(eps_mean)
+        out["dynamical_ellipticity"][target] = hd[g]
+        out["scaling_factor_arcsec_per_year"][target] = K[g] * per_year
+        out["precession_rate_arcsec_per_year"][target] = precession_rate(K[g], eps_mean, e[g], None) * per_year
+        _leading_terms(terms, target, kk, n[g], eps_mean, lon_s, lon_c, obl_s, obl_c)
+        out["_estimate"][target] = _exact_floor(eps_mean, lon_s, lon_c, obl_s, obl_c)
+    return {**out, **terms}
+
+
+def _exact_floor(eps, lon_s, lon_c, obl_s, obl_c) -> np.ndarray:
+    """Each row's estimate as the single-body answer gives it (:func:`kinoshita.exact_series_floor`, radians):
+    the trailing harmonics whose four coefficients are under TERM_FLOOR (which the single-body series drops),
+    and the rounding of the others."""
+    disp = np.abs(np.sin(eps))[:, None] * np.hypot(lon_s, lon_c) + np.hypot(obl_s, obl_c)
+    big = np.max(np.abs(np.stack([lon_s, lon_c, obl_s, obl_c])), axis=0) >= TERM_FLOOR
+    width = big.shape[1]
+    last = np.where(big.any(axis=1), width - np.argmax(big[:, ::-1], axis=1), 0)
+    tail = np.where(np.arange(width)[None, :] >= last[:, None], disp, 0.0).sum(axis=1)
+    return exact_series_floor(tail, disp.sum(axis=1) - tail)
+
+
+def _scatter(rows: np.ndarray, mask: np.ndarray, n_rows: int) -> np.ndarray:
+    full = np.zeros(n_rows, dtype=bool)
+    full[rows[mask]] = True
+    return full
+
+
+def _leading_terms(terms: dict, target, k, n, eps, lon_s, lon_c, obl_s, obl_c) -> None:
+    """The :data:`LEADING_TERMS` largest terms of each row by the pole displacement each can make
+    (``kinoshita.pole_displacements``: |sin ε| |Δψ| + |Δε|), with the paper's amplitudes (Table 5's Amp: in
+    longitude (Sin² + Cos²)^½ sin ε, in obliquity (Sin² + Cos²)^½), in arcsec, and periods in days."""
+    sin_eps = np.abs(np.sin(eps))[:, None]
+    lon, obl = np.hypot(lon_s, lon_c) * sin_eps, np.hypot(obl_s, obl_c)
+    order = np.argsort(-(lon + obl), axis=1, kind="stable")[:, :LEADING_TERMS]
+    pick = np.arange(order.shape[0])[:, None]
+    for j in range(min(LEADING_TERMS, order.shape[1])):
+        col = order[:, j]
+        terms[f"nutation_{j + 1}_multiple"][target] = k[col]
+        terms[f"nutation_{j + 1}_period_days"][target] = 2.0 * math.pi / (k[col] * n)
+        terms[f"nutation_{j + 1}_longitude_amplitude_arcsec"][target] = lon[pick[:, 0], col] / ARCSEC
+        terms[f"nutation_{j + 1}_obliquity_amplitude_arcsec"][target] = obl[pick[:, 0], col] / ARCSEC
+
+
+# --------------------------------------------------------------------------- the public entry
+
+def spoil_rows(result: Mapping, bad: Mapping[int, str]) -> dict:
+    """``result`` (output columns of :func:`evaluate`, or of another batch core) with the rows in ``bad`` marked
+    as the core marks a row it cannot take: ``bad[j]`` in ``error``, NaN or "" elsewhere (``name`` kept). For the
+    rows whose input the reader could not parse (a cell that is not a number): ``ephem batch`` and the service's
+    POST /v1/batch both mark them here."""
+    if not bad:
+        return {key: np.asarray(value) for key, value in result.items()}
+    rows = np.fromiter(bad, dtype=np.intp)
+    out = {}
+    for key, value in result.items():
+        value = np.asarray(value)
+        if key != "name":
+            text = value.dtype.kind not in "fiub"
+            value = value.astype(object if text else np.float64)    # a copy; fixed-width text would cut a reason
+            value[rows] = "" if text else np.nan
+            if key == "error":
+                for j, reason in bad.items():
+                    value[j] = reason
+        out[key] = value
+    return out
+
+
+
+def evaluate(columns: Mapping, history: HistorySpec | None = None) -> dict[str, np.ndarray]:
+    """The outputs (:data:`OUTPUT_COLUMNS`, plus :data:`HISTORY_COLUMNS` with ``history``) of a partition.
+
+    ``columns``: {column: 1-D array} of one partition (:data:`INPUT_COLUMNS`, optional ``<column>_sigma``; text
+    columns are parsed, absent or unparsable numbers are NaN). Returns 1-D arrays of the same length; a row the
+    theory cannot take has its reason in ``error`` and NaN in the numbers.
+    """
+    names = np.asarray(columns.get("name", []), dtype=object)
+    n_rows = len(names) if "name" in columns else len(next(iter(columns.values()), []))
+    names = np.array(["" if v is None else v if isinstance(v, str) else str(v) for v in names], dtype=object) \
+        if "name" in columns else names
+    x = _numbers(columns, n_rows)
+    errors = _Errors(n_rows)
+    if "name" not in columns:
+        names = np.full(n_rows, "", dtype=object)
+    errors.add(np.array([not isinstance(v, str) or not v for v in names], dtype=bool).reshape(n_rows),
+               "name: missing (every body needs a name)")
+    # extreme inputs (axes of 1e200 km) overflow on their way to an error: the row's checks catch what is not
+    # finite; numpy's warnings about it are not the caller's business
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        _check(x, errors)
+        x["_hd"] = _inertia(x, errors)
+        errors.add(~np.isfinite(x["_hd"]), "inertia: H_d is not a finite number for these values")
+        result = _theory(x, errors.ok, errors)
+        errors.add(~np.all([np.isfinite(result[k]) for k in UNCERTAIN], axis=0),
+                   "the theory's values are not finite numbers for these inputs")
+        result.update(_uncertainties(columns, x, errors.ok))
+    bad = ~errors.ok
+    for key in UNCERTAIN + _term_columns():
+        result[key][bad] = np.nan
+    out = {"name": names.astype(str)}
+    out.update({k: result[k] for k in UNCERTAIN + _term_columns()})
+    out["model"] = np.where(bad, "", MODEL)
+    # the single-body answer's estimate of this model, the truncation alone (model.estimate_covers): exact Hansen
+    # coefficients' floor, never 0 (issue 29); the first-order theory's own error is a track's (docs/accuracy.md)
+    out["estimated_error_mas"] = np.where(bad, np.nan, result["_estimate"] / MAS)
+    out.update({f"{k}_uncertainty": result[f"{k}_uncertainty"] for k in UNCERTAIN})
+    out["error"] = errors.reason.astype(str)
+    if history is not None:
+        out.update(_histories(columns, x, errors.ok, history))
+    return out
+
+
+def _uncertainties(columns: Mapping, x: dict, ok: np.ndarray) -> dict:
+    """Linear 1σ of :data:`UNCERTAIN` from the ``<column>_sigma`` columns given (central differences of
+    :data:`STEP_FRACTION` σ, the inputs independent); NaN where a row has no σ, or where a step of σ/100 leaves the
+    theory's domain (e ± σ/100 beyond [0, 1), a pole stepped onto the orbit normal: no central difference, so the
+    σ is unknown rather than a guess)."""
+    n_rows = ok.size
+    var = {k: np.zeros(n_rows) for k in UNCERTAIN}
+    any_sigma = np.zeros(n_rows, dtype=bool)
+    unknown = np.zeros(n_rows, dtype=bool)
+    for key in SIGMA_INPUTS:
+        sigma = _floats(columns, f"{key}_sigma", n_rows) if f"{key}_sigma" in columns else None
+        if sigma is None:
+            continue
+        has = ok & np.isfinite(sigma) & (sigma > 0.0)
+        if not has.any():
+            continue
+        any_sigma |= has
+        h = np.where(has, STEP_FRACTION * sigma, 0.0)
+        ends = []
+        for sign in (1.0, -1.0):
+            moved = dict(x)
+            moved[key] = x[key] + sign * h
+            inside = _Errors(n_rows)
+            _check(moved, inside)
+            moved["_hd"] = _inertia(moved, inside) if key in _INERTIA_INPUTS else x["_hd"]
+            unknown |= has & ~inside.ok
+            ends.append(_theory(moved, has & inside.ok, None))
+        for k in UNCERTAIN:
+            with np.errstate(invalid="ignore"):
+                slope = (ends[0][k] - ends[1][k]) / np.where(has, 2.0 * h, 1.0)
+            unknown |= has & ~np.isfinite(slope)
+            var[k] += np.where(has & np.isfinite(slope), (slope * np.where(has, sigma, 0.0)) ** 2, 0.0)
+    return {f"{k}_uncertainty": np.where(any_sigma & ~unknown, np.sqrt(var[k]), np.nan) for k in UNCERTAIN}
+
+
+_INERTIA_INPUTS = ("dynamical_ellipticity", "moment_a", "moment_b", "moment_c", "axis_a_km", "axis_b_km", "axis_c_km")
+
+
+def _histories(columns: Mapping, x: dict, ok: np.ndarray, spec: HistorySpec) -> dict:
+    """Each good row's obliquity range and dominant period over the span (ephem.longterm.history.history_answer, as
+    ephem.answers.requests.history serves it, on the secular orbit)."""
+    from ..base.budget import prepaid
+    from ..bodies.catalogue import Body, Orbit, Pole
+    from ..base.errors import EphemError
+    from ..longterm.history import history_answer
+    from ..families import theory_for
+
+    n_rows = ok.size
+    out = {k: np.full(n_rows, np.nan) for k in HISTORY_COLUMNS[:3]}
+    reason = np.full(n_rows, "", dtype=object)
+    names = np.asarray(columns.get("name", [""] * n_rows), dtype=object)
+    for j in np.nonzero(ok)[0]:          # an integration per body: seconds each, the loop is the work
+        try:
+            body = Body(name=str(names[j]), orbit=Orbit(x["a_au"][j], x["e"][j], x["i_deg"][j], x["node_deg"][j],
+                                                         x["peri_deg"][j], x["mean_anomaly_deg"][j],
+                                                         x["epoch_jd_tdb"][j], body=str(names[j])),
+                        pole=Pole(x["pole_ra_deg"][j], x["pole_dec_deg"][j], x["pole_epoch_jd_tdb"][j]),
+                        rotation_period_hours=x["rotation_period_hours"][j],
+                        dynamical_ellipticity=float(x["_hd"][j]))
+            with prepaid():          # batch_cost charged every history before the first
+                h = history_answer(body, theory_for(body, body.perturbers), spec.start_year, spec.stop_year,
+                                   spec.step_years, orbit_model="secular")
+        except EphemError as exc:
+            reason[j] = f"history: {exc}"
+            continue
+        eps = np.asarray(h["obliquity_deg"])
+        out["obliquity_min_deg"][j], out["obliquity_max_deg"][j] = eps.min(), eps.max()
+        out["obliquity_period_years"][j] = crossing_period(np.asarray(h["year"]), eps)
+    return {**out, "history_error": reason.astype(str)}
+
+
+def batch_cost(rows: int, history: HistorySpec | None = None, sigma_inputs: int = 0, columns: Mapping | None = None):
+    """What :func:`evaluate` will cost for ``rows`` bodies (:class:`ephem.base.budget.Cost`, before the work).
+
+    With the partition's ``columns``, each row costs what it asks for, by the single-body formulas of
+    :mod:`ephem.theory.cost`: the exact Hansen coefficients of its own eccentricity, an FFT whose length grows like
+    (1 - e²)^(-3/2) (128 points at e = 0.1, 262 144 at 0.99: 0.19 s a row), grouped as :func:`evaluate` groups
+    them (:func:`ephem.theory.cost.population`); with ``history``, its integration from its pole's epoch through the span
+    (:func:`ephem.theory.cost.spin_history`, as :func:`ephem.longterm.history.history_cost` counts it) and the first-order model
+    and nutation extremes its secular spin reads (:func:`ephem.theory.cost.hansen_build`,
+    :func:`ephem.theory.cost.half_peak_to_peak`: seconds a row at e = 0.95). A row the checks refuse costs its fixed part
+    only. Without ``columns`` (``ephem batch``'s note, made before any partition is read), every row is priced at
+    the low eccentricities of a main-belt population, which the fixed part covers.
+    """
+    from ..theory import cost
+
+    ok = x = None
+    groups = []
+    if columns is not None:
+        x, ok = _screened(columns, rows)
+        good = np.nonzero(ok)[0]
+        counts = fft_lengths(x["e"][good])
+        for n in np.unique(counts):
+            members = good[counts == n]
+            worst = int(members[np.argmax(x["e"][members])])    # the row whose eccentricity sets the group's K
+            groups.append((members.size, int(n), cost.harmonics(float(x["e"][worst]), None)[1], f"rows[{worst}].e"))
+    total = cost.population(rows, sigma_inputs, groups)
+    if history is None or not rows:
+        return total
+    epochs = history_epochs(history)
+    lo, hi = min(history.start_year, history.stop_year), max(history.start_year, history.stop_year)
+    # the integration's length is set by the end of the span farther from the pole's epoch: that field is named
+    far = "start_year" if -lo > hi else "stop_year"     # (from J2000.0 until a row's pole says otherwise)
+    if columns is None:     # the pole at J2000.0
+        span = max(hi, 0.0) - min(lo, 0.0)
+        one = cost.spin_history(span, epochs)
+        return total + cost.Cost((cost.Part(far, f"{rows} histories, each integrated over {span:.4g} years",
+                                            rows * one.cpu_s, one.memory_mb),))
+    # each history integrates from its pole's epoch to the farthest end of the span (ephem.longterm.history.history_cost),
+    # after its secular spin has built the row's first-order model and its nutation's extremes (the large step of
+    # an eccentric row): the rows one after another, so the CPU adds up and the memory is the largest row's
+    spin_cpu = model_cpu = spin_mb = model_mb = 0.0
+    costliest, costliest_cpu, widest = "rows", -1.0, 0.0
+    for j in np.nonzero(ok)[0]:
+        t0 = (x["pole_epoch_jd_tdb"][j] - J2000_JD) / JULIAN_YEAR_DAYS
+        span = max(hi, t0) - min(lo, t0)
+        if span > widest:
+            far = "start_year" if t0 - lo > hi - t0 else "stop_year"
+        spin = cost.spin_history(span, epochs)
+        e = float(x["e"][j])
+        k = cost.spin_harmonics(e, float(x["a_au"][j]), float(x["_hd"][j]),
+                                spin_rate_rad_per_day(float(x["rotation_period_hours"][j])))
+        model = cost.Cost((cost.hansen_build(e, None), cost.half_peak_to_peak(e, None, k)))
+        spin_cpu, model_cpu = spin_cpu + spin.cpu_s, model_cpu + model.cpu_s
+        spin_mb, model_mb = max(spin_mb, spin.memory_mb), max(model_mb, model.memory_mb)
+        widest = max(widest, span)
+        if model.cpu_s > costliest_cpu:
+            costliest, costliest_cpu = f"rows[{j}].e", model.cpu_s
+    count = int(np.count_nonzero(ok))
+    return total + cost.Cost((
+        cost.Part(far, f"{count} histories, each integrated over up to {widest:.4g} years from its pole's epoch",
+                  spin_cpu, spin_mb),
+        cost.Part(costliest, f"the first-order model and nutation extremes of {count} bodies (their secular spin)",
+                  model_cpu, model_mb)))
+
+
+def history_epochs(spec: HistorySpec) -> int:
+    """The epochs of every row's history over ``spec``, validated as each history validates them
+    (:func:`ephem.longterm.history.history_grid`, each field named in its error), so that a bad span is refused once,
+    before any row, instead of in every row."""
+    from ..base.errors import InvalidInputError
+    from ..longterm.history import MAX_HISTORY_SAMPLES, history_grid
+
+    try:
+        return int(history_grid(spec.start_year, spec.stop_year, spec.step_years).size)
+    except OverflowError:   # a step so small that the count of epochs is not even a finite number
+        raise InvalidInputError("step_years", f"gives more than {MAX_HISTORY_SAMPLES} epochs over "
+                                f"[{spec.start_year:g}, {spec.stop_year:g}] (a step of {spec.step_years!r} years)"
+                                ) from None
+
+
+def _screened(columns: Mapping, n_rows: int) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    """The numeric inputs (with ``_hd``, H_d from the row's inertia form) and the rows that pass the checks:
+    those that reach the theory (what :func:`batch_cost` prices)."""
+    x = _numbers(columns, n_rows)
+    errors = _Errors(n_rows)
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        _check(x, errors)
+        x["_hd"] = _inertia(x, errors)
+    return x, errors.ok & np.isfinite(x["_hd"])
+
+
+def sigma_inputs(columns: Mapping) -> int:
+    """How many inputs carry a ``_sigma`` column (each costs two more evaluations)."""
+    return sum(1 for key in SIGMA_INPUTS if f"{key}_sigma" in columns)
+
+
+def crossing_period(years: np.ndarray, values: np.ndarray) -> float:
+    """The mean period (years) from the crossings of the series' mean, interpolated linearly: twice the mean gap
+    between crossings; NaN with fewer than three."""
+    y = np.asarray(values, float) - float(np.mean(values))
+    t = np.asarray(years, float)
+    idx = np.flatnonzero(np.signbit(y[:-1]) != np.signbit(y[1:]))
+    if idx.size < 3:
+        return float("nan")
+    tc = t[idx] - y[idx] * (t[idx + 1] - t[idx]) / (y[idx + 1] - y[idx])
+    return float(2.0 * (tc[-1] - tc[0]) / (tc.size - 1))

@@ -1,0 +1,645 @@
+"""The body catalogue: orbits, spin poles, rotation periods and moments of inertia.
+
+Each dataset is a TOML file in ``data/catalogue/`` (format: ``SCHEMA.md``
+there); every value carries its unit, its uncertainty where the source gives
+one, and a source key resolved in ``data/references.toml``. Units are
+converted with astropy at load time; the records below hold plain floats in
+the units their field names state.
+
+Records validate themselves: a bad value raises
+:class:`~ephem.base.errors.InvalidInputError` naming the body and the field, whether
+it comes from a catalogue file or from a user's own body.
+"""
+from __future__ import annotations
+
+import math
+import os
+import re
+import tomllib
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+
+from ..base.constants import CENTER_HILL_AU, CENTER_RADIUS_AU, GM_CENTER, J2000_JD, JD_RANGE
+from ..base.errors import InvalidInputError, NotApplicableError, UnknownBodyError
+from .inertia import hd_of_moments
+from ..base.paths import data_dir
+
+DEFAULT_DATASET = "current"
+#: Bodies that may torque a body (the ``perturbers`` of a record): an orbit's centre, or the Moon
+#: (for the Earth only: :mod:`ephem.earth.lunisolar`).
+KNOWN_PERTURBERS = ("Sun", "Earth", "Moon")
+
+
+def dynamical_ellipticity(A: float, B: float, C: float, body: str | None = None) -> float:
+    """H_d = (C - (A+B)/2) / C (Petit et al. eq. 11), from principal moments A <= B <= C."""
+    for name, value in (("A", A), ("B", B), ("C", C)):
+        if not math.isfinite(value) or value <= 0.0:
+            raise InvalidInputError(f"inertia.{name}", f"must be a positive finite number, got {value!r}", body)
+    if not A <= B <= C:
+        raise InvalidInputError("inertia", f"principal moments must satisfy A <= B <= C, got A={A}, B={B}, C={C}", body)
+    if C > A + B:
+        raise InvalidInputError("inertia", f"C={C} exceeds A+B={A + B}: no rigid body has these moments", body)
+    return hd_of_moments(A, B, C)
+
+
+def spin_rate_rad_per_day(rotation_period_hours: float) -> float:
+    """Spin rate ω = 2π / P (rad/day) of a rotation period P in hours (sidereal: relative to the
+    stars); the ω of K = 3 n² H_d / ω (Petit et al. 2014, eq. 10)."""
+    return 2.0 * math.pi / (rotation_period_hours / 24.0)
+
+
+@dataclass(frozen=True)
+class Measured:
+    """A catalogue value as published: value, unit, 1-sigma uncertainty, source key; ``no_uncertainty``: why the
+    source gives no σ (the record says so rather than inventing one)."""
+
+    value: float
+    unit: str
+    source: str
+    uncertainty: float | None = None
+    note: str | None = None
+    no_uncertainty: str | None = None
+
+
+def _check_finite(body: str | None, name: str, value: float) -> None:
+    if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
+        raise InvalidInputError(name, f"must be a finite number, got {value!r}", body)
+
+
+#: Largest |angle| accepted for an angle taken modulo 360 deg (an orbit's node, argument of pericentre and mean
+#: anomaly, a pole's right ascension or ecliptic longitude, a phase), deg: any number of turns up to 2778. Near
+#: 1e6 the doubles are 2^-33 deg = 1.2e-10 deg (0.4 µas) apart, the rounding the answers carry already; each
+#: decade beyond loses another digit of the remainder (1e308 keeps none), so a larger angle is refused rather
+#: than silently rounded: reduce it modulo 360 first.
+MAX_ANGLE_DEG = 1e6
+
+
+def check_angle(body: str | None, name: str, value: float) -> None:
+    """``value`` (deg) a finite number within ±:data:`MAX_ANGLE_DEG`, else :class:`InvalidInputError` naming
+    ``name`` (its full path: ``pole.ra_deg``)."""
+    _check_finite(body, name, value)
+    if abs(value) > MAX_ANGLE_DEG:
+        raise InvalidInputError(name, f"an angle must lie within ±{MAX_ANGLE_DEG:g} deg: beyond it the doubles are "
+                                f"more than {math.ulp(MAX_ANGLE_DEG):.2g} deg apart and its remainder modulo 360 deg "
+                                f"loses the digits the answer needs; reduce it modulo 360, got {value!r}", body)
+
+
+#: Shortest rotation period accepted, hours: ten times faster than the fastest known asteroid rotator
+#: (2020 HS7, 2.99 s), and far from the floats where 2π/P overflows.
+MIN_ROTATION_PERIOD_HOURS = 1e-4
+
+
+def _check_epoch(body: str | None, name: str, jd: float) -> None:
+    """The epochs the time parser accepts (:data:`ephem.base.constants.JD_RANGE`), for a record's epochs too."""
+    lo, hi = JD_RANGE
+    if not lo < jd < hi:
+        raise InvalidInputError(name, f"Julian date {jd} is outside the supported range ({lo:g}, {hi:g})", body)
+
+
+#: the planes and equinoxes an orbit's elements may be referred to (:class:`Orbit`)
+ORBIT_FRAMES = ("ecliptic_j2000", "ecliptic_of_date")
+#: the theories of a real orbit's periodic terms the library has: the Moon's (Meeus 1998 ch. 47, ELP-2000/82
+#: truncated, in ephem.earth.lunisolar), which its physical librations and its rigid integration follow
+ORBIT_THEORIES = ("meeus1998_moon",)
+
+
+@dataclass(frozen=True)
+class Orbit:
+    """Osculating Keplerian elements, ecliptic and equinox J2000, at ``epoch_jd_tdb``.
+
+    ``center`` is the attracting (and torquing) body: "Sun" for heliocentric
+    orbits, "Earth" for the Moon.
+
+    ``theory``: the name of a theory of the real orbit's periodic terms (:data:`ORBIT_THEORIES`), or None.
+
+    ``node_rate_deg_per_year``: the node's mean motion on the reference plane (a satellite's orbit regressing
+    on its Laplace plane), or None. ``frame``: the plane and equinox the elements are referred to:
+    "ecliptic_j2000" (the default), or "ecliptic_of_date" (the mean ecliptic and equinox of date, as a
+    lunar theory gives the Moon's node; the elements' i and node are then those of date).
+    """
+
+    a_au: float
+    e: float
+    i_deg: float
+    node_deg: float
+    peri_deg: float
+    mean_anomaly_deg: float
+    epoch_jd_tdb: float
+    center: str = "Sun"
+    node_rate_deg_per_year: float | None = None
+    frame: str = "ecliptic_j2000"
+    #: a theory of the real orbit's periodic terms the library has, or None (:data:`ORBIT_THEORIES`)
+    theory: str | None = None
+    body: str | None = field(default=None, compare=False)
+
+    def __post_init__(self):
+        b = self.body
+        for name in ("a_au", "e", "i_deg", "node_deg", "peri_deg", "mean_anomaly_deg", "epoch_jd_tdb"):
+            _check_finite(b, f"orbit.{name}", getattr(self, name))
+        for name in ("node_deg", "peri_deg", "mean_anomaly_deg"):
+            check_angle(b, f"orbit.{name}", getattr(self, name))
+        if self.node_rate_deg_per_year is not None:
+            _check_finite(b, "orbit.node_rate_deg_per_year", self.node_rate_deg_per_year)
+        if self.theory is not None and self.theory not in ORBIT_THEORIES:
+            raise InvalidInputError("orbit.theory", f"must be one of {', '.join(ORBIT_THEORIES)} or omitted, got "
+                                    f"{self.theory!r}", b)
+        if self.frame not in ORBIT_FRAMES:
+            raise InvalidInputError("orbit.frame", f"must be one of {', '.join(ORBIT_FRAMES)}, got {self.frame!r}", b)
+        _check_epoch(b, "orbit.epoch_jd_tdb", self.epoch_jd_tdb)
+        if self.a_au <= 0:
+            raise InvalidInputError("orbit.a_au", f"semi-major axis must be positive, got {self.a_au}", b)
+        if not 0.0 <= self.e < 1.0:
+            raise InvalidInputError("orbit.e", f"eccentricity must satisfy 0 <= e < 1 (bound orbit), got {self.e}", b)
+        if not 0.0 <= self.i_deg <= 180.0:
+            raise InvalidInputError("orbit.i_deg", f"inclination must lie in [0, 180] deg, got {self.i_deg}", b)
+        if self.center not in GM_CENTER:
+            raise InvalidInputError("orbit.center", f"unknown centre {self.center!r}; known: {sorted(GM_CENTER)}", b)
+        radius, hill = CENTER_RADIUS_AU[self.center], CENTER_HILL_AU[self.center]
+        if self.a_au * (1.0 - self.e) <= radius:
+            raise InvalidInputError("orbit.a_au", f"the pericentre a(1 - e) = {self.a_au * (1.0 - self.e):.6g} AU lies "
+                                    f"inside the {self.center} (radius {radius:.6g} AU): no orbit", b)
+        if self.a_au > hill:
+            raise InvalidInputError("orbit.a_au", f"a = {self.a_au:.6g} AU lies beyond the {self.center}'s Hill sphere "
+                                    f"(~{hill:.3g} AU): no orbit bound to it", b)
+
+
+@dataclass(frozen=True)
+class Pole:
+    """The instantaneous spin axis (positive pole, right-hand rule) in the ICRF at ``epoch_jd_tdb``."""
+
+    ra_deg: float
+    dec_deg: float
+    epoch_jd_tdb: float = J2000_JD
+    body: str | None = field(default=None, compare=False)
+
+    def __post_init__(self):
+        for name in ("ra_deg", "dec_deg", "epoch_jd_tdb"):
+            _check_finite(self.body, f"pole.{name}", getattr(self, name))
+        check_angle(self.body, "pole.ra_deg", self.ra_deg)
+        _check_epoch(self.body, "pole.epoch_jd_tdb", self.epoch_jd_tdb)
+        if abs(self.dec_deg) > 90.0:
+            raise InvalidInputError("pole.dec_deg", f"declination must lie in [-90, 90] deg, got {self.dec_deg}", self.body)
+
+    @classmethod
+    def from_ecliptic(cls, lon_deg: float, lat_deg: float, epoch_jd_tdb: float = J2000_JD,
+                      body: str | None = None) -> Pole:
+        """The pole at ecliptic (J2000) longitude and latitude ``lon_deg``, ``lat_deg``, in the ICRF (the
+        obliquity of a pole on an orbit in the ecliptic is 90° - latitude)."""
+        from ..orbit.geometry import ecliptic_to_icrf, lon_lat  # numpy: the catalogue module itself does without it
+
+        check_angle(body, "pole.lon", lon_deg)        # before the rotation turns it into another angle
+        ra, dec = lon_lat(ecliptic_to_icrf(math.radians(lon_deg), math.radians(lat_deg)))
+        return cls(math.degrees(float(ra)), math.degrees(float(dec)), epoch_jd_tdb, body=body)
+
+
+@dataclass(frozen=True)
+class Body:
+    """Everything the theory needs about one body.
+
+    Either ``moments`` (A, B, C in any common normalisation) or
+    ``dynamical_ellipticity`` must be given; if both are, the explicit H_d
+    wins (``hd_from`` says which was used).
+    """
+
+    name: str
+    orbit: Orbit
+    pole: Pole
+    rotation_period_hours: float
+    moments: tuple[float, float, float] | None = None
+    dynamical_ellipticity: float | None = None
+    naif_id: int | None = None
+    kind: str = "asteroid"
+    dataset: str = "user"
+    mean_radius_km: float | None = None
+    values: dict = field(default_factory=dict, compare=False, repr=False)
+    #: {(input key, input key): ρ}: the correlations of the values' errors, as the sources give them
+    #: (``[[body.correlation]]``) or as a derivation implies them (moments from one polar moment, ephem.bodies.inertia)
+    correlations: dict = field(default_factory=dict, compare=False, repr=False)
+    #: The bodies whose torque moves the spin axis (canonical names, :data:`KNOWN_PERTURBERS`);
+    #: None: the orbit's centre alone. Only the Earth may add the Moon.
+    perturbers: tuple[str, ...] | None = None
+
+    def __post_init__(self):
+        
+        n = self.name
+        object.__setattr__(self, "perturbers", resolve_perturbers(self.perturbers, self))
+        _check_finite(n, "rotation_period_hours", self.rotation_period_hours)
+        if self.rotation_period_hours < MIN_ROTATION_PERIOD_HOURS:
+            raise InvalidInputError("rotation_period_hours",
+                                    f"must be at least {MIN_ROTATION_PERIOD_HOURS:g} h (0.36 s; the fastest known "
+                                    f"rotator, 2020 HS7, turns in 2.99 s), got {self.rotation_period_hours}", n)
+        if self.mean_radius_km is not None:
+            _check_finite(n, "mean_radius_km", self.mean_radius_km)
+            if self.mean_radius_km <= 0:
+                raise InvalidInputError("mean_radius_km", f"must be positive, got {self.mean_radius_km}", n)
+        if self.moments is None and self.dynamical_ellipticity is None:
+            raise InvalidInputError("moments", "give the principal moments (A, B, C) or the dynamical ellipticity", n)
+        hd_moments = None
+        if self.moments is not None:
+            if len(self.moments) != 3:
+                raise InvalidInputError("moments", "expected three principal moments (A, B, C)", n)
+            for label, v in zip("ABC", self.moments):
+                _check_finite(n, f"moments.{label}", v)
+            hd_moments = dynamical_ellipticity(*self.moments, body=n)
+        if self.dynamical_ellipticity is not None:
+            _check_finite(n, "dynamical_ellipticity", self.dynamical_ellipticity)
+            if not 0.0 < self.dynamical_ellipticity <= 0.5:
+                raise InvalidInputError(
+                    "dynamical_ellipticity",
+                    f"must lie in (0, 0.5] (oblate about the spin axis, C >= (A+B)/2 and C <= A+B), "
+                    f"got {self.dynamical_ellipticity}", n)
+        object.__setattr__(self, "_hd_moments", hd_moments)
+
+    @property
+    def hd(self) -> float:
+        """The dynamical ellipticity H_d the theory uses."""
+        return self.dynamical_ellipticity if self.dynamical_ellipticity is not None else self._hd_moments
+
+    @property
+    def spin_rate_rad_per_day(self) -> float:
+        """ω = 2π / P (rad/day) of the rotation period (:func:`spin_rate_rad_per_day`)."""
+        return spin_rate_rad_per_day(self.rotation_period_hours)
+
+    @property
+    def hd_from(self) -> str:
+        return "dynamical_ellipticity" if self.dynamical_ellipticity is not None else "moments"
+
+    @property
+    def hd_from_moments(self) -> float | None:
+        """H_d implied by the moments, whether or not an explicit value overrides it."""
+        return self._hd_moments
+
+
+def is_earth(body: Body) -> bool:
+    """The Earth (by name or NAIF id 399): the one body whose perturbers may include the Moon."""
+    return body.naif_id == 399 or body.name.strip().lower() == "earth"
+
+
+def resolve_perturbers(value, body: Body) -> tuple[str, ...]:
+    """Validated perturbers of ``body``: None (the orbit's centre), a name, a comma-separated string
+    ("moon,sun") or a list of names, any case. Canonical names, in the order given.
+
+    Unknown or repeated names raise :class:`InvalidInputError` (field ``perturbers``); a known body
+    the theory cannot take as a perturber of this one raises :class:`NotApplicableError`: the
+    single-perturber theory is torqued by the orbit's centre, and only the Earth has a second
+    perturber, the Moon (:mod:`ephem.earth.lunisolar`).
+    """
+    centre = body.orbit.center
+    if value is None:
+        return (centre,)
+    if isinstance(value, str):
+        names = [v.strip() for v in value.split(",")]
+    elif isinstance(value, (list, tuple)):
+        names = list(value)
+    else:
+        raise InvalidInputError("perturbers", f"expected a name, a comma-separated list or a list of names, "
+                                f"got {value!r}", body.name)
+    canonical = {p.lower(): p for p in KNOWN_PERTURBERS}
+    out = []
+    for name in names:
+        if not isinstance(name, str) or name.strip().lower() not in canonical:
+            raise InvalidInputError("perturbers", f"unknown perturber {name!r}; known: {', '.join(KNOWN_PERTURBERS)}",
+                                    body.name)
+        p = canonical[name.strip().lower()]
+        if p in out:
+            raise InvalidInputError("perturbers", f"{p} is listed twice", body.name)
+        out.append(p)
+    if not out:
+        raise InvalidInputError("perturbers", "give at least one perturber", body.name)
+    for p in out:
+        if p == "Moon":
+            if not is_earth(body) or centre != "Sun":
+                raise NotApplicableError(body.name, "the Moon as a perturber is modelled for the Earth only "
+                                         "(ephem.earth.lunisolar: Kinoshita's lunisolar theory of the Earth); the "
+                                         f"single-perturber theory takes its torque from the orbit's centre, the {centre}")
+        elif p != centre:
+            raise NotApplicableError(body.name, f"{p} is not the orbit's centre ({centre}): the single-perturber "
+                                     "theory takes its torque from the orbit's centre, and only the Earth has a "
+                                     "second perturber (the Moon)")
+    return tuple(out)
+
+
+# --------------------------------------------------------------------------- loading
+
+def _measured(raw: dict, where: str, body: str, default_reason: str | None = None) -> Measured:
+    """A value table as a :class:`Measured`; ``default_reason``: the section's ``no_uncertainty`` (why its values
+    have no σ), for the values that give neither a σ nor a reason of their own."""
+    if not isinstance(raw, dict) or "value" not in raw:
+        raise InvalidInputError(where, "expected a table {value, unit, source[, uncertainty | no_uncertainty, "
+                                "note]}", body)
+    if "source" not in raw:
+        raise InvalidInputError(where, "every value needs a source key", body)
+    _check_finite(body, where, raw["value"])
+    unc = raw.get("uncertainty")
+    if unc is not None:
+        _check_finite(body, f"{where}.uncertainty", unc)
+        if unc < 0:
+            raise InvalidInputError(f"{where}.uncertainty", f"must be >= 0, got {unc}", body)
+    reason = raw.get("no_uncertainty")
+    if reason is None and unc is None:
+        reason = default_reason
+    if reason is not None:
+        if not isinstance(reason, str) or not reason.strip():
+            raise InvalidInputError(f"{where}.no_uncertainty", "must be the reason no sigma is given (a non-empty "
+                                    "string)", body)
+        if unc is not None:
+            raise InvalidInputError(f"{where}.no_uncertainty", "a value with an uncertainty needs no reason for "
+                                    "lacking one: give one of the two", body)
+    return Measured(float(raw["value"]), str(raw.get("unit", "")), str(raw["source"]),
+                    None if unc is None else float(unc), raw.get("note"), reason)
+
+
+def _convert(m: Measured, target: str, where: str, body: str) -> float:
+    import astropy.units as u
+
+    try:
+        return float((m.value * u.Unit(m.unit)).to_value(u.Unit(target)))
+    except (ValueError, u.UnitConversionError) as exc:
+        raise InvalidInputError(where, f"cannot convert unit {m.unit!r} to {target!r}: {exc}", body) from None
+
+
+def _body_from_record(rec: dict, dataset: str) -> Body:
+    name = rec.get("name")
+    if not name:
+        raise InvalidInputError("name", "every body record needs a name", None)
+    values: dict[str, Measured] = {}
+
+    def get(section: str, key: str, target: str, required: bool = True) -> float | None:
+        sec = rec.get(section, {}) if section else rec
+        if key not in sec:
+            if required:
+                raise InvalidInputError(f"{section}.{key}" if section else key, "missing", name)
+            return None
+        where = f"{section}.{key}" if section else key
+        # a section's reason is for its measured values: an epoch is a definition
+        reason = _section_reason(sec, section, name) if section and key != "epoch" else None
+        m = _measured(sec[key], where, name, reason)
+        values[where] = m
+        return _convert(m, target, where, name)
+
+    orbit_rec = rec.get("orbit", {})
+    orbit = Orbit(
+        a_au=get("orbit", "a", "AU"), e=get("orbit", "e", ""), i_deg=get("orbit", "i", "deg"),
+        node_deg=get("orbit", "node", "deg"), peri_deg=get("orbit", "peri", "deg"),
+        mean_anomaly_deg=get("orbit", "mean_anomaly", "deg"), epoch_jd_tdb=get("orbit", "epoch", "d"),
+        center=orbit_rec.get("center", "Sun"), node_rate_deg_per_year=get("orbit", "node_rate", "deg/yr", required=False),
+        frame=orbit_rec.get("frame", "ecliptic_j2000"), theory=orbit_rec.get("theory"), body=name)
+
+    pole_rec = rec.get("pole", {})
+    frame = pole_rec.get("frame", "icrf")
+    epoch = get("pole", "epoch", "d", required=False) or J2000_JD
+    if frame == "icrf":
+        pole = Pole(get("pole", "ra", "deg"), get("pole", "dec", "deg"), epoch, body=name)
+    elif frame == "ecliptic_j2000":
+        lon, lat = get("pole", "lon", "deg"), get("pole", "lat", "deg")
+        if abs(lat) > 90:
+            raise InvalidInputError("pole.lat", f"latitude must lie in [-90, 90] deg, got {lat}", name)
+        pole = Pole.from_ecliptic(lon, lat, epoch, body=name)
+    else:
+        raise InvalidInputError("pole.frame", f"must be 'icrf' or 'ecliptic_j2000', got {frame!r}", name)
+
+    period_h = _rotation_period(rec.get("rotation", {}), values, name, get)
+    inertia = rec.get("inertia", {})
+    moments = None
+    correlations: dict[tuple[str, str], float] = {}
+    if "derived_from" in inertia:
+        if any(k in inertia for k in "ABC"):
+            raise InvalidInputError("inertia", "give the moments A, B, C or inertia.derived_from, not both", name)
+        moments = _derived_moments(inertia["derived_from"], values, correlations, name)
+    elif all(k in inertia for k in "ABC"):
+        units = {inertia[k].get("unit", "") for k in "ABC" if isinstance(inertia[k], dict)}
+        if len(units) != 1:
+            raise InvalidInputError("inertia", f"A, B and C must share one unit, got {sorted(units)}", name)
+        unit = units.pop()
+        moments = tuple(get("inertia", k, unit) for k in "ABC")
+    elif any(k in inertia for k in "ABC"):
+        raise InvalidInputError("inertia", "give all three of A, B, C or none", name)
+    hd = get("inertia", "dynamical_ellipticity", "", required=False)
+    radius = get("", "mean_radius", "km", required=False)
+    naif = rec.get("naif_id")
+    perturbers = rec.get("perturbers")
+    if perturbers is not None and not isinstance(perturbers, list):
+        raise InvalidInputError("perturbers", f"expected a list of names, got {perturbers!r}", name)
+    correlations.update(_stated_correlations(rec.get("correlation", []), values, name))
+    return Body(name=name, orbit=orbit, pole=pole, rotation_period_hours=period_h, moments=moments,
+                dynamical_ellipticity=hd, naif_id=None if naif is None else int(naif),
+                kind=rec.get("kind", "asteroid"), dataset=dataset, mean_radius_km=radius, values=values,
+                correlations=correlations, perturbers=None if perturbers is None else tuple(perturbers))
+
+
+def _section_reason(section: dict, where: str, name: str) -> str | None:
+    """A section's ``no_uncertainty``: the reason its values without a σ of their own have none."""
+    reason = section.get("no_uncertainty")
+    if reason is not None and (not isinstance(reason, str) or not reason.strip()):
+        raise InvalidInputError(f"{where}.no_uncertainty", "must be the reason the section's values have no sigma "
+                                "(a non-empty string)", name)
+    return reason
+
+
+def _rotation_period(rotation: dict, values: dict, name: str, get) -> float:
+    """The rotation period (h): ``rotation.period`` as given, or derived from the rate W' that rotation models
+    publish (``rotation.rate``, deg/d): P = 360°/W', σ_P = P σ_W/W'."""
+    if "rate" not in rotation:
+        return get("rotation", "period", "h")
+    if "period" in rotation:
+        raise InvalidInputError("rotation", "give the period or the rate W', not both", name)
+    rate = get("rotation", "rate", "deg/d")
+    if rate <= 0.0:
+        raise InvalidInputError("rotation.rate", f"must be positive (the pole is the right-hand spin axis), got "
+                                f"{rate}", name)
+    m = values["rotation.rate"]
+    period = 360.0 / rate * 24.0
+    per_unit = _convert(Measured(1.0, m.unit, m.source), "deg/d", "rotation.rate", name)
+    sigma = None if m.uncertainty is None else period * m.uncertainty * per_unit / rate
+    values["rotation.period"] = Measured(period, "h", m.source, sigma, f"derived: 360 deg / W' with W' = {m.value:.12g} "
+                                         f"{m.unit} (rotation.rate)", m.no_uncertainty)
+    return period
+
+
+def _derived_moments(spec: dict, values: dict, correlations: dict, name: str) -> tuple[float, float, float]:
+    """A, B, C from what was measured (:mod:`ephem.bodies.inertia`), stored as ``inertia.A`` … with their 1-σ, and
+    their correlations added to ``correlations``."""
+    from .inertia import METHODS, derive
+
+    where = "inertia.derived_from"
+    if not isinstance(spec, dict):
+        raise InvalidInputError(where, "expected a table {method = ..., <inputs> = {value, unit, source, ...}}", name)
+    method = spec.get("method")
+    m = METHODS.get(method)
+    if m is None:
+        raise InvalidInputError(f"{where}.method", f"must be one of {', '.join(METHODS)}, got {method!r}", name)
+    unknown = sorted(set(spec) - set(m.inputs) - {"method", "note", "no_uncertainty"})
+    if unknown:
+        raise InvalidInputError(where, f"unknown inputs {', '.join(unknown)} for method {method!r} (it takes "
+                                f"{', '.join(m.inputs)})", name)
+    given, sigmas = {}, {}
+    for key in m.inputs:
+        if key not in spec:
+            raise InvalidInputError(f"{where}.{key}", f"missing: method {method!r} needs {', '.join(m.inputs)}", name)
+        meas = _measured(spec[key], f"{where}.{key}", name, _section_reason(spec, where, name))
+        values[f"{where}.{key}"] = meas
+        scale = _convert(Measured(1.0, meas.unit, meas.source), m.input_unit, f"{where}.{key}", name)
+        given[key] = meas.value * scale
+        sigmas[key] = None if meas.uncertainty is None else meas.uncertainty * scale
+    d = derive(method, given, sigmas, name)
+    first = values[f"{where}.{m.inputs[0]}"]
+    missing = "; ".join(f"{k}: {values[f'{where}.{k}'].no_uncertainty or 'no reason given'}" for k in d.missing_sigma)
+    for label, value, sigma in zip("ABC", d.moments, d.sigma):
+        values[f"inertia.{label}"] = Measured(
+            value, d.unit, first.source, sigma, f"derived by {method} from {', '.join(m.inputs)} ({m.description})",
+            None if sigma is not None else f"derived from inputs without a published sigma ({missing})")
+    correlations.update(d.correlations)
+    return d.moments
+
+
+def _stated_correlations(entries, values: dict, name: str) -> dict:
+    """``[[body.correlation]]`` entries {inputs = [key, key], value = ρ, source = key} as {(key, key): ρ}."""
+    out = {}
+    if not isinstance(entries, list):
+        raise InvalidInputError("correlation", "expected an array of tables [[body.correlation]]", name)
+    for n, entry in enumerate(entries):
+        where = f"correlation[{n}]"
+        keys = entry.get("inputs") if isinstance(entry, dict) else None
+        if not isinstance(keys, list) or len(keys) != 2 or keys[0] == keys[1]:
+            raise InvalidInputError(f"{where}.inputs", f"expected two different value keys, got {keys!r}", name)
+        for k in keys:
+            if k not in values or values[k].uncertainty is None:
+                raise InvalidInputError(f"{where}.inputs", f"{k!r} is not a value of this record with an "
+                                        f"uncertainty", name)
+        rho = entry.get("value")
+        if isinstance(rho, bool) or not isinstance(rho, (int, float)) or not -1.0 <= rho <= 1.0:
+            raise InvalidInputError(f"{where}.value", f"a correlation must lie in [-1, 1], got {rho!r}", name)
+        if "source" not in entry:
+            raise InvalidInputError(f"{where}.source", "every correlation needs a source key", name)
+        out[(keys[0], keys[1])] = float(rho)
+    return out
+
+
+@dataclass(frozen=True)
+class Catalogue:
+    """One dataset of bodies, looked up by case-insensitive name or NAIF id."""
+
+    name: str
+    description: str
+    bodies: tuple[Body, ...]
+
+    @property
+    def names(self) -> list[str]:
+        return [b.name for b in self.bodies]
+
+    def get(self, query: str | int) -> Body:
+        q = str(query).strip()
+        for b in self.bodies:
+            if b.name.lower() == q.lower() or (b.naif_id is not None and q == str(b.naif_id)):
+                return b
+        raise UnknownBodyError(str(query), self.names)
+
+
+#: the name a user dataset may take (its file is NAME.toml in :func:`user_catalogue_dir`)
+DATASET_NAME = r"[A-Za-z0-9][A-Za-z0-9_-]{0,63}"
+
+
+def user_catalogue_dir() -> Path | None:
+    """Directory of the user's own datasets (``ephem catalogue import``, docs/catalogue_import.md):
+    ``$EPHEM_USER_CATALOGUE_DIR``, else ``$XDG_DATA_HOME/ephem/catalogue``, else
+    ``~/.local/share/ephem/catalogue``; None when there is no home directory to put it in."""
+    env = os.environ.get("EPHEM_USER_CATALOGUE_DIR")
+    if env:
+        return Path(env).expanduser()
+    xdg = os.environ.get("XDG_DATA_HOME")
+    if xdg and Path(xdg).is_absolute():
+        return Path(xdg) / "ephem" / "catalogue"
+    try:
+        return Path.home() / ".local" / "share" / "ephem" / "catalogue"
+    except (RuntimeError, KeyError):
+        return None
+
+
+def shipped_datasets() -> list[str]:
+    """The datasets shipped in ``data/catalogue/`` ("current", "petit2014")."""
+    return sorted(p.stem for p in (data_dir() / "catalogue").glob("*.toml"))
+
+
+def _user_dataset_files() -> dict[str, Path]:
+    """The user's datasets (name -> file) that no shipped dataset shadows (names compared in any case)."""
+    where = user_catalogue_dir()
+    if where is None or not where.is_dir():
+        return {}
+    shipped = {s.lower() for s in shipped_datasets()}
+    return {p.stem: p for p in sorted(where.glob("*.toml"))
+            if re.fullmatch(DATASET_NAME, p.stem) and p.stem.lower() not in shipped and p.is_file()}
+
+
+def _dataset_file(dataset: str) -> Path | None:
+    """The file of ``dataset``: a shipped one first, then the user's (:func:`user_catalogue_dir`)."""
+    if not isinstance(dataset, str) or not re.fullmatch(DATASET_NAME, dataset):
+        return None
+    shipped = data_dir() / "catalogue" / f"{dataset}.toml"
+    if shipped.is_file():
+        return shipped
+    return _user_dataset_files().get(dataset)
+
+
+def available_datasets() -> list[str]:
+    """The shipped datasets (sorted), then the user's imported ones (sorted; docs/catalogue_import.md)."""
+    return shipped_datasets() + sorted(_user_dataset_files())
+
+
+def parse_catalogue(text: str, dataset: str) -> Catalogue:
+    """Parse and validate a catalogue TOML document."""
+    doc = tomllib.loads(text)
+    meta = doc.get("dataset", {})
+    bodies = tuple(_body_from_record(rec, dataset) for rec in doc.get("body", []))
+    names = [b.name.lower() for b in bodies]
+    if len(set(names)) != len(names):
+        raise InvalidInputError("name", f"duplicate body names in dataset {dataset!r}", None)
+    return Catalogue(dataset, meta.get("description", ""), bodies)
+
+
+@lru_cache(maxsize=None)
+def _load_catalogue_file(path: str, dataset: str, mtime_ns: int, size: int) -> Catalogue:
+    """Parse a dataset file once per version of it (the key holds its modification time and size)."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+        return parse_catalogue(text, dataset)
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise InvalidInputError("dataset", f"cannot read dataset {dataset!r} ({path}): {exc}") from None
+
+
+def load_catalogue(dataset: str = DEFAULT_DATASET) -> Catalogue:
+    """Load (once per version of its file) and validate a dataset: a shipped one, "current" (default) or
+    "petit2014", or one the user imported (``ephem catalogue import``, in :func:`user_catalogue_dir`).
+
+    The parsed catalogue is cached under the file's path, modification time and size, so a dataset imported
+    or replaced after the first call is seen by the next one; ``load_catalogue.cache_clear()`` empties the cache.
+    """
+    path = _dataset_file(dataset)
+    try:
+        st = path.stat() if path is not None else None
+    except OSError:
+        st = None
+    if st is None:
+        known = available_datasets()
+        raise InvalidInputError("dataset", f"unknown dataset {dataset!r}; known: {', '.join(known)}")
+    return _load_catalogue_file(str(path), dataset, st.st_mtime_ns, st.st_size)
+
+
+load_catalogue.cache_clear = _load_catalogue_file.cache_clear
+
+
+@lru_cache(maxsize=1)
+def load_references() -> dict:
+    """The references file: source key -> {authors, year, title, journal, where, …}."""
+    with open(data_dir() / "references.toml", "rb") as fh:
+        return tomllib.load(fh)
+
+
+def get_body(query: str | int, dataset: str = DEFAULT_DATASET) -> Body:
+    """A catalogue body by case-insensitive name or NAIF id (2000004 = Vesta)."""
+    return load_catalogue(dataset).get(query)
+
+
+def resolve_body(body: "str | int | Body", dataset: str = DEFAULT_DATASET) -> Body:
+    """``body`` itself if it is a :class:`Body` (a user's own), else the catalogue's by name or NAIF id."""
+    return body if isinstance(body, Body) else get_body(body, dataset)

@@ -1,0 +1,8 @@
+"""The Earth's family: the lunisolar theory under the Moon and the Sun, and the non-rigid Earth.
+
+- :mod:`ephem.earth.family`: The Earth under the Moon and the Sun, as the library serves it: :mod:`ephem.earth.lunisolar` wired to the
+- :mod:`ephem.earth.lunisolar`: The Earth's forced precession and nutation under the Moon and the Sun (rigid Earth, first order).
+- :mod:`ephem.earth.nonrigid`: The non-rigid Earth's correction to each nutation term: the IERS 1996 transfer function.
+
+The package imports none of its modules: importing one loads only what it needs.
+"""

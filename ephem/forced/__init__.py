@@ -1,0 +1,14 @@
+"""The forced theory of one perturber: Kinoshita's equations, the precession-nutation model of a body, second order, the numerical reference, the rigid body, the rotation scale, error bounds and uncertainty.
+
+- :mod:`ephem.forced.describe`: The forced model of one perturber in words: the theory, what it assumes, and the warnings a body earns.
+- :mod:`ephem.forced.integration`: Numerical reference: the rotation-averaged solar torque integrated along the Keplerian orbit.
+- :mod:`ephem.forced.kinoshita`: Kinoshita's theory of the forced precession and nutation, one perturber on a fixed Keplerian orbit.
+- :mod:`ephem.forced.physics_errors`: Error terms from physics the fixed-orbit, rotation-averaged theories leave out.
+- :mod:`ephem.forced.precession_nutation`: Precession-nutation model of one body: geometry + Kinoshita's theory, evaluated over time.
+- :mod:`ephem.forced.rigid_body`: Rung 7: the full rigid body, spinning and torqued by the Sun, without rotation averaging.
+- :mod:`ephem.forced.rotation_scale`: The rotation-scale terms: what averaging the solar torque over the rotation leaves out, in closed form.
+- :mod:`ephem.forced.second_order`: Second order in the torque: the equinox drifts under the precession, and the nutation feeds back.
+- :mod:`ephem.forced.uncertainty`: Propagation of the catalogue's 1-sigma uncertainties to the precession and nutation.
+
+The package imports none of its modules: importing one loads only what it needs.
+"""

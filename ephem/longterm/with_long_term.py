@@ -1,0 +1,182 @@
+"""The ladder across spans: every family's models, and the long-term model beyond them.
+
+A family's models (the single-perturber ladder's rungs, the lunisolar series, the Cassini state) follow the
+nutation but hold the orbit fixed, or follow the real orbit only inside DE421 (1900-2050): far from the present
+their estimate grows with the orbit's motion until a tolerance refuses them. The ``long_term`` model is the spin
+averaged over the rotation and the orbit (:meth:`~ephem.theory.interface.SpinAxisTheory.secular_spin`) integrated along
+the long-term orbit (:mod:`ephem.longterm.history`: the shipped N-body orbit where it covers the epochs, else the
+secular one): no nutation (its estimate's ``nutation`` term), but an orbit good over millennia. :class:`WithLongTerm`
+adds it, last, to whichever family serves a body, so ``tolerance_mas`` picks the series for decades, the real
+orbit inside DE421 and the long-term model beyond, through the one interface.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..theory import cost
+from ..base.budget import Cost, charge, prepaid
+from ..base.constants import J2000_JD, JULIAN_YEAR_DAYS
+from ..base.errors import NotApplicableError
+from .history import DESCRIPTIONS as ORBIT_DESCRIPTIONS
+from .history import long_term_run, long_term_cost
+from ..forced.precession_nutation import Track
+from ..theory.interface import Estimate, SpinAxisTheory
+
+NAME = "long_term"
+DESCRIPTION = ("the spin averaged over the rotation and the orbit, integrated (DOP853) along the long-term orbit "
+               "(the shipped N-body orbit where it covers the epochs, else the secular one): good over millennia, "
+               "without the nutation")
+#: the most epochs at which the long-term estimate is evaluated (it is smooth: the largest over a subsample)
+ESTIMATE_EPOCHS = 2001
+
+
+def _years(jd_tdb) -> np.ndarray:
+    return (np.asarray(jd_tdb, dtype=float) - J2000_JD) / JULIAN_YEAR_DAYS
+
+
+def _subsample(years: np.ndarray) -> np.ndarray:
+    if years.size <= ESTIMATE_EPOCHS:
+        return np.unique(years)
+    return np.linspace(float(years.min()), float(years.max()), ESTIMATE_EPOCHS)
+
+
+class WithLongTerm(SpinAxisTheory):
+    """A family (``inner``) with the ``long_term`` model after its own: everything else is the family's."""
+
+    def __init__(self, inner: SpinAxisTheory):
+        super().__init__(inner.body, inner.perturbers, inner.axis, inner.wobble, inner.rotation_phase)
+        self.inner = inner
+        self.summary = inner.summary
+        self.models = tuple(inner.models) + (NAME,)
+        self.descriptions = {**inner.descriptions, NAME: DESCRIPTION}
+        self.propagates_uncertainty = inner.propagates_uncertainty
+        self.models_rotation_scale = inner.models_rotation_scale
+
+    def __getattr__(self, name):            # the family's own attributes (its model, its ladder)
+        return getattr(self.__dict__["inner"], name)
+
+    @classmethod
+    def serves(cls, body, perturbers) -> bool:   # pragma: no cover - never listed in the registry
+        return False
+
+    @classmethod
+    def how_to_reach(cls, body) -> str:          # pragma: no cover
+        return ""
+
+    def with_wobble(self, wobble) -> "WithLongTerm":
+        return WithLongTerm(self.inner.with_wobble(wobble))
+
+    def with_rotation_phase(self, rotation_phase) -> "WithLongTerm":
+        return WithLongTerm(self.inner.with_rotation_phase(rotation_phase))
+
+    def default_model(self, order):
+        return self.inner.default_model(order)
+
+    def check_request(self, model, order) -> None:
+        if model != NAME:
+            self.inner.check_request(model, order)
+            return
+        if order is not None:
+            raise NotApplicableError(self.body.name, f"the {NAME} model takes no e-order (order={order!r})")
+        self.inner.secular_spin()        # "not applicable" with the reason where the family has none
+
+    # --- cost
+
+    def choice_cost(self, start, stop, count) -> Cost:
+        """The family's: the long-term estimate is charged when it is made (:meth:`_estimate`, only when a
+        tolerance chooses among the models), so a track that names its model pays nothing for it."""
+        try:
+            return self.inner.choice_cost(start, stop, count)
+        except NotApplicableError:
+            return cost.FREE         # the family serves none of these epochs: the long-term model alone is tried
+
+    def _cost(self, start: float, stop: float, count: int, in_years: bool = False) -> Cost:
+        """The long-term model's cost over [start, stop] (JD TDB, or Julian years from J2000 ``in_years``)."""
+        lo, hi = (start, stop) if in_years else (float(_years(start)), float(_years(stop)))
+        try:
+            return long_term_cost(self.body, self.inner.secular_spin(), lo, hi, count)
+        except NotApplicableError:
+            return cost.FREE
+
+    def track_cost(self, model, order, start, stop, count, free_wobble, rotation_scale=False) -> Cost:
+        if model != NAME:
+            return self.inner.track_cost(model, order, start, stop, count, free_wobble, rotation_scale)
+        return self._cost(start, stop, count)
+
+    # --- estimates and tracks
+
+    def _estimate(self, jd_tdb) -> Estimate:
+        years = _subsample(_years(jd_tdb))
+        try:
+            charge(self._cost(float(years.min()), float(years.max()), years.size, in_years=True))
+            with prepaid():         # charged just above, before the work
+                run = long_term_run(self.body, self.inner.secular_spin(), years)
+        except NotApplicableError as exc:
+            return Estimate(NAME, None, {}, available=False, why_not=exc.reason)
+        terms = {k: float(np.max(v)) for k, v in run.terms.items()}
+        return Estimate(NAME, None, terms, unestimated=tuple(f"{t}_probe" for t in run.history.unestimated))
+
+    def estimates(self, jd_tdb) -> list[Estimate]:
+        """The family's estimates, then the long-term model's; where the family serves none of the epochs (the
+        lunisolar series outside the span it was measured over) its models are unavailable with its reason."""
+        try:
+            inner = self.inner.estimates(jd_tdb)
+        except NotApplicableError as exc:
+            own = self._estimate(jd_tdb)
+            if not own.available:
+                raise                    # neither serves: the family's reason stands
+            return [Estimate(m, None, {}, available=False, why_not=exc.reason) for m in self.inner.models] + [own]
+        return inner + [self._estimate(jd_tdb)]
+
+    def named(self, jd_tdb, model, order):
+        if model != NAME:
+            return self.inner.named(jd_tdb, model, order)
+        return self._estimate(jd_tdb)
+
+    def _track(self, jd_tdb) -> Track:
+        t = np.asarray(jd_tdb, dtype=float)
+        with prepaid():             # charged as the track's cost (track_cost)
+            run = long_term_run(self.body, self.inner.secular_spin(), _years(t))
+        h = run.history
+        zero = np.zeros(t.shape)
+        return Track(t, h.precession_angle, zero, zero, h.obliquity, h.pole_ra, h.pole_dec)
+
+    def track(self, est, model, order, t0, step, count) -> Track:
+        if model != NAME:
+            return self.inner.track(est, model, order, t0, step, count)
+        return self._track(self.grid(t0, step, count))
+
+    def track_at(self, model, order, jd_tdb, free_wobble=False) -> Track:
+        if model != NAME:
+            return self.inner.track_at(model, order, jd_tdb, free_wobble)
+        return self._track(jd_tdb)
+
+    def describe(self, est, model, order, with_wobble) -> dict:
+        info = self.inner.describe(None if model == NAME else est, self.inner.default_model(None)
+                                   if model == NAME else model, order, with_wobble)
+        if model == NAME:
+            info["assumptions"] = list(info["assumptions"]) + [
+                "long_term: the spin averaged over the rotation and the orbit (no nutation), along the long-term "
+                "orbit: " + "; ".join(f"{k}: {v}" for k, v in ORBIT_DESCRIPTIONS.items())]
+        return info
+
+    # --- the rest is the family's
+
+    def answer_cost(self, order, nutation=False, tolerance=False) -> Cost:
+        return self.inner.answer_cost(order, nutation, tolerance)
+
+    def precession_answer(self, order, tolerance, start) -> dict:
+        return self.inner.precession_answer(order, tolerance, start)
+
+    def nutation_answer(self, order, tolerance, cut_mas, start) -> dict:
+        return self.inner.nutation_answer(order, tolerance, cut_mas, start)
+
+    def spectrum(self, aim_mas, mid_centuries, jd_tdb=None, psi=None):
+        return self.inner.spectrum(aim_mas, mid_centuries, jd_tdb, psi)
+
+    def extra_description(self) -> dict:
+        return self.inner.extra_description()
+
+    def secular_spin(self):
+        return self.inner.secular_spin()
+

@@ -1,0 +1,1009 @@
+"""The Moon's forced physical librations about its Cassini state: the pole and the prime meridian.
+
+The principal axes of the Moon (a toward the Earth, c the pole; A < B < C) turn uniformly on average: c precesses
+with the orbit's node about the ecliptic pole at the inclination I (Cassini's laws, :mod:`ephem.moon.cassini`), a
+follows the mean Earth. The orbit's periodic departures from a uniformly precessing circle (the equation of
+centre, evection, variation, the annual equation, the latitude's periodic terms, the Sun) drive the axes about
+that state: the physical librations. This module derives them from the rigid body's equations, the Moon's orbit
+series of :mod:`ephem.earth.lunisolar` (Meeus 1998 ch. 47, a truncation of ELP-2000/82) and the Sun, without fitting.
+Radians and days throughout; JD TDB.
+
+Frames and angles (all signs stated)
+------------------------------------
+E: the mean ecliptic and equinox of date (x to the equinox, z the ecliptic pole K). Ω, F = L − Ω, l, l', D: the
+Delaunay arguments of IERS Conventions (2010) eq. 5.43 (Meeus's M' = l, M = l'); L = F + Ω the Moon's mean
+longitude. The reference frame, turning uniformly,
+
+    R(t) = Rz(Ω + π) Rx(I) Rz(F)                                                                        (R)
+
+has z the Cassini pole (colatitude I, ecliptic longitude Ω + 90°: the ecliptic pole between it and the orbit
+pole, Cassini state 2) and x toward the mean Earth (along the equator, F from the equator's ascending node at
+Ω + π). Its angular velocity in space is ω_R = (Ω̇ − p_A) K + Ḟ c, in R's axes
+
+    w = (ν sin F, ν cos F, w3),   ν = (Ω̇ − p_A) sin I,   w3 = Ḟ + (Ω̇ − p_A) cos I,
+
+p_A the general precession (:data:`GENERAL_PRECESSION_RATE`: the frame of date turns at −p_A about K). The
+principal axes are B = R exp([θ×]): θ (rad, in R's axes) is the unknown, θ1 a roll about the mean Earth
+direction, θ2 a pitch about the along-track axis, θ3 a yaw about the pole. The published variables (Eckhardt
+1981, Moon and Planets 25, 3; Meeus 1998 ch. 53) are the principal axes' 3-1-3 Euler angles from E,
+
+    B = Rz(φ) Rx(ϑ) Rz(ψ),   φ = Ω + π + σ / sin I,   ϑ = I + ρ,   ψ = F + τ − σ / sin I,              (E)
+
+so ρ is the equator's inclination less I (positive: the pole away from K), σ = sin I × the node's advance
+(the pole's displacement across its meridian, toward increasing longitude), τ the libration in longitude (the
+long axis ahead of the mean Earth, measured along the node and then the equator). The pole is at colatitude
+I + ρ, longitude Ω + 90° + σ / sin I: Meeus's eq. (53.2) and his position-angle formula use exactly this. The
+Euler angles are exact functions of θ (signed, from atan2); to first order ρ + iσ = (θ1 + iθ2) e^{iF} and
+τ = θ3 + (1 − cos I) σ / sin I. That last term is first order (I/2 × σ, 1.4″ for σ's 100″ l-term): a library that
+takes τ = θ3 disagrees with Eckhardt's τ at the 1″ level; the second-order terms of (E) make Meeus's σ term
+−0.00025° sin 2l exactly (σ_E = σ − ρσ / sin I).
+
+Equations
+---------
+Euler's equations in the principal axes (the inertia Λ = diag(A, B, C), normalised C = 1),
+
+    Λ ω̇ + ω × Λ ω = Σ_j 3 (GM_j / r_j³) u_j × Λ u_j,                                                   (1)
+    ω = Q^T w + J_r(θ) θ̇,   Q = exp([θ×]),   u_j = Q^T R^T r̂_j,                                          (2)
+
+r̂_j the Earth and the Sun seen from the Moon (the Sun: its geocentric position less the Moon's), GM_j DE421's, J_r
+the right Jacobian of the rotation (J_r θ̇ = θ̇ + O(θ θ̇)). Linearised in θ (u the unit vector in R):
+
+    Λ θ̈ + M1 θ̇ + M0 θ = f,                                                                             (3)
+    f  = Σ 3K u × Λ u − Λ ẇ − w × Λ w,                                                                  (4)
+    M1 = Λ [w×] − [(Λw)×] + [w×] Λ,                                                                      (5)
+    M0 = Λ [ẇ×] − [(Λw)×][w×] + [w×] Λ [w×] + Σ 3K ([(Λu)×][u×] − [u×] Λ [u×]),                          (6)
+
+K = GM/r³. f is the torque the reference attitude leaves unbalanced: what drives the librations. On a circular
+orbit in the equator (u = x, w = (0, 0, n)) (5) and (6) reduce to the classical gravity-gradient roll-yaw-pitch
+equations of a synchronous satellite: M1 = n(A + B − C)(e_y e_x^T − e_x e_y^T), M0 = diag(n²(C − B),
+(n² + 3g)(C − A), 3g(B − A)), i.e. A θ̈1 − n(A + B − C) θ̇2 + n²(C − B) θ1 = f1, B θ̈2 + n(A + B − C) θ̇1 +
+(n² + 3g)(C − A) θ2 = f2, C θ̈3 + 3g(B − A) θ3 = f3, with α = (C − B)/A, β = (C − A)/B, γ = (B − A)/C: the
+longitude mode ω² = 3gγ and the roll-pitch pair of :func:`ephem.moon.cassini.free_librations`. Here u and w are the
+real ones: u carries the orbit's inclination to the equator (i + I, the latitude at F), its eccentricity, the
+Sun's perturbations; w the node's regression (ν: the term that holds the Cassini state against the torque).
+
+Solution
+--------
+Every coefficient is a function on the torus of (l, l', F, D, Ω) (the orbit series are Delaunay series; R turns
+with F and Ω): f, M0 are sampled on a regular grid of it (:data:`DEFAULT_GRID`) and Fourier analysed by FFT (no
+least squares, no leakage; the grid's convergence is tested), M1 depends on F alone. θ = Σ_k c_k e^{ik·φ}.
+
+* "constant" model: M0 replaced by its average over (l, l', D, Ω), a function of F alone. The harmonic balance
+  then splits into independent chains k = (b, m) over the F multiplier m (b = the other four): one small linear
+  solve per chain, [−ν_m² Λ + i ν_m M1 + M0]_{m,m'} c_{m'} = f_m with ν_m = k·φ̇. This is the response of the
+  linear system at each forcing frequency, resonances included: nothing is fitted; the free modes
+  (:func:`free_modes`, the same operator's Floquet exponents) sit where the chain matrix is singular.
+* "linear": (3) with all its coefficients: the fixed point θ ← θ − L_F⁻¹ r(θ), r = Λ θ̈ + M1 θ̇ + M0 θ − f on the
+  grid (time derivatives spectral), L_F the chain operator above. Contracts by ~3e-3 a step.
+* "full" (default): r the residual of (1)–(2) themselves, all orders in θ. The second-order terms matter where
+  they fall near a free mode: θ1, θ2 carry the l and l − 2F pole terms (100″ and 25″) at the same R-frequency
+  F − l, one prograde and one retrograde; the elliptical motion makes ω3 = ... − n(θ1² + θ2²)/2 vary at 2(F − l),
+  1095 d, beside the free longitude mode (1056 d): 4.6″ of τ's 2(l − F) term (with the catalogue moments).
+
+At each step I takes up the constant of the first-order ρ (I is the mean inclination, solved with the librations,
+not assumed); an ``offset`` (a constant θ the degree-2 torque does not give, below) is held by a constant torque
+corrected at each step. The series (:class:`PhysicalLibrations`) are the FFT of the exact Euler angles (E) of the
+converged θ on the grid.
+
+Checks (tests/test_physical_librations.py)
+------------------------------------------
+(4)–(6) against central differences of (1)–(2) (2e-6 relative); the "linear" series against a numerical
+integration of (3) itself (2 years, < 0.001″); the "full" series against a numerical integration of the rigid Moon
+(1)–(2), in the frame of date with the same Earth and Sun, started on the series: 0.0005″ over 4 years (the
+"linear" series is then 4.6″ off in τ and 0.07″ in the pole, the "constant" one 10.6″ and 0.27″); against
+:mod:`ephem.moon.rigid_integration`'s rigid Moon in the J2000 frame, which differs by the ecliptic's own motion only (the
+series' pole follows the ecliptic of date; the integrated one lags behind it: 1.9″ after 4 years, the ecliptic
+pole's displacement, bounded by v/ω_lat ≈ 2″ in steady state). Against Eckhardt (1981) as printed by Meeus (1998,
+ch. 53), with the moments that give the observed I and free longitude period (:data:`EFFECTIVE_BETA_GAMMA`) and
+DE421's constant offset: every even-F term of ρ, σ within 0.13″, of τ within 0.03″ but 2(l − F) (0.51″, the most
+γ-sensitive term: the resonance gain is ~17); the odd-F terms the offset reaches within 0.02″. The σ term
+−0.00025° sin 2l is the Euler angles' second order; Eckhardt's τ l term (−0.00467°) needs the (1 − cos I) σ / sin I
+term of τ (without it: −0.00429°).
+
+What the series leave out
+-------------------------
+* The degree-3 (and higher) gravity field. Its main effect is a constant torque in the body, which tilts the
+  principal axes from the mean frame by θ ≈ (0.30″, 78.56″, 67.92″) (DE421's PA→ME rotation,
+  :data:`DE421_PA_OFFSET`): without it the pole lacks Eckhardt's ρ = −0.02245° sin F, σ = +0.02244° cos F (81″,
+  a monthly circle in space). With ``offset=DE421_PA_OFFSET`` the full model reproduces those (to 2.2″: DE421's
+  78.56″ against Eckhardt's 80.8″), the asymmetry of the 2F terms (ρ −0.00293°, σ −0.00279°) and the odd-F terms
+  sin(l + F), cos(l + F), cos(l − 3F) to 0.02″; the degree-3 terms that vary with the distance and latitude
+  (arguments l ± F: ρ −0.0002° cos(l − F), σ 0.0002° cos(l − F), 0.00019° sin(l − F), τ −0.00183° cos(l − F),
+  −0.00039° sin(l − F)) stay out: up to 1.15″ in the pole, 8.4″ in τ.
+* The degree-3 field's share of the mean inclination: with LLR's β = (C − A)/B ≈ 631.0e-6 the rigid degree-2 I is
+  1.5457°, 12″ above the observed 1.5424°; the moments :data:`EFFECTIVE_MOMENTS` give the observed I (and the
+  observed free longitude period).
+* A fluid core, elasticity and tidal dissipation: Eckhardt's τ has 0.00014° cos 2(l − F) (0.5″, a phase lag near
+  the free mode); none here.
+* The planetary terms of the orbit and its terms below Meeus's cut (1e-6° printing, ~1″ smallest longitude term):
+  τ's 0.00396° sin K1 and 0.00023° sin K2 (Venus, 270 yr and 1800 yr), 0.00011° sin 2(l − l' − D).
+* The ecliptic's own motion (π_A, 47″/cy): the series put the pole on the ecliptic of date; the rigid Moon lags
+  behind the moving plane by up to v/ω_lat ≈ 2″ (v the ecliptic pole's speed, ω_lat the free latitude mode's
+  frequency), a slowly varying offset of the mean pole, not a periodic term.
+* The secular change of the Delaunay rates (the series' frequencies are J2000's): Ω̇'s 2 × 7.47″/cy² moves I by
+  ~1.3 I ΔΩ̇/Ω̇, 0.0006″ in 4 years.
+
+The pole also carries what Eckhardt's does not: a constant offset of 8.09″ toward ecliptic longitude 90° (terms
+in Ω: ρ 0.00235° cos Ω, σ −0.00232° sin Ω), the Cassini state following the Moon's Laplace plane, tilted by the
+Earth's flattening (Meeus's latitude term −0.002235° sin L', which the series take from :mod:`ephem.earth.lunisolar`).
+Units: radians, rad/day; amplitudes in radians.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+
+from ..base.constants import ARCSEC, GENERAL_PRECESSION_ARCSEC_PER_CENTURY, JULIAN_CENTURY_DAYS
+from ..base.errors import InvalidInputError
+from ..orbit.lunar import delaunay_arguments, delaunay_rates, gm_km3_day2, moon_position, sun_position
+
+#: p_A, the general precession in longitude (IERS Conventions 2010 eq. 5.39, Capitaine et al. 2003), rad/day: the
+#: rate at which the mean equinox of date, the origin of Ω and of the Moon's longitude, regresses. The frame of
+#: date turns at −p_A about the ecliptic pole, so the node turns in space at Ω̇ − p_A.
+GENERAL_PRECESSION_RATE = GENERAL_PRECESSION_ARCSEC_PER_CENTURY * ARCSEC / JULIAN_CENTURY_DAYS
+#: θ's constant (rad) in DE421: the principal axes (PA) from the mean-Earth/rotation (ME) frame, the rotation of
+#: NAIF's moon_080317.tf (TKFRAME_31007: 67.92″, 78.56″, 0.30″ about z, y, x, from Williams et al. 2008, JPL IOM
+#: 335-JW,DB,WF-20080314-001), as (x, y, z); mostly the degree-3 field's constant torque (module docstring). Sign:
+#: v_ME = exp([θ×]) v_PA, checked on the kernel's own example (tests/test_physical_librations.py).
+DE421_PA_OFFSET = (0.30 * ARCSEC, 78.56 * ARCSEC, 67.92 * ARCSEC)
+#: β = (C − A)/B and γ = (B − A)/C of a rigid degree-2 Moon that has the observed mean inclination, I = 1.54242°
+#: (the IAU value, Meeus 1998 p. 372), and free libration in longitude, 1056.16 d (Yang et al. 2017, RAA 17, 127,
+#: from DE430), in this module's full model with the Sun and :data:`DE421_PA_OFFSET` (solved by Newton's method on
+#: (β, γ); tests/test_physical_librations.py re-checks both). LLR's β (631.0e-6) gives I 12″ too large here (the
+#: degree-3 field's share of the precession torque, left out); the catalogue's Lara (2014) ratios give γ =
+#: 233.0e-6 and a free period of 1046 d.
+EFFECTIVE_BETA_GAMMA = (629.9834e-6, 228.5628e-6)
+#: The FFT grid on the torus (l, l', F, D, Ω) of the forcing and of the operator's coefficients: against grids
+#: finer on each axis the series move by < 1e-5″ (tests/test_physical_librations.py, test_grid_converges); Ω needs
+#: 6 points (|k_Ω| = 2 from the products of the Laplace plane's Ω terms: 4 points were 0.007″ off).
+DEFAULT_GRID = (16, 8, 16, 16, 6)
+#: Forcing harmonics kept: those above this fraction of the largest (the F term that holds the Cassini state);
+#: 1e-11 or 1e-13 instead moves the series by < 1e-5″ over 8 years (measured).
+FORCING_FLOOR = 1e-9
+#: Terms kept in a series (rad): far below any cut a caller would take (1e-6 arcsec).
+TERM_FLOOR = 1e-6 * ARCSEC
+#: The Moon's Cassini inclination the iteration starts from (rad); it converges to its own from any start within
+#: a few tenths of a degree (one step moves by the constant ρ it finds).
+_I_START = math.radians(1.54)
+
+
+def moments_from_beta_gamma(beta: float, gamma: float) -> tuple[float, float, float]:
+    """(A, B, C) with C = 1 from β = (C − A)/B and γ = (B − A)/C."""
+    b = (1.0 + gamma) / (1.0 + beta)
+    return (b - gamma, b, 1.0)
+
+
+#: (A, B, C) of :data:`EFFECTIVE_BETA_GAMMA`, C = 1.
+EFFECTIVE_MOMENTS = moments_from_beta_gamma(*EFFECTIVE_BETA_GAMMA)
+
+
+def _skew(v: np.ndarray) -> np.ndarray:
+    """[v×] for v of shape (3, ...): shape (3, 3, ...)."""
+    z = np.zeros_like(v[0])
+    return np.array([[z, -v[2], v[1]], [v[2], z, -v[0]], [-v[1], v[0], z]])
+
+
+def _canonical_sign(k: np.ndarray) -> np.ndarray:
+    """+1 or −1 per row of multipliers (n, 5): the sign that makes the first non-zero of (Ω, D, F, l, l') positive
+    (the convention of :mod:`ephem.earth.lunisolar`); +1 for the zero row."""
+    sign = np.zeros(k.shape[0], dtype=int)
+    for i in (4, 3, 2, 0, 1):
+        undecided = sign == 0
+        sign[undecided] = np.sign(k[undecided, i])
+    sign[sign == 0] = 1
+    return sign
+
+
+# ----------------------------------------------------------------------------- the forcing on the torus
+
+def _directions(args: tuple, sun: bool):
+    """The Earth (and the Sun) seen from the Moon at Delaunay arguments ``args`` (five broadcastable arrays), in
+    the node frame N: z the ecliptic pole, x toward ecliptic longitude Ω + π (the lunar equator's ascending node).
+    Returns ((GM/r³ rad²/day², unit vectors (3, ...)), ...) per perturber: the Moon from :func:`moon_position`
+    (Meeus 1998 ch. 47), the Sun from :func:`sun_position`, the Sun's direction from the Moon, not the Earth."""
+    lam, bet, r = moon_position(args)
+    cb = np.cos(bet)
+    moon = np.stack(np.broadcast_arrays(r * cb * np.cos(lam), r * cb * np.sin(lam), r * np.sin(bet)))
+    vectors = [("earth", -moon)]
+    if sun:
+        lam_s, _, r_s = sun_position(args)
+        sun_vec = np.stack(np.broadcast_arrays(r_s * np.cos(lam_s), r_s * np.sin(lam_s), np.zeros_like(lam_s)))
+        vectors.append(("sun", sun_vec - moon))
+    node = np.broadcast_to(args[4], moon.shape[1:]) + math.pi
+    c, s = np.cos(node), np.sin(node)
+    out = []
+    for name, v in vectors:
+        d = np.sqrt(np.einsum("i...,i...->...", v, v))
+        u = v / d
+        out.append((gm_km3_day2(name) / d**3, np.stack([c * u[0] + s * u[1], -s * u[0] + c * u[1], u[2]])))
+    return tuple(out)
+
+
+@lru_cache(maxsize=4)
+def _perturber_directions(grid: tuple, sun: bool):
+    """:func:`_directions` on the torus grid (cached: it does not depend on I or the moments)."""
+    axes = [2.0 * math.pi * np.arange(n) / n for n in grid]
+    return _directions(tuple(a.reshape([-1 if i == j else 1 for j in range(5)]) for i, a in enumerate(axes)), sun)
+
+
+def _frame_rates(I: float) -> tuple[float, float, float]:
+    """(ν, w3, Ḟ): the reference frame R = Rz(Ω + π) Rx(I) Rz(F) turns in space at ω_R = (Ω̇ − p_A) K + Ḟ p,
+    in R's own axes (ν sin F, ν cos F, w3) with ν = (Ω̇ − p_A) sin I, w3 = Ḟ + (Ω̇ − p_A) cos I (rad/day)."""
+    rates = delaunay_rates(0.0)
+    node = rates[4] - GENERAL_PRECESSION_RATE
+    return node * math.sin(I), rates[2] + node * math.cos(I), rates[2]
+
+
+def _terms(directions, F, I: float, moments: np.ndarray):
+    """The linearised equations' terms (module docstring, eqs. (4)–(6)) at the perturbers' ``directions`` (node
+    frame) and argument of latitude F (broadcastable): the forcing f (3, ...), the stiffness M0 (3, 3, ...) and
+    the gyroscopic matrix M1 (3, 3, F's shape), in R's axes, moments with C = 1."""
+    ci, si = math.cos(I), math.sin(I)
+    F = np.asarray(F, dtype=float)
+    cF, sF = np.cos(F), np.sin(F)
+    mom = moments.reshape((3,) + (1,) * F.ndim)
+    f = 0.0
+    m0 = 0.0
+    for gm_r3, v in directions:
+        y, z = ci * v[1] + si * v[2], -si * v[1] + ci * v[2]           # Rx(−I)
+        u = np.stack(np.broadcast_arrays(cF * v[0] + sF * y, -sF * v[0] + cF * y, z))   # Rz(−F): u in R
+        iu = mom * u
+        su, siu = _skew(u), _skew(iu)
+        f = f + 3.0 * gm_r3 * np.cross(u, iu, axis=0)
+        m0 = m0 + 3.0 * gm_r3 * (np.einsum("ij...,jk...->ik...", siu, su)
+                                 - np.einsum("ij...,j,jk...->ik...", su, moments, su))
+    nu, w3, fdot = _frame_rates(I)
+    w = np.stack([nu * sF, nu * cF, np.full(F.shape, w3)])
+    wdot = np.stack([nu * fdot * cF, -nu * fdot * sF, np.zeros(F.shape)])
+    sw, siw, swd = _skew(w), _skew(mom * w), _skew(wdot)
+    Im = np.diag(moments)
+    f_kin = -mom * wdot - np.cross(w, mom * w, axis=0)
+    m1 = np.einsum("ij,jk...->ik...", Im, sw) - siw + np.einsum("ij...,jk->ik...", sw, Im)
+    m0_kin = (np.einsum("ij,jk...->ik...", Im, swd) - np.einsum("ij...,jk...->ik...", siw, sw)
+              + np.einsum("ij...,j,jk...->ik...", sw, moments, sw))
+    return f + f_kin, m0 + m0_kin, m1
+
+
+def _fields(grid: tuple, sun: bool, I: float, moments: np.ndarray):
+    """:func:`_terms` on the torus grid: f (3, grid), M0 (3, 3, grid), M1 (3, 3, NF)."""
+    nf = grid[2]
+    F = (2.0 * math.pi * np.arange(nf) / nf).reshape(1, 1, nf, 1, 1)
+    f, m0, m1 = _terms(_perturber_directions(grid, sun), F, I, moments)
+    return f, m0, m1.reshape(3, 3, nf)
+
+
+def linearised_terms(jd_tdb, equator_inclination: float, moments, sun: bool = True):
+    """f, M0, M1 of the linearised equations Λ θ̈ + M1 θ̇ + M0 θ = f (module docstring) at JD TDB epochs
+    (shape (N,)): (3, N), (3, 3, N), (3, 3, N); moments normalised to C = 1. For checks (a numerical integration
+    of the linear system, a numerical Jacobian of the full one)."""
+    args = delaunay_arguments(np.atleast_1d(np.asarray(jd_tdb, dtype=float)))
+    directions = _directions(tuple(args[:, i] for i in range(5)), sun)
+    return _terms(directions, args[:, 2], float(equator_inclination), _normalised(moments))
+
+
+def _chain_operator(m0_f: np.ndarray, m1_f: np.ndarray, moments: np.ndarray, nf: int):
+    """The F-chain blocks: for a chain of multipliers k_m = (b, m) (m = −J..J, J = NF/2 − 1), the harmonic-balance
+    matrix is T0 + i T1 diag(ν_m) − diag(ν_m²) ⊗ diag(A, B, C), with T0[m, m'] = M0_{m−m'} and T1[m, m'] =
+    M1_{m−m'} the F-harmonics of the F-dependent part of the coefficients (those with |m − m'| > J dropped:
+    beyond the grid's resolution). Returns (ms, T0, T1) with T0, T1 of shape (3 nm, 3 nm)."""
+    J = nf // 2 - 1
+    ms = np.arange(-J, J + 1)
+    M0 = np.fft.fft(m0_f, axis=2) / nf
+    M1 = np.fft.fft(m1_f, axis=2) / nf
+    jd = ms[:, None] - ms[None, :]
+    keep = np.abs(jd) <= J
+    nm = ms.size
+
+    def blocks(M):
+        t = M[:, :, jd % nf] * keep                  # (3, 3, nm, nm)
+        return t.transpose(2, 0, 3, 1).reshape(3 * nm, 3 * nm)
+
+    return ms, blocks(M0), blocks(M1)
+
+
+def _solve_chains(spec: np.ndarray, grid: tuple, ms: np.ndarray, T0: np.ndarray, T1: np.ndarray,
+                  moments: np.ndarray, floor: float):
+    """Harmonic balance, chain by chain: every forcing harmonic k = (l, l', F, D, Ω) above ``floor`` of the
+    spectrum ``spec`` (3, grid; coefficients of e^{ik·φ}) belongs to the chain of its base b = (l, l', D, Ω); one
+    chain per ±b pair is solved (the other is its conjugate: the forcing is real). Returns (bases (nb, 4),
+    coefficients (nb, nm, 3) of θ at k = (b, ms))."""
+    rates = delaunay_rates(0.0)
+    nm = ms.size
+    mag = np.abs(spec).max(axis=0)
+    idx = np.argwhere(mag > floor * mag.max())
+    half = np.array(grid) // 2
+    signed = np.where(idx > half, idx - np.array(grid), idx)
+    signed = signed[np.all(2 * np.abs(signed) < np.array(grid), axis=1)]   # no Nyquist rows
+    b = signed[:, [0, 1, 3, 4]]
+    # one chain per ±b: first non-zero of (Ω, D, l, l') positive
+    sign = np.zeros(b.shape[0], dtype=int)
+    for i in (3, 2, 0, 1):
+        undecided = sign == 0
+        sign[undecided] = np.sign(b[undecided, i])
+    sign[sign == 0] = 1
+    bases = np.unique(b * sign[:, None], axis=0)
+    brates = rates[[0, 1, 3, 4]]
+    out = np.zeros((bases.shape[0], nm, 3), dtype=complex)
+    diag_i = np.tile(moments, nm)
+    chunk = 256
+    for start in range(0, bases.shape[0], chunk):
+        bb = bases[start:start + chunk]
+        nu = (bb @ brates)[:, None] + ms[None, :] * rates[2]                  # (nb, nm)
+        nu3 = np.repeat(nu, 3, axis=1)                                        # (nb, 3 nm)
+        mat = T0[None] + 1j * T1[None] * nu3[:, None, :]
+        mat[:, np.arange(3 * nm), np.arange(3 * nm)] -= nu3**2 * diag_i
+        k = np.empty((bb.shape[0], nm, 5), dtype=int)
+        k[:, :, [0, 1, 3, 4]] = bb[:, None, :]
+        k[:, :, 2] = ms[None, :]
+        ok = np.all(2 * np.abs(k) < np.array(grid), axis=2)
+        kk = np.where(k < 0, k + np.array(grid), k)
+        rhs = spec[:, kk[..., 0], kk[..., 1], kk[..., 2], kk[..., 3], kk[..., 4]]   # (3, nb, nm)
+        rhs = np.where(ok[None], rhs, 0.0).transpose(1, 2, 0).reshape(bb.shape[0], 3 * nm)
+        out[start:start + chunk] = np.linalg.solve(mat, rhs[..., None])[..., 0].reshape(bb.shape[0], nm, 3)
+    return bases, out
+
+
+def _pole_longitude_terms(bases: np.ndarray, ms: np.ndarray, theta: np.ndarray):
+    """ρ, σ, τ from θ chain by chain: ρ + iσ = (θ1 + iθ2) e^{iF} (module docstring), so each ρ, σ harmonic (b, m)
+    takes θ's (b, m ∓ 1). Returns real terms: multipliers (n, 5), cos and sin coefficients (n, 3) of (ρ, σ, τ), and
+    the constant (3,)."""
+    nb, nm, _ = theta.shape
+    pad = np.zeros((nb, nm + 4, 3), dtype=complex)
+    pad[:, 2:-2] = theta
+    lo, mid, hi = pad[:, :-2], pad[:, 1:-1], pad[:, 2:]      # θ at m' − 1, m', m' + 1 for m' = ms[0]−1 .. ms[-1]+1
+    rho = 0.5 * (lo[..., 0] + hi[..., 0]) - (lo[..., 1] - hi[..., 1]) / 2j
+    sig = (lo[..., 0] - hi[..., 0]) / 2j + 0.5 * (lo[..., 1] + hi[..., 1])
+    coef = np.stack([rho, sig, mid[..., 2]], axis=-1)          # (nb, nm + 2, 3)
+    mm = np.arange(ms[0] - 1, ms[-1] + 2)
+    k = np.empty((nb, mm.size, 5), dtype=int)
+    k[:, :, [0, 1, 3, 4]] = bases[:, None, :]
+    k[:, :, 2] = mm[None, :]
+    k, coef = k.reshape(-1, 5), coef.reshape(-1, 3)
+    zero_base = ~np.any(k[:, [0, 1, 3, 4]], axis=1)
+    constant = coef[zero_base & (k[:, 2] == 0)].real.sum(axis=0)
+    keep = ~zero_base | (k[:, 2] > 0)
+    k, coef = k[keep], coef[keep]
+    sign = _canonical_sign(k)
+    cos_, sin_ = 2.0 * coef.real, -2.0 * coef.imag * sign[:, None]
+    return k * sign[:, None], cos_, sin_, constant
+
+
+def _pole_amplitude(rho: np.ndarray, sigma: np.ndarray) -> np.ndarray:
+    """The largest displacement of the pole over a term's phase: the spectral norm of [[ρc, ρs], [σc, σs]]."""
+    a, b, c, d = rho[:, 0], rho[:, 1], sigma[:, 0], sigma[:, 1]
+    s = a * a + b * b + c * c + d * d
+    det = a * d - b * c
+    return np.sqrt(0.5 * (s + np.sqrt(np.maximum(s * s - 4.0 * det * det, 0.0))))
+
+
+@dataclass(frozen=True, eq=False)
+class LibrationTerm:
+    """One term of the forced physical librations: ρ, σ, τ = Σ c cos φ + s sin φ, φ = k · (l, l', F, D, Ω).
+
+    Angles in radians; ``rho``, ``sigma``, ``tau`` are (cos, sin) pairs. ``pole_amplitude`` is the largest
+    displacement of the pole over the term's phase (rad), ``tau_amplitude`` that of τ."""
+
+    multipliers: tuple
+    frequency: float          # rad/day, k · (dl/dt, dl'/dt, dF/dt, dD/dt, dΩ/dt) at J2000
+    period_days: float        # 2π / |frequency|
+    rho: tuple
+    sigma: tuple
+    tau: tuple
+    pole_amplitude: float
+    tau_amplitude: float
+
+    @property
+    def argument(self) -> str:
+        """The argument as text, e.g. "l - 2F"."""
+        parts = []
+        for m, name in zip(self.multipliers, ("l", "l'", "F", "D", "Ω")):
+            if m:
+                coef = "" if abs(m) == 1 else str(abs(m))
+                parts.append(("-" if m < 0 else "+") + " " + coef + name)
+        text = " ".join(parts)
+        return text[2:] if text.startswith("+ ") else "-" + text[2:]
+
+
+@dataclass(frozen=True, eq=False)
+class PhysicalLibrations:
+    """The Moon's forced physical librations about its Cassini state (module docstring): a series in the Delaunay
+    arguments, radians and days.
+
+    ρ: the lunar equator's inclination to the ecliptic minus I; σ: sin I times its node's longitude minus Ω (the
+    pole's displacement across the meridian, toward increasing longitude); τ: the libration in longitude (the
+    prime meridian ahead of its mean). The pole is at colatitude I + ρ, ecliptic longitude Ω + 90° + σ / sin I
+    (Meeus 1998 ch. 53). ``multipliers`` (n, 5) of (l, l', F, D, Ω); ``rho``, ``sigma``, ``tau`` (n, 2) cos and
+    sin coefficients; ``constant`` the constant (ρ, σ, τ) (ρ's is zero by construction: I is its mean)."""
+
+    multipliers: np.ndarray
+    rho: np.ndarray
+    sigma: np.ndarray
+    tau: np.ndarray
+    constant: np.ndarray
+    equator_inclination: float            # I (rad): the mean pole's colatitude, solved with the series
+    moments: tuple
+    sun: bool
+    grid: tuple
+    model: str                            # "constant", "linear" or "full" (module docstring, "Solution")
+    steps: int                            # fixed-point steps taken
+    rotation: tuple = field(default=None, repr=False)   # θ's series: (multipliers, cos (n, 3), sin (n, 3), constant)
+    offset: tuple | None = None           # the constant θ imposed (rad), or None
+
+    @property
+    def frequencies(self) -> np.ndarray:
+        """rad/day at J2000."""
+        return self.multipliers @ delaunay_rates(0.0)
+
+    @property
+    def pole_amplitudes(self) -> np.ndarray:
+        return _pole_amplitude(self.rho, self.sigma)
+
+    @property
+    def tau_amplitudes(self) -> np.ndarray:
+        return np.hypot(self.tau[:, 0], self.tau[:, 1])
+
+    def __len__(self) -> int:
+        return self.multipliers.shape[0]
+
+    def term(self, multipliers) -> LibrationTerm:
+        """The term of these multipliers (either sign), or a zero term."""
+        k = np.asarray(multipliers, dtype=int).reshape(1, 5)
+        sign = int(_canonical_sign(k)[0])
+        k = k * sign
+        hit = np.nonzero(np.all(self.multipliers == k, axis=1))[0]
+        freq = float(k[0] @ delaunay_rates(0.0))
+        if hit.size == 0:
+            zero = (0.0, 0.0)
+            return LibrationTerm(tuple(int(x) for x in k[0]), freq, 2 * math.pi / abs(freq) if freq else math.inf,
+                                 zero, zero, zero, 0.0, 0.0)
+        i = int(hit[0])
+        # a caller's multipliers of the other sign: sin(−φ) = −sin φ
+        pair = lambda a: (float(a[i, 0]), float(a[i, 1]) * sign)  # noqa: E731
+        return LibrationTerm(tuple(int(x) for x in k[0] * sign), freq * sign,
+                             2 * math.pi / abs(freq) if freq else math.inf, pair(self.rho), pair(self.sigma),
+                             pair(self.tau), float(self.pole_amplitudes[i]), float(self.tau_amplitudes[i]))
+
+    def table(self, cut: float = 0.0) -> list[LibrationTerm]:
+        """The terms whose pole or τ amplitude exceeds ``cut`` (rad), largest first."""
+        amp = np.maximum(self.pole_amplitudes, self.tau_amplitudes)
+        order = np.argsort(-amp, kind="stable")
+        return [self.term(self.multipliers[i]) for i in order if amp[i] > cut]
+
+    def truncated(self, cut: float) -> "PhysicalLibrations":
+        """The series without the terms whose pole and τ amplitudes are both at most ``cut`` (rad)."""
+        keep = np.maximum(self.pole_amplitudes, self.tau_amplitudes) > cut
+        return PhysicalLibrations(self.multipliers[keep], self.rho[keep], self.sigma[keep], self.tau[keep],
+                                  self.constant, self.equator_inclination, self.moments, self.sun, self.grid,
+                                  self.model, self.steps, self.rotation, self.offset)
+
+    def omitted_bound(self, cut: float) -> tuple[float, float]:
+        """(pole, τ), rad: the most the terms at or below ``cut`` can move the pole and τ (the sums of their
+        amplitudes: the triangle inequality). Only the series' own truncation: the theory's error is apart."""
+        pole, tau = self.pole_amplitudes, self.tau_amplitudes
+        small = np.maximum(pole, tau) <= cut
+        return float(pole[small].sum()), float(tau[small].sum())
+
+    def _phases(self, jd_tdb) -> tuple[np.ndarray, np.ndarray, tuple]:
+        jd = np.asarray(jd_tdb, dtype=float)
+        args = delaunay_arguments(jd).reshape(-1, 5)
+        phase = args @ self.multipliers.T.astype(float)
+        return np.cos(phase), np.sin(phase), jd.shape
+
+    def angles(self, jd_tdb) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """ρ, σ, τ (rad) at JD TDB (any shape)."""
+        c, s, shape = self._phases(jd_tdb)
+        out = [(c @ a[:, 0] + s @ a[:, 1] + k0).reshape(shape)
+               for a, k0 in zip((self.rho, self.sigma, self.tau), self.constant)]
+        return out[0], out[1], out[2]
+
+    def rates(self, jd_tdb) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """dρ/dt, dσ/dt, dτ/dt (rad/day) at JD TDB: the series differentiated term by term."""
+        c, s, shape = self._phases(jd_tdb)
+        nu = self.frequencies
+        out = [((s @ (-nu * a[:, 0]) + c @ (nu * a[:, 1]))).reshape(shape) for a in (self.rho, self.sigma, self.tau)]
+        return out[0], out[1], out[2]
+
+    def rotation_vector(self, jd_tdb) -> tuple[np.ndarray, np.ndarray]:
+        """θ and dθ/dt (..., 3): the small rotation (rad, rad/day, in the reference frame's axes) taking the frame
+        R of :func:`reference_frame` to the principal axes, B = R exp([θ×]): the variable the equations solve
+        for (the Euler angles are exact functions of it)."""
+        k, c, s, const = self.rotation
+        jd = np.asarray(jd_tdb, dtype=float)
+        phase = delaunay_arguments(jd).reshape(-1, 5) @ k.T.astype(float)
+        cp, sp = np.cos(phase), np.sin(phase)
+        nu = k @ delaunay_rates(0.0)
+        theta = cp @ c + sp @ s + const
+        dtheta = sp @ (-nu[:, None] * c) + cp @ (nu[:, None] * s)
+        return theta.reshape(jd.shape + (3,)), dtheta.reshape(jd.shape + (3,))
+
+    def euler_angles(self, jd_tdb, node=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The principal axes' 3-1-3 Euler angles (φ, θ, ψ) from the mean ecliptic and equinox of date (rad), B =
+        Rz(φ) Rx(θ) Rz(ψ): φ = Ω + π + σ / sin I (the equator's ascending node), θ = I + ρ, ψ = F + τ − σ / sin I
+        (the long axis from that node along the equator). Ω, F: IERS Conventions (2010) eq. 5.43; ``node``
+        replaces Ω."""
+        jd = np.asarray(jd_tdb, dtype=float)
+        rho, sigma, tau = self.angles(jd)
+        args = delaunay_arguments(jd)
+        om = args[..., 4] if node is None else np.asarray(node, dtype=float)
+        dphi = sigma / math.sin(self.equator_inclination)
+        return om + math.pi + dphi, self.equator_inclination + rho, args[..., 2] + tau - dphi
+
+    def attitude(self, jd_tdb, node=None, mean_frame: bool = False) -> np.ndarray:
+        """The principal axes (columns a, b, c: a toward the mean Earth, c the pole) in the mean ecliptic and
+        equinox of date, (..., 3, 3): Rz(φ) Rx(θ) Rz(ψ) of :meth:`euler_angles`. ``mean_frame``: the axes of the
+        mean-Earth/rotation frame instead, the principal axes turned back by the ``offset`` (B exp(−[θ_off×]));
+        the same without an offset."""
+        phi, theta, psi = self.euler_angles(jd_tdb, node)
+        cp, sp, ct, st, cs, ss = np.cos(phi), np.sin(phi), np.cos(theta), np.sin(theta), np.cos(psi), np.sin(psi)
+        axes = np.stack([
+            np.stack([cp * cs - sp * ct * ss, -cp * ss - sp * ct * cs, sp * st], axis=-1),
+            np.stack([sp * cs + cp * ct * ss, -sp * ss + cp * ct * cs, -cp * st], axis=-1),
+            np.stack([st * ss, st * cs, ct], axis=-1)], axis=-2)
+        if mean_frame and self.offset is not None:
+            q, _ = _rodrigues(np.asarray(self.offset, dtype=float))
+            axes = axes @ q.T
+        return axes
+
+    def angular_velocity(self, jd_tdb, inertial: bool = True) -> np.ndarray:
+        """The Moon's angular velocity in its principal axes (..., 3), rad/day, from the Euler angles' rates:
+        (φ̇ sin θ sin ψ + θ̇ cos ψ, φ̇ sin θ cos ψ − θ̇ sin ψ, φ̇ cos θ + ψ̇). ``inertial``: relative to space (the
+        frame of date turns at −p_A about the ecliptic pole: φ̇ − p_A); else relative to the frame of date."""
+        jd = np.asarray(jd_tdb, dtype=float)
+        phi, theta, psi = self.euler_angles(jd)
+        drho, dsigma, dtau = self.rates(jd)
+        t = (jd - 2451545.0) / JULIAN_CENTURY_DAYS
+        rates = np.moveaxis(np.array([delaunay_rates(float(x)) for x in np.ravel(t)]).reshape(np.shape(t) + (5,)),
+                            -1, 0)
+        dd = dsigma / math.sin(self.equator_inclination)
+        dphi = rates[4] + dd - (GENERAL_PRECESSION_RATE if inertial else 0.0)
+        dpsi = rates[2] + dtau - dd
+        st = np.sin(theta)
+        return np.stack([dphi * st * np.sin(psi) + drho * np.cos(psi), dphi * st * np.cos(psi) - drho * np.sin(psi),
+                         dphi * np.cos(theta) + dpsi], axis=-1)
+
+    def pole(self, jd_tdb, node=None, mean_frame: bool = False) -> np.ndarray:
+        """The lunar pole (the principal axis of largest moment), unit vectors (..., 3) in the mean ecliptic and
+        equinox of date: colatitude I + ρ, longitude Ω + 90° + σ / sin I (exactly: Eckhardt's and Meeus's
+        definitions). ``node``: Ω (rad) at the epochs; by default the Delaunay Ω of IERS Conventions (2010) eq.
+        5.43. ``mean_frame``: the mean-Earth/rotation frame's pole (:meth:`attitude`)."""
+        if mean_frame and self.offset is not None:
+            return self.attitude(jd_tdb, node, mean_frame=True)[..., :, 2]
+        phi, theta, _ = self.euler_angles(jd_tdb, node)
+        lon = phi - 0.5 * math.pi
+        return np.stack([np.sin(theta) * np.cos(lon), np.sin(theta) * np.sin(lon), np.cos(theta)], axis=-1)
+
+    def pole_offset(self, jd_tdb, node=None, mean_frame: bool = False) -> np.ndarray:
+        """The pole minus the Cassini pole (colatitude I, longitude Ω + 90°), (..., 3): small angles (rad) in the
+        mean ecliptic and equinox of date, to first order ρ along the meridian away from the ecliptic pole plus σ
+        across it toward increasing longitude. ``mean_frame``: of the mean-Earth/rotation frame's pole."""
+        if node is None:
+            node = delaunay_arguments(np.asarray(jd_tdb, dtype=float))[..., 4]
+        I = self.equator_inclination
+        lon = np.asarray(node, dtype=float) + 0.5 * math.pi
+        mean = np.stack([math.sin(I) * np.cos(lon), math.sin(I) * np.sin(lon), np.full(np.shape(lon), math.cos(I))],
+                        axis=-1)
+        return self.pole(jd_tdb, node, mean_frame) - mean
+
+
+# ----------------------------------------------------------------------------- solving
+
+def _zero_chain_rho(grid: tuple, sun: bool, I: float, moments: np.ndarray) -> tuple[float, float]:
+    """The constant ρ and σ the b = 0 chain (the F harmonics of the torus-averaged equations) gives at I."""
+    f, m0, m1 = _fields(grid, sun, I, moments)
+    nf = grid[2]
+    f_f = f.mean(axis=(1, 2, 4, 5))                         # (3, NF): averaged over l, l', D, Ω
+    m0_f = m0.mean(axis=(2, 3, 5, 6))
+    ms, T0, T1 = _chain_operator(m0_f, m1, moments, nf)
+    spec = np.fft.fft(f_f, axis=1) / nf                     # (3, NF)
+    nu = np.repeat(ms * delaunay_rates(0.0)[2], 3)
+    mat = T0 + 1j * T1 * nu[None, :]
+    mat[np.arange(nu.size), np.arange(nu.size)] -= nu**2 * np.tile(moments, ms.size)
+    rhs = spec[:, ms % nf].T.reshape(-1)
+    theta = np.linalg.solve(mat, rhs).reshape(ms.size, 3)
+    _, cos_, sin_, const = _pole_longitude_terms(np.zeros((1, 4), dtype=int), ms, theta[None])
+    return float(const[0]), float(const[1])
+
+
+def _normalised(moments) -> np.ndarray:
+    m = np.asarray(moments, dtype=float).reshape(-1)
+    if m.size != 3 or not np.all(np.isfinite(m)) or not 0.0 < m[0] <= m[1] < m[2]:
+        raise InvalidInputError("moments", f"principal moments A <= B < C, all positive, got {moments!r}")
+    return m / m[2]
+
+
+def _euler_angles(theta_grid: np.ndarray, I: float, grid: tuple) -> np.ndarray:
+    """Eckhardt's (ρ, σ, τ) (3, grid), exactly, from θ on the grid: with the principal axes B = Rz(Ω + π) M,
+    M = Rx(I) Rz(F) exp([θ×]) = Rz(Δφ) Rx(I + ρ) Rz(F + Δψ) (3-1-3 Euler angles from the ecliptic of date,
+    signed by atan2), σ = sin I Δφ and τ = Δφ + Δψ (the prime meridian's longitude along the node and the
+    equator, less its mean L + π)."""
+    th = theta_grid
+    angle = np.sqrt(np.einsum("i...,i...->...", th, th))
+    safe = np.where(angle > 0.0, angle, 1.0)
+    k = _skew(th)
+    kk = np.einsum("ij...,jk...->ik...", k, k)
+    q = (np.eye(3).reshape(3, 3, 1, 1, 1, 1, 1) + (np.sin(safe) / safe) * k + ((1.0 - np.cos(safe)) / safe**2) * kk)
+    nf = grid[2]
+    F = (2.0 * math.pi * np.arange(nf) / nf).reshape(1, 1, nf, 1, 1)
+    cf, sf = np.cos(F), np.sin(F)
+    # Rz(F) q, then Rx(I): only rows 1..3 of the result are needed as below
+    r0 = cf * q[0] - sf * q[1]
+    r1 = sf * q[0] + cf * q[1]
+    r2 = q[2]
+    ci, si = math.cos(I), math.sin(I)
+    m0 = r0
+    m1 = ci * r1 - si * r2
+    m2 = si * r1 + ci * r2
+    # M13 = sin Δφ sin θ, M23 = −cos Δφ sin θ, M31 = sin θ sin ψ, M32 = sin θ cos ψ, M33 = cos θ
+    dphi = np.arctan2(m0[2], -m1[2])
+    incl = np.arctan2(np.hypot(m0[2], m1[2]), m2[2])
+    psi = np.arctan2(m2[0], m2[1])
+    dpsi = np.angle(np.exp(1j * (psi - F)))
+    return np.stack([incl - I, math.sin(I) * dphi, dphi + dpsi])
+
+
+def _series_terms(values: np.ndarray, grid: tuple, floor: float):
+    """Real terms of functions (3, grid) on the torus: multipliers (n, 5) (canonical sign), cos and sin
+    coefficients (n, 3) of the rows whose largest coefficient exceeds ``floor``, and the constants (3,)."""
+    n = float(np.prod(grid))
+    spec = np.fft.fftn(values, axes=(1, 2, 3, 4, 5)) / n
+    constant = spec[(slice(None),) + (0,) * 5].real.copy()
+    gsize = np.array(grid)
+    idx = np.argwhere(np.abs(spec).max(axis=0) > 0.5 * floor)
+    k = np.where(idx > gsize // 2, idx - gsize, idx)
+    ok = np.all(2 * np.abs(k) < gsize, axis=1) & np.any(k, axis=1) & (_canonical_sign(k) == 1)
+    idx, k = idx[ok], k[ok]
+    c = spec[(slice(None),) + tuple(idx.T)].T                     # (n, 3)
+    return k, 2.0 * c.real, -2.0 * c.imag, constant
+
+
+def _scatter(bases: np.ndarray, theta: np.ndarray, ms: np.ndarray, grid: tuple) -> np.ndarray:
+    """The spectrum (3, grid) of chains (bases (nb, 4), coefficients (nb, nm, 3)) and their conjugates (the b = 0
+    chain holds both signs of m itself)."""
+    gsize = np.array(grid)
+    full = np.zeros((3,) + grid, dtype=complex)
+    for sgn in (1, -1):
+        sel = np.ones(bases.shape[0], dtype=bool) if sgn == 1 else np.any(bases, axis=1)
+        k = np.empty((int(sel.sum()), ms.size, 5), dtype=int)
+        k[:, :, [0, 1, 3, 4]] = sgn * bases[sel, None, :]
+        k[:, :, 2] = sgn * ms[None, :]
+        idx = tuple(np.moveaxis(k % gsize, -1, 0))
+        vals = theta[sel] if sgn == 1 else np.conj(theta[sel])
+        np.add.at(full, (slice(None),) + idx, np.moveaxis(vals, -1, 0))
+    return full
+
+
+def _grid_frequencies(grid: tuple) -> np.ndarray:
+    """ν_k = k · (dl/dt, dl'/dt, dF/dt, dD/dt, dΩ/dt) (rad/day) at every index of the grid's spectrum (0 at the
+    Nyquist indices, whose harmonics the grid cannot resolve)."""
+    rates = delaunay_rates(0.0)
+    nu = 0.0
+    for i, n in enumerate(grid):
+        k = np.fft.fftfreq(n, 1.0 / n)
+        k[np.abs(k) * 2 >= n] = 0.0
+        nu = nu + (k * rates[i]).reshape([-1 if i == j else 1 for j in range(5)])
+    return nu
+
+
+def _rho_constant(spec: np.ndarray) -> float:
+    """The constant of ρ = θ1 cos F − θ2 sin F (first order in θ) from θ's spectrum."""
+    zero = (0, 0)
+    t1p, t1m = spec[(0,) + zero + (1,) + zero], spec[(0,) + zero + (-1,) + zero]
+    t2p, t2m = spec[(1,) + zero + (1,) + zero], spec[(1,) + zero + (-1,) + zero]
+    return float((0.5 * (t1m + t1p) - (t2m - t2p) / 2j).real)
+
+
+def _remove_rho_constant(spec: np.ndarray, rho0: float) -> None:
+    """θ −= ρ0 (cos F, −sin F, 0): what turning the reference frame R by ρ0 about the equator's node does to θ
+    (to first order); the caller adds ρ0 to I."""
+    zero = (0, 0)
+    spec[(0,) + zero + (1,) + zero] -= 0.5 * rho0
+    spec[(0,) + zero + (-1,) + zero] -= 0.5 * rho0
+    spec[(1,) + zero + (1,) + zero] -= 0.5j * rho0
+    spec[(1,) + zero + (-1,) + zero] += 0.5j * rho0
+
+
+def _rodrigues(th: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """exp([θ×]) and the right Jacobian J_r(θ) (ω = Q^T w + J_r θ̇ for Q = exp([θ×])), (3, 3, ...)."""
+    angle = np.sqrt(np.einsum("i...,i...->...", th, th))
+    small = angle < 1e-4
+    safe = np.where(small, 1.0, angle)
+    a2 = angle * angle
+    # series below 1e-4 rad (Taylor to a⁴: 1e-20 left), closed forms above
+    s1 = np.where(small, 1.0 - a2 / 6.0 + a2 * a2 / 120.0, np.sin(safe) / safe)
+    c1 = np.where(small, 0.5 - a2 / 24.0 + a2 * a2 / 720.0, (1.0 - np.cos(safe)) / safe**2)
+    d1 = np.where(small, 1.0 / 6.0 - a2 / 120.0 + a2 * a2 / 5040.0, (safe - np.sin(safe)) / safe**3)
+    k = _skew(th)
+    kk = np.einsum("ij...,jk...->ik...", k, k)
+    eye = np.eye(3).reshape((3, 3) + (1,) * (th.ndim - 1))
+    return eye + s1 * k + c1 * kk, eye - c1 * k + d1 * kk
+
+
+def _residual(spec: np.ndarray, nu: np.ndarray, grid: tuple, sun: bool, I: float, mom: np.ndarray,
+              model: str, torque: np.ndarray) -> np.ndarray:
+    """The equations' residual on the grid (3, grid) at θ of spectrum ``spec``: "full", the rigid body's
+    Λ ω̇ + ω × Λω − T in the principal axes (eqs. (1)–(2)), ω = Q^T w + J_r(θ) θ̇, T from u = Q^T u_R; or
+    "linear", Λ θ̈ + M1 θ̇ + M0 θ − f (eq. (3)). Time derivatives are spectral (ν_k on each harmonic). ``torque``
+    (3,): a constant torque in the principal axes (the offset's, :func:`moon_physical_librations`), subtracted."""
+    axes = (1, 2, 3, 4, 5)
+    n = float(np.prod(grid))
+    th = np.fft.ifftn(spec, axes=axes).real * n
+    thd = np.fft.ifftn(1j * nu * spec, axes=axes).real * n
+    mv = mom.reshape((3,) + (1,) * 5)
+    if model == "linear":
+        f, m0, m1 = _fields(grid, sun, I, mom)
+        thdd = np.fft.ifftn(-nu * nu * spec, axes=axes).real * n
+        m1 = m1.reshape((3, 3, 1, 1, grid[2], 1, 1))
+        return (mv * thdd + np.einsum("ij...,j...->i...", m1, thd) + np.einsum("ij...,j...->i...", m0, th) - f
+                - torque.reshape((3,) + (1,) * 5))
+    q, jr = _rodrigues(th)
+    nf = grid[2]
+    F = (2.0 * math.pi * np.arange(nf) / nf).reshape(1, 1, nf, 1, 1)
+    nu_r, w3, _ = _frame_rates(I)
+    w = np.stack(np.broadcast_arrays(nu_r * np.sin(F), nu_r * np.cos(F), np.full(F.shape, w3)))
+    omega = np.einsum("ji...,j...->i...", q, w) + np.einsum("ij...,j...->i...", jr, thd)
+    omega_dot = np.fft.ifftn(1j * nu * np.fft.fftn(omega, axes=axes), axes=axes).real
+    res = mv * omega_dot + np.cross(omega, mv * omega, axis=0)
+    ci, si = math.cos(I), math.sin(I)
+    cF, sF = np.cos(F), np.sin(F)
+    for gm_r3, v in _perturber_directions(grid, sun):
+        y, z = ci * v[1] + si * v[2], -si * v[1] + ci * v[2]
+        u_r = np.stack(np.broadcast_arrays(cF * v[0] + sF * y, -sF * v[0] + cF * y, z))
+        u = np.einsum("ji...,j...->i...", q, u_r)
+        res -= 3.0 * gm_r3 * np.cross(u, mv * u, axis=0)
+    return res - torque.reshape((3,) + (1,) * 5)
+
+
+#: The models :func:`moon_physical_librations` solves (module docstring, "Solution").
+MODELS = ("constant", "linear", "full")
+#: The fixed-point iteration stops when no harmonic of θ (and neither I) moves by more than this (rad): 1e-10 rad =
+#: 0.02 mas, above what the forcing floor leaves unsolved at the slowest mode (~1e-14 rad/day² × 3e4 day² ~ 3e-10
+#: at DC is the worst; typical harmonics far less).
+CONVERGENCE = 1e-10
+MAX_STEPS = 30
+
+
+def _dc_response(ms: np.ndarray, T0: np.ndarray, T1: np.ndarray, mom: np.ndarray) -> np.ndarray:
+    """G (3, 3): the constant θ a unit constant torque about each principal axis gives (the b = 0 chain, rad per
+    rad/day² with C = 1)."""
+    nu = np.repeat(ms * delaunay_rates(0.0)[2], 3)
+    mat = T0 + 1j * T1 * nu[None, :]
+    mat[np.arange(nu.size), np.arange(nu.size)] -= nu**2 * np.tile(mom, ms.size)
+    centre = 3 * (ms.size // 2)
+    rhs = np.zeros((nu.size, 3), dtype=complex)
+    rhs[centre:centre + 3] = np.eye(3)
+    return np.linalg.solve(mat, rhs)[centre:centre + 3].real
+
+
+def _solve(grid: tuple, sun: bool, mom: np.ndarray, model: str, inclination: float | None, offset):
+    """θ's spectrum (3, grid), I and the number of fixed-point steps: θ = L_F⁻¹ f, then (models "linear" and
+    "full") θ ← θ − L_F⁻¹ r(θ) with r the model's residual, I absorbing θ's constant ρ at each step (unless given)
+    and, with an ``offset``, the constant torque being corrected until θ's constant is the offset."""
+    if inclination is None:
+        I = _I_START
+        for _ in range(20):
+            rho0, _sigma0 = _zero_chain_rho(grid, sun, I, mom)
+            I += rho0
+            if abs(rho0) < CONVERGENCE:
+                break
+    else:
+        I = float(inclination)
+    nf = grid[2]
+    n = float(np.prod(grid))
+    f, m0, m1 = _fields(grid, sun, I, mom)
+    ms, T0, T1 = _chain_operator(m0.mean(axis=(2, 3, 5, 6)), m1, mom, nf)
+    fspec = np.fft.fftn(f, axes=(1, 2, 3, 4, 5)) / n
+    floor = FORCING_FLOOR * float(np.abs(fspec).max())
+    torque = np.zeros(3)
+    if offset is not None:
+        gain = _dc_response(ms, T0, T1, mom)
+        torque = np.linalg.solve(gain, np.asarray(offset, dtype=float))
+        fspec[(slice(None),) + (0,) * 5] += torque
+    bases, theta = _solve_chains(fspec, grid, ms, T0, T1, mom, FORCING_FLOOR)
+    spec = _scatter(bases, theta, ms, grid)
+    if model == "constant":
+        return spec, I, 0
+    nu = _grid_frequencies(grid)
+    for step in range(1, MAX_STEPS + 1):
+        r = _residual(spec, nu, grid, sun, I, mom, model, torque)
+        rspec = np.fft.fftn(r, axes=(1, 2, 3, 4, 5)) / n
+        top = float(np.abs(rspec).max())
+        if top == 0.0:
+            return spec, I, step
+        bases, theta = _solve_chains(rspec, grid, ms, T0, T1, mom, floor / top)
+        delta = _scatter(bases, theta, ms, grid)
+        spec -= delta
+        moved = float(np.abs(delta).max())
+        if inclination is None:
+            rho0 = _rho_constant(spec)
+            I += rho0
+            _remove_rho_constant(spec, rho0)
+            moved = max(moved, abs(rho0))
+        if offset is not None:
+            miss = np.asarray(offset, dtype=float) - spec[(slice(None),) + (0,) * 5].real
+            torque = torque + np.linalg.solve(gain, miss)
+            moved = max(moved, float(np.abs(miss).max()))
+        if moved < CONVERGENCE:
+            return spec, I, step
+    raise RuntimeError(f"the librations did not converge in {MAX_STEPS} steps (last move {moved:.3g} rad)")
+
+
+@lru_cache(maxsize=8)
+def _build(moments: tuple, sun: bool, grid: tuple, model: str, inclination: float | None,
+           offset: tuple | None) -> PhysicalLibrations:
+    mom = _normalised(moments)
+    spec, I, steps = _solve(grid, sun, mom, model, inclination, offset)
+    theta_grid = np.fft.ifftn(spec, axes=(1, 2, 3, 4, 5)).real * float(np.prod(grid))
+    rotation = _series_terms(theta_grid, grid, TERM_FLOOR)
+    k, cos_, sin_, const = _series_terms(_euler_angles(theta_grid, I, grid), grid, TERM_FLOOR)
+    rho, sigma, tau = (np.stack([cos_[:, j], sin_[:, j]], axis=1) for j in range(3))
+    amp = np.maximum(_pole_amplitude(rho, sigma), np.hypot(tau[:, 0], tau[:, 1]))
+    order = np.argsort(-amp, kind="stable")
+    return PhysicalLibrations(k[order], rho[order], sigma[order], tau[order], const, I,
+                              tuple(float(x) for x in moments), sun, grid, model, steps, rotation, offset)
+
+
+@dataclass(frozen=True)
+class FreeModes:
+    """The free librations of the linearised system about the Cassini state (periods in days): the Floquet
+    exponents of the F-chain operator, folded into (−Ḟ/2, Ḟ/2]."""
+
+    longitude_days: float       # the libration in longitude (τ)
+    latitude_days: float        # the free libration in latitude: the pole about the Cassini pole, in the node's frame
+    wobble_days: float          # the free wobble, in the body (R) frame
+
+
+def _free_modes(grid: tuple, sun: bool, I: float, mom: np.ndarray) -> FreeModes:
+    """θ = e^{iλt} Σ_m c_m e^{imF}: det[T0 + i T1 diag(λ + mḞ) − diag((λ + mḞ)²) ⊗ diag(A, B, C)] = 0, a quadratic
+    eigenvalue problem in λ, linearised to twice its size. Each mode appears once per shift λ + jḞ the truncated
+    chain holds; the one kept is that whose eigenvector has most weight at m = 0 (the longitude mode and the
+    wobble) or m = ±1 (the latitude mode: the pole circling the Cassini pole at nearly Ḟ in the body)."""
+    nf = grid[2]
+    f, m0, m1 = _fields(grid, sun, I, mom)
+    ms, T0, T1 = _chain_operator(m0.mean(axis=(2, 3, 5, 6)), m1, mom, nf)
+    fdot = delaunay_rates(0.0)[2]
+    d = np.repeat(ms * fdot, 3)
+    idiag = np.tile(mom, ms.size)
+    size = d.size
+    # Q(λ) = −I λ² + (i T1 − 2 I D) λ + (T0 + i T1 D − I D²); z = (c, λc): λ z = [[0, 1], [−Q2⁻¹Q0, −Q2⁻¹Q1]] z
+    q2 = -idiag
+    q1 = 1j * T1 - np.diag(2.0 * idiag * d)
+    q0 = T0 + 1j * T1 * d[None, :] - np.diag(idiag * d * d)
+    comp = np.zeros((2 * size, 2 * size), dtype=complex)
+    comp[:size, size:] = np.eye(size)
+    comp[size:, :size] = -q0 / q2[:, None]
+    comp[size:, size:] = -q1 / q2[:, None]
+    lam, vec = np.linalg.eig(comp)
+    vec = vec[:size]
+    weight = np.abs(vec.reshape(ms.size, 3, -1)) ** 2
+    weight = weight / weight.sum(axis=(0, 1), keepdims=True)
+    centre = ms.size // 2
+    ok = (np.abs(lam.imag) < 1e-9 * fdot) & (lam.real > 0) & (lam.real <= 0.5 * fdot)
+    at0 = weight[centre].sum(axis=0)
+    at1 = weight[centre - 1].sum(axis=0) + weight[centre + 1].sum(axis=0)
+    tau_share = weight[:, 2].sum(axis=0)
+    cand = np.nonzero(ok)[0]
+    lon = cand[np.argmax(tau_share[cand] * at0[cand])]
+    pole = cand[tau_share[cand] < 0.5]
+    wob = pole[np.argmax(at0[pole])]
+    lat = pole[np.argmax(at1[pole])]
+    period = lambda i: 2.0 * math.pi / float(lam[i].real)  # noqa: E731
+    return FreeModes(period(lon), period(lat), period(wob))
+
+
+def free_modes(moments=None, *, sun: bool = True, grid: tuple = DEFAULT_GRID) -> FreeModes:
+    """The free libration periods about the series' own Cassini state (:class:`FreeModes`)."""
+    series = moon_physical_librations(moments, sun=sun, grid=grid, model="constant")
+    return _free_modes(series.grid, series.sun, series.equator_inclination, _normalised(series.moments))
+
+
+def moon_physical_librations(moments=None, *, sun: bool = True, grid: tuple = DEFAULT_GRID, model: str = "full",
+                             equator_inclination: float | None = None, offset=None) -> PhysicalLibrations:
+    """The Moon's forced physical librations (module docstring), all terms above :data:`TERM_FLOOR`.
+
+    ``moments``: (A, B, C) in any common unit, by default the catalogue's Moon (Lara 2014). ``sun``: the Sun's
+    torque on the lunar figure (its effect through the orbit is always in, by the Moon's series). ``model``: one of
+    :data:`MODELS`: "constant", the linear equations with their torus-averaged (F-only) coefficients; "linear",
+    the linear equations with all the orbit's harmonics in their coefficients; "full", the rigid body's equations
+    themselves (all orders in θ). ``equator_inclination``: I (rad) to linearise about; by default the series' own
+    (the constant of its first-order ρ driven to zero). ``offset``: a constant rotation θ (rad, 3) of the principal
+    axes from the mean frame R, imposed by the constant torque that gives it (the degree-3 field's main effect,
+    left out of the torque: :data:`DE421_PA_OFFSET`); None: none. With an offset the series are the principal
+    axes' (a lunar PA frame); ``mean_frame=True`` in :meth:`PhysicalLibrations.attitude` and
+    :meth:`PhysicalLibrations.pole` gives the mean-Earth/rotation axes (ME, the IAU WGCCRE's), B_ME = B_PA
+    exp(−[θ_off×]). These differ from the series without the offset by the offset's couplings with the
+    librations (terms in l ± F, l − 3F: 1.3″ in the pole, 1.9″ in the long axis for DE421's offset): a body
+    without its degree-3 field is another body."""
+    if moments is None:
+        from ..bodies.catalogue import get_body
+
+        moments = get_body("Moon").moments
+    grid = tuple(int(g) for g in grid)
+    if len(grid) != 5 or min(grid) < 4 or any(g % 2 for g in grid):
+        raise InvalidInputError("grid", f"five even sizes of at least 4, got {grid!r}")
+    if model not in MODELS:
+        raise InvalidInputError("model", f"one of {', '.join(MODELS)}, got {model!r}")
+    if offset is not None:
+        offset = tuple(float(x) for x in np.asarray(offset, dtype=float).reshape(-1))
+        if len(offset) != 3 or not all(math.isfinite(x) and abs(x) < 0.01 for x in offset):
+            raise InvalidInputError("offset", f"three small angles (rad, |θ| < 0.01), got {offset!r}")
+    return _build(tuple(float(x) for x in np.asarray(moments, dtype=float).reshape(-1)), bool(sun), grid, model,
+                  None if equator_inclination is None else float(equator_inclination), offset)
+
+
+def reference_frame(jd_tdb, equator_inclination: float, node=None) -> np.ndarray:
+    """R = Rz(Ω + π) Rx(I) Rz(F) (..., 3, 3): the Cassini state's uniformly turning frame (its columns: x toward
+    the mean Earth, z the Cassini pole), from the mean ecliptic and equinox of date. Ω and F are the Delaunay
+    arguments (IERS 2010 eq. 5.43); ``node`` replaces Ω."""
+    args = delaunay_arguments(np.asarray(jd_tdb, dtype=float))
+    om = args[..., 4] if node is None else np.asarray(node, dtype=float)
+    F = args[..., 2]
+    a, ci, si = om + math.pi, math.cos(equator_inclination), math.sin(equator_inclination)
+    ca, sa, cf, sf = np.cos(a), np.sin(a), np.cos(F), np.sin(F)
+    # Rz(a) Rx(I) Rz(F), written out
+    return np.stack([
+        np.stack([ca * cf - sa * ci * sf, -ca * sf - sa * ci * cf, sa * si], axis=-1),
+        np.stack([sa * cf + ca * ci * sf, -sa * sf + ca * ci * cf, -ca * si], axis=-1),
+        np.stack([si * sf, si * cf, np.full(np.shape(F), ci)], axis=-1)], axis=-2)
+
+
+# ----------------------------------------------------------------------------- the shipped series (data)
+
+#: the shipped series (tools/derive_moon_librations.py writes them): one CSV per moment set, so a request needs no
+#: 2-second build
+SHIPPED_DIR = "moon_librations"
+_COLUMNS = ("l", "lp", "F", "D", "Omega", "rho_cos", "rho_sin", "sigma_cos", "sigma_sin", "tau_cos", "tau_sin")
+
+
+def write_series_csv(series: PhysicalLibrations, path) -> None:
+    """Write ``series`` (its ρ, σ, τ terms, constants, I and the build's settings; radians, exact reprs) to a CSV
+    that :func:`read_series_csv` reads back (θ's own series, :meth:`PhysicalLibrations.rotation_vector`'s, is not
+    written)."""
+    lines = [f"# the Moon's forced physical librations (ephem.moon.physical_librations, model {series.model}): ρ, σ, τ "
+             "in radians, cos and sin of the multipliers · (l, l', F, D, Ω); tools/derive_moon_librations.py",
+             "# moments = " + ", ".join(repr(float(x)) for x in series.moments),
+             f"# equator_inclination_rad = {float(series.equator_inclination)!r}",
+             "# constant = " + ", ".join(repr(float(x)) for x in series.constant),
+             f"# sun = {series.sun}; grid = {', '.join(str(g) for g in series.grid)}; steps = {series.steps}",
+             ",".join(_COLUMNS)]
+    for k, r, s, t in zip(series.multipliers, series.rho, series.sigma, series.tau):
+        lines.append(",".join([str(int(x)) for x in k] + [repr(float(x)) for x in (*r, *s, *t)]))
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write("\n".join(lines) + "\n")
+
+
+def read_series_csv(path) -> PhysicalLibrations:
+    """A series written by :func:`write_series_csv`."""
+    header = {}
+    with open(path, encoding="utf-8") as fh:
+        text = fh.read().splitlines()
+    for line in text:
+        if line.startswith("# ") and " = " in line:
+            for part in line[2:].split("; "):
+                key, value = part.split(" = ", 1)
+                header[key.strip()] = value
+    rows = np.array([[float(x) for x in line.split(",")] for line in text if line and line[0] in "-0123456789"])
+    k = rows[:, :5].astype(int)
+    return PhysicalLibrations(k, rows[:, 5:7], rows[:, 7:9], rows[:, 9:11],
+                              np.array([float(x) for x in header["constant"].split(",")]),
+                              float(header["equator_inclination_rad"]),
+                              tuple(float(x) for x in header["moments"].split(",")), header["sun"] == "True",
+                              tuple(int(x) for x in header["grid"].split(",")), "full", int(header["steps"]))
+
+
+@lru_cache(maxsize=1)
+def _shipped() -> dict:
+    from ..base.paths import data_dir
+
+    out = {}
+    for path in sorted((data_dir() / SHIPPED_DIR).glob("*.csv")):
+        series = read_series_csv(path)
+        out[series.moments] = series
+    return out
+
+
+def shipped_series(moments) -> PhysicalLibrations | None:
+    """The shipped series (the default model, grid and Sun) of these moments (A, B, C), or None."""
+    return _shipped().get(tuple(float(x) for x in moments))

@@ -1,0 +1,296 @@
+"""One interface for every theory of a body's spin axis.
+
+A :class:`SpinAxisTheory` is what a request is answered with: for one body, the torquing bodies
+(perturbers), the axis followed and, for the figure axis, the free wobble the track may add, it
+offers a family of models (the Sun-only ladder's rungs, the lunisolar Earth, …), cheapest first,
+and for each:
+
+- its domain of validity, checked before any work (:meth:`check_request`: a model this family does
+  not have, an order it does not take, or "not applicable" with the reason);
+- what a request will cost before it runs (:meth:`choice_cost`, :meth:`track_cost`: a
+  :class:`~ephem.base.budget.Cost` the service charges against its budget);
+- its error estimate over given epochs, by named term (:meth:`estimates`, one
+  :class:`Estimate` per model, cheapest first; :func:`cheapest_within` picks one by tolerance);
+- the track over an even grid of epochs (:meth:`track`, each family's fast path);
+- a description, the ``model`` object of the answer (:meth:`describe`).
+
+:mod:`ephem.families` lists the families; :func:`ephem.families.theory_for` gives the one serving a
+body and its perturbers. :mod:`ephem.answers.requests` answers every body through this interface and never asks
+which theory it holds: adding a theory is writing one module and adding it to the registry.
+"""
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+import numpy as np
+
+from ..base.budget import Cost
+from ..bodies.catalogue import Body
+from ..base.constants import ARCSEC, JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS, MAS
+from ..base.errors import NotApplicableError
+from ..forced.precession_nutation import Track
+
+#: Error terms of the physics left out rather than of a theory's approximations (the orbit's motion, the
+#: rotation, the free wobble): what :attr:`Estimate.theory_total` leaves out
+PHYSICS_TERMS = ("orbit_motion", "rotation_averaging", "free_wobble", "free_wobble_model")
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """Estimated pole error of one model (radians), by named term."""
+
+    rung: str
+    order: int | None
+    terms: dict = field(compare=False)
+    available: bool = True
+    why_not: str | None = None
+    #: terms that could not be estimated (a user's body: its orbit's motion was never measured)
+    unestimated: tuple = ()
+    #: the track adds the free wobble of the figure axis (:func:`ephem.rotation.free_motion.add_free_wobble`)
+    free_wobble: bool = False
+    #: the track adds the rotation-scale terms (:mod:`ephem.forced.rotation_scale`): "oppolzer" or "all"; None: not
+    rotation_scale: str | None = None
+
+    @property
+    def total(self) -> float:
+        return float(sum(self.terms.values()))
+
+    @property
+    def theory_total(self) -> float:
+        """The estimate without the physics terms: the error against the numerical integration."""
+        return float(sum(v for k, v in self.terms.items() if k not in PHYSICS_TERMS))
+
+
+#: what to suggest when the largest term of the best estimate is a theory's own limit
+THEORY_LIMIT_HINTS = {
+    "nutation_residual": "the first-order rigid-Earth theory is this far from the real (non-rigid) Earth: no "
+                         "lunisolar model here does better (IAU 2006/2000A, e.g. ERFA, does)",
+}
+THEORY_LIMIT_HINTS["precession"] = THEORY_LIMIT_HINTS["axis_relation"] = THEORY_LIMIT_HINTS["nutation_residual"]
+
+
+def cheapest_within(candidates: list, tolerance: float, body: str, wobble_given: bool) -> Estimate:
+    """The first (cheapest) estimate within ``tolerance`` (radians); else :class:`NotApplicableError` naming
+    the best estimate, its largest term and what would help."""
+    for est in candidates:
+        if est.total <= tolerance:
+            return est
+    best = min(candidates, key=lambda e: e.total)
+    largest = max(best.terms, key=best.terms.get)
+    hint = THEORY_LIMIT_HINTS.get(largest, "widen the tolerance or shorten the span")
+    if largest == "free_wobble" and wobble_given:
+        followed = next(e for e in candidates if e.free_wobble and e.rung == best.rung and e.order == best.order)
+        hint = (f"following the free wobble does not help: its model is estimated good to only "
+                f"{followed.terms['free_wobble_model'] / MAS:.6g} mas here (the rigid wobble drifts in phase "
+                "from the observed one, or L moves far from its epoch direction); give a wobble epoch "
+                "(free_wobble_epoch) nearer these epochs, or ask for axis=angular_momentum")
+    elif largest == "free_wobble":
+        hint = ("the figure axis wobbles about the angular momentum by the free wobble; give its phase "
+                "(free_wobble_phase_deg) to follow it, or ask for axis=angular_momentum")
+    raise NotApplicableError(body, (
+        f"no model meets the tolerance of {tolerance / MAS:.6g} mas over these epochs: the best, "
+        f"'{best.rung}', is estimated good to {best.total / MAS:.6g} mas (largest term: {largest}); {hint}"))
+
+
+#: what a track's estimate bounds (``model.estimate_covers``)
+COVERS_TRACK = ("the whole: the pole's distance from the truth over the epochs, every named term (error_terms_mas) "
+                "summed")
+#: a closed-form rate with nothing truncated: no number to give
+COVERS_NOTHING_TRUNCATED = ("nothing: the rate and the mean obliquity are the theory's closed form, nothing is "
+                            "truncated, so the estimate is null; the theory's own error is a track's estimate")
+#: a series served with every term it has
+COVERS_ALL_TERMS = ("nothing: every term of the series is served, nothing is truncated here, so the estimate is "
+                    "null; the series' own error is a track's estimate")
+#: what a rate's or a nutation series' estimate bounds: they have no epochs, so no theory term applies
+COVERS_TRUNCATION = ("the truncation alone: the series served against the same first-order theory untruncated "
+                     "(exact coefficients, every term); not the theory's own error, which a track's estimate "
+                     "gives")
+
+
+def selection_info(theory, name: str, order: int | None, estimate: float | None, cost_ms: float,
+                   tolerance: float | None, terms: dict | None = None, covers: str = COVERS_TRACK) -> dict:
+    """The selection part of an answer's ``model`` object: which of ``theory``'s models answered (``theory``: a
+    family or an instance), how good it is estimated to be (radians in, mas out), what that estimate bounds
+    (``covers``) and what it cost. An estimate is never 0 (issue 29: no bound is): a rate or series with
+    nothing truncated states the floor of its exact coefficients, or None with the reason in ``covers``."""
+    return {"name": name, "order": order, "description": theory.descriptions[name],
+            "estimated_error_mas": None if estimate is None else estimate / MAS, "estimate_covers": covers,
+            "error_terms_mas": None if terms is None else {k: v / MAS for k, v in terms.items()},
+            "tolerance_mas": None if tolerance is None else float(f"{tolerance / MAS:.12g}"), "cost_ms": cost_ms,
+            "axis": None, "free_wobble": None, "rotation_scale": None,   # tracks only
+            "cut_mas": None}                     # the lunisolar series only
+
+
+#: the precession answer's values (Petit et al. Table 4 columns)
+RATE_KEYS = ("obliquity_deg", "dynamical_ellipticity", "scaling_factor_arcsec_per_year",
+             "precession_rate_arcsec_per_year")
+
+
+def rate_values(b: Body, m, unc: dict | None) -> dict:
+    """The precession answer's values from a model with obliquity, hd, scaling_factor and precession_rate (any
+    family's; radians and days), and their 1σ from ``unc`` (None: not propagated)."""
+    per_year = JULIAN_YEAR_DAYS / ARCSEC
+    ans = {"body": b.name, "dataset": b.dataset, "obliquity_deg": math.degrees(m.obliquity),
+           "dynamical_ellipticity": m.hd, "scaling_factor_arcsec_per_year": m.scaling_factor * per_year,
+           "precession_rate_arcsec_per_year": m.precession_rate * per_year}
+    for key in RATE_KEYS:
+        ans[f"{key}_uncertainty"] = None if unc is None else unc[f"{key}_uncertainty"]
+    return ans
+
+
+@dataclass(frozen=True)
+class Spectrum:
+    """The base frequencies a theory's track is made of: each a phase linear in T (θ0 deg at J2000, θ1 deg
+    per Julian century), with the largest pole displacement its term makes (radians; 0 where unknown); and
+    the precession angle Ψ = ψ̇ (t - t_p), whose multiples j Ψ (|j| <= ``max_sideband``) the track also holds
+    about each base. The SPICE kernel writer (:mod:`ephem.exports.pck`) fits the track with these."""
+
+    labels: tuple                 # what identifies each base: k (a multiple of the mean anomaly), Delaunay multipliers
+    theta0: np.ndarray
+    theta1: np.ndarray
+    amplitude: np.ndarray
+    psi_theta0: float             # Ψ at J2000, deg
+    psi_theta1: float             # ψ̇, deg per century
+    max_sideband: int
+    describe: str                 # what a label is, for the kernel's comments
+
+    def frequency(self, i: int, j: int) -> float:
+        """rad/day of base i with sideband j."""
+        return math.radians(self.theta1[i] + j * self.psi_theta1) / JULIAN_CENTURY_DAYS
+
+    def angle(self, i: int, j: int) -> tuple[float, float]:
+        return (float(self.theta0[i] + j * self.psi_theta0) % 360.0, float(self.theta1[i] + j * self.psi_theta1))
+
+
+class SpinAxisTheory(ABC):
+    """A family of models of one body's spin axis, for one request's perturbers, axis and free wobble.
+
+    Subclasses set :attr:`models` (the names they answer to, cheapest first) and implement the
+    abstract methods; :meth:`serves` says which bodies and perturbers they are for.
+    """
+
+    #: what the family is, in a few words ("the single-perturber ladder")
+    summary: ClassVar[str] = ""
+    #: the model names of this family, cheapest first (an answer's ``model.name``)
+    models: ClassVar[tuple[str, ...]] = ()
+    #: one line per model name: what it computes and what it drops (an answer's ``model.description``)
+    descriptions: ClassVar[dict[str, str]] = {}
+    #: whether the catalogue's 1σ uncertainties propagate through this family (:mod:`ephem.forced.uncertainty`
+    #: replicates the single-perturber theory only)
+    propagates_uncertainty: ClassVar[bool] = False
+
+    #: whether the family's tracks can add the rotation-scale terms (:mod:`ephem.forced.rotation_scale`) and so take
+    #: a rotation phase
+    models_rotation_scale: ClassVar[bool] = False
+
+    def __init__(self, body: Body, perturbers: tuple[str, ...], axis: str = "figure", wobble=None,
+                 rotation_phase: float | None = None):
+        self.body = body
+        self.perturbers = tuple(perturbers)
+        self.axis = axis
+        self.wobble = wobble
+        #: the long (A) axis's angle at the pole epoch, radians (:mod:`ephem.forced.rotation_scale`), or None
+        self.rotation_phase = rotation_phase
+
+    @classmethod
+    @abstractmethod
+    def serves(cls, body: Body, perturbers: tuple[str, ...]) -> bool:
+        """Whether this family answers for ``body`` under ``perturbers`` (the first family that does, in the
+        registry's order, is used)."""
+
+    def with_wobble(self, wobble) -> "SpinAxisTheory":
+        """The same family for the same request, with the free wobble a track of the figure axis may add."""
+        return type(self)(self.body, self.perturbers, self.axis, wobble, self.rotation_phase)
+
+    def with_rotation_phase(self, rotation_phase: float | None) -> "SpinAxisTheory":
+        """The same family with the body's rotation phase (radians; :mod:`ephem.forced.rotation_scale`)."""
+        return type(self)(self.body, self.perturbers, self.axis, self.wobble, rotation_phase)
+
+    @classmethod
+    @abstractmethod
+    def how_to_reach(cls, body: Body) -> str:
+        """What a request for ``body`` must say to be served by this family (for a refusal elsewhere)."""
+
+    @abstractmethod
+    def default_model(self, order: int | None) -> str:
+        """The model answering when none is named and no tolerance is given."""
+
+    @abstractmethod
+    def check_request(self, model: str | None, order: int | None) -> None:
+        """Refuse, before any work, a model this family does not have, an e-order it does not take, or a body
+        outside its domain (:class:`~ephem.base.errors.NotApplicableError` with the reason)."""
+
+    @abstractmethod
+    def choice_cost(self, start: float, stop: float, count: int) -> Cost:
+        """The cost of the estimates that choose a model by tolerance over ``count`` epochs in [start, stop]."""
+
+    @abstractmethod
+    def track_cost(self, model: str | None, order: int | None, start: float, stop: float, count: int,
+                   free_wobble: bool, rotation_scale: bool = False) -> Cost:
+        """The cost of one model's track (``model`` None: the family's default) over ``count`` epochs, with the
+        free wobble and the rotation-scale terms if asked."""
+
+    @abstractmethod
+    def estimates(self, jd_tdb) -> list[Estimate]:
+        """Every model's estimate over the epochs, cheapest first; unavailable ones say why."""
+
+    @abstractmethod
+    def named(self, jd_tdb, model: str | None, order: int | None) -> Estimate | None:
+        """The estimate of the model asked for by name (None: the family's default), or None where it
+        has none."""
+
+    @abstractmethod
+    def track(self, est: Estimate | None, model: str, order: int | None, t0: float, step: float,
+              count: int) -> Track:
+        """The track of ``model`` at ``t0 + step * arange(count)`` (JD TDB), with the free wobble added when
+        ``est`` says so (``est`` None: added whenever the request gave its phase)."""
+
+    @abstractmethod
+    def track_at(self, model: str | None, order: int | None, jd_tdb, free_wobble: bool = False) -> Track:
+        """The track of ``model`` (None: the default) at any epochs (JD TDB); with ``free_wobble``, the figure
+        axis with the request's wobble added."""
+
+    @abstractmethod
+    def describe(self, est: Estimate | None, model: str, order: int | None, with_wobble: bool) -> dict:
+        """The answer's ``model`` object before the selection is added: theory, assumptions, warnings, the
+        spin-orbit ratio and epochs."""
+
+    @abstractmethod
+    def answer_cost(self, order: int | None, nutation: bool = False, tolerance: bool = False) -> Cost:
+        """What a precession (or, with ``nutation``, a nutation) answer will cost; ``tolerance``: the model is
+        chosen by a tolerance."""
+
+    @abstractmethod
+    def precession_answer(self, order: int | None, tolerance: float | None, start: float) -> dict:
+        """The precession answer (rates, their 1σ, the ``model`` object with the selection), charged first;
+        ``start``: the request's ``time.perf_counter()`` at its start (for ``cost_ms``)."""
+
+    @abstractmethod
+    def nutation_answer(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> dict:
+        """The nutation answer (the terms with their 1σ, half peak-to-peak amplitudes, the ``model``
+        object), charged first."""
+
+    @abstractmethod
+    def spectrum(self, aim_mas: float, mid_centuries: float, jd_tdb=None, psi=None) -> Spectrum:
+        """The base frequencies of the family's track whose terms move the pole by more than a hundredth of
+        ``aim_mas``, their phases linear about ``mid_centuries`` (Julian centuries TDB from J2000); given a
+        computed track (epochs ``jd_tdb``, ψ in radians), as the track has them (the rates the higher models
+        change)."""
+
+    def secular_spin(self):
+        """The body's spin averaged over the rotation and the orbit, for spans of millennia and more
+        (:mod:`ephem.longterm.history`): an object with ``history(orbit, years)`` (a :class:`~ephem.longterm.averaged_spin.
+        SpinHistory`), ``orbit_body`` (whose orbit history drives it) and ``source``. A family without one says
+        "not applicable" with the reason."""
+        raise NotApplicableError(self.body.name, f"{self.summary} has no long-term (secular) model of the spin axis")
+
+    def extra_description(self) -> dict:
+        """Keys of the ``model`` object only this family fills (the lunisolar amplitude cut)."""
+        return {}
+
+    @staticmethod
+    def grid(t0: float, step: float, count: int) -> np.ndarray:
+        return t0 + step * np.arange(count)
