@@ -19,7 +19,7 @@ from .base.constants import GM_CENTER
 from .base.errors import EphemError, InvalidInputError, NotApplicableError, UnknownBodyError
 from .base.times import TIME_PATTERN_ECMA, ut1_span
 from .bodies.catalogue import (DEFAULT_DATASET, KNOWN_PERTURBERS, MAX_ANGLE_DEG, MIN_ROTATION_PERIOD_HOURS, Body,
-                               Orbit, Pole, get_body, load_catalogue, resolve_body)
+                               Orbit, Pole, available_datasets, get_body, load_catalogue, resolve_body)
 from .batch.distributed import BatchFailed
 from .batch.distributed import run as run_batch
 from .batch.population import HistorySpec
@@ -48,8 +48,8 @@ __all__ = [
     # the numeric model of a body
     "model_for", "MAX_ORDER",
     # bodies
-    "Body", "Orbit", "Pole", "get_body", "resolve_body", "load_catalogue", "DEFAULT_DATASET", "KNOWN_PERTURBERS",
-    "MAX_ANGLE_DEG", "MIN_ROTATION_PERIOD_HOURS", "GM_CENTER", "icrf_to_ecliptic_matrix",
+    "Body", "Orbit", "Pole", "get_body", "resolve_body", "load_catalogue", "available_datasets", "DEFAULT_DATASET",
+    "KNOWN_PERTURBERS", "MAX_ANGLE_DEG", "MIN_ROTATION_PERIOD_HOURS", "GM_CENTER", "icrf_to_ecliptic_matrix",
     # what a request may name, and its limits
     "MODELS", "AXES", "LAPLACE_LIMIT", "MAX_NUMERICAL_ORBITS", "SERIES_MAX_DELTA", "TIME_PATTERN_ECMA", "ut1_span",
     # exports: nutation tables, plots, SPICE kernels; catalogue import; batches of bodies

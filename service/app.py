@@ -17,18 +17,10 @@ from starlette.concurrency import run_in_threadpool
 
 import ephem
 from ephem import api
-from ephem.base import memo
-from ephem.bodies.catalogue import (DEFAULT_DATASET, KNOWN_PERTURBERS, MAX_ANGLE_DEG, MIN_ROTATION_PERIOD_HOURS, Body,
-                                    Orbit, Pole, available_datasets, load_catalogue)
-from ephem.base.errors import InvalidInputError
-from ephem.rotation.free_motion import SERIES_MAX_DELTA
-from ephem.orbit.geometry import icrf_to_ecliptic_matrix
-from ephem.theory.tracks import AXES
-from ephem.sun.ladder import LAPLACE_LIMIT, MAX_NUMERICAL_ORBITS
-from ephem.exports.plots import MAX_PLOT_POINTS
-from ephem.families import MODELS
-from ephem.exports.tables import FORMATS, render_nutation
-from ephem.base.times import TIME_PATTERN_ECMA, ut1_span
+from ephem.api import (AXES, DEFAULT_DATASET, FORMATS, KNOWN_PERTURBERS, LAPLACE_LIMIT, MAX_ANGLE_DEG,
+                       MAX_NUMERICAL_ORBITS, MAX_PLOT_POINTS, MIN_ROTATION_PERIOD_HOURS, MODELS, SERIES_MAX_DELTA,
+                       TIME_PATTERN_ECMA, Body, InvalidInputError, Orbit, Pole, available_datasets,
+                       icrf_to_ecliptic_matrix, load_catalogue, memo, render_nutation, ut1_span)
 
 from . import guards, problems, schemas
 from .limits import BodySizeLimit
@@ -298,12 +290,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                  J_arcsec: Annotated[Optional[float], Query(ge=0, le=648000, description="free-wobble amplitude "
                                                                                           "(free-wobble kind)")] = None,
                  dpi: Annotated[float, Query(ge=30, le=300, description="PNG resolution")] = 100):
-            from ephem.exports import plots
-
-            image = plots.render(kind.value, body, start, stop, step_days, ext, dataset.value, dpi=dpi,
-                                 tolerance_mas=tolerance_mas, model=None if model is None else model.value,
-                                 order=order, J_arcsec=J_arcsec)
-            return Response(image, media_type=plots.CONTENT_TYPES[ext])
+            image = api.render_plot(kind.value, body, start, stop, step_days, ext, dataset.value, dpi=dpi,
+                                    tolerance_mas=tolerance_mas, model=None if model is None else model.value,
+                                    order=order, J_arcsec=J_arcsec)
+            return Response(image, media_type=api.PLOT_CONTENT_TYPES[ext])
         plot.__name__ = f"track_{ext}"
         plot.__doc__ = f"The track (or the free wobble) as a {ext.upper()} figure, axes in units (ephem.exports.plots)."
         return plot
@@ -330,11 +320,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                  "catalogue's bodies); not with tolerance_mas. Default: the shipped N-body orbit "
                                  "where it covers the span, else the secular one")] = None,
                  dpi: Annotated[float, Query(ge=30, le=300, description="PNG resolution")] = 100):
-            from ephem.exports import plots
-
-            image = plots.render(plots.HISTORY_KIND, body, start_year, stop_year, None, ext, dataset.value, dpi=dpi,
-                                 tolerance_mas=tolerance_mas, step_years=step_years, orbit_model=orbit_model)
-            return Response(image, media_type=plots.CONTENT_TYPES[ext])
+            image = api.render_plot(api.HISTORY_PLOT_KIND, body, start_year, stop_year, None, ext, dataset.value,
+                                    dpi=dpi, tolerance_mas=tolerance_mas, step_years=step_years,
+                                    orbit_model=orbit_model)
+            return Response(image, media_type=api.PLOT_CONTENT_TYPES[ext])
         plot.__name__ = f"history_{ext}"
         plot.__doc__ = (f"The obliquity history (ephem.api.history) as a {ext.upper()} figure: obliquity with its "
                         "estimated error band, the orbit's inclination to the J2000 ecliptic, and the span where "

@@ -29,7 +29,7 @@ import time
 
 from fastapi import FastAPI, Request
 
-from ephem.base.budget import Budget, BusyError, DeadlineExceededError, OverBudgetError, budget
+from ephem.api import Budget, BusyError, DeadlineExceededError, OverBudgetError, budget
 
 from .problems import problem
 from .settings import Settings

@@ -14,7 +14,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.routing import Match
 
-from ephem.base.errors import EphemError, InvalidInputError, NotApplicableError, UnknownBodyError
+from ephem.api import EphemError, InvalidInputError, NotApplicableError, UnknownBodyError
 
 PROBLEM = "application/problem+json"
 TYPE_BASE = "https://ephem.invalid/problems/"  # stable identifiers, not fetched

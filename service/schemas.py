@@ -6,11 +6,7 @@ from typing import Annotated, Literal, Optional, Union
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 
-from ephem.bodies.catalogue import MAX_ANGLE_DEG
-from ephem.base.constants import GM_CENTER
-from ephem.theory.tracks import AXES
-from ephem.forced.precession_nutation import MAX_ORDER
-from ephem.families import MODELS
+from ephem.api import AXES, GM_CENTER, MAX_ANGLE_DEG, MAX_ORDER, MODELS
 
 # strict: JSON true is not a number, nor "2.36" (a string) one; JSON integers are still numbers
 Finite = ConfigDict(allow_inf_nan=False, extra="forbid", strict=True)
