@@ -87,11 +87,11 @@ from ephem.earth import family as earth
 from ephem.orbit import de421 as ephemeris
 from ephem.rotation import free_motion
 from ephem.orbit import hansen
-from ephem.sun import ladder
+from ephem.sun import bounds, rungs, spectrum, tables
 from ephem.rotation import lie_series
 from ephem.forced import uncertainty  # noqa: E402
 from ephem.bodies.catalogue import Body, Orbit, Pole, get_body  # noqa: E402
-from ephem.forced.precession_nutation import build_model  # noqa: E402
+from ephem.forced.precession_nutation import build_model, cached_model  # noqa: E402
 from ephem.forced.second_order import second_order_theory  # noqa: E402
 
 BUDGET_CPU_S = 5.0
@@ -208,8 +208,8 @@ def measure(work: Callable[[], object], setup: Callable[[], None] | None, reps: 
 def cold() -> None:
     """Empty every cache a request fills (the first such request in a fresh worker). The start-up
     caches stay: catalogue, DE421 kernel, the Earth's lunisolar series (``api.warm_up``)."""
-    for fn in (ladder.cached_model, ladder.cached_theory, ladder.cached_tables, uncertainty.propagated,
-               ladder.semi_amplitudes, ephemeris._cached_path, free_motion._series, lie_series.sam_normal_form,
+    for fn in (cached_model, tables.cached_theory, tables.cached_tables, uncertainty.propagated,
+               spectrum.semi_amplitudes, ephemeris._cached_path, free_motion._series, lie_series.sam_normal_form,
                hansen.hansen_series, hansen.hansen_exact):
         fn.cache_clear()
 
@@ -353,9 +353,9 @@ def build_cases() -> list[Case]:
     # --- the estimates' tables of a body (once per body and process) ---------------------------
     for e, quick in ((0.1, True), (0.6, False), (0.9, True), (0.95, False)):
         b = synthetic(e)
-        m, th = build_model(b), ladder.cached_theory(b)
+        m, th = build_model(b), tables.cached_theory(b)
         add(Case("estimate_tables", f"theory_tables, e={e}", part(cost.estimate_tables(e)),
-                 lambda m=m, th=th: ladder.theory_tables(m, th), None, quick, trace=e < 0.95,
+                 lambda m=m, th=th: tables.theory_tables(m, th), None, quick, trace=e < 0.95,
                  extra={"K": cost.harmonics(e, None)[1]}))
 
     # --- harmonic sums: the hansen / series tracks on the even grid ------------------------------
@@ -385,7 +385,7 @@ def build_cases() -> list[Case]:
         _, _, t = grid(n, 20 * 365.25)
         add(Case("second_order", f"second_order_theory + track, e={e}, {n} epochs, K={k}",
                  part(cost.second_order(n, k)),
-                 lambda m=m, t=t: ladder.second_order_track(m, second_order_theory(m), t), None, quick,
+                 lambda m=m, t=t: rungs.second_order_track(m, second_order_theory(m), t), None, quick,
                  extra={"n": n, "k": k}, why=WHY_BLOCK))
 
     # --- the spin axis integrated (numerical, real_orbit rungs) -----------------------------------
@@ -400,11 +400,11 @@ def build_cases() -> list[Case]:
         b = synthetic(e, a_au=a, hd=hd, period_hours=period)
         m = build_model(b)
         _, _, t = grid(n, years * 365.25)
-        orbits = ladder.orbits_in_span(m, t)
+        orbits = bounds.orbits_in_span(m, t)
         strong = " (strong torque: H_d 0.3, w/n 40)" if hd > 0.1 else ""
         add(Case("spin_integration", f"DOP853, e={e}, {orbits:.0f} orbits, {n} epochs{strong}",
                  part(cost.spin_integration(orbits, e, n)),
-                 lambda m=m, t=t: integrate_spin_axis(m, t, rtol=ladder.NUMERICAL_RTOL), None, quick,
+                 lambda m=m, t=t: integrate_spin_axis(m, t, rtol=bounds.NUMERICAL_RTOL), None, quick,
                  trace=trace, reps=2,
                  extra={"orbits": orbits, "e": e, "n": n}))
 

@@ -37,7 +37,7 @@ from .forced.precession_nutation import MAX_ORDER, model_for
 from .orbit.geometry import icrf_to_ecliptic_matrix
 from .orbit.hansen import LAPLACE_LIMIT
 from .rotation.free_motion import SERIES_MAX_DELTA
-from .sun.ladder import MAX_NUMERICAL_ORBITS
+from .sun.bounds import MAX_NUMERICAL_ORBITS
 from .theory.tracks import AXES
 
 __all__ = [

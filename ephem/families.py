@@ -10,7 +10,7 @@ from __future__ import annotations
 from .bodies.catalogue import Body
 from .earth.family import LunisolarTheory
 from .base.errors import NotApplicableError
-from .sun.ladder import SunLadder
+from .sun.family import SunLadder
 from .longterm.with_long_term import NAME as LONG_TERM, WithLongTerm
 from .moon.family import SynchronousTheory
 from .theory.interface import SpinAxisTheory

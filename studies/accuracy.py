@@ -50,7 +50,10 @@ from ephem.bodies.catalogue import Body, get_body
 from ephem.base.constants import JULIAN_YEAR_DAYS, MAS
 from ephem.base.errors import EphemError
 from ephem.orbit.hansen import LAPLACE_LIMIT
-from ephem.sun.ladder import Estimate, Ladder, cached_model, truncation_bound
+from ephem.forced.precession_nutation import cached_model
+from ephem.sun.ladder import Ladder
+from ephem.sun.tables import truncation_bound
+from ephem.theory.interface import Estimate
 from ephem.theory.tracks import pole_vectors
 from ephem.forced.integration import angular_separation
 
@@ -438,7 +441,8 @@ SPAN_RUNGS = (("secular", None), ("series", SPAN_SERIES_ORDER), ("hansen", None)
 def _reference_track(ladder: Ladder, t: np.ndarray):
     """Rung 5 over any span: a benchmark may integrate past the serving cap of
     :data:`ephem.sun.ladder.MAX_NUMERICAL_ORBITS` (the Earth's 1000 years are 1000 orbits)."""
-    from ephem.sun.ladder import NUMERICAL_RTOL, track_from_vectors
+    from ephem.sun.bounds import NUMERICAL_RTOL
+    from ephem.sun.rungs import track_from_vectors
     from ephem.forced.integration import integrate_spin_axis
 
     m = ladder.model

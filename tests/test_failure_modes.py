@@ -13,7 +13,10 @@ from ephem.forced.precession_nutation import MIN_SPIN_ORBIT_RATIO
 from ephem.forced.rigid_body import (RECOMMENDED_MIN_SPIN_ORBIT_RATIO, compare_with_averaged, study_epochs,
                                      synthetic_model)
 from ephem.orbit.hansen import LAPLACE_LIMIT
-from ephem.sun.ladder import RUNGS, Ladder, cached_model, truncation_bound
+from ephem.forced.precession_nutation import cached_model
+from ephem.sun.ladder import Ladder
+from ephem.sun.rungs import RUNG_NAMES as RUNGS
+from ephem.sun.tables import truncation_bound
 from ephem.theory.tracks import pole_vectors
 from ephem.forced.integration import angular_separation
 from scenes import address_space_cap, synthetic_body

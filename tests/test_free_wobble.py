@@ -16,7 +16,8 @@ from ephem.bodies.catalogue import get_body
 from ephem.base.constants import ARCSEC, MAS
 from ephem.base.errors import InvalidInputError, NotApplicableError
 from ephem.rotation.free_motion import free_motion, free_wobble_bound, observed_wobble_period_days
-from ephem.sun.ladder import Ladder, cached_model
+from ephem.forced.precession_nutation import cached_model
+from ephem.sun.ladder import Ladder
 from ephem.forced.integration import angular_separation
 from ephem.forced.rigid_body import SunOrbit, integrate_states, model_moments, quaternion_from_matrix, rotation_matrices
 from ephem.forced.rotation_scale import SunGeometry, forced_angular_velocity

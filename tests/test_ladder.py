@@ -16,7 +16,8 @@ from ephem import api
 from ephem.bodies.catalogue import Body, get_body
 from ephem.base.constants import JULIAN_YEAR_DAYS, MAS
 from ephem.base.errors import InvalidInputError, NotApplicableError
-from ephem.sun.ladder import RUNGS, Ladder
+from ephem.sun.ladder import Ladder
+from ephem.sun.rungs import RUNG_NAMES as RUNGS
 from ephem.theory.tracks import pole_vectors
 from ephem.forced.integration import angular_separation
 from scenes import synthetic_body

@@ -8,7 +8,8 @@ import pytest
 from ephem import api
 from ephem.bodies.catalogue import get_body
 from ephem.base.constants import JULIAN_YEAR_DAYS, MAS
-from ephem.sun.ladder import Ladder, cached_model
+from ephem.forced.precession_nutation import cached_model
+from ephem.sun.ladder import Ladder
 from ephem.theory.tracks import pole_vectors
 from ephem.forced.integration import angular_separation, integrate_spin_axis
 from ephem.forced.physics_errors import _table, measure_orbit_motion, orbit_motion_for

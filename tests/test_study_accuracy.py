@@ -159,9 +159,9 @@ def test_crossing_interpolates_log_log():
 def test_work_precision_falls_back_to_numerical(monkeypatch):
     """Where the real orbit is unavailable, the fixed-orbit integration is the reference, the
     estimates without the shared physics terms are held against it, and the chart says why."""
-    import ephem.sun.ladder
+    import ephem.sun.rungs
 
-    monkeypatch.setattr(ephem.sun.ladder, "real_orbit_unavailable", lambda body, t: "outside DE421 (test)")
+    monkeypatch.setattr(ephem.sun.rungs, "real_orbit_unavailable", lambda body, t: "outside DE421 (test)")
     rows = ab.work_precision_rows("Vesta", ab.QUICK)
     assert {r["reference"] for r in rows} == {"numerical"}
     assert "real_orbit" not in {r["rung"] for r in rows}

@@ -7,7 +7,7 @@ import pytest
 from ephem.bodies.catalogue import get_body
 from ephem.rotation.free_motion import make_wobble
 from ephem.theory.tracks import ROUNDING, pole_vectors
-from ephem.sun.ladder import SunLadder
+from ephem.sun.family import SunLadder
 from ephem.earth.family import LunisolarTheory
 from ephem.families import MODELS, THEORIES, theory_for
 from ephem.theory.interface import SpinAxisTheory

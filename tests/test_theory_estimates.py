@@ -10,7 +10,8 @@ import math
 import numpy as np
 import pytest
 
-from ephem.sun import ladder as lad
+from ephem.sun import bounds
+from ephem.sun.tables import cached_tables
 from ephem.bodies.catalogue import get_body
 from ephem.base.constants import JULIAN_YEAR_DAYS
 from ephem.orbit.hansen import LAPLACE_LIMIT
@@ -157,7 +158,7 @@ def test_a_series_rung_differs_from_hansen_by_the_difference_series_since_the_po
     # nutation at t0, so they differ by D(t) - D(t0) plus the precession rates' difference (the "twice" of the
     # whole-orbit bound is D(t0))
     ladder = Ladder(synthetic_body(e, eps, 0.05, 4.0, 1.2, 40.0, 70.0, 10.0), axis="angular_momentum")
-    m, tables = ladder.model, lad.cached_tables(ladder.body)
+    m, tables = ladder.model, cached_tables(ladder.body)
     t = m.pole_epoch + np.linspace(-1.5, 2.5, 3001) * 2.0 * math.pi / m.mean_motion
     actual = angular_separation(pole_vectors(ladder.track("series", t, order)), pole_vectors(ladder.track("hansen", t)))
     # two poles at (ψ1, ε1), (ψ2, ε2) are sqrt(sin ε1 sin ε2 δψ² + δε²) apart: sin ε within the nutation's
@@ -208,12 +209,12 @@ def test_rung_4_misses_the_second_order_periodic_nutation_and_the_third_order_dr
     body = get_body(name) if e is None else synthetic_body(e, eps, 0.2, 5.0, 1.0, 40.0, 70.0, 10.0)
     ladder = Ladder(body, axis="angular_momentum")
     m = ladder.model
-    tables = lad.cached_tables(body)
+    tables = cached_tables(body)
     t = m.pole_epoch + np.linspace(0.0, 2.0, 401) * 2.0 * math.pi / m.mean_motion
     actual = angular_separation(pole_vectors(ladder.track("second_order", t)), pole_vectors(ladder.track("numerical", t)))
     predicted = _remainder_predicted(ladder, tables, t)
     assert np.max(predicted) > 1e-12
-    assert np.max(np.abs(actual - predicted)) <= 3.0 * lad.small_parameter(m) * np.max(predicted) + 1e-13
+    assert np.max(np.abs(actual - predicted)) <= 3.0 * bounds.small_parameter(m) * np.max(predicted) + 1e-13
 
 
 # --------------------------------------------------------------------------- rates and series: never 0 (issue 29)

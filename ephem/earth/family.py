@@ -406,7 +406,7 @@ def cut_for_tolerance(body: Body, tolerance: float, axis: str = "figure", pertur
 def describe_model(b: Body, per: tuple[str, ...], lm) -> dict:
     """``model`` of a lunisolar answer: model_info's keys (the spin-orbit ratio and epochs are the Earth's
     about the Sun) with the lunisolar theory, its assumptions and the H_d it used, and why."""
-    info = model_info(cached_model(b), b)
+    info = model_info(cached_model(b), b, list(ASSUMPTIONS))
     rate = lm.precession_rate * JULIAN_YEAR_DAYS / ARCSEC
     track = lm.track_rate * JULIAN_YEAR_DAYS / ARCSEC
     iau = _data()["precession_reference"]["psi_a_rate_arcsec_per_century"] / 100.0

@@ -10,25 +10,17 @@ from .precession_nutation import MIN_SPIN_ORBIT_RATIO, PrecessionNutation
 NEAR_RIGHT_ANGLE_DEG = 2.0
 THEORY = ("Kinoshita (1977) forced precession-nutation in the solar torque, as in Petit, Souchay & Lhotka (2014), "
           "on the fidelity ladder of ephem.sun.ladder")
-#: What every rung assumes, and what each drops besides (see :mod:`ephem.sun.ladder`).
+#: What every rung of the ladder assumes (each rung's own besides: :data:`ephem.sun.rungs.RUNGS`).
 ASSUMPTIONS = [
     "rigid body; figure, rotation and angular-momentum axes coincide (free wobble J = 0)",
     "torque averaged over the rotation; triaxial P22 term of the potential dropped",
     "single perturber: the orbit's centre",
 ]
-RUNG_ASSUMPTIONS = {
-    "secular": ["no nutation", "fixed Keplerian orbit (osculating elements at their epoch)"],
-    "series": ["first order in the torque", "Hansen coefficients truncated at a power of e",
-               "fixed Keplerian orbit (osculating elements at their epoch)"],
-    "hansen": ["first order in the torque: the equinox drift is not fed back into the nutation phases",
-               "fixed Keplerian orbit (osculating elements at their epoch)"],
-    "second_order": ["second order in the torque", "fixed Keplerian orbit (osculating elements at their epoch)"],
-    "numerical": ["fixed Keplerian orbit (osculating elements at their epoch)"],
-    "real_orbit": ["orbit from DE421 (planets) or integrated under the DE421 planets (asteroids)"],
-}
 
 
-def model_info(m: PrecessionNutation, b: Body) -> dict:
+def model_info(m: PrecessionNutation, b: Body, assumptions: list) -> dict:
+    """An answer's ``model`` object for the forced model ``m`` of ``b``: the theory, ``assumptions``, the warnings
+    the body earns, the spin-orbit ratio and the epochs."""
     warnings = []
     if abs(math.degrees(m.obliquity) - 90.0) < NEAR_RIGHT_ANGLE_DEG:
         warnings.append("obliquity within 2 deg of 90: the precession rate (∝ cos ε) is small and "
@@ -43,7 +35,7 @@ def model_info(m: PrecessionNutation, b: Body) -> dict:
     return {
         "theory": THEORY,
         "eccentricity_order": "exact" if m.order is None else m.order,
-        "assumptions": ASSUMPTIONS + RUNG_ASSUMPTIONS["hansen" if m.order is None else "series"],
+        "assumptions": assumptions,
         "warnings": warnings,
         "spin_orbit_ratio": m.spin_orbit_ratio,
         "min_spin_orbit_ratio": MIN_SPIN_ORBIT_RATIO,

@@ -1,11 +1,12 @@
-"""What every family's track shares: the poles it may follow, the rounding of its numbers, its pole vectors and
-the free wobble carried into its angles."""
+"""What every family's track shares: the poles it may follow, the rounding of its numbers, its pole vectors, the
+free wobble carried into its angles, and the checks of a request's axis, wobble and tolerance."""
 from __future__ import annotations
 
 import math
 
 import numpy as np
 
+from ..base.errors import InvalidInputError
 from ..forced.precession_nutation import PrecessionNutation, Track
 
 #: The poles a track can follow (see the module docstring).
@@ -21,7 +22,6 @@ def pole_vectors(track: Track) -> np.ndarray:
     return np.stack([cd * np.cos(track.pole_ra), cd * np.sin(track.pole_ra), np.sin(track.pole_dec)], axis=-1)
 
 
-#: What to tell a user when the largest term of the best estimate is one no rung removes.
 def with_free_wobble(model: PrecessionNutation, track: Track, figure_icrf: np.ndarray) -> Track:
     """The track of the figure axis: ``track`` (of the angular momentum) moved to the vectors ``figure_icrf``;
     the wobble's share of ψ and ε goes into Δψ and Δε."""
@@ -34,3 +34,23 @@ def with_free_wobble(model: PrecessionNutation, track: Track, figure_icrf: np.nd
     dec = np.arctan2(figure_icrf[:, 2], np.hypot(figure_icrf[:, 0], figure_icrf[:, 1]))
     return Track(track.jd_tdb, psi, track.delta_psi + (psi - track.psi), track.delta_epsilon + (eps - track.obliquity),
                  eps, ra, dec)
+
+
+def check_axis(axis: str, body: str | None = None) -> None:
+    """Refuse a pole that is not one of :data:`AXES`."""
+    if axis not in AXES:
+        raise InvalidInputError("axis", f"must be one of {', '.join(AXES)}, got {axis!r}", body)
+
+
+def check_wobble_axis(axis: str, body: str | None = None) -> None:
+    """Refuse a free wobble asked for a pole it does not move (it moves the figure axis only)."""
+    if axis != "figure":
+        raise InvalidInputError("free_wobble_phase_deg", "the free wobble moves the figure axis, not the "
+                                "angular momentum: ask for axis=figure", body)
+
+
+def check_tolerance(tolerance, body: str | None = None, unit: str = "") -> None:
+    """Refuse a tolerance that is not a positive finite number (``unit``: words naming its unit in the message)."""
+    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or not math.isfinite(tolerance) \
+            or tolerance <= 0.0:
+        raise InvalidInputError("tolerance_mas", f"must be a positive finite number{unit}, got {tolerance!r}", body)

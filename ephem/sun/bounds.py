@@ -1,0 +1,333 @@
+"""The ladder's span-aware error bounds over given epochs: the theory terms of rungs 1-4 (nutation omitted,
+truncation, second order, higher order; :func:`theory_terms`), the numerical rungs' integration error, and the
+span and orbit count that limit the numerical rungs. They read the body's tables (:mod:`ephem.sun.tables`)."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..forced.kinoshita import eccentricity_factor
+from ..forced.precession_nutation import PrecessionNutation
+from ..forced.second_order import SecondOrderTheory, eval_phi
+from ..orbit.harmonics import FRESH_STEPS, refined_count
+from .tables import TheoryTables, Window
+
+#: Relative tolerance of the numerical rungs.
+NUMERICAL_RTOL = 1e-12
+#: The numerical rungs integrate through every orbit (~5 ms each); beyond this many orbits from the
+#: pole epoch a request would tie up a worker for seconds, so they are not offered.
+MAX_NUMERICAL_ORBITS = 1000
+
+
+def _sup_abs(coef: np.ndarray) -> float:
+    """sup over φ of |Σ_j c_j cos 2jφ + s_j sin 2jφ| <= |c0| + Σ_j |(c_j, s_j)| (φ-harmonics as in
+    :mod:`ephem.forced.second_order`)."""
+    degree = (coef.shape[-1] - 1) // 2
+    return abs(float(coef[0])) + sum(float(np.hypot(coef[2 * j - 1], coef[2 * j])) for j in range(1, degree + 1))
+
+
+def _phi_range_max(coef: np.ndarray, weight: float, lo: float, hi: float) -> float:
+    """Upper bound on max over φ in [lo, hi] of |(w V_ψ, V_ε)(φ)|, V given by φ-harmonics ``coef`` (2, 2m+1)
+    of :mod:`ephem.forced.second_order` (frequencies up to 2m in φ, period π).
+
+    Samples at most π/64 apart, plus h²/8 sup|V''| with |V''| <= Σ_j (2j)² |coefficient j| (each harmonic's
+    second derivative): the interpolation bound of :class:`ephem.orbit.harmonics.PeriodicTable`.
+    """
+    w = np.array([weight, 1.0])[:, None]
+    c = coef * w
+    degree = (coef.shape[-1] - 1) // 2
+    curvature = sum((2.0 * j) ** 2 * float(np.linalg.norm(c[:, 2 * j - 1:2 * j + 1])) for j in range(1, degree + 1))
+    width = min(hi - lo, math.pi)
+    count = max(2, math.ceil(width / (math.pi / 64.0)) + 1)
+    phi = lo + np.linspace(0.0, width, count)
+    v = eval_phi(c[:, None, :], phi[None, :])          # (2, count)
+    return float(np.max(np.hypot(v[0], v[1]))) + (width / (count - 1)) ** 2 / 8.0 * curvature
+
+
+
+#: Epochs whose mean pole's phase is within this of the pole epoch's (radians) use the remainder's table at the
+#: pole epoch, with the difference times sup |∂P2/∂φ| added (at most 0.4% of P2's size: |∂P2/∂φ| <= 4 sup|P2|).
+NEAR_PHASE = 1e-3
+
+
+def nutation_omitted_bound(tables: TheoryTables, window: Window) -> float:
+    """Pole error (radians) of rung 1 against rung 3 at the epochs: the nutation it leaves out.
+
+    Rung 1 is the mean pole ψ = ψ̇ (t - t0), ε = ε̄0; rung 3 adds Δψ(t), Δε(t) to it, so the two differ by
+    the nutation itself (not relative to t0: rung 1 starts at the mean pole), at most its largest pole
+    displacement sqrt((w Δψ)² + Δε²) over the mean anomalies the epochs cover.
+    """
+    return float(tables.nutation.interval_max(*window.mean_anomalies)[0])
+
+
+def truncation_bounds(model: PrecessionNutation, tables: TheoryTables, window: Window) -> np.ndarray:
+    """Pole error (radians) of each e^N series (N = 0, 1, …) against the exact Hansen coefficients at the epochs.
+
+    Both tracks start from the catalogue pole: each removes its own nutation at t0 to find its mean pole
+    (ε̄_N = ε - Δε_N(t0), θ̄_N = θ - Δψ_N(t0)), so with D = Δ_N - Δ the difference series, the longitude and
+    obliquity differ at t by
+
+        δψ = D_ψ(t) - D_ψ(t0) + (ψ̇_N - ψ̇)(t - t0),    δε = D_ε(t) - D_ε(t0),
+        ψ̇_N - ψ̇ = (K/2) [cos ε̄ (f_N - f) + f_N (cos ε̄_N - cos ε̄)],   cos ε̄_N - cos ε̄ = sin ε̄ δε + O(δε²/2)
+
+    (the "twice" of :func:`truncation_bound` is D(t0)). Their largest pole displacement over the epochs is
+    bounded on the samples of the mean anomalies they cover, the drift added to the periodic part
+    (:meth:`ephem.orbit.harmonics.PeriodicTable.interval_max`, whose slope leaves the interpolation bound as it is). D is
+    computed at the exact mean pole (ε̄, θ̄); the series' own differs from it by δε, δθ with
+    s = |δε| + 2 |δθ| <= (|D_ε(t0)| + 2 |D_ψ(t0)|) / (1 - 3R) (R the series' ``truncation_reach``: its
+    coefficients move by at most R s), which moves the difference of the periodic parts by at most 2 R s and
+    leaves |δε| <= |D_ε(t0)| + R s.
+    """
+    if tables.truncation is None:
+        return np.zeros(0)
+    start = tables.truncation.values[0]                       # (orders, 2): (w D_ψ(t0), D_ε(t0))
+    d_psi0, d_eps0 = np.abs(start[:, 0]) / tables.weight, np.abs(start[:, 1])
+    reach = tables.truncation_reach
+    shift = (d_eps0 + 2.0 * d_psi0) / np.maximum(1.0 - 3.0 * reach, 0.5)
+    delta_eps = d_eps0 + reach * shift
+    half_k_f = 0.5 * model.scaling_factor * tables.truncation_factors
+    rate = tables.truncation_rates + half_k_f * math.sin(model.obliquity) * start[:, 1]
+    slope = np.stack([tables.weight * rate / model.mean_motion, np.zeros_like(rate)], axis=-1)
+    periodic = tables.truncation.interval_max(*window.mean_anomalies, ref=start, slope=slope)
+    rest = half_k_f * (abs(math.sin(model.obliquity)) * reach * shift + 0.5 * delta_eps ** 2)
+    return periodic + 2.0 * reach * shift + tables.weight * rest * window.span
+
+
+def _mean_rates(theory: SecondOrderTheory) -> np.ndarray:
+    """φ-harmonics (2, 5) of the second-order mean rates (G_ψ, G_ε) at ε̄0 (rad/day)."""
+    ce, se = math.cos(theory.obliquity), math.sin(theory.obliquity)
+    g = theory.coefficients
+    return np.stack([ce * ce * g[0] + se * se * g[1], se * ce * g[2]])
+
+
+@dataclass(frozen=True)
+class _Drifts:
+    """The slow parts the rungs 3-4 bounds share (radians, rad/day; T the span, days)."""
+
+    T: float
+    g_psi: float     # sup |G_ψ|, sup |G_ε|: the second-order mean rates
+    g_eps: float
+    d_psi: float     # sup |d_ψ|, sup |d_ε|: rung 4's drift against rung 5
+    d_eps: float
+    slack: float     # bound on |ψ̄ - ψ̇ (t - t0)| for rung 4's and the torque's mean poles
+
+    @classmethod
+    def of(cls, theory: SecondOrderTheory, tables: TheoryTables, window: Window) -> _Drifts:
+        T = window.span
+        rates, drift = _mean_rates(theory), tables.remainder.drift_harmonics()
+        g_psi, g_eps, d_psi, d_eps = _sup_abs(rates[0]), _sup_abs(rates[1]), _sup_abs(drift[0]), _sup_abs(drift[1])
+        # ψ̄ - ψ̇ T = ∫ G_ψ + (K/2) f (cos ε̄ - cos ε̄0), |ε̄ - ε̄0| <= sup|G_ε + d_ε| T
+        se = abs(math.sin(theory.obliquity))
+        slack = (g_psi + d_psi) * T + theory.first_order_rate * se * (g_eps + d_eps) * T * T / 2.0
+        return cls(T, g_psi, g_eps, d_psi, d_eps, slack)
+
+
+def _mean_pole_bound(theory: SecondOrderTheory, tables: TheoryTables, window: Window, drifts: _Drifts,
+                     coef: np.ndarray, eps_rate: float, about: float | None = None) -> float:
+    """How far a mean pole moving at the extra rates ``coef`` (φ-harmonics (2, m), rad/day, in ψ and ε; |ε rate|
+    <= ``eps_rate``) departs over the epochs: T max |(w ψ̇_x, ε̇_x)| over the phases from t0 to the epochs, plus
+    w (K/2) f(e) |sin ε̄0| ``eps_rate`` T²/2 (the obliquity's drift changes ψ̇ = (K/2) f(e) cos ε̄). ``about`` a
+    phase φ: only what the rates differ from their value there (a caller counts that part with the periodic
+    terms). The factor 1 + 2 |δε̄| covers the rates' dependence on ε̄ (through cos²ε, sin²ε, sin ε cos ε)."""
+    T = drifts.T
+    lo, hi = window.phases(theory.first_order_rate * math.cos(theory.obliquity), drifts.slack, from_t0=True)
+    phi0 = theory.equinox_to_pericentre
+    if about is not None:
+        coef = coef.copy()
+        coef[:, 0] -= eval_phi(coef, about)
+    return T * _phi_range_max(coef, tables.weight, phi0 + lo, phi0 + hi) * (1.0 + 2.0 * (drifts.g_eps + drifts.d_eps) * T) \
+        + tables.weight * theory.first_order_rate * abs(math.sin(theory.obliquity)) * eps_rate * T * T / 2.0
+
+
+def second_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, tables: TheoryTables,
+                       window: Window, drifts: _Drifts | None = None) -> float:
+    """Pole distance (radians) between rungs 3 and 4 at the epochs: what the first-order theory leaves to the
+    second order (with :func:`higher_order_bound`, a bound on rung 3's error against rung 5).
+
+    Rung 4 is ψ̄(t) + w(φ(t), ε̄(t), M), ε̄(t) + …, rung 3 ψ̇ (t - t0) + w(θ̄0, ε̄0, M), ε̄0 + …, so they differ by
+
+    * the mean pole: ψ̄ - ψ̇ T = ∫ (G_ψ + (K/2) f(e) (cos ε̄ - cos ε̄0)), ε̄ - ε̄0 = ∫ G_ε
+      (:func:`_mean_pole_bound`; G: :func:`ephem.forced.second_order.second_order_coefficients`; the factor
+      1 + 2 |δε̄| covers G's dependence on ε̄, through cos²ε, sin²ε and sin ε cos ε);
+    * the re-phasing: w's θ-dependent part is -cos ε (C' b + S' c) in Δψ and -sin ε (S' b - C' c) in Δε
+      (C' = cos 2θ, S' = sin 2θ), so moving θ by Δφ = ψ̄ moves the pole by at most 2 |sin Δφ| w |(b, c)(M)|
+      ((C', S') moves by 2 |sin Δφ|, and the two components are its projections on two orthogonal directions);
+      ε̄'s drift moves it by at most |ε̄ - ε̄0| (|a| + |(b, c)|) (the derivative of (sin ε cos ε w_ψ, sin ε w_ε)
+      in ε is at most |(w_ψ, w_ε)| <= |a| + |(b, c)|), their largest over the mean anomalies of the epochs.
+    """
+    dr = drifts or _Drifts.of(theory, tables, window)
+    mean = _mean_pole_bound(theory, tables, window, dr, _mean_rates(theory), dr.g_eps)
+    lo, hi = window.phases(model.precession_rate, dr.slack, from_t0=False)
+    turn = min(1.0, max(abs(lo), abs(hi)))
+    a, bc = tables.abc.interval_max(*window.mean_anomalies)
+    return mean + 2.0 * turn * tables.weight * bc + dr.g_eps * dr.T * (a + bc)
+
+
+#: The third-order rest of the second-order estimates (the third-order periodic terms u3, the first-order nutation
+#: moved by the mean pole's second-order offset, fourth-order drifts), per unit of the small parameter
+#: r = (K/n) f(e) and of the size of the second-order parts it corrects. Measured against rung 5 as the least
+#: factor that keeps each estimate at or above the error (rungs 3 and 4, 2080 cases: 1040 generated bodies and
+#: windows, e 0.001-0.95, ε 0.5-179.5°, H_d 1e-3-0.3, rotation 2 h-10 d, a 0.8-5 AU, 3 days to a century either
+#: side of the pole epoch, some not containing it): at most 0.22 for e <= 0.9 (1912 cases), 1.43 at e = 0.95
+#: (ε = 178°, r = 0.011); 2 leaves a margin over the largest.
+THIRD_ORDER_FACTOR = 2.0
+
+
+def small_parameter(model: PrecessionNutation) -> float:
+    """The small parameter of the perturbation theory: the torque over the orbital rate, (K/n) f(e) (its mean over
+    the orbit carries f(e) = (1 - e²)^(-3/2))."""
+    return model.scaling_factor / model.mean_motion * eccentricity_factor(model.eccentricity)
+
+
+def higher_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, tables: TheoryTables,
+                       window: Window, drifts: _Drifts | None = None) -> float:
+    """Pole error (radians) of rung 4 against rung 5 at the epochs (:class:`ephem.forced.second_order.Remainder`).
+
+    Rung 4 misses the second-order periodic nutation P2 (relative to its value at t0) and drifts at the
+    third-order rate d(φ) (:meth:`~ephem.forced.second_order.Remainder.drift_harmonics`):
+
+    * within an orbit, the largest |(w, 1)(P2(M, φ_w) - P2(t0) + d(φ_w)(t - t0))| over the mean anomalies of the
+      epochs (:meth:`ephem.orbit.harmonics.PeriodicTable.interval_max`, φ_w the mean pole's mid phase there), plus
+      |φ - φ_w| sup |∂P2/∂φ| and what d departs from d(φ_w) (:func:`_mean_pole_bound`);
+    * over whole orbits, :meth:`PhasedBounds.orbit_max` (P2 over every M and the phases the mean pole passes)
+      plus the drift's :func:`_mean_pole_bound`;
+    * P2 is taken at ε̄0 and moves by at most 2 |δε̄| sup |P2| as ε̄ drifts (its ε-dependence is cos²ε, sin²ε,
+      sin ε cos ε);
+    * the rest, third order in the small parameter r = (K/n) f(e): :data:`THIRD_ORDER_FACTOR` r times the parts'
+      sizes (|P2 - P2(t0)| + |d| T, at most the bound above plus 2 |d| T), a constant measured against rung 5.
+    """
+    dr = drifts or _Drifts.of(theory, tables, window)
+    lo, hi = window.phases(model.precession_rate, dr.slack, from_t0=False)
+    p2 = tables.periodic
+    drift = tables.remainder.drift_harmonics()
+    if window.whole_orbits:
+        periodic = p2.orbit_max(lo, hi) + _mean_pole_bound(theory, tables, window, dr, drift, dr.d_eps)
+    else:
+        # the table at the pole epoch's phase when the epochs' phases are that close (no new table), else at theirs
+        mid = 0.0 if max(abs(lo), abs(hi)) <= NEAR_PHASE else 0.5 * (lo + hi)
+        phi = theory.equinox_to_pericentre + mid
+        wv = np.array([tables.weight, 1.0])
+        periodic = float(p2.table(phi).interval_max(
+            *window.mean_anomalies, ref=(tables.remainder.start * wv)[None],
+            slope=(eval_phi(drift, phi) * wv / model.mean_motion)[None])[0]) \
+            + max(abs(lo - mid), abs(hi - mid)) * p2.slope_phi \
+            + _mean_pole_bound(theory, tables, window, dr, drift, dr.d_eps, about=phi)
+    periodic += 2.0 * (dr.g_eps + dr.d_eps) * dr.T * p2.reach
+    # the third-order rest scales with the parts' sizes, |P2 - P2(t0)| + |d| T <= the bound + 2 |d| T
+    drift_size = dr.T * math.hypot(tables.weight * dr.d_psi, dr.d_eps)
+    return periodic + THIRD_ORDER_FACTOR * small_parameter(model) * (periodic + 2.0 * drift_size)
+
+
+def first_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, tables: TheoryTables,
+                      window: Window, drifts: _Drifts | None = None, through_rung4: float | None = None) -> float:
+    """Pole error (radians) of rung 3 against rung 5 at the epochs (the ``second_order`` term of rungs 1-3).
+
+    Through rung 4, :func:`second_order_bound` + :func:`higher_order_bound`. But the parts largely cancel while
+    the mean pole has turned little: linearised in ψ̄, rung 3 misses P2(t) - P2(t0) + ψ̄(t) V(t) (V = ∂w/∂φ)
+    + ∫ (G + d), and P2 holds -∫ (ψ̇ V + G) dt, so over a short span the sum grows as ∫ Df · w dt alone. Directly,
+    with V' = V + ∂P2/∂φ (P2 too follows φ = φ0 + ψ̄), the bound is the largest
+    |(w, 1)(P2(M) - P2(t0) + (M - M0)/n (ψ̇ V'(M) + G(φ0) + d(φ0)))| at φ0 over the mean
+    anomalies of the epochs (the samples of :meth:`ephem.orbit.harmonics.PeriodicTable.samples`; over whole orbits,
+    those of the first and the last, as the part linear in M makes each phase's value convex in the orbits' count;
+    with the interpolation bound
+    h²/8 (|P2''| + |ψ̇/n| (2 |V'_M| + max |M - M0| |V'_MM|))), plus what the linearisation leaves:
+    |ψ̄ - ψ̇ T| (2 w |(b, c)| + sup |∂P2/∂φ|) and Φ² (2 w |(b, c)| + sup |∂²P2/∂φ²| / 2) (Φ the largest |ψ̄|; w's
+    θ-dependence is through (C', S'), whose curvature is 4), what G and d depart from their values at φ0
+    (:func:`_mean_pole_bound`) and the ε̄ terms; and the third-order rest, :data:`THIRD_ORDER_FACTOR` r times the
+    sizes of the parts that cancel (the largest of |P2(M) - P2(t0)| + |(M - M0)/n| (|ψ̇ V'| + |G + d|), not what is
+    left of their sum). The smaller of the two bounds is taken.
+    """
+    dr = drifts or _Drifts.of(theory, tables, window)
+    if through_rung4 is None:
+        through_rung4 = second_order_bound(model, theory, tables, window, dr) + higher_order_bound(
+            model, theory, tables, window, dr)
+    phi0 = theory.equinox_to_pericentre
+    p2, v = tables.periodic, tables.rephasing
+    wv = np.array([tables.weight, 1.0])
+    m_lo, m_hi = window.mean_anomalies
+    p_table, v_table = p2.table(phi0), v.table(phi0)
+    rates, drift = _mean_rates(theory), tables.remainder.drift_harmonics()
+    mean_rate = (eval_phi(rates, phi0) + eval_phi(drift, phi0)) * wv
+    scale = model.precession_rate / model.mean_motion
+    reach_m = max(abs(m_lo - window.m0), abs(m_hi - window.m0))
+    curvature = p_table.curvature_over(m_lo, m_hi)[0] + abs(scale) * (
+        2.0 * v.derivative_bound(phi0, 1, m_lo, m_hi) + reach_m * v_table.curvature_over(m_lo, m_hi)[0])
+
+    def bound(fresh):
+        # P2 and V are periodic, the rest linear in M: at one phase, convex in the count of orbits (the first and
+        # the last orbit bound the others, PeriodicTable.interval_max); and the parts' sizes, for the third order
+        x, p_samples, spacing = p_table.samples(m_lo, m_hi, fresh=fresh, unwrapped=True)
+        _, v_samples, _ = v_table.samples(m_lo, m_hi, fresh=fresh, unwrapped=True)
+        dx = (x - window.m0)[:, None, None]
+        parts = [p_samples - (tables.remainder.start * wv)[None, None], dx * scale * v_samples,
+                 dx * mean_rate / model.mean_motion]
+        size = float(np.max(sum(np.linalg.norm(part, axis=-1) for part in parts)))
+        return float(np.max(np.linalg.norm(sum(parts), axis=-1))), spacing * spacing / 8.0 * curvature, size
+
+    peak, interpolation, size = bound(FRESH_STEPS)
+    finer = refined_count(m_hi - m_lo, curvature, peak, interpolation)
+    if finer:
+        peak, interpolation, size = bound(finer)
+    tails = p_table.tail + abs(scale) * reach_m * v_table.tail
+    linear = peak + interpolation + tails
+    lo, hi = window.phases(model.precession_rate, dr.slack, from_t0=True)
+    turn = max(abs(lo), abs(hi))
+    a, bc = tables.abc.interval_max(m_lo, m_hi)
+    left = dr.slack * (2.0 * tables.weight * bc + p2.slope_phi) + turn * turn * (
+        2.0 * tables.weight * bc + 0.5 * p2.curvature_phi) \
+        + (dr.g_eps + dr.d_eps) * dr.T * (2.0 * p2.reach + a + bc) \
+        + _mean_pole_bound(theory, tables, window, dr, rates, dr.g_eps, about=phi0) \
+        + _mean_pole_bound(theory, tables, window, dr, drift, dr.d_eps, about=phi0)
+    # the third-order rest scales with the sizes of the parts that cancel, not with what is left of them
+    third = THIRD_ORDER_FACTOR * small_parameter(model) * (size + interpolation + tails + left)
+    return min(through_rung4, linear + left + third)
+
+
+def theory_terms(model: PrecessionNutation, theory: SecondOrderTheory, tables: TheoryTables, window: Window) -> dict:
+    """The theory terms of rungs 1-4 at the epochs (radians): ``nutation_omitted``, ``truncation`` (an array over
+    the e-orders), ``second_order`` (rung 3 against rung 5, :func:`first_order_bound`) and ``higher_order``."""
+    dr = _Drifts.of(theory, tables, window)
+    higher = higher_order_bound(model, theory, tables, window, dr)
+    first = first_order_bound(model, theory, tables, window, dr,
+                              second_order_bound(model, theory, tables, window, dr) + higher)
+    return {"nutation_omitted": nutation_omitted_bound(tables, window),
+            "truncation": truncation_bounds(model, tables, window), "second_order": float(first),
+            "higher_order": float(higher)}
+
+
+def integration_bound(model: PrecessionNutation, span_days: float) -> float:
+    """Error of the numerical rungs (radians) at rtol 1e-12.
+
+    Measured against rtol 1e-14: the error per orbit is a few times rtol times the pole's motion
+    per orbit, 2π (K/n)(1-e²)^(-3/2) (5e-16 for the Earth, 5e-15 for Itokawa, 1.2e-12 for a
+    K/n = 5e-3 body on an e = 0.5 orbit); the bound allows 100 rtol per orbit on that motion
+    plus 1e-3 rad, and a floor of 1e-12.
+    """
+    orbits = abs(span_days) * model.mean_motion / (2.0 * math.pi)
+    motion = 2.0 * math.pi * model.scaling_factor / model.mean_motion * eccentricity_factor(model.eccentricity)
+    return 1e-12 + orbits * 100.0 * NUMERICAL_RTOL * (motion + 1e-3)
+
+
+def orbits_in_span(model: PrecessionNutation, t: np.ndarray) -> float:
+    """Orbits the numerical rungs integrate through to reach the epochs from the pole epoch."""
+    return epoch_span(model, t) * model.mean_motion / (2.0 * math.pi)
+
+
+
+
+def epoch_span(model: PrecessionNutation, t: np.ndarray) -> float:
+    """Largest |t - t0| over the epochs (days): the theories' errors grow from the pole epoch."""
+    if t.size == 0:
+        return 0.0
+    return float(max(abs(t.max() - model.pole_epoch), abs(t.min() - model.pole_epoch)))
+
+
+def numerical_unavailable(model: PrecessionNutation, t: np.ndarray) -> str | None:
+    orbits = orbits_in_span(model, t)
+    if orbits <= MAX_NUMERICAL_ORBITS:
+        return None
+    return (f"the numerical rungs integrate through every orbit from the pole epoch and are limited to "
+            f"{MAX_NUMERICAL_ORBITS} orbits per request; these epochs need {orbits:.0f}")
+

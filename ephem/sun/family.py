@@ -1,0 +1,245 @@
+"""The single-perturber family (:class:`SunLadder`): the fidelity ladder (:class:`~ephem.sun.ladder.Ladder`) behind
+the common interface of :mod:`ephem.theory.interface`, a body torqued by the centre of its orbit alone."""
+from __future__ import annotations
+
+import math
+import time
+from functools import cached_property
+
+import numpy as np
+
+from ..base.budget import charge
+from ..base.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
+from ..base.errors import InvalidInputError, NotApplicableError
+from ..bodies.catalogue import Body
+from ..forced.describe import ASSUMPTIONS, model_info
+from ..forced.kinoshita import eccentricity_factor, exact_series_floor, pole_displacement_sum
+from ..forced.precession_nutation import MAX_ORDER, Track, cached_model, check_domain, model_for
+from ..forced.uncertainty import input_sigmas, propagated, summary
+from ..longterm.averaged_spin import SpinConstants, spin_constants
+from ..orbit.hansen import LAPLACE_LIMIT
+from ..theory import cost
+from ..base.budget import Cost
+from ..theory.interface import COVERS_TRUNCATION, Estimate, SpinAxisTheory, Spectrum, rate_values, selection_info
+from .ladder import Ladder
+from .rungs import RUNG_NAMES, RUNGS, rung_named
+from .spectrum import mean_anomaly_spectrum, semi_amplitudes
+from .tables import truncation_bound
+
+def forced_model_info(m, b: Body) -> dict:
+    """:func:`ephem.forced.describe.model_info` with what the exact or the truncated series (``m.order``) assumes."""
+    return model_info(m, b, ASSUMPTIONS + list(rung_named("hansen" if m.order is None else "series").assumptions))
+
+
+AXIS_ASSUMPTIONS = {
+    "angular_momentum": "the pole served is the angular momentum, which the free wobble does not move",
+    "figure": "the pole served is the figure axis, taken as the angular momentum: the free wobble is left "
+              "out and counted in the estimate (free_wobble)",
+    "figure+wobble": "the pole served is the figure axis: the torque-free rigid-body wobble (given J and phase) "
+                     "added about the forced angular momentum",
+}
+
+
+class SunLadder(SpinAxisTheory):
+    """The single-perturber ladder (:class:`Ladder`) behind the common interface: a body torqued by the
+    centre of its orbit alone, its rungs cheapest first."""
+
+    summary = "the single-perturber ladder (a body torqued by the centre of its orbit)"
+    models = RUNG_NAMES
+    descriptions = {rung.name: rung.description for rung in RUNGS}
+    propagates_uncertainty = True
+    models_rotation_scale = True
+
+    @classmethod
+    def serves(cls, body: Body, perturbers: tuple[str, ...]) -> bool:
+        return tuple(perturbers) == (body.orbit.center,)
+
+    @cached_property
+    def ladder(self) -> Ladder:
+        return Ladder(self.body, self.axis, self.wobble, self.rotation_phase)   # one per request
+
+    @classmethod
+    def how_to_reach(cls, body: Body) -> str:
+        return f"pass perturbers={body.orbit.center.lower()} for it (the centre of {body.name}'s orbit alone)"
+
+    def default_model(self, order: int | None) -> str:
+        return "hansen" if order is None else "series"
+
+    def check_request(self, model: str | None, order: int | None) -> None:
+        rung = model or self.default_model(order)
+        if rung == "series" and order is None:
+            raise InvalidInputError("order", "the 'series' model needs an e-order")
+        if order is not None and rung != "series":
+            raise InvalidInputError("order", f"an e-order applies to the 'series' model, not to {rung!r}")
+        if order is not None and self.body.orbit.e > LAPLACE_LIMIT:
+            model_for(self.body, self.body.dataset, order)     # refuses the diverging series, before any cost
+
+    def choice_cost(self, start: float, stop: float, count: int) -> Cost:
+        return self.ladder.cost(None, start, stop, count, free_wobble=self.wobble is not None)
+
+    def track_cost(self, model, order, start, stop, count, free_wobble, rotation_scale=False) -> Cost:
+        return self.ladder.cost(model or self.default_model(order), start, stop, count, order, free_wobble,
+                                rotation_scale)
+
+    def estimates(self, jd_tdb) -> list[Estimate]:
+        return self.ladder.estimates(jd_tdb)
+
+    def named(self, jd_tdb, model, order):
+        rung = model or self.default_model(order)
+        # a named rung adds the rotation-scale terms when the request gave the rotation phase
+        scale = None if self.rotation_phase is None else self.ladder.rotation_modelled
+        return next((e for e in self.estimates(jd_tdb) if e.rung == rung and e.order == order
+                     and e.free_wobble == (self.wobble is not None) and e.rotation_scale == scale), None)
+
+    def track(self, est, model, order, t0, step, count) -> Track:
+        scale = est.rotation_scale is not None if est is not None else self.rotation_phase is not None
+        if model in ("hansen", "series") and not scale:   # the fast evaluation on an even grid
+            tr = cached_model(self.body, order).track_grid(t0, step, count)
+        else:
+            tr = self.ladder.track(model, self.grid(t0, step, count), order, rotation_scale=scale)
+        if self.wobble is not None and (est is None or est.free_wobble):
+            tr = self.ladder.add_wobble(tr)
+        return tr
+
+    def track_at(self, model, order, jd_tdb, free_wobble=False) -> Track:
+        return self.ladder.track(model or self.default_model(order), jd_tdb, order, free_wobble,
+                                 rotation_scale=self.rotation_phase is not None)
+
+    def describe(self, est, model, order, with_wobble) -> dict:
+        info = forced_model_info(cached_model(self.body, order), self.body)
+        info["assumptions"] = [AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else self.axis]] + ASSUMPTIONS[1:] \
+            + list(rung_named(model).assumptions)
+        return info
+
+    def secular_spin(self) -> SpinConstants:
+        """The first-order theory's mean pole and precession constant (K/2) f(e) (Petit et al. eq. 25)."""
+        m = cached_model(self.body)
+        half_psi, half_eps = m.nutation.semi_peak_to_peak()
+        return spin_constants(self.body, m.pole_epoch, m.icrf_from_orbit, m.obliquity,
+                              0.5 * m.scaling_factor * eccentricity_factor(m.eccentricity), 0.0,
+                              math.hypot(half_psi * math.sin(m.obliquity), half_eps),
+                              "Kinoshita's first-order theory (Petit et al. 2014 eq. 25): the precession constant "
+                              "(K/2)(1 - e^2)^(-3/2), K = 3 n^2 H_d / omega")
+
+    def spectrum(self, aim_mas: float, mid_centuries: float, jd_tdb=None, psi=None) -> Spectrum:
+        m = cached_model(self.body)
+        if jd_tdb is None:
+            return mean_anomaly_spectrum(m, aim_mas, m.precession_rate)
+        # ψ̇ as the track has it (the rungs above 'hansen' change the mean rates): ψ = a + ψ̇ t + nutation
+        t = np.asarray(jd_tdb, dtype=float)
+        mt = m.mean_anomaly(t)
+        cols = [np.ones_like(t), t - 0.5 * (t[0] + t[-1])]
+        for k in np.unique(m.nutation.multiple):
+            cols += [np.sin(k * mt), np.cos(k * mt)]
+        psi_dot = float(np.linalg.lstsq(np.array(cols).T, np.asarray(psi, dtype=float), rcond=None)[0][1])
+        return mean_anomaly_spectrum(m, aim_mas, psi_dot)
+
+    # --- the precession and nutation answers
+
+    def answer_cost(self, order: int | None, nutation: bool = False, tolerance: bool = False) -> Cost:
+        """The Hansen coefficients, the nutation's extremes, and the propagation of the inputs' σ (each input
+        with a σ re-evaluates the model twice); ``tolerance``: the truncation bounds of the e-orders."""
+        b = self.body
+        check_domain(b, order)                   # not applicable (too slow a rotation, e -> 1): before any cost
+        e = b.orbit.e
+        if order is not None and e > LAPLACE_LIMIT:
+            return cost.FREE      # refused by model_for before any work
+        build = cost.hansen_build(e, None)
+        parts = [build] if order is None else [build, cost.hansen_build(e, order)]
+        if nutation:
+            parts.append(cost.half_peak_to_peak(e, order, cost.body_harmonics(b, order)))
+        if tolerance:
+            parts.append(cost.truncation_bounds(e))
+        with_sigma = sum(1 for v in input_sigmas(b).values() if v is not None)
+        if with_sigma:
+            half = cost.half_peak_to_peak(e, order, cost.body_harmonics(b, order))
+            parts.append(cost.Part("the catalogue's uncertainties", f"propagating {with_sigma} input uncertainties",
+                                   2 * with_sigma * parts[1 if order is not None else 0].cpu_s + 2 * half.cpu_s,
+                                   build.memory_mb))
+        return Cost(tuple(parts))
+
+    def order_for_tolerance(self, tolerance: float | None, order: int | None) -> int | None:
+        """The lowest e-order whose truncation error is within the tolerance (None: exact coefficients); for
+        the rate and the nutation terms (no time span): the truncation bound alone."""
+        if tolerance is None:
+            return order
+        if order is not None:
+            raise InvalidInputError("order", "give either order or tolerance_mas, not both")
+        m = cached_model(self.body)
+        if m.eccentricity < LAPLACE_LIMIT:
+            kmax = int(m.nutation.multiple.max()) if m.nutation.multiple.size else 0
+            for n in range(0, min(kmax, MAX_ORDER)):
+                if truncation_bound(m, n, 0.0) <= tolerance:
+                    return n
+        return None
+
+    def _selection(self, order: int | None, tol: float | None, start: float) -> dict:
+        m = cached_model(self.body)
+        # never 0 (issue 29): the exact coefficients' own floor, the harmonics dropped under their amplitude cut
+        # (twice: they also move the mean pole) and the rounding of every coefficient kept, is part of both
+        floor = exact_series_floor(m.nutation.dropped, pole_displacement_sum(m.nutation, m.obliquity))
+        estimate = floor + (0.0 if order is None else truncation_bound(m, order, 0.0))
+        if tol is not None and estimate > tol:
+            raise NotApplicableError(self.body.name, (
+                f"no e-order meets the tolerance of {tol / MAS:.6g} mas: the exact Hansen coefficients are good to "
+                f"{estimate / MAS:.3g} mas (the harmonics under their amplitude cut and the coefficients' rounding)"))
+        return selection_info(self, "hansen" if order is None else "series", order, estimate,
+                              1e3 * (time.perf_counter() - start), tol, covers=COVERS_TRUNCATION)
+
+    def precession_answer(self, order: int | None, tolerance: float | None, start: float) -> dict:
+        b = self.body
+        charge(self.answer_cost(order, tolerance=tolerance is not None), b.name)
+        order = self.order_for_tolerance(tolerance, order)
+        m = model_for(b, b.dataset, order)
+        unc = propagated(b, order)
+        ans = rate_values(b, m, unc)
+        ans["uncertainty"] = summary(unc)
+        ans["model"] = forced_model_info(m, b)
+        ans["model"].update(self._selection(order, tolerance, start))
+        return ans
+
+    def nutation_answer(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> dict:
+        b = self.body
+        if cut_mas is not None:
+            raise InvalidInputError("cut_mas", "an amplitude cut applies to the lunisolar series (the Earth with the "
+                                    "Moon); this series is truncated by e-order (order, tolerance_mas)", b.name)
+        charge(self.answer_cost(order, nutation=True, tolerance=tolerance is not None), b.name)
+        order = self.order_for_tolerance(tolerance, order)
+        m = model_for(b, b.dataset, order)
+        s = m.nutation
+        terms = [{
+            "multiple": int(k), "period_days": float(p), "period_years": float(p / JULIAN_YEAR_DAYS),
+            "longitude_sin_arcsec": float(a / ARCSEC), "longitude_cos_arcsec": float(c / ARCSEC),
+            "obliquity_sin_arcsec": float(d / ARCSEC), "obliquity_cos_arcsec": float(f / ARCSEC),
+        } for k, p, a, c, d, f in zip(s.multiple, s.period_days, s.lon_sin, s.lon_cos, s.obl_sin, s.obl_cos)]
+        unc = propagated(b, order)
+        sin_eps = abs(math.sin(m.obliquity))
+        for term, sigma in zip(terms, unc["terms"]):
+            if sigma["multiple"] != term["multiple"]:  # pragma: no cover - both come from the same series
+                raise RuntimeError("uncertainty terms out of step with the nutation terms")
+            term["period_days_uncertainty"] = sigma["period_days_uncertainty"]
+            for comp in ("longitude", "obliquity"):
+                for part in ("sin", "cos"):
+                    term[f"{comp}_{part}_arcsec_uncertainty"] = sigma[f"{comp}_{part}_arcsec_uncertainty"]
+                # the paper's Amp: (Sin² + Cos²)^½, times sin ε in longitude
+                amp = math.hypot(term[f"{comp}_sin_arcsec"], term[f"{comp}_cos_arcsec"])
+                term[f"{comp}_amplitude_arcsec"] = amp * (sin_eps if comp == "longitude" else 1.0)
+                term[f"{comp}_amplitude_arcsec_uncertainty"] = sigma[f"amplitude_{comp}_arcsec_uncertainty"]
+        half_psi, half_eps = semi_amplitudes(b, m.order)
+        ans = {
+            "body": b.name, "dataset": b.dataset, "argument": "mean anomaly M",
+            "mean_anomaly_at_epoch_deg": math.degrees(m.mean_anomaly_at_epoch) % 360.0,
+            "orbit_epoch_jd_tdb": m.orbit_epoch,
+            "mean_motion_deg_per_day": math.degrees(m.mean_motion),
+            "obliquity_deg": math.degrees(m.obliquity),
+            "terms": terms,
+            "delta_psi_half_peak_to_peak_arcsec": half_psi / ARCSEC,
+            "delta_epsilon_half_peak_to_peak_arcsec": half_eps / ARCSEC,
+            "delta_psi_half_peak_to_peak_arcsec_uncertainty": unc["delta_psi_half_peak_to_peak_arcsec_uncertainty"],
+            "delta_epsilon_half_peak_to_peak_arcsec_uncertainty":
+                unc["delta_epsilon_half_peak_to_peak_arcsec_uncertainty"],
+            "uncertainty": summary(unc),
+            "model": forced_model_info(m, b),
+        }
+        ans["model"].update(self._selection(order, tolerance, start))
+        return ans

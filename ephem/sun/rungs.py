@@ -1,0 +1,230 @@
+"""The rungs of the single-perturber ladder, one record each (:class:`Rung`): its name, what it computes and
+drops, what it assumes, its price, its track and its error terms. :data:`RUNGS` lists them cheapest first;
+adding a rung is adding one record there (and its functions here).
+
+Rungs, cheapest first (names as reported in a track's ``model.name``):
+
+1. ``secular``       ψ = ψ̇ (t - t0), ε = ε̄0: precession only.
+2. ``series``        Kinoshita-Cayley nutation with the Hansen coefficients as e-power series truncated at e^N.
+3. ``hansen``        the same with exact Hansen coefficients (the science core's default).
+4. ``second_order``  rung 3 with the equinox drift fed back into the phases and the second-order mean rates.
+5. ``numerical``     the rotation-averaged torque integrated along the Keplerian orbit.
+6. ``real_orbit``    the same along the real, perturbed orbit from DE421, inside DE421's span (1899-2053).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from ..base.errors import InvalidInputError, NotApplicableError
+from ..bodies.catalogue import Body
+from ..forced.integration import integrate_spin_axis
+from ..forced.physics_errors import ephemeris_bound, real_orbit_unavailable, sun_path_for
+from ..forced.precession_nutation import PrecessionNutation, Track, cached_model
+from ..forced.second_order import SecondOrderTheory
+from ..orbit.hansen import LAPLACE_LIMIT
+from ..theory import cost
+from ..theory.interface import Estimate
+from ..theory.tracks import ROUNDING
+from .bounds import NUMERICAL_RTOL, integration_bound, numerical_unavailable
+
+
+# --- evaluating a rung ----------------------------------------------------------------------------
+
+def secular_track(model: PrecessionNutation, jd_tdb) -> Track:
+    """Rung 1: the mean pole precessing uniformly, no nutation."""
+    t = np.asarray(jd_tdb, dtype=float)
+    zero = np.zeros(t.shape)
+    psi = model.precession_rate * (t - model.pole_epoch)
+    return model.track_from_angles(t, psi, zero, zero, np.full(t.shape, model.obliquity))
+
+
+def second_order_track(model: PrecessionNutation, theory: SecondOrderTheory, jd_tdb) -> Track:
+    """Rung 4: ψ, ε from the second-order theory, in the frame of the orbit and mean equinox at t0."""
+    t = np.asarray(jd_tdb, dtype=float)
+    psi, dpsi, deps, eps = theory.angles(model.mean_anomaly(t), t)
+    return model.track_from_angles(t, psi, dpsi, deps, eps)
+
+
+def track_from_vectors(model: PrecessionNutation, theory: SecondOrderTheory, jd_tdb, pole_icrf) -> Track:
+    """A :class:`Track` from ICRF pole vectors (the numerical rungs).
+
+    ψ and ε are read off the pole in the frame of the orbit and mean equinox at t0; the
+    nutation Δψ, Δε is what remains after the second-order theory's mean ψ̄, ε̄.
+    """
+    t = np.asarray(jd_tdb, dtype=float)
+    s = pole_icrf @ model.icrf_from_orbit   # rows: orbit-frame vectors
+    psi_bar, eps_bar = theory.mean_track(t)(t)
+    raw = np.arctan2(s[:, 0], s[:, 1])
+    psi = psi_bar + np.remainder(raw - psi_bar + math.pi, 2.0 * math.pi) - math.pi  # unwrap about ψ̄
+    eps = np.arctan2(np.hypot(s[:, 0], s[:, 1]), s[:, 2])
+    ra = np.arctan2(pole_icrf[:, 1], pole_icrf[:, 0])
+    ra += (ra < 0.0) * (2.0 * math.pi)
+    dec = np.arctan2(pole_icrf[:, 2], np.hypot(pole_icrf[:, 0], pole_icrf[:, 1]))
+    return Track(t, psi, psi - psi_bar, eps - eps_bar, eps, ra, dec)
+
+
+
+# --- what a rung's price, estimate and track read -------------------------------------------------
+
+@dataclass(frozen=True)
+class TrackPrice:
+    """What a rung's price reads, from the body's parameters alone: ``count`` epochs from ``start`` to ``stop``
+    (JD TDB), the e-order, the body's nutation harmonics and the orbits from the pole epoch."""
+
+    body: Body
+    order: int | None
+    start: float
+    stop: float
+    count: int
+    harmonics: int
+    orbits: float
+
+    @property
+    def e(self) -> float:
+        return self.body.orbit.e
+
+
+@dataclass(frozen=True)
+class EstimateInputs:
+    """What a rung's error terms read: the epochs, their largest |t - t0| (days), the theory terms
+    (:func:`ephem.sun.bounds.theory_terms`) and the physics terms every fixed-orbit rung shares."""
+
+    t: np.ndarray
+    span_days: float
+    theory: dict
+    physics: dict
+
+
+def rung_estimate(rung: str, order: int | None, terms: dict, physics: dict, rotation_scale: str | None = None
+                  ) -> Estimate:
+    """A rung's estimate: its own terms, the shared physics terms (the real orbit drops the orbit's motion) and
+    the rounding."""
+    shared = {k: v for k, v in physics.items() if not (rung == "real_orbit" and k == "orbit_motion")}
+    missing = () if rung == "real_orbit" or "orbit_motion" in physics else ("orbit_motion",)
+    return Estimate(rung, order, {**terms, **shared, "rounding": ROUNDING}, unestimated=missing,
+                    rotation_scale=rotation_scale)
+
+
+@dataclass(frozen=True)
+class Rung:
+    """One rung of the ladder: ``description`` (what it computes and drops: an answer's ``model.description``),
+    ``assumptions`` (besides what every rung assumes), ``cost`` (its own parts of a track's price, after the
+    exact Hansen coefficients every track builds), ``track`` (ladder, exact model, epochs, order -> Track) and
+    ``estimates`` (ladder, :class:`EstimateInputs` -> its estimates: one per e-order for the series, or one
+    unavailable saying why)."""
+
+    name: str
+    description: str
+    assumptions: tuple[str, ...]
+    cost: Callable[[TrackPrice], list]
+    track: Callable[..., Track]
+    estimates: Callable[..., list]
+
+
+FIXED_ORBIT = "fixed Keplerian orbit (osculating elements at their epoch)"
+
+
+def _refuse_long(ladder, model: PrecessionNutation, t: np.ndarray) -> None:
+    why = numerical_unavailable(model, t)
+    if why is not None:
+        raise NotApplicableError(ladder.body.name, why)
+
+
+def _numerical_track(ladder, m: PrecessionNutation, t: np.ndarray, order: int | None) -> Track:
+    _refuse_long(ladder, m, t)
+    return track_from_vectors(m, ladder.theory, t, integrate_spin_axis(m, t, rtol=NUMERICAL_RTOL))
+
+
+def _real_orbit_track(ladder, m: PrecessionNutation, t: np.ndarray, order: int | None) -> Track:
+    _refuse_long(ladder, m, t)
+    why = real_orbit_unavailable(ladder.body, t)
+    if why is not None:
+        raise NotApplicableError(ladder.body.name, why)
+    path = sun_path_for(ladder.body, t)
+    return track_from_vectors(m, ladder.theory, t, integrate_spin_axis(
+        m, t, rtol=NUMERICAL_RTOL, sun=path.position_scalar))
+
+
+def _series_estimates(ladder, x: EstimateInputs) -> list:
+    m = ladder.model
+    if m.eccentricity < LAPLACE_LIMIT:
+        return [rung_estimate("series", order, {"truncation": float(truncation),
+                                                "second_order": x.theory["second_order"]}, x.physics)
+                for order, truncation in enumerate(x.theory["truncation"])]
+    return [Estimate("series", None, {}, available=False, why_not=(
+        f"e = {m.eccentricity:.4g} exceeds the Laplace limit {LAPLACE_LIMIT:.4f}: the e-power series "
+        "of the Hansen coefficients diverge"))]
+
+
+def _numerical_estimates(ladder, x: EstimateInputs) -> list:
+    too_long = numerical_unavailable(ladder.model, x.t)
+    if too_long is None:
+        return [rung_estimate("numerical", None, {"integration": integration_bound(ladder.model, x.span_days)},
+                              x.physics)]
+    return [Estimate("numerical", None, {}, available=False, why_not=too_long)]
+
+
+def _real_orbit_estimates(ladder, x: EstimateInputs) -> list:
+    m = ladder.model
+    why = numerical_unavailable(m, x.t) or real_orbit_unavailable(ladder.body, x.t)
+    if why is None:
+        return [rung_estimate("real_orbit", None, {"integration": integration_bound(m, x.span_days),
+                                                   "ephemeris": ephemeris_bound(ladder.body, m, x.span_days)},
+                              x.physics)]
+    return [Estimate("real_orbit", None, {}, available=False, why_not=why)]
+
+
+def _real_orbit_cost(p: TrackPrice) -> list:
+    # integrated from the elements' epoch through the pole's and the track's
+    epochs_jd = (p.start, p.stop, p.body.pole.epoch_jd_tdb, p.body.orbit.epoch_jd_tdb)
+    return [cost.second_order(p.count, p.harmonics), cost.spin_integration(p.orbits, p.e, p.count),
+            cost.orbit_integration(max(epochs_jd) - min(epochs_jd))]
+
+
+#: The rungs, cheapest first.
+RUNGS: tuple[Rung, ...] = (
+    Rung("secular", "precession only: no nutation", ("no nutation", FIXED_ORBIT),
+         lambda p: [cost.harmonic_sum(p.count, 0, "step_days", "the secular track")],
+         lambda ladder, m, t, order: secular_track(m, t),
+         lambda ladder, x: [rung_estimate("secular", None, {"nutation_omitted": x.theory["nutation_omitted"],
+                                                            "second_order": x.theory["second_order"]}, x.physics)]),
+    Rung("series", "Kinoshita-Cayley nutation, Hansen coefficients as e-power series truncated at e^order",
+         ("first order in the torque", "Hansen coefficients truncated at a power of e", FIXED_ORBIT),
+         lambda p: [cost.hansen_build(p.e, p.order), cost.harmonic_sum(p.count, p.order + 2, "step_days", "the track")],
+         lambda ladder, m, t, order: cached_model(ladder.body, order).track(t),
+         _series_estimates),
+    Rung("hansen", "Kinoshita-Cayley nutation with exact Hansen coefficients (first order in the torque)",
+         ("first order in the torque: the equinox drift is not fed back into the nutation phases", FIXED_ORBIT),
+         lambda p: [cost.harmonic_sum(p.count, p.harmonics, "step_days", "the track")],
+         lambda ladder, m, t, order: m.track(t),
+         lambda ladder, x: [rung_estimate("hansen", None, {"second_order": x.theory["second_order"]}, x.physics)]),
+    Rung("second_order", "second order in the torque: the equinox drift re-phases the nutation, plus the "
+                         "second-order mean rates",
+         ("second order in the torque", FIXED_ORBIT),
+         lambda p: [cost.second_order(p.count, p.harmonics)],
+         lambda ladder, m, t, order: second_order_track(m, ladder.theory, t),
+         lambda ladder, x: [rung_estimate("second_order", None, {"higher_order": x.theory["higher_order"]},
+                                          x.physics)]),
+    # the numerical rungs: the second-order mean track is subtracted from the integrated pole
+    Rung("numerical", "rotation-averaged torque integrated numerically along the fixed Keplerian orbit",
+         (FIXED_ORBIT,),
+         lambda p: [cost.second_order(p.count, p.harmonics), cost.spin_integration(p.orbits, p.e, p.count)],
+         _numerical_track, _numerical_estimates),
+    Rung("real_orbit", "rotation-averaged torque integrated along the real orbit (DE421 and planetary perturbations)",
+         ("orbit from DE421 (planets) or integrated under the DE421 planets (asteroids)",),
+         _real_orbit_cost, _real_orbit_track, _real_orbit_estimates),
+)
+#: Their names, cheapest first (a track's ``model.name``).
+RUNG_NAMES: tuple[str, ...] = tuple(r.name for r in RUNGS)
+_BY_NAME = {r.name: r for r in RUNGS}
+
+
+def rung_named(name: str, body: str | None = None) -> Rung:
+    """The rung of that name; an unknown name is refused, listing the rungs."""
+    if name not in _BY_NAME:
+        raise InvalidInputError("model", f"unknown rung {name!r}; one of {', '.join(RUNG_NAMES)}", body)
+    return _BY_NAME[name]
