@@ -75,6 +75,8 @@ from ..base.errors import InvalidInputError
 from ..orbit.lunar import (DAYS_PER_CENTURY, centuries, delaunay_arguments, delaunay_rates, gm_km3_day2, lunisolar_data,
                            moon_position, obliquity_arcsec, sun_position)
 from ..theory.tracks import AXES
+from ..orbit.de421 import GM_DE421, GM_SUN_DE421, barycentric, check_span
+from ..orbit.geometry import icrf_to_ecliptic_matrix
 
 PERTURBERS = ("moon", "sun")
 #: Default FFT grid on the torus (l, l', F, D, Ω). Against (32, 16, 32, 32, 8) and
@@ -568,9 +570,6 @@ def integrate_de421(jd_start: float, jd_stop: float, hd, step_days: float = 0.5,
     (the nutation then only offsets the run by a constant). The starting ψ matters: an error x
     in it shifts every nutation phase by x times the argument's Ω multiplier.
     """
-    from ..orbit.de421 import GM_DE421, GM_SUN_DE421, barycentric, check_span
-    from ..orbit.geometry import icrf_to_ecliptic_matrix
-
     if not jd_start <= epoch <= jd_stop:
         raise ValueError(f"epoch {epoch} outside [{jd_start}, {jd_stop}]")
     check_span("Earth", jd_start, jd_stop)

@@ -47,9 +47,11 @@ from ..base.paths import data_dir
 from ..base.constants import ARCSEC, MAS
 from ..orbit.kepler import solve_kepler, true_anomaly
 from .kinoshita import eccentricity_factor, pole_displacements
-from .precession_nutation import PrecessionNutation
+from .precession_nutation import PrecessionNutation, cached_model
 from .rigid_body import body_moments
 from .rotation_scale import error_terms
+from ..orbit.de421 import DE421_BODIES, de421_span, sun_path, tdb_date
+from .integration import integrate_spin_axis
 
 #: The gap is sampled at t0 + k days (k whole): the bins' ends are samples.
 GAP_STEP_DAYS = 1.0
@@ -161,8 +163,6 @@ def measure_orbit_motion(body: Body, model: PrecessionNutation, start: float, st
                          step_days: float = 1.0) -> OrbitMotion:
     """Measure the envelopes of :class:`OrbitMotion` against the real orbit over [start, stop] (JD TDB)
     (without the gap: :func:`measure_pole_gap`)."""
-    from ..orbit.de421 import sun_path
-
     t = np.arange(start, stop, step_days)
     path = sun_path(body, start, stop)
     to_orbit = model.icrf_from_orbit          # orbit frame -> ICRF; rows @ it: ICRF -> orbit
@@ -235,10 +235,6 @@ def measure_pole_gap(body: Body, start: float, stop: float, starts, rtol: float,
     for Eros, 5.4e-6 for Mars, 1e-3 for the Earth) that is at most 1.2e-6 of the gap (Eros), and
     :data:`START_ALLOWANCE` is added for it.
     """
-    from ..orbit.de421 import sun_path
-    from .precession_nutation import cached_model
-    from .integration import integrate_spin_axis
-
     model = cached_model(body)
     t0, h = model.pole_epoch, GAP_STEP_DAYS
     if not start <= t0 <= stop:
@@ -440,8 +436,6 @@ def rotation_averaging_bound(body: Body, model: PrecessionNutation, jd_tdb, axis
 
 def real_orbit_unavailable(body: Body, jd_tdb: np.ndarray) -> str | None:
     """Why rung 6 cannot serve these epochs, or None if it can."""
-    from ..orbit.de421 import DE421_BODIES, de421_span, tdb_date
-
     if body.orbit.center != "Sun":
         return (f"the orbit is centred on the {body.orbit.center}: the real-orbit rung follows heliocentric "
                 "orbits only")
@@ -467,8 +461,6 @@ def ephemeris_bound(body: Body, model: PrecessionNutation, span_days: float) -> 
 
 def sun_path_for(body: Body, jd_tdb: np.ndarray):
     """The real Sun path covering the epochs and the pole epoch (where the integration starts)."""
-    from ..orbit.de421 import sun_path
-
     t = np.asarray(jd_tdb, dtype=float)
     t0 = body.pole.epoch_jd_tdb
     return sun_path(body, min(t0, float(t.min())), max(t0, float(t.max())))

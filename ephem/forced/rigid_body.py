@@ -57,13 +57,17 @@ Directions of L and of the C axis converge to ~1e-14 rad over a year.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..orbit.kepler import solve_kepler_scalar
 from .precession_nutation import PrecessionNutation
 from .rotation_scale import SunGeometry, forced_angular_velocity, forcing_amplitude_rate, sun_azimuth_rate
+from ..base.errors import InvalidInputError, UnknownBodyError
+from ..bodies.catalogue import get_body
+from .integration import angular_separation, integrate_spin_axis
+from .kinoshita import nutation_series, precession_rate, scaling_factor
 
 # --------------------------------------------------------------------------- inputs
 
@@ -105,9 +109,6 @@ def model_moments(model: PrecessionNutation) -> tuple[float, float, float]:
     A model of a body outside the shipped catalogues has to be given its moments
     explicitly (or :func:`worst_case_moments`).
     """
-    from ..bodies.catalogue import get_body
-    from ..base.errors import InvalidInputError, UnknownBodyError
-
     try:
         body = get_body(model.body, model.dataset)
     except (UnknownBodyError, InvalidInputError):
@@ -386,10 +387,6 @@ def synthetic_model(model: PrecessionNutation, spin_orbit_ratio: float, hd: floa
     (Δψ, Δε) at the pole epoch are kept, so every ratio starts from the same
     pole in the same frame. Bypasses ``MIN_SPIN_ORBIT_RATIO`` on purpose.
     """
-    from dataclasses import replace
-
-    from .kinoshita import nutation_series, precession_rate, scaling_factor
-
     hd = model.hd if hd is None else hd
     omega = spin_orbit_ratio * model.mean_motion
     K = scaling_factor(model.mean_motion, omega, hd)
@@ -422,8 +419,6 @@ def compare_with_averaged(model: PrecessionNutation, jd_tdb, moments=None, initi
     Both start with L on the pole (rung 7 with ``start="aligned"``), the comparison the averaged theory's
     convergence as ω/n falls is about; the forced start, the rotation-scale terms and their error estimate are
     compared in :mod:`studies.rotation_scale` and tests/test_rotation_scale.py."""
-    from .integration import angular_separation, integrate_spin_axis
-
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     rig = integrate_rigid_body(model, t, moments, initial_angle, rtol=rtol, start="aligned")
     avg = integrate_spin_axis(model, t, rtol=rtol)

@@ -43,7 +43,7 @@ from ..orbit.harmonics import series_extrema
 from ..orbit.kepler import mean_motion_rad_per_day
 from .kinoshita import mean_pole, nutation_coefficients, precession_rate, scaling_factor
 from ..base.memo import bytes_bounded
-from .precession_nutation import cached_model, model_for
+from .precession_nutation import build_model, cached_model, model_for
 
 #: Central-difference step as a fraction of the input's σ. The linear σ is J·σ with J the
 #: derivative at the nominal point. Truncation error of the central difference, relative:
@@ -619,8 +619,6 @@ def _perturbed_body(b: Body, inputs: list[_Input], x: np.ndarray) -> Body:
 
 
 def _pole_vectors(b: Body, order: int | None, jd_tdb: np.ndarray) -> np.ndarray:
-    from .precession_nutation import build_model
-
     tr = build_model(b, order).track(jd_tdb)
     cd = np.cos(tr.pole_dec)
     return np.stack([cd * np.cos(tr.pole_ra), cd * np.sin(tr.pole_ra), np.sin(tr.pole_dec)], axis=-1)

@@ -1,4 +1,4 @@
-"""The spin axis over millennia and millions of years: the averaged spin equation along a moving orbit.
+"""The averaged spin equation, integrated along a moving orbit over millennia and millions of years.
 
 Averaged over the rotation and over the orbit, the torque of the orbit's centre (and, for the Earth, of the
 Moon, whose orbit precesses about the ecliptic in 18.6 years) turns the unit spin axis ŝ about the orbit
@@ -37,6 +37,7 @@ from ..base.constants import J2000_JD, JULIAN_YEAR_DAYS
 from ..orbit.geometry import angle_between, icrf_to_ecliptic_matrix, lon_lat
 from ..orbit.relativity import geodesic_precession_rate
 from ..forced.uncertainty import dynamical_ellipticity_sigma, input_sigmas
+from ..theory.cost import spin_history
 
 #: DOP853's relative tolerance: over 4 Myr (the shipped N-body orbits) the Earth's pole moves by 0.9″ at 1e-10,
 #: Vesta's by 0.5″, Ceres' and Mars' by 0.1″, their obliquities by at most 0.13″, far below the nutation the
@@ -107,8 +108,6 @@ class SpinConstants:
 
     def cost(self, span_years: float, epochs: int):
         """What :meth:`history` costs over ``span_years`` at ``epochs`` epochs (:func:`ephem.theory.cost.spin_history`)."""
-        from ..theory.cost import spin_history
-
         return spin_history(span_years, epochs)
 
 

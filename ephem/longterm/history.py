@@ -1,4 +1,4 @@
-"""The spin axis over millennia and millions of years: a body's history, through its own theory.
+"""A body's history request over millennia and millions of years: the orbit chosen, the cost charged, the answer shaped.
 
 Every family of :mod:`ephem.families` gives its body's spin averaged over the rotation and the orbit
 (:meth:`~ephem.theory.interface.SpinAxisTheory.secular_spin`: the averaged spin equation of :mod:`ephem.longterm.averaged_spin`
@@ -35,11 +35,14 @@ import numpy as np
 
 from ..theory import cost
 from ..base.budget import charge, checkpoint
-from ..bodies.catalogue import DEFAULT_DATASET, Body
+from ..bodies.catalogue import DEFAULT_DATASET, Body, load_catalogue
 from ..base.constants import MAS
 from ..base.errors import InvalidInputError, NotApplicableError, count_text
 from ..orbit.geometry import angle_between
 from .averaged_spin import MEANINGFUL_LIMIT, SpinHistory, outward_max
+from .nbody_orbit import (SHIPPED_ASTEROIDS, SHIPPED_BODIES, SHIPPED_PLANETS, load_metadata, nbody_cost_seconds,
+                          nbody_orbit_history, shipped_orbit_history)
+from .secular_orbit import planet_secular_history, secular_orbit_history
 
 ORBIT_MODELS = ("secular", "nbody")
 DESCRIPTIONS = {
@@ -102,8 +105,6 @@ def _is_planet(b: Body, orbit_body: str) -> bool:
 
 def _shipped(b: Body, orbit_body: str):
     """The shipped N-body history of a catalogue body's orbit, or None."""
-    from .nbody_orbit import SHIPPED_BODIES, shipped_orbit_history
-
     if b.dataset == "user" or orbit_body not in SHIPPED_BODIES:
         return None
     if b.dataset != "current" and not _is_planet(b, orbit_body):
@@ -113,8 +114,6 @@ def _shipped(b: Body, orbit_body: str):
 
 def secular_orbit(b: Body, orbit_body: str):
     """The secular orbit of the body whose orbit drives ``b``'s spin (the Moon's: the Earth's)."""
-    from .secular_orbit import planet_secular_history, secular_orbit_history
-
     if orbit_body != b.name:
         return planet_secular_history(orbit_body)
     if _is_planet(b, orbit_body):
@@ -129,8 +128,6 @@ def orbit_choices(b: Body, orbit_body: str, lo: float, hi: float, on_demand: boo
     """The orbit models for ``b`` over [lo, hi] years, cheapest first; unavailable ones say why. ``on_demand``:
     whether a body without a shipped N-body orbit may have one run for it (a history may; the ``long_term``
     model of a track, whose estimate every track by tolerance computes, may not)."""
-    from .nbody_orbit import nbody_cost_seconds, nbody_orbit_history
-
     out = []
     try:
         out.append(OrbitChoice("secular", secular_orbit(b, orbit_body)))
@@ -180,8 +177,6 @@ class _LazyNbody:
 
 @lru_cache(maxsize=8)
 def _nbody(orbit, span: tuple[float, float]):
-    from .nbody_orbit import nbody_orbit_history
-
     # the shipped step, or finer on a short span (the run needs three samples a side)
     return nbody_orbit_history(orbit, span[0], span[1], min(500.0, max(span[1] - span[0], 1e-3) / 8.0))
 
@@ -201,8 +196,6 @@ def nbody_orbit_error(orbit_body: str, years: np.ndarray) -> np.ndarray:
       clones part linearly, a chaotic one's exponentially); where the run never reached 1′, the largest
       recorded gap grown linearly to the span's end.
     """
-    from .nbody_orbit import load_metadata
-
     entry = load_metadata()["body"][orbit_body]
     t = np.asarray(years, dtype=float)
     out = np.full(t.shape, sample_noise(orbit_body))
@@ -233,8 +226,6 @@ def sample_noise(orbit_body: str) -> float:
     other sample at the samples between (the osculating normal's terms of synodic periods, aliased)."""
     from scipy.interpolate import CubicSpline
 
-    from .nbody_orbit import shipped_orbit_history
-
     h = shipped_orbit_history(orbit_body)
     even = CubicSpline(h.years[::2], h.pole[::2], axis=0)
     mid = h.years[1:-1:2]
@@ -246,10 +237,6 @@ def sample_noise(orbit_body: str) -> float:
 def secular_envelope(kind: str) -> tuple[np.ndarray, np.ndarray]:
     """How far the secular orbit normal strays from the N-body one, as the largest over the shipped bodies of
     ``kind`` ("planet" or "small body") within |t| (years; radians), for an orbit with no N-body history."""
-    from ..bodies.catalogue import load_catalogue
-    from .nbody_orbit import SHIPPED_ASTEROIDS, SHIPPED_PLANETS, shipped_orbit_history
-    from .secular_orbit import planet_secular_history, secular_orbit_history
-
     names = SHIPPED_PLANETS if kind == "planet" else SHIPPED_ASTEROIDS
     cat = load_catalogue(DEFAULT_DATASET)
     grid = np.linspace(0.0, 1.0e6, 2001)

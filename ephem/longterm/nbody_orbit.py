@@ -56,6 +56,8 @@ from ..bodies.catalogue import Orbit, load_catalogue
 from ..base.paths import data_dir
 from ..base.constants import J2000_JD, JULIAN_YEAR_DAYS
 from ..base.errors import InvalidInputError, NotApplicableError
+from ..orbit.de421 import GM_DE421, GM_SUN_DE421, barycentric
+from ..orbit.geometry import icrf_to_ecliptic_matrix
 
 #: the massive bodies of the run: (name, NAIF id of the DE421 barycentre, GM keys in GM_DE421 (none: the Sun))
 MASSIVE = (("Sun", 10, ()), ("Mercury", 1, (1,)), ("Venus", 2, (2,)), ("Earth", 3, (399, 301)),
@@ -92,9 +94,6 @@ def years_to_jd(years):
 
 def _massive_states(jd_tdb: float):
     """(mass over the Sun's, ecliptic-J2000 barycentric position au, velocity au/day) of MASSIVE at ``jd_tdb``."""
-    from ..orbit.de421 import GM_DE421, GM_SUN_DE421, barycentric
-    from ..orbit.geometry import icrf_to_ecliptic_matrix
-
     rot = icrf_to_ecliptic_matrix()
     out = []
     for _, naif, keys in MASSIVE:
@@ -106,8 +105,6 @@ def _massive_states(jd_tdb: float):
 
 def _new_simulation(jd_tdb: float, integrator: str, dt_days: float):
     import rebound
-
-    from ..orbit.de421 import GM_SUN_DE421
 
     sim = rebound.Simulation()
     sim.G = GM_SUN_DE421           # au^3 / day^2 / M_sun: G M_sun = k^2

@@ -51,6 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..base.errors import NotApplicableError
+from ..orbit.kepler import solve_kepler
 
 #: Hansen-mean samples of (a/r)³ cos 2(f − M) over an orbit: the trapezoid rule on a periodic analytic
 #: function converges geometrically; 512 points give 1e-15 relative at e = 0.5
@@ -190,8 +191,6 @@ def longitude_hansen_factor(e: float) -> float:
     """H(e): the orbit mean of (a/r)³ cos 2(f − M), the restoring torque's factor of the longitude libration
     (1 − 5e²/2 + 13e⁴/16 + …; evaluated exactly by the trapezoid rule over the mean anomaly)."""
     m = np.linspace(0.0, 2.0 * math.pi, _ORBIT_SAMPLES, endpoint=False)
-    from ..orbit.kepler import solve_kepler
-
     E = solve_kepler(m, e)
     f = 2.0 * np.arctan2(math.sqrt(1.0 + e) * np.sin(0.5 * E), math.sqrt(1.0 - e) * np.cos(0.5 * E))
     a_r = 1.0 / (1.0 - e * np.cos(E))

@@ -139,6 +139,8 @@ import numpy as np
 from ..base.constants import ARCSEC, GENERAL_PRECESSION_ARCSEC_PER_CENTURY, JULIAN_CENTURY_DAYS
 from ..base.errors import InvalidInputError
 from ..orbit.lunar import delaunay_arguments, delaunay_rates, gm_km3_day2, moon_position, sun_position
+from ..base.paths import data_dir
+from ..bodies.catalogue import get_body
 
 #: p_A, the general precession in longitude (IERS Conventions 2010 eq. 5.39, Capitaine et al. 2003), rad/day: the
 #: rate at which the mean equinox of date, the origin of Ω and of the Moon's longitude, regresses. The frame of
@@ -917,8 +919,6 @@ def moon_physical_librations(moments=None, *, sun: bool = True, grid: tuple = DE
     librations (terms in l ± F, l − 3F: 1.3″ in the pole, 1.9″ in the long axis for DE421's offset): a body
     without its degree-3 field is another body."""
     if moments is None:
-        from ..bodies.catalogue import get_body
-
         moments = get_body("Moon").moments
     grid = tuple(int(g) for g in grid)
     if len(grid) != 5 or min(grid) < 4 or any(g % 2 for g in grid):
@@ -995,8 +995,6 @@ def read_series_csv(path) -> PhysicalLibrations:
 
 @lru_cache(maxsize=1)
 def _shipped() -> dict:
-    from ..base.paths import data_dir
-
     out = {}
     for path in sorted((data_dir() / SHIPPED_DIR).glob("*.csv")):
         series = read_series_csv(path)

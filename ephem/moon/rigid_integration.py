@@ -84,6 +84,7 @@ from .cassini import SynchronousOrbit, cassini_pole, cassini_state
 from ..base.constants import DAY_S, GM_EARTH, GM_SUN, J2000_JD
 from ..forced.rigid_body import (normalised_moments, quaternion_from_matrix, rotation_matrices, solve_both_ways,
                                  warm_kepler)
+from ..orbit.lunar import centuries, delaunay_arguments, delaunay_rates, lunisolar_data, moon_position, sun_position
 
 #: Grid of the tabulated real Moon and Sun, days (cubic Lagrange interpolation: see the module docstring).
 TABLE_STEP_DAYS = 0.25
@@ -170,8 +171,6 @@ def ecliptic_j2000_from_date(jd_tdb) -> np.ndarray:
 
 def real_moon_vectors(jd_tdb, spin_rate: float) -> tuple[np.ndarray, np.ndarray]:
     """The torque vectors (moon, sun), each (N, 3), evaluated directly (no table) at JD TDB."""
-    from ..orbit.lunar import centuries, delaunay_arguments, moon_position, sun_position
-
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     args = delaunay_arguments(t)
     arg = tuple(args[:, k] for k in range(5))
@@ -337,8 +336,6 @@ class Anomalies:
 
     @classmethod
     def of_moon(cls, jd_tdb: float) -> Anomalies:
-        from ..orbit.lunar import centuries, delaunay_arguments, delaunay_rates, lunisolar_data
-
         args = delaunay_arguments(jd_tdb)
         rates = delaunay_rates(float(centuries(jd_tdb)))
         rows = np.array(lunisolar_data()["moon"]["longitude_distance"], dtype=float)
