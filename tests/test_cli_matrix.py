@@ -136,7 +136,7 @@ def _records(result) -> object:
 
 def parse_table(text: str) -> tuple[list[str], list[list[str]]]:
     """(header, rows) of the CLI's aligned table: a header line, a rule of dashes per column, rows; every line
-    as wide as the rule, each cell right-aligned in its column's span (what ``cli._rows_to_table`` writes)."""
+    as wide as the rule, each cell right-aligned in its column's span (what ``ephem.cli.common.rows_to_table`` writes)."""
     lines = text.rstrip("\n").split("\n")
     assert len(lines) >= 3, f"a table needs a header, a rule and a row:\n{text}"
     rule = lines[1]

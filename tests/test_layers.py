@@ -39,8 +39,8 @@ ALLOWED = {
 #: Function-local imports of the library's own modules, each deferring a slow third-party package that the
 #: importing module must not load at its own import: (importer, imported) -> why.
 DEFERRED = {
-    ("ephem.cli", "ephem.api"): "numpy, astropy and the theories: `ephem --help` answers without them "
-                                "(tests/test_cli_imports.py)",
+    (f"ephem.cli.{m}", "ephem.api"): "numpy, astropy and the theories: `ephem --help` answers without them "
+                                     "(tests/test_cli_imports.py)" for m in ("common", "one_body", "files", "demo")
 }
 
 

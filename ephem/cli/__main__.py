@@ -1,0 +1,4 @@
+"""``python -m ephem.cli``: what the ``ephem`` script runs."""
+from . import main
+
+main()

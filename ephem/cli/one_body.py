@@ -1,0 +1,238 @@
+"""The CLI's answers about one body or a catalogue, printed as JSON, CSV or a table: ``ephem bodies | body |
+precession | nutation | track | history | free-motion``.
+
+Each command imports :mod:`ephem.api` when it runs, not at the top, so that ``--help`` and usage errors answer
+without numpy and the theories (tests/test_cli_imports.py).
+"""
+from __future__ import annotations
+
+import sys
+from typing import Optional
+
+import typer
+
+from .common import DatasetOpt, Format, FormatOpt, OrderOpt, ToleranceOpt, app, emit, fail, flat_answer
+
+@app.command()
+def bodies(dataset: str = DatasetOpt, fmt: Format = FormatOpt):
+    """List the catalogue's bodies."""
+    from .. import api
+
+    try:
+        rows = api.list_bodies(dataset)
+    except api.EphemError as exc:
+        fail(exc)
+    emit(rows, fmt, rows)
+
+
+#: the columns of ``ephem body``'s CSV (every scalar of a value) and table (what fits a terminal's line: the
+#: reasons for a missing sigma and the notes are sentences)
+BODY_CSV_COLUMNS = ("quantity", "value", "unit", "uncertainty", "no_uncertainty", "source", "note")
+BODY_TABLE_COLUMNS = ("quantity", "value", "unit", "uncertainty", "source")
+
+
+@app.command()
+def body(name: str = typer.Argument(..., metavar="BODY"), dataset: str = DatasetOpt, fmt: Format = FormatOpt):
+    """Full catalogue record of BODY (name or NAIF id): values, units, uncertainties, sources.
+
+    JSON (the default) is the whole record. CSV and table give one row per value (CSV: quantity, value, unit,
+    uncertainty, no_uncertainty, source, note; the table leaves out the reasons and notes); the body's identity,
+    H_d and the correlations of the values' errors then go to stderr.
+    """
+    from .. import api
+
+    try:
+        record = api.body_record(name, dataset)
+    except api.EphemError as exc:
+        fail(exc)
+    if fmt is Format.json:
+        emit(record, fmt)
+        return
+    corr = "; ".join(f"{a} ~ {b}: {c['value']:.4g}" for c in record["correlations"] for a, b in [c["inputs"]])
+    typer.echo(f"{record['name']} (NAIF {record['naif_id']}, {record['kind']}), dataset {record['dataset']}: H_d "
+               f"{record['dynamical_ellipticity']:.10g} from {record['dynamical_ellipticity_from']}, perturbers "
+               f"{', '.join(record['perturbers'])}" + (f"; correlations {corr}" if corr else ""), err=True)
+    columns = BODY_CSV_COLUMNS if fmt is Format.csv else BODY_TABLE_COLUMNS
+    rows = [{c: key if c == "quantity" else value[c] for c in columns} for key, value in record["values"].items()]
+    emit(record, fmt, rows)
+
+
+@app.command()
+def precession(name: str = typer.Argument(..., metavar="BODY"), dataset: str = DatasetOpt,
+               fmt: Format = FormatOpt, order: Optional[int] = OrderOpt,
+               tolerance_mas: Optional[float] = ToleranceOpt,
+               perturbers: Optional[str] = typer.Option(None, "--perturbers", help="The torquing bodies, comma-separated: default the "
+                                          "catalogue's (the Earth: moon,sun, the lunisolar theory); sun for the "
+                                          "single-perturber answer.")):
+    """Obliquity, dynamical ellipticity, scaling factor K and precession rate of BODY."""
+    from .. import api
+
+    try:
+        ans = api.precession(name, dataset, order, tolerance_mas, perturbers=perturbers)
+    except api.EphemError as exc:
+        fail(exc)
+    emit(ans, fmt, [flat_answer(ans)])
+
+
+@app.command()
+def nutation(name: str = typer.Argument(..., metavar="BODY"), dataset: str = DatasetOpt,
+             fmt: Format = FormatOpt, order: Optional[int] = OrderOpt,
+             tolerance_mas: Optional[float] = ToleranceOpt,
+             perturbers: Optional[str] = typer.Option(None, "--perturbers", help="The torquing bodies, comma-separated: default the "
+                                          "catalogue's (the Earth: moon,sun, the lunisolar theory); sun for the "
+                                          "single-perturber answer."),
+             cut_mas: Optional[float] = typer.Option(None, "--cut-mas", help="The lunisolar series (the Earth "
+                                                     "with the Moon): keep the terms whose amplitude reaches this "
+                                                     "many mas (default 0.1).")):
+    """Nutation series of BODY in longitude and obliquity (harmonics of the mean anomaly; for the Earth with
+    the Moon, integer combinations of the Delaunay arguments l, l', F, D, Omega)."""
+    from .. import api
+
+    try:
+        ans = api.nutation(name, dataset, order, tolerance_mas, perturbers=perturbers, cut_mas=cut_mas)
+    except api.EphemError as exc:
+        fail(exc)
+    rows = []
+    for term in ans["terms"]:       # the Delaunay multipliers as five columns in CSV and tables
+        row = {k: v for k, v in term.items() if k != "delaunay_multipliers"}
+        if term.get("delaunay_multipliers") is not None:
+            row = {"multiple": None, **dict(zip(api.DELAUNAY_COLUMNS, term["delaunay_multipliers"])), **row}
+        rows.append(row)
+    emit(ans, fmt, rows)
+
+
+@app.command()
+def track(name: str = typer.Argument(..., metavar="BODY"),
+          start: str = typer.Option(..., "--start", help="ISO 8601 (UTC unless a scale follows) or JD TDB."),
+          stop: str = typer.Option(..., "--stop", help="ISO 8601 or JD TDB."),
+          step_days: float = typer.Option(..., "--step-days", help="Sampling step in days."),
+          dataset: str = DatasetOpt, fmt: Format = FormatOpt, order: Optional[int] = OrderOpt,
+          tolerance_mas: Optional[float] = ToleranceOpt,
+          model: Optional[str] = typer.Option(None, "--model", help="A rung of the fidelity ladder: "
+                                              "secular, series, hansen, second_order, numerical, real_orbit; "
+                                              "lunisolar for the Earth with the Moon (its default)."),
+          axis: str = typer.Option("figure", "--axis", help="The pole to follow: figure (the axis of largest "
+                                   "inertia, which circles the angular momentum by the free wobble) or "
+                                   "angular_momentum."),
+          wobble_phase: Optional[float] = typer.Option(None, "--free-wobble-phase-deg", help="Position angle of "
+                                                       "the figure axis about the angular momentum at the wobble "
+                                                       "epoch (north through east): lets the track add the free "
+                                                       "wobble when the tolerance needs it."),
+          wobble_j: Optional[float] = typer.Option(None, "--free-wobble-J-arcsec", help="The wobble's amplitude "
+                                                   "(default: the published one)."),
+          wobble_epoch: Optional[str] = typer.Option(None, "--free-wobble-epoch", help="Epoch of the phase "
+                                                     "(default: the pole epoch)."),
+          rotation_phase: Optional[float] = typer.Option(None, "--rotation-phase-deg", help="Angle of the long "
+                                                         "(least-inertia) axis in the equator from the orbit's "
+                                                         "ascending node on it at the pole epoch: lets the track add "
+                                                         "the semi-diurnal terms of the rotation scale."),
+          perturbers: Optional[str] = typer.Option(None, "--perturbers", help="The torquing bodies, comma-separated: default the "
+                                          "catalogue's (the Earth: moon,sun, the lunisolar theory); sun for the "
+                                          "single-perturber answer.")):
+    """Spin-axis track of BODY: ψ, Δψ, Δε, obliquity and pole RA/Dec over time.
+
+    The model used (rung, order, estimated error, cost) goes to stderr with --format csv or table.
+    """
+    from .. import api
+
+    try:
+        ans = api.track(name, start, stop, step_days, dataset, order, tolerance_mas=tolerance_mas, model=model,
+                        axis=axis, free_wobble_phase_deg=wobble_phase, free_wobble_J_arcsec=wobble_j,
+                        free_wobble_epoch=wobble_epoch, perturbers=perturbers, rotation_phase_deg=rotation_phase)
+    except api.EphemError as exc:
+        fail(exc)
+    if fmt is not Format.json:
+        info = ans["model"]
+        err = info["estimated_error_mas"]
+        typer.echo(f"model: {info['name']}" + (f" (order {info['order']})" if info["order"] is not None else "")
+                   + (f", estimated error {err:.4g} mas" if err is not None else "")
+                   + (", with the free wobble" if info["free_wobble"] else "")
+                   + (f", with the rotation-scale terms ({info['rotation_scale']['modelled']})"
+                      if info["rotation_scale"] else "")
+                   + f", {info['cost_ms']:.1f} ms", err=True)
+    keys = ["jd_tdb", "psi_arcsec", "delta_psi_arcsec", "delta_epsilon_arcsec", "obliquity_deg",
+            "pole_ra_deg", "pole_dec_deg"]
+    rows = [dict(zip(keys, vals)) for vals in zip(*(ans[k] for k in keys))]
+    if not rows:
+        rows = [dict.fromkeys(keys, "")]
+    emit(ans, fmt, rows)
+
+
+@app.command()
+def history(name: str = typer.Argument(..., metavar="BODY"),
+            start_year: float = typer.Option(..., "--start-year", help="Julian years from J2000.0 TDB (negative: the "
+                                             "past)."),
+            stop_year: float = typer.Option(..., "--stop-year", help="Julian years from J2000.0 TDB."),
+            step_years: float = typer.Option(..., "--step-years", help="Sampling step, Julian years."),
+            dataset: str = DatasetOpt, fmt: Format = FormatOpt, tolerance_mas: Optional[float] = ToleranceOpt,
+            orbit_model: Optional[str] = typer.Option(None, "--orbit-model", help="secular (Laplace-Lagrange) or "
+                                                      "nbody (REBOUND from DE421, shipped for the catalogue's "
+                                                      "bodies); default: the shipped N-body orbit where it covers "
+                                                      "the span, else the secular one."),
+            perturbers: Optional[str] = typer.Option(None, "--perturbers", help="The torquing bodies (default the "
+                                                     "catalogue's)."),
+            quiet: bool = typer.Option(False, "--quiet", help="No progress bar.")):
+    """BODY's spin axis over millennia and millions of years: obliquity, precession angle, pole and orbit
+    inclination, with the estimated error at each epoch.
+
+    The model (orbit, estimate, where the history stops meaning anything, cost) goes to stderr with --format csv
+    or table. A progress bar shows on stderr while the spin is integrated (not with --quiet).
+    """
+    from .. import api
+
+    bar = None if quiet else typer.progressbar(length=1000, label="integrating", file=sys.stderr)
+    shown = [0]
+
+    def progress(fraction: float) -> None:
+        if bar is not None:
+            step = int(1000 * fraction) - shown[0]
+            if step > 0:
+                bar.update(step)
+                shown[0] += step
+
+    try:
+        if bar is not None:
+            bar.__enter__()
+        try:
+            ans = api.history(name, start_year, stop_year, step_years, dataset, tolerance_mas, orbit_model,
+                              perturbers, progress=progress)
+        finally:
+            if bar is not None:
+                bar.__exit__(None, None, None)
+    except api.EphemError as exc:
+        fail(exc)
+    if fmt is not Format.json:
+        info = ans["model"]
+        span = (ans["meaningful_from_year"], ans["meaningful_to_year"])
+        typer.echo(f"model: {info['name']} orbit, estimated error {info['estimated_error_mas'] / 3.6e6:.4g} deg"
+                   + ("" if span == (None, None) else
+                      f", meaningful from {span[0] if span[0] is not None else '-inf'} to "
+                      f"{span[1] if span[1] is not None else 'inf'} years")
+                   + f", {info['cost_ms']:.0f} ms", err=True)
+    keys = ["year", "obliquity_deg", "precession_angle_deg", "pole_ra_deg", "pole_dec_deg", "orbit_inclination_deg",
+            "estimated_error_deg", "obliquity_error_deg"]
+    rows = [dict(zip(keys, vals)) for vals in zip(*(ans[k] for k in keys))]
+    emit(ans, fmt, rows)
+
+
+@app.command("free-motion")
+def free_motion(name: str = typer.Argument(..., metavar="BODY"),
+                start: str = typer.Option(..., "--start", help="ISO 8601 (UTC unless a scale follows) or JD TDB."),
+                stop: str = typer.Option(..., "--stop", help="ISO 8601 or JD TDB."),
+                step_days: float = typer.Option(..., "--step-days", help="Sampling step in days."),
+                j_arcsec: Optional[float] = typer.Option(None, "--J-arcsec", help="Wobble amplitude J at start "
+                                                         "(default: the published one, Lara 2014 Table 1)."),
+                method: str = typer.Option("auto", "--method", help="auto, exact, series or numeric."),
+                dataset: str = DatasetOpt, fmt: Format = FormatOpt):
+    """Torque-free wobble of BODY: the figure axis about the angular momentum, and its periods."""
+    from .. import api
+
+    try:
+        ans = api.free_motion_answer(name, start, stop, step_days, j_arcsec, method, dataset)
+    except api.EphemError as exc:
+        fail(exc)
+    rows = [dict(zip(api.FREE_MOTION_KEYS, vals)) for vals in zip(*(ans[k] for k in api.FREE_MOTION_KEYS))]
+    if fmt is not Format.json:
+        typer.echo(f"{ans['mode']} mode, method {ans['method']}: wobble period {ans['wobble_period_days']:.6g} d, "
+                   f"precession period {ans['precession_period_days']:.6g} d", err=True)
+    emit(ans, fmt, rows or [dict.fromkeys(api.FREE_MOTION_KEYS, "")])
