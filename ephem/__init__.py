@@ -2,7 +2,7 @@
 
 Kinoshita's theory with exact Hansen coefficients (Petit, Souchay & Lhotka 2014, A&A 565, A79),
 checked against a numerical integration of the torque. Start with :mod:`ephem.answers.requests` (answers with
-units in the key names) or :func:`ephem.answers.requests.model_for` (the numeric model: radians, days).
+units in the key names) or :func:`ephem.forced.precession_nutation.model_for` (the numeric model: radians, days).
 
 Importing the package is cheap; astropy loads on the first catalogue read.
 """

@@ -9,10 +9,10 @@ As skyfield's ``api``: ``from ephem import api`` then ``api.track("Vesta", "2040
 """
 from __future__ import annotations
 
-from .answers.requests import (FREE_MOTION_KEYS, MAX_BATCH_ROWS, MAX_TRACK_SAMPLES, REFUSE_ESTIMATE_MAS, TRACK_KEYS,
-                               WARN_ESTIMATE_MAS, answer_cost, batch, body_record, epoch_grid, free_motion_answer,
-                               free_motion_arrays, history, list_bodies, nutation, precession, precession_nutation,
-                               track, track_arrays, warm_up)
+from .answers.batches import MAX_BATCH_ROWS, batch
+from .answers.requests import (FREE_MOTION_KEYS, MAX_TRACK_SAMPLES, REFUSE_ESTIMATE_MAS, TRACK_KEYS, WARN_ESTIMATE_MAS,
+                               answer_cost, body_record, epoch_grid, free_motion_answer, free_motion_arrays, history,
+                               list_bodies, nutation, precession, precession_nutation, track, track_arrays, warm_up)
 from .base import memo
 from .base.budget import Budget, BusyError, DeadlineExceededError, OverBudgetError, budget, charge
 from .base.constants import GM_CENTER

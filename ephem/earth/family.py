@@ -55,6 +55,7 @@ from ..base.constants import JULIAN_CENTURY_DAYS as DAYS_PER_CENTURY
 from ..base.errors import InvalidInputError, NotApplicableError
 from ..rotation.free_motion import add_free_wobble, free_wobble_bound, wobble_model_bound
 from ..orbit.geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
+from ..orbit.de421 import tdb_date
 from ..orbit.kepler import mean_motion_rad_per_day
 from ..forced.kinoshita import eccentricity_factor, mean_pole, pole_displacement_sum, pole_displacements, scaling_factor
 from ..theory.tracks import ROUNDING, pole_vectors, with_free_wobble
@@ -273,8 +274,6 @@ def window() -> tuple[float, float]:
 
 def unavailable(model: LunisolarEarth, jd_tdb: np.ndarray) -> str | None:
     """Why the track cannot be served with an estimate at these epochs, or None."""
-    from ..orbit.de421 import tdb_date  # skyfield and the DE421 kernel: loaded only for this message
-
     lo, hi = window()
     t = np.asarray(jd_tdb, dtype=float)
     need = [model.pole_epoch] + ([float(t.min()), float(t.max())] if t.size else [])

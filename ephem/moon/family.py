@@ -65,6 +65,11 @@ from .physical_librations import EFFECTIVE_MOMENTS, moon_physical_librations, sh
 from .rigid_integration import integrate_synchronous
 from ..theory.interface import (COVERS_ALL_TERMS, COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate, SpinAxisTheory,
                                 Spectrum, rate_values, selection_info)
+from ..forced.rigid_numerics import quaternion_from_matrix
+from ..forced.uncertainty import SCALAR_KEYS, dynamical_ellipticity_sigma, moments_function_sigma, no_uncertainty_reasons
+from ..longterm.averaged_spin import history_arrays
+from ..orbit.lunar import delaunay_arguments, delaunay_rates
+from ..theory.tracks import ROUNDING
 from ..base.units import in_unit
 
 #: The Sun's mean orbit seen from a body of the Earth's neighbourhood: 1 AU, e = 0.0167 (Simon et al. 1994)
@@ -85,8 +90,6 @@ ECLIPTIC_POLE_ARCSEC_PER_CENTURY = 46.998973
 #: (ephem.moon.rigid_integration), 0.02″ at 1e-7
 INTEGRATION_RTOL = 1e-8
 INTEGRATION_ERROR = 0.005 * ARCSEC
-#: a pole's rounding floor (radians): float64 angles over centuries
-ROUNDING = 1e-12
 THEORY = ("Cassini state of a synchronous rotator (ephem.moon.cassini): the spin axis, the orbit normal and the Laplace "
           "pole coplanar, the pole at fixed inclination to the Laplace plane turning with the orbit's node")
 DESCRIPTIONS = {
@@ -283,8 +286,6 @@ def integrate_track(m: SynchronousModel, jd_tdb) -> Track:
     the catalogue pole."""
     import erfa
 
-    from ..forced.rigid_body import quaternion_from_matrix
-
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     t0 = m.pole_epoch
     series = m.series
@@ -334,8 +335,6 @@ class CassiniHistory:
         return cost.cassini_history(epochs)
 
     def history(self, orbit, years, progress=None):
-        from ..longterm.averaged_spin import history_arrays
-
         m = self.model
         years = np.asarray(years, dtype=float)
         t0 = (m.pole_epoch - J2000_JD) / JULIAN_YEAR_DAYS
@@ -489,8 +488,6 @@ class SynchronousTheory(SpinAxisTheory):
         """The node's circle (a base at 0 with the precession's sidebands: the circle's projection on RA and Dec,
         :data:`CIRCLE_SIDEBANDS`) and, with a libration series, its terms above a hundredth of ``aim_mas`` as
         bases, their Delaunay phases linear about ``mid_centuries``."""
-        from ..orbit.lunar import delaunay_arguments, delaunay_rates
-
         m = self.model
         rate = m.precession_rate
         labels, theta0, theta1, amp = [None], [0.0], [0.0], [0.0]
@@ -649,8 +646,6 @@ def rate_uncertainties(b: Body, m: SynchronousModel) -> dict:
     """The precession answer's 1σ where the inputs have one: H_d and K = 2 P(0) ∝ (C − A)/C from the moments' σ
     and correlation (the Moon's: lunar laser ranging's β and γ); the rate is the orbit node's and the mean
     obliquity the catalogue pole's, neither with a published σ (None)."""
-    from ..forced.uncertainty import dynamical_ellipticity_sigma, moments_function_sigma
-
     A, B, C = b.moments
     polar = (C - A) / C
     sigma_polar = moments_function_sigma(b, lambda a, _b, c: (c - a) / c)
@@ -661,8 +656,6 @@ def rate_uncertainties(b: Body, m: SynchronousModel) -> dict:
 
 
 def uncertainty_summary(b: Body) -> dict:
-    from ..forced.uncertainty import SCALAR_KEYS, no_uncertainty_reasons
-
     inputs = sorted(k for k in b.values if k.split(".")[0] in ("orbit", "pole", "rotation", "inertia")
                     and not k.endswith(".epoch"))
     unpropagated = [k for k in inputs if b.values[k].uncertainty is None]

@@ -1,0 +1,152 @@
+"""The batch answer: precession and nutation of many bodies of the caller's at once, synchronously, from rows of
+columns (:mod:`ephem.batch.population`), with the checks that name each bad cell's path."""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+
+from ..base.budget import OverBudgetError, charge, checkpoint
+from ..base.errors import InvalidInputError
+from ..batch import population as pop
+from ..longterm.history import MAX_HISTORY_SAMPLES, MAX_SPAN_YEARS
+
+#: the most rows :func:`batch` takes in one call (the service's is EPHEM_MAX_BATCH_ROWS); a catalogue streams through
+#: ``ephem batch`` (ephem.batch.distributed, on Dask) instead
+MAX_BATCH_ROWS = 100_000
+
+
+def batch(rows, history: dict | None = None, max_rows: int = MAX_BATCH_ROWS, history_path: str = "history.") -> dict:
+    """Precession and nutation of several bodies at once, synchronously (:mod:`ephem.batch.population`): ``rows`` a list of
+    {column: value} (docs/batch_input.md: the orbit, the pole, the period, one inertia form, optional ``_sigma``
+    columns); ``history`` {start_year, stop_year, step_years} adds each body's obliquity range and period (its
+    errors name ``history_path`` + the key: the service passes "" when the client gave them as query parameters).
+
+    Returns ``rows`` (one {output column: value} per input row, in order: docs/batch.md; a bad row has its reason
+    in ``error`` and nulls, the others are unaffected), ``columns`` (the output columns, in order) and ``model``.
+    A malformed request (rows not a list of objects, an unknown column, a bad history) raises
+    :class:`InvalidInputError` naming its path (``rows[3]``, ``rows[0].colour``, ``history.step_years``); a cell
+    that is not a number (or not text, for ``name``) is its row's ``error``, as in ``ephem batch``.
+    The cost is charged before the work, each row at its own eccentricity (:func:`ephem.batch.population.batch_cost`),
+    and a batch above the service's threshold for large work takes its turn before any row is computed.
+    """
+    if not isinstance(rows, list):
+        raise InvalidInputError("rows", "expected a list of objects, one per body, with the columns of "
+                                f"docs/batch_input.md, got {_json_kind(rows)}")
+    for j, r in enumerate(rows):
+        if not isinstance(r, dict):
+            raise InvalidInputError(f"rows[{j}]", "expected a list of objects, one per body, with the columns of "
+                                    f"docs/batch_input.md: this row is {_json_kind(r)}")
+    if not rows:
+        raise InvalidInputError("rows", "no rows: give at least one body")
+    if len(rows) > max_rows:
+        raise InvalidInputError("rows", f"{len(rows)} rows is more than {max_rows} in one request; run "
+                                f"`ephem batch INPUT --out OUTPUT` (ephem.batch.distributed.run) for a catalogue")
+    known = set(pop.INPUT_COLUMNS) | {f"{k}_sigma" for k in pop.SIGMA_INPUTS}
+    for j, r in enumerate(rows):
+        unknown = sorted((k for k in r if k not in known), key=str)
+        if unknown:
+            raise InvalidInputError(f"rows[{j}].{unknown[0]}", f"unknown column(s) {', '.join(map(repr, unknown))}; "
+                                    "the columns are those of docs/batch_input.md")
+    spec = None if history is None else _batch_history(history, history_path)
+    columns, bad = _batch_columns(rows, pop)
+    try:
+        charge(pop.batch_cost(len(rows), spec, pop.sigma_inputs(columns), columns))
+    except OverBudgetError as exc:
+        if exc.field in _HISTORY_KEYS:      # a history's span: named where the client wrote it
+            raise exc.within(history_path) from None
+        raise
+    checkpoint()    # the whole batch is charged: a large one takes its turn (or is refused busy) before any row
+    out = pop.spoil_rows(pop.evaluate(columns, spec), bad)     # a cell that is not a number spoils its row only
+
+    def plain(key, v):
+        if isinstance(v, (float, np.floating)):
+            return None if not math.isfinite(v) else int(v) if key.endswith("_multiple") else float(v)
+        if isinstance(v, np.integer):
+            return int(v)
+        return str(v) if isinstance(v, np.str_) else v
+
+    names = list(out)
+    return {"columns": names, "rows": [{k: plain(k, out[k][j]) for k in names} for j in range(len(rows))],
+            "model": {"name": pop.MODEL, "theory": "Kinoshita's first-order theory with exact Hansen coefficients, "
+                      "vectorised over the bodies (ephem.batch.population); each row equals the single-body answer",
+                      "leading_terms": pop.LEADING_TERMS}}
+
+
+#: the keys of a batch's history, all three required
+_HISTORY_KEYS = ("start_year", "stop_year", "step_years")
+
+
+def _batch_history(history, path: str):
+    """The batch's :class:`ephem.batch.population.HistorySpec`, validated once as every row's history would be
+    (:func:`ephem.batch.population.history_epochs`); errors name ``path`` + the key (``history.step_years``)."""
+    if not isinstance(history, dict):
+        raise InvalidInputError(path.rstrip(".") or "history", "expected {start_year, stop_year, step_years}, "
+                                f"numbers, got {_json_kind(history)}")
+    for key in list(history) + list(_HISTORY_KEYS):
+        if key not in _HISTORY_KEYS:
+            raise InvalidInputError(f"{path}{key}", "unknown key: expected {start_year, stop_year, step_years}")
+        if history.get(key) is None:
+            raise InvalidInputError(f"{path}{key}", "missing: expected {start_year, stop_year, step_years}, numbers")
+    spec = pop.HistorySpec(*(history[k] for k in _HISTORY_KEYS))
+    try:
+        pop.history_epochs(spec)
+    except InvalidInputError as exc:
+        # the batch's rule in the reason too: the OpenAPI document states it in these words
+        raise InvalidInputError(f"{path}{exc.field}", f"{exc.reason} (start_year < stop_year and step_years > 0, "
+                                f"finite numbers, within {MAX_SPAN_YEARS:.3g} years and {MAX_HISTORY_SAMPLES} "
+                                "epochs)") from None
+    return pop.HistorySpec(*(float(history[k]) for k in _HISTORY_KEYS))
+
+
+def _batch_columns(rows: list[dict], pop) -> tuple[dict, dict[int, str]]:
+    """The rows as the population's columns (name as text, the rest floats, NaN where a cell is absent or
+    empty) and {row: reason} for the cells that are not numbers (or not text, for name): ``ephem batch``'s reason
+    (``i_deg: not a number: 'abc'``), the row's error."""
+    n = len(rows)
+    keys = sorted({k for r in rows for k in r} | set(pop.REQUIRED))   # every row counted, absent values missing
+    columns, bad = {}, {}
+    for key in keys:
+        col = np.full(n, "", dtype=object) if key == "name" else np.full(n, np.nan)
+        for j, r in enumerate(rows):
+            v = r.get(key)
+            if v is None or v == "":
+                continue
+            try:
+                col[j] = _batch_cell(key, v)
+            except ValueError as exc:
+                bad.setdefault(j, f"{key}: {exc}")
+        columns[key] = col
+    return columns, bad
+
+
+def _batch_cell(key: str, v):
+    """A cell's value: text for name, else a float; ValueError (the reason) for what is neither."""
+    if isinstance(v, bytes):        # the service's CSV reader gives the raw bytes of a cell that is not UTF-8
+        raise ValueError(f"not UTF-8 text: {v[:40]!r}")
+    if key == "name":
+        if isinstance(v, str):
+            return v
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            return str(v)     # a number as a name (an asteroid's number) is its text
+        raise ValueError(f"not text: {_json_kind(v)}")
+    if isinstance(v, bool) or not isinstance(v, (int, float, str)):
+        raise ValueError(f"not a number: {_json_kind(v)}")
+    try:
+        return float(v)
+    except (ValueError, OverflowError):
+        raise ValueError(f"not a number: {str(v)[:40]!r}") from None
+
+
+def _json_kind(v) -> str:
+    """What a JSON value is, for an error message: its kind, and its JSON text when short."""
+    kind = {bool: "a boolean", dict: "an object", list: "an array", str: "a string", type(None): "null"}.get(
+        type(v), "a number" if isinstance(v, (int, float)) else type(v).__name__)
+    if v is None or isinstance(v, (dict, list)):
+        return kind
+    try:
+        text = json.dumps(v)
+    except (TypeError, ValueError):     # not a JSON value (a library caller's object)
+        text = repr(v)
+    return f"{kind} ({text})" if len(text) <= 40 else kind
