@@ -631,7 +631,7 @@ def falls_below(ratios: list[float], values: list[float], level: float) -> float
 def averaging_rows(s: Settings) -> list[dict]:
     """Per study case and ω/n: rung 5 against rung 7 over one orbit (:func:`studies.rigid_body.averaging_error_study`)."""
     from ephem.forced.precession_nutation import MIN_SPIN_ORBIT_RATIO
-    from ephem.forced.rigid_body import normalised_moments
+    from ephem.forced.rigid_numerics import normalised_moments
 
     from .rigid_body import averaging_error_study, study_cases
 

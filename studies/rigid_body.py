@@ -18,8 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ephem.forced.precession_nutation import PrecessionNutation
-from ephem.forced.rigid_body import (compare_with_averaged, integrate_rigid_body, model_moments, study_epochs,
-                                     synthetic_model)
+from ephem.forced.rigid_body import compare_with_averaged, integrate_rigid_body, study_epochs, synthetic_model
+from ephem.forced.rigid_numerics import model_moments
 
 STUDY_RATIOS = (1.2, 1.5, 2.0, 3.0, 5.0, 10.0, 20.0, 50.0, 100.0, 300.0, 1000.0)
 

@@ -30,7 +30,8 @@ from ephem.orbit.geometry import lon_lat
 from ephem.theory.tracks import ROUNDING
 from ephem.forced.precession_nutation import cached_model
 from ephem.forced.integration import angular_separation, integrate_spin_axis
-from ephem.forced.rigid_body import integrate_rigid_body, normalised_moments, rotation_matrices, study_epochs
+from ephem.forced.rigid_body import integrate_rigid_body, study_epochs
+from ephem.forced.rigid_numerics import normalised_moments, rotation_matrices
 
 from ._command import chart_app
 

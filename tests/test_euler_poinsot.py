@@ -13,7 +13,8 @@ from ephem.bodies.catalogue import get_body, load_catalogue
 from ephem.base.errors import InvalidInputError
 from ephem.rotation.euler_poinsot import (ARCSEC, FreeRotation, _differences, free_motion_periods, jacobi_reduced,
                                           sadov_action_angle)
-from ephem.forced.rigid_body import integrate_states, quaternion_from_matrix, rotation_matrices
+from ephem.forced.rigid_body import integrate_states
+from ephem.forced.rigid_numerics import quaternion_from_matrix, rotation_matrices
 
 R0 = an.euler_matrix(0.3, 1.1, -0.7)
 TRIAXIAL = (0.6, 0.8, 1.0)

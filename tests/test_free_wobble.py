@@ -19,7 +19,8 @@ from ephem.rotation.free_motion import free_motion, free_wobble_bound, observed_
 from ephem.forced.precession_nutation import cached_model
 from ephem.sun.ladder import Ladder
 from ephem.forced.integration import angular_separation
-from ephem.forced.rigid_body import SunOrbit, integrate_states, model_moments, quaternion_from_matrix, rotation_matrices
+from ephem.forced.rigid_body import SunOrbit, integrate_states
+from ephem.forced.rigid_numerics import model_moments, quaternion_from_matrix, rotation_matrices
 from ephem.forced.rotation_scale import SunGeometry, forced_angular_velocity
 
 J2000 = 2451545.0

@@ -9,8 +9,9 @@ from ephem.bodies.catalogue import get_body
 from ephem.orbit.kepler import solve_kepler_scalar
 from ephem.forced.precession_nutation import build_model
 from ephem.forced.integration import angular_separation, integrate_spin_axis
-from ephem.forced.rigid_body import (compare_with_averaged, integrate_rigid_body, model_moments, quaternion_from_matrix,
-                                     rotation_matrices, synthetic_model, warm_kepler, worst_case_moments)
+from ephem.forced.rigid_body import compare_with_averaged, integrate_rigid_body, synthetic_model
+from ephem.forced.rigid_numerics import (model_moments, quaternion_from_matrix, rotation_matrices, warm_kepler,
+                                         worst_case_moments)
 from ephem.forced.rotation_scale import SunGeometry
 
 

@@ -6,6 +6,7 @@
 - :mod:`ephem.forced.physics_errors`: Error terms from physics the fixed-orbit, rotation-averaged theories leave out.
 - :mod:`ephem.forced.precession_nutation`: Precession-nutation model of one body: geometry + Kinoshita's theory, evaluated over time.
 - :mod:`ephem.forced.rigid_body`: Rung 7: the full rigid body, spinning and torqued by the Sun, without rotation averaging.
+- :mod:`ephem.forced.rigid_numerics`: Generic numerics of a rigid body's integration: normalised moments, attitude quaternions, ODE helpers.
 - :mod:`ephem.forced.rotation_scale`: The rotation-scale terms: what averaging the solar torque over the rotation leaves out, in closed form.
 - :mod:`ephem.forced.second_order`: Second order in the torque: the equinox drifts under the precession, and the nutation feeds back.
 - :mod:`ephem.forced.uncertainty`: Propagation of the catalogue's 1-sigma uncertainties to the precession and nutation.

@@ -48,7 +48,7 @@ from ..base.constants import ARCSEC, MAS
 from ..orbit.kepler import solve_kepler, true_anomaly
 from .kinoshita import eccentricity_factor, pole_displacements
 from .precession_nutation import PrecessionNutation, cached_model
-from .rigid_body import body_moments
+from .rigid_numerics import body_moments
 from .rotation_scale import error_terms
 from ..orbit.de421 import DE421_BODIES, de421_span, sun_path, tdb_date
 from .integration import integrate_spin_axis
@@ -420,7 +420,7 @@ def rotation_averaging_bound(body: Body, model: PrecessionNutation, jd_tdb, axis
     :func:`ephem.forced.rotation_scale.error_terms` from t₀ to the farthest epoch on each side of it the epochs reach
     (every track starts at t₀, so a span that does not include it is bounded by the span from t₀).
 
-    A body known only by H_d gets the worst triaxiality its H_d allows (:func:`ephem.forced.rigid_body.worst_case_moments`).
+    A body known only by H_d gets the worst triaxiality its H_d allows (:func:`ephem.forced.rigid_numerics.worst_case_moments`).
     """
     if model.hd == 0.0:  # a sphere: no torque to average
         return 0.0

@@ -30,7 +30,9 @@ towards e₂ = s × e₁, at the pole epoch. It advances as φ̇ = ω + ψ̇ cos
 error of known size (:func:`semi_diurnal_radius`).
 
 Vectors are in the orbit frame of the model (x the mean equinox at the pole epoch, z the orbit
-normal); radians and days.
+normal); radians and days. ``model`` is a :class:`ephem.forced.precession_nutation.PrecessionNutation`, read by its
+attributes: the error estimates (:mod:`ephem.forced.physics_errors`) take these terms without the import chain of
+the model.
 """
 from __future__ import annotations
 
@@ -40,7 +42,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..orbit.kepler import solve_kepler, true_anomaly
-from .precession_nutation import PrecessionNutation
 
 
 @dataclass(frozen=True)
@@ -52,7 +53,7 @@ class SunGeometry:
     torque_strength: np.ndarray   # g = 3 n² (a/r)³, rad²/day²
 
     @classmethod
-    def at(cls, model: PrecessionNutation, jd_tdb) -> SunGeometry:
+    def at(cls, model, jd_tdb) -> SunGeometry:
         t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
         e = model.eccentricity
         nu = true_anomaly(model.mean_anomaly(t), e)
@@ -87,7 +88,7 @@ def long_axis(axis: np.ndarray, phase: np.ndarray) -> np.ndarray:
     return np.cos(phase)[:, None] * e1 + np.sin(phase)[:, None] * e2
 
 
-def rotation_phase(model: PrecessionNutation, jd_tdb, phase_at_pole_epoch: float, psi: np.ndarray) -> np.ndarray:
+def rotation_phase(model, jd_tdb, phase_at_pole_epoch: float, psi: np.ndarray) -> np.ndarray:
     """φ(t) = φ₀ + ω (t - t₀) + cos ε̄ (ψ(t) - ψ(t₀)), radians (ψ the track's precession angle, ψ(t₀) = Δψ(t₀))."""
     t = np.asarray(jd_tdb, dtype=float)
     psi0 = model.nutation_at_pole_epoch[0]
@@ -172,7 +173,7 @@ def forced_angular_velocity(moments, spin_rate: float, sun_body: np.ndarray, g: 
                      spin_rate + (B - A) / (4.0 * C * big) * (g * (x * x - y * y) + change)])
 
 
-def forcing_amplitude_rate(model: PrecessionNutation, axis: np.ndarray, jd_tdb: float) -> float:
+def forcing_amplitude_rate(model, axis: np.ndarray, jd_tdb: float) -> float:
     """d(g p²)/dt (rad²/day³) at ``jd_tdb`` for the spin ``axis`` (orbit frame) held: g = 3 n² (a/r)³ and
     p² = 1 - (s·u)², the Sun's distance from the axis. A central difference over 10⁻⁴ of the time the Sun takes to
     pass pericentre, (1 - e)^(3/2)/n, where g changes fastest: its error, of relative order 10⁻⁸, is far below
@@ -185,7 +186,7 @@ def forcing_amplitude_rate(model: PrecessionNutation, axis: np.ndarray, jd_tdb: 
     return float(gp2[1] - gp2[0]) / (2.0 * h)
 
 
-def sun_azimuth_rate(model: PrecessionNutation, axis: np.ndarray, jd_tdb: float) -> float:
+def sun_azimuth_rate(model, axis: np.ndarray, jd_tdb: float) -> float:
     """λ̇ (rad/day): the rate at which the Sun's azimuth about the spin ``axis`` (orbit frame) turns, ν̇ (W·s)/|u⊥|²,
     W the orbit normal and ν̇ = n (1 + e cos ν)² / (1 - e²)^(3/2) the Sun's angular rate along the orbit."""
     e = model.eccentricity
@@ -246,7 +247,7 @@ LONG_SPAN_AZIMUTHS = 24
 MODELLED = ("none", "oppolzer", "all")
 
 
-def _span_grid(model: PrecessionNutation, span_days: float, count: int) -> np.ndarray:
+def _span_grid(model, span_days: float, count: int) -> np.ndarray:
     """``count`` epochs over [t₀, t₀ + span], even in the eccentric anomaly: the torque peaks at pericentre over
     a time ∝ (1 - e)^(3/2) of the orbit, which an even grid in time misses at high e (30 % low at e = 0.94
     with 512 epochs an orbit), but over a range ∝ (1 - e)^(1/2) of the eccentric anomaly."""
@@ -267,7 +268,7 @@ def samples_per_orbit(e: float) -> int:
     return int(64 + 512 * e)
 
 
-def _drift_rate(model: PrecessionNutation, moments, s: np.ndarray, sun: SunGeometry) -> np.ndarray:
+def _drift_rate(model, moments, s: np.ndarray, sun: SunGeometry) -> np.ndarray:
     """ε cos 2δ dL̂/dt (rad/day, (N, 3)) for poles ``s``: the rate at which the averaged pole departs from the
     rigid body's because the torque acts on the offset figure axis (:data:`DRIFT_FACTOR`)."""
     g, u = sun.torque_strength, sun.direction
@@ -283,7 +284,7 @@ def _cumulative(f: np.ndarray, t: np.ndarray) -> np.ndarray:
     return np.vstack([np.zeros((1, f.shape[1])), np.cumsum(steps, axis=0)])
 
 
-def _long_span_drift(model: PrecessionNutation, moments, span: float) -> float:
+def _long_span_drift(model, moments, span: float) -> float:
     """max |∫ ε cos 2δ dL̂/dt| over a span of many orbits: the orbit-mean rate, largest over the pole's azimuths
     (:data:`LONG_SPAN_AZIMUTHS`), times the span, plus the largest departure within an orbit from that mean."""
     period = 2.0 * math.pi / model.mean_motion
@@ -301,7 +302,7 @@ def _long_span_drift(model: PrecessionNutation, moments, span: float) -> float:
     return worst_rate * (1.0 + 0.5 * (2.0 * math.pi / LONG_SPAN_AZIMUTHS) ** 2) * abs(span) + worst_wiggle
 
 
-def error_terms(model: PrecessionNutation, moments, span_days: float, axis: str = "figure",
+def error_terms(model, moments, span_days: float, axis: str = "figure",
                 modelled: str = "none", pole: str = "figure") -> dict[str, float]:
     """Upper bounds (radians) on what a rotation-averaged track leaves out against the rigid body over
     [t₀, t₀ + span], by named piece, for the pole ``axis`` ("figure" or "momentum") when the track
@@ -414,7 +415,7 @@ def resonance_factor(moments) -> float:
     return max(B * abs(C - 2.0 * A), A * abs(C - 2.0 * B)) / (C * (A + B - C))
 
 
-def sun_rate_ratio(model: PrecessionNutation) -> float:
+def sun_rate_ratio(model) -> float:
     """The Sun's peak angular rate over the spin, n (1 + e)² / ((1 - e²)^(3/2) ω): the small parameter
     the rotation-scale terms drop."""
     e = model.eccentricity

@@ -82,8 +82,8 @@ import numpy as np
 
 from .cassini import SynchronousOrbit, cassini_pole, cassini_state
 from ..base.constants import DAY_S, GM_EARTH, GM_SUN, J2000_JD
-from ..forced.rigid_body import (normalised_moments, quaternion_from_matrix, rotation_matrices, solve_both_ways,
-                                 warm_kepler)
+from ..forced.rigid_numerics import (normalised_moments, quaternion_from_matrix, rotation_matrices, solve_both_ways,
+                                     warm_kepler)
 from ..orbit.lunar import centuries, delaunay_arguments, delaunay_rates, lunisolar_data, moon_position, sun_position
 
 #: Grid of the tabulated real Moon and Sun, days (cubic Lagrange interpolation: see the module docstring).
