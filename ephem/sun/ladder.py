@@ -62,7 +62,7 @@ from ..bodies.catalogue import Body
 from ..forced import rotation_scale
 from ..forced.physics_errors import orbit_motion_bound, rotation_averaging_bound
 from ..forced.precession_nutation import PrecessionNutation, Track, cached_model, check_domain
-from ..forced.rigid_body import body_moments
+from ..forced.rigid_numerics import body_moments
 from ..forced.second_order import SecondOrderTheory
 from ..orbit.kepler import mean_motion_rad_per_day
 from ..rotation.free_motion import Wobble, add_free_wobble, free_wobble_bound, wobble_model_bound
