@@ -76,7 +76,7 @@ def test_the_averaged_equation_follows_the_unaveraged_one_over_two_centuries():
     b = get_body("ceres")
     theory = theory_for(b, b.perturbers)
     s = theory.secular_spin()
-    normal = icrf_to_ecliptic_matrix() @ theory.ladder.model.icrf_from_orbit[:, 2]
+    normal = icrf_to_ecliptic_matrix() @ theory.inner.ladder.model.icrf_from_orbit[:, 2]
     orbit = FixedOrbit(normal, b.orbit.a_au, b.orbit.e)
     years = np.linspace(-100.0, 100.0, 201)
     h = sh.integrate(s, orbit, years)
@@ -84,7 +84,7 @@ def test_the_averaged_equation_follows_the_unaveraged_one_over_two_centuries():
     v = np.stack([np.cos(numerical.pole_dec) * np.cos(numerical.pole_ra),
                   np.cos(numerical.pole_dec) * np.sin(numerical.pole_ra), np.sin(numerical.pole_dec)], axis=-1)
     gap = angle_between(v @ icrf_to_ecliptic_matrix().T, h.spin)
-    budget = s.nutation + theory.ladder.model.first_order_error_bound(200.0 * JULIAN_YEAR_DAYS)
+    budget = s.nutation + theory.inner.ladder.model.first_order_error_bound(200.0 * JULIAN_YEAR_DAYS)
     moved = angle_between(h.spin[0], h.spin[-1])
     assert moved > 30.0 * budget
     assert np.max(gap) < budget, (np.max(gap) / ARCSEC, budget / ARCSEC)

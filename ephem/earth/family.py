@@ -66,9 +66,10 @@ from ..forced.precession_nutation import Track, cached_model, model_for
 from ..forced.physics_errors import rotation_averaging_bound
 from ..orbit.relativity import geodesic_precession_rate
 from ..longterm.averaged_spin import SpinConstants, spin_constants
-from ..theory.interface import (COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate, SpinAxisTheory, Spectrum,
-                                cheapest_within, rate_values, selection_info)
-from ..forced.uncertainty import SCALAR_KEYS, dynamical_ellipticity_sigma, no_uncertainty_reasons
+from ..theory.interface import (COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate, SpectrumExport, SpinAxisTheory,
+                                Spectrum, cheapest_within, rate_values, selection_info)
+from ..forced.catalogue_sigmas import dynamical_ellipticity_sigma, no_uncertainty_reasons
+from ..forced.uncertainty import SCALAR_KEYS
 from ..base.units import in_unit
 from ..orbit.lunar import MIN_CUT_MAS, check_cut
 
@@ -427,7 +428,7 @@ def describe_model(b: Body, per: tuple[str, ...], lm) -> dict:
     return info
 
 
-class LunisolarTheory(SpinAxisTheory):
+class LunisolarTheory(SpinAxisTheory, SpectrumExport):
     """The Earth under the Moon and the Sun (:func:`lunisolar_earth`) behind the common interface: one
     model, ``lunisolar``, whose track is the series at the served amplitude cut."""
 

@@ -20,7 +20,7 @@ from ..base.errors import NotApplicableError
 from .history import DESCRIPTIONS as ORBIT_DESCRIPTIONS
 from .history import long_term_run, long_term_cost
 from ..forced.precession_nutation import Track
-from ..theory.interface import Estimate, SpinAxisTheory
+from ..theory.interface import Estimate, SpectrumExport, SpinAxisTheory
 
 NAME = "long_term"
 DESCRIPTION = ("the spin averaged over the rotation and the orbit, integrated (DOP853) along the long-term orbit "
@@ -40,8 +40,9 @@ def _subsample(years: np.ndarray) -> np.ndarray:
     return np.linspace(float(years.min()), float(years.max()), ESTIMATE_EPOCHS)
 
 
-class WithLongTerm(SpinAxisTheory):
-    """A family (``inner``) with the ``long_term`` model after its own: everything else is the family's."""
+class WithLongTerm(SpinAxisTheory, SpectrumExport):
+    """A family (``inner``) with the ``long_term`` model after its own: everything else is the family's, forwarded
+    method by method (the family's own attributes, its model or ladder, are ``inner``'s)."""
 
     def __init__(self, inner: SpinAxisTheory):
         super().__init__(inner.body, inner.perturbers, inner.axis, inner.wobble, inner.rotation_phase)
@@ -51,9 +52,6 @@ class WithLongTerm(SpinAxisTheory):
         self.descriptions = {**inner.descriptions, NAME: DESCRIPTION}
         self.propagates_uncertainty = inner.propagates_uncertainty
         self.models_rotation_scale = inner.models_rotation_scale
-
-    def __getattr__(self, name):            # the family's own attributes (its model, its ladder)
-        return getattr(self.__dict__["inner"], name)
 
     @classmethod
     def serves(cls, body, perturbers) -> bool:   # pragma: no cover - never listed in the registry
@@ -172,6 +170,8 @@ class WithLongTerm(SpinAxisTheory):
         return self.inner.nutation_answer(order, tolerance, cut_mas, start)
 
     def spectrum(self, aim_mas, mid_centuries, jd_tdb=None, psi=None):
+        if not isinstance(self.inner, SpectrumExport):
+            raise NotApplicableError(self.body.name, f"{self.summary} gives no spectrum of its track")
         return self.inner.spectrum(aim_mas, mid_centuries, jd_tdb, psi)
 
     def extra_description(self) -> dict:

@@ -64,9 +64,10 @@ from ..forced.precession_nutation import Track
 from .physical_librations import EFFECTIVE_MOMENTS, moon_physical_librations, shipped_series
 from .rigid_integration import integrate_synchronous
 from ..theory.interface import (COVERS_ALL_TERMS, COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate, SpinAxisTheory,
-                                Spectrum, rate_values, selection_info)
+                                Spectrum, SpectrumExport, rate_values, selection_info)
 from ..forced.rigid_numerics import quaternion_from_matrix
-from ..forced.uncertainty import SCALAR_KEYS, dynamical_ellipticity_sigma, moments_function_sigma, no_uncertainty_reasons
+from ..forced.catalogue_sigmas import dynamical_ellipticity_sigma, moments_function_sigma, no_uncertainty_reasons
+from ..forced.uncertainty import SCALAR_KEYS
 from ..longterm.averaged_spin import history_arrays
 from ..orbit.lunar import delaunay_arguments, delaunay_rates
 from ..theory.tracks import ROUNDING
@@ -362,7 +363,7 @@ class CassiniHistory:
                               t0, np.zeros(years.shape), 0)
 
 
-class SynchronousTheory(SpinAxisTheory):
+class SynchronousTheory(SpinAxisTheory, SpectrumExport):
     """A synchronous rotator (the Moon) under its primary: the Cassini state and its ladder."""
 
     summary = "the Cassini-state theory of a synchronous rotator (the Moon)"

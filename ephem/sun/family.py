@@ -15,12 +15,14 @@ from ..bodies.catalogue import Body
 from ..forced.describe import ASSUMPTIONS, model_info
 from ..forced.kinoshita import eccentricity_factor, exact_series_floor, pole_displacement_sum
 from ..forced.precession_nutation import MAX_ORDER, Track, cached_model, check_domain, model_for
-from ..forced.uncertainty import input_sigmas, propagated, summary
+from ..forced.catalogue_sigmas import input_sigmas
+from ..forced.uncertainty import propagated, summary
 from ..longterm.averaged_spin import SpinConstants, spin_constants
 from ..orbit.hansen import LAPLACE_LIMIT
 from ..theory import cost
 from ..base.budget import Cost
-from ..theory.interface import COVERS_TRUNCATION, Estimate, SpinAxisTheory, Spectrum, rate_values, selection_info
+from ..theory.interface import (COVERS_TRUNCATION, Estimate, Spectrum, SpectrumExport, SpinAxisTheory, rate_values,
+                                selection_info)
 from .ladder import Ladder
 from .rungs import RUNG_NAMES, RUNGS, rung_named
 from .spectrum import mean_anomaly_spectrum, semi_amplitudes
@@ -40,7 +42,7 @@ AXIS_ASSUMPTIONS = {
 }
 
 
-class SunLadder(SpinAxisTheory):
+class SunLadder(SpinAxisTheory, SpectrumExport):
     """The single-perturber ladder (:class:`Ladder`) behind the common interface: a body torqued by the
     centre of its orbit alone, its rungs cheapest first."""
 

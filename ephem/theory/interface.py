@@ -7,12 +7,13 @@ and for each:
 
 - its domain of validity, checked before any work (:meth:`check_request`: a model this family does
   not have, an order it does not take, or "not applicable" with the reason);
-- what a request will cost before it runs (:meth:`choice_cost`, :meth:`track_cost`: a
-  :class:`~ephem.base.budget.Cost` the service charges against its budget);
+- what a request will cost before it runs (:class:`Pricing`: :meth:`choice_cost`, :meth:`track_cost`,
+  :meth:`answer_cost`, each a :class:`~ephem.base.budget.Cost` the service charges against its budget);
 - its error estimate over given epochs, by named term (:meth:`estimates`, one
   :class:`Estimate` per model, cheapest first; :func:`cheapest_within` picks one by tolerance);
 - the track over an even grid of epochs (:meth:`track`, each family's fast path);
-- a description, the ``model`` object of the answer (:meth:`describe`).
+- a description, the ``model`` object of the answer (:meth:`describe`);
+- optionally, the frequencies of its track for the SPICE kernel writer (:class:`SpectrumExport`).
 
 :mod:`ephem.families` lists the families; :func:`ephem.families.theory_for` gives the one serving a
 body and its perturbers. :mod:`ephem.answers.requests` answers every body through this interface and never asks
@@ -165,7 +166,39 @@ class Spectrum:
         return (float(self.theta0[i] + j * self.psi_theta0) % 360.0, float(self.theta1[i] + j * self.psi_theta1))
 
 
-class SpinAxisTheory(ABC):
+class Pricing(ABC):
+    """What a family's requests will cost before they run (:class:`~ephem.base.budget.Cost`, charged by the
+    service against its budget): the choice by tolerance, one model's track, a precession or nutation answer."""
+
+    @abstractmethod
+    def choice_cost(self, start: float, stop: float, count: int) -> Cost:
+        """The cost of the estimates that choose a model by tolerance over ``count`` epochs in [start, stop]."""
+
+    @abstractmethod
+    def track_cost(self, model: str | None, order: int | None, start: float, stop: float, count: int,
+                   free_wobble: bool, rotation_scale: bool = False) -> Cost:
+        """The cost of one model's track (``model`` None: the family's default) over ``count`` epochs, with the
+        free wobble and the rotation-scale terms if asked."""
+
+    @abstractmethod
+    def answer_cost(self, order: int | None, nutation: bool = False, tolerance: bool = False) -> Cost:
+        """What a precession (or, with ``nutation``, a nutation) answer will cost; ``tolerance``: the model is
+        chosen by a tolerance."""
+
+
+class SpectrumExport(ABC):
+    """An optional capability of a family: the base frequencies of its track, for the SPICE kernel writer
+    (:mod:`ephem.exports.pck`)."""
+
+    @abstractmethod
+    def spectrum(self, aim_mas: float, mid_centuries: float, jd_tdb=None, psi=None) -> Spectrum:
+        """The base frequencies of the family's track whose terms move the pole by more than a hundredth of
+        ``aim_mas``, their phases linear about ``mid_centuries`` (Julian centuries TDB from J2000); given a
+        computed track (epochs ``jd_tdb``, ψ in radians), as the track has them (the rates the higher models
+        change)."""
+
+
+class SpinAxisTheory(Pricing):
     """A family of models of one body's spin axis, for one request's perturbers, axis and free wobble.
 
     Subclasses set :attr:`models` (the names they answer to, cheapest first) and implement the
@@ -224,16 +257,6 @@ class SpinAxisTheory(ABC):
         outside its domain (:class:`~ephem.base.errors.NotApplicableError` with the reason)."""
 
     @abstractmethod
-    def choice_cost(self, start: float, stop: float, count: int) -> Cost:
-        """The cost of the estimates that choose a model by tolerance over ``count`` epochs in [start, stop]."""
-
-    @abstractmethod
-    def track_cost(self, model: str | None, order: int | None, start: float, stop: float, count: int,
-                   free_wobble: bool, rotation_scale: bool = False) -> Cost:
-        """The cost of one model's track (``model`` None: the family's default) over ``count`` epochs, with the
-        free wobble and the rotation-scale terms if asked."""
-
-    @abstractmethod
     def estimates(self, jd_tdb) -> list[Estimate]:
         """Every model's estimate over the epochs, cheapest first; unavailable ones say why."""
 
@@ -259,11 +282,6 @@ class SpinAxisTheory(ABC):
         spin-orbit ratio and epochs."""
 
     @abstractmethod
-    def answer_cost(self, order: int | None, nutation: bool = False, tolerance: bool = False) -> Cost:
-        """What a precession (or, with ``nutation``, a nutation) answer will cost; ``tolerance``: the model is
-        chosen by a tolerance."""
-
-    @abstractmethod
     def precession_answer(self, order: int | None, tolerance: float | None, start: float) -> dict:
         """The precession answer (rates, their 1σ, the ``model`` object with the selection), charged first;
         ``start``: the request's ``time.perf_counter()`` at its start (for ``cost_ms``)."""
@@ -272,13 +290,6 @@ class SpinAxisTheory(ABC):
     def nutation_answer(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> dict:
         """The nutation answer (the terms with their 1σ, half peak-to-peak amplitudes, the ``model``
         object), charged first."""
-
-    @abstractmethod
-    def spectrum(self, aim_mas: float, mid_centuries: float, jd_tdb=None, psi=None) -> Spectrum:
-        """The base frequencies of the family's track whose terms move the pole by more than a hundredth of
-        ``aim_mas``, their phases linear about ``mid_centuries`` (Julian centuries TDB from J2000); given a
-        computed track (epochs ``jd_tdb``, ψ in radians), as the track has them (the rates the higher models
-        change)."""
 
     def secular_spin(self):
         """The body's spin averaged over the rotation and the orbit, for spans of millennia and more
