@@ -14,7 +14,8 @@ from __future__ import annotations
 from ephem import api
 from ephem.bodies.catalogue import load_catalogue
 from ephem.base.errors import NotApplicableError
-from ephem.forced.uncertainty import input_sigmas, monte_carlo, propagate
+from ephem.forced.catalogue_sigmas import input_sigmas
+from ephem.forced.uncertainty import monte_carlo, propagate
 
 KEYS = ("obliquity_deg", "precession_rate_arcsec_per_year", "dynamical_ellipticity", "scaling_factor_arcsec_per_year")
 RATIO_KEYS = ("obliquity_deg", "precession_rate_arcsec_per_year", "delta_psi_half_peak_to_peak_arcsec",

@@ -10,7 +10,8 @@ import pytest
 from ephem import api
 from ephem.bodies.catalogue import get_body, load_catalogue, parse_catalogue
 from ephem.base.errors import InvalidInputError, NotApplicableError
-from ephem.forced.uncertainty import SCALAR_KEYS, TERM_KEYS, _setup, input_sigmas, monte_carlo, propagate
+from ephem.forced.catalogue_sigmas import input_sigmas
+from ephem.forced.uncertainty import SCALAR_KEYS, TERM_KEYS, _setup, monte_carlo, propagate
 
 DATASETS = ("current", "petit2014")
 APPLICABLE = [(ds, b.name) for ds in DATASETS for b in load_catalogue(ds).bodies if b.name != "Moon"]

@@ -24,7 +24,8 @@ from ..theory.tracks import check_axis, check_tolerance, check_wobble_axis
 from ..forced.precession_nutation import check_order
 from ..families import MODELS, refuse_model, theory_for
 from ..theory.interface import cheapest_within, selection_info
-from ..forced.uncertainty import input_sigmas, pole_uncertainty, propagated
+from ..forced.catalogue_sigmas import input_sigmas
+from ..forced.uncertainty import pole_uncertainty, propagated
 from ..base.times import to_jd_tdb
 from ..base.units import in_unit, with_units
 

@@ -30,7 +30,6 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
@@ -43,6 +42,7 @@ from ..orbit.harmonics import series_extrema
 from ..orbit.kepler import mean_motion_rad_per_day
 from .kinoshita import mean_pole, nutation_coefficients, precession_rate, scaling_factor
 from ..base.memo import bytes_bounded
+from .catalogue_sigmas import CatalogueInput, catalogue_inputs, correlation_matrix, input_sigmas, no_uncertainty_reasons
 from .precession_nutation import build_model, cached_model, model_for
 
 #: Central-difference step as a fraction of the input's σ. The linear σ is J·σ with J the
@@ -77,105 +77,6 @@ ASSUMPTIONS = [
     ("the theory itself is taken as exact: its truncation and averaging errors are in the "
      "'model' part of the answers, not here"),
 ]
-
-
-# --------------------------------------------------------------------------- inputs
-
-@dataclass(frozen=True)
-class _Input:
-    key: str
-    value: float          # in ``unit``
-    unit: str
-    factor: float         # model unit per ``unit``
-    sigma: float | None   # in ``unit``
-    source: str | None
-    kind: str             # "a", "e", "angle", "relative": default FD step family
-
-
-@lru_cache(maxsize=64)
-def _unit_factor(unit: str, target: str) -> float:
-    import astropy.units as u
-
-    return float((1.0 * u.Unit(unit)).to_value(u.Unit(target)))
-
-
-def _model_inputs(body: Body) -> list[tuple[str, float, str, str]]:
-    """(key, value in model unit, model unit, step kind) of what the model reads, in order."""
-    o, p = body.orbit, body.pole
-    ecliptic = "pole.lon" in body.values
-    out = [("orbit.a", o.a_au, "AU", "a"), ("orbit.e", o.e, "", "e"), ("orbit.i", o.i_deg, "deg", "angle"),
-           ("orbit.node", o.node_deg, "deg", "angle"), ("orbit.peri", o.peri_deg, "deg", "angle"),
-           ("orbit.mean_anomaly", o.mean_anomaly_deg, "deg", "angle")]
-    if ecliptic:
-        lon, lat = body.values["pole.lon"], body.values["pole.lat"]
-        out += [("pole.lon", lon.value * _unit_factor(lon.unit, "deg"), "deg", "angle"),
-                ("pole.lat", lat.value * _unit_factor(lat.unit, "deg"), "deg", "angle")]
-    else:
-        out += [("pole.ra", p.ra_deg, "deg", "angle"), ("pole.dec", p.dec_deg, "deg", "angle")]
-    out.append(("rotation.period", body.rotation_period_hours, "h", "relative"))
-    if body.dynamical_ellipticity is not None:
-        out.append(("inertia.dynamical_ellipticity", body.dynamical_ellipticity, "", "relative"))
-    else:
-        for label, v in zip("ABC", body.moments):
-            out.append((f"inertia.{label}", v, "", "relative"))
-    return out
-
-
-def input_sigmas(body: Body) -> dict[str, float | None]:
-    """{input key: its catalogue 1-σ, or None where none is published} for the inputs the theory uses."""
-    return {i.key: i.sigma for i in _inputs(body, None)}
-
-
-def _inputs(body: Body, overrides: Mapping[str, float | None] | None) -> list[_Input]:
-    items = []
-    for key, model_value, model_unit, kind in _model_inputs(body):
-        m = body.values.get(key)
-        if m is not None:
-            unit = m.unit
-            factor = 1.0 if key.startswith("inertia.") and key != "inertia.dynamical_ellipticity" \
-                else _unit_factor(unit, model_unit)
-            value, sigma, source = m.value, m.uncertainty, m.source
-        else:   # a Body built in code: values in the model's units, no uncertainties
-            unit, factor, value, sigma, source = model_unit, 1.0, model_value, None, None
-        items.append(_Input(key, value, unit, factor, sigma, source, kind))
-    if overrides:
-        known = {i.key for i in items}
-        for key, sigma in overrides.items():
-            if key not in known:
-                raise InvalidInputError("uncertainties", f"{key!r} is not an input of the model for this body; "
-                                        f"inputs: {', '.join(sorted(known))}", body.name)
-            if sigma is not None and (isinstance(sigma, bool) or not isinstance(sigma, (int, float))
-                                      or not math.isfinite(sigma) or sigma < 0):
-                raise InvalidInputError("uncertainties", f"{key}: must be a finite number >= 0 or None, "
-                                        f"got {sigma!r}", body.name)
-        items = [_Input(i.key, i.value, i.unit, i.factor,
-                        (None if overrides[i.key] is None else float(overrides[i.key])) if i.key in overrides
-                        else i.sigma, i.source, i.kind) for i in items]
-    return items
-
-
-def _correlation_matrix(inputs: list[_Input], correlations, b: Body) -> np.ndarray:
-    """ρ of the inputs: the catalogue's (a record's stated and derived correlations, :attr:`Body.correlations`,
-    for the pairs that are inputs of this model), updated by the caller's ``correlations``."""
-    n = len(inputs)
-    rho = np.eye(n)
-    index = {inp.key: j for j, inp in enumerate(inputs)}
-    correlations = {**{pair: r for pair, r in b.correlations.items() if all(k in index for k in pair)},
-                    **(correlations or {})}
-    if not correlations:
-        return rho
-    body = b.name
-    for pair, r in correlations.items():
-        if len(pair) != 2 or any(k not in index for k in pair) or pair[0] == pair[1]:
-            raise InvalidInputError("correlations", f"{pair!r}: expected two different inputs of "
-                                    f"{', '.join(index)}", body)
-        if isinstance(r, bool) or not isinstance(r, (int, float)) or not -1.0 <= r <= 1.0:
-            raise InvalidInputError("correlations", f"{pair!r}: a correlation must lie in [-1, 1], got {r!r}", body)
-        a, b = index[pair[0]], index[pair[1]]
-        rho[a, b] = rho[b, a] = float(r)
-    if np.linalg.eigvalsh(rho).min() < -1e-10:
-        raise InvalidInputError("correlations", "the correlation matrix is not positive semi-definite", body)
-    return rho
 
 
 # --------------------------------------------------------------------------- the replica of build_model
@@ -300,7 +201,7 @@ class _Setup:
     body: Body
     dataset: str
     order: int | None
-    inputs: list[_Input]
+    inputs: list[CatalogueInput]
     replica: _Replica
     x0: np.ndarray            # model units
     y0: np.ndarray            # nominal outputs
@@ -314,7 +215,7 @@ def _setup(body, dataset, order, uncertainties, correlations) -> _Setup:
 
     b = resolve_body(body, dataset)
     m = model_for(b, dataset, order)            # raises NotApplicableError for the Moon
-    inputs = _inputs(b, uncertainties)
+    inputs = catalogue_inputs(b, uncertainties)
     keys = [i.key for i in inputs]
     kmax = int(m.nutation.multiple.max()) if m.nutation.multiple.size else 0
     replica = _Replica(b, keys, m.order, kmax)
@@ -326,10 +227,10 @@ def _setup(body, dataset, order, uncertainties, correlations) -> _Setup:
     extrema = (xp_max, xp_min, xe_max, xe_min)
     y0 = replica.outputs(x0, extrema)
     return _Setup(b, b.dataset, m.order, inputs, replica, x0, y0, extrema,
-                  np.arange(1, kmax + 1), _correlation_matrix(inputs, correlations, b))
+                  np.arange(1, kmax + 1), correlation_matrix(inputs, correlations, b))
 
 
-def _step(inp: _Input, x_model: float) -> float:
+def _step(inp: CatalogueInput, x_model: float) -> float:
     """Finite-difference step in model units."""
     if inp.sigma:
         return STEP_FRACTION * inp.sigma * inp.factor
@@ -554,51 +455,9 @@ def summary(u: dict) -> dict:
             "no_uncertainty_reasons": dict(u["no_uncertainty_reasons"]), "assumptions": list(u["assumptions"])}
 
 
-def moments_function_sigma(b: Body, f) -> float | None:
-    """The 1-σ of ``f(A, B, C)`` from the catalogue moments' σ and correlations (linear, central differences a
-    millionth of each moment wide); None where a moment ``f`` depends on has no σ (unknown, not zero)."""
-    x = list(b.moments)
-    keys = ("inertia.A", "inertia.B", "inertia.C")
-    grad = []
-    for i in range(3):
-        h = 1e-6 * abs(x[i])
-        xp, xm = list(x), list(x)
-        xp[i] += h
-        xm[i] -= h
-        grad.append((f(*xp) - f(*xm)) / (2.0 * h))
-    sig = [b.values[k].uncertainty if k in b.values else None for k in keys]
-    if any(g != 0.0 and s is None for g, s in zip(grad, sig)):
-        return None
-    var = 0.0
-    for i in range(3):
-        for j in range(3):
-            rho = 1.0 if i == j else b.correlations.get((keys[i], keys[j]), b.correlations.get((keys[j], keys[i]), 0.0))
-            var += grad[i] * (sig[i] or 0.0) * rho * (sig[j] or 0.0) * grad[j]
-    return math.sqrt(max(var, 0.0))
-
-
-def dynamical_ellipticity_sigma(b: Body) -> float | None:
-    """The 1-σ of the H_d the theory uses, from the catalogue: the explicit value's, or the moments' with their
-    correlations (:func:`moments_function_sigma`); None where unknown."""
-    if b.dynamical_ellipticity is not None:
-        m = b.values.get("inertia.dynamical_ellipticity")
-        return None if m is None else m.uncertainty
-    return moments_function_sigma(b, lambda A, B, C: (C - 0.5 * (A + B)) / C)
-
-
-def no_uncertainty_reasons(b: Body, keys) -> dict[str, str]:
-    """{input key: why it has no σ} for ``keys``: the record's ``no_uncertainty`` reason, or that it gives none."""
-    out = {}
-    for key in keys:
-        m = b.values.get(key)
-        out[key] = (m.no_uncertainty if m is not None and m.no_uncertainty
-                    else "the body's record gives no sigma for it and no reason")
-    return out
-
-
 # --------------------------------------------------------------------------- the pole's 1-σ along a track
 
-def _perturbed_body(b: Body, inputs: list[_Input], x: np.ndarray) -> Body:
+def _perturbed_body(b: Body, inputs: list[CatalogueInput], x: np.ndarray) -> Body:
     """``b`` with its inputs set to ``x`` (model units, in the order of ``inputs``)."""
     import dataclasses
 
@@ -637,12 +496,12 @@ def pole_uncertainty(body: str | int | Body, jd_tdb, dataset: str = DEFAULT_DATA
     """
     b = resolve_body(body, dataset)
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
-    inputs = _inputs(b, uncertainties)
+    inputs = catalogue_inputs(b, uncertainties)
     which = [j for j, i in enumerate(inputs) if i.sigma]
     if not which:
         return None
     x0 = np.array([i.value * i.factor for i in inputs])
-    rho = _correlation_matrix(inputs, correlations, b)
+    rho = correlation_matrix(inputs, correlations, b)
     cols = []
     for j in which:
         h = _step(inputs[j], x0[j])

@@ -36,7 +36,7 @@ from ..bodies.catalogue import Body
 from ..base.constants import J2000_JD, JULIAN_YEAR_DAYS
 from ..orbit.geometry import angle_between, icrf_to_ecliptic_matrix, lon_lat
 from ..orbit.relativity import geodesic_precession_rate
-from ..forced.uncertainty import dynamical_ellipticity_sigma, input_sigmas
+from ..forced.catalogue_sigmas import dynamical_ellipticity_sigma, input_sigmas
 from ..theory.cost import spin_history
 
 #: DOP853's relative tolerance: over 4 Myr (the shipped N-body orbits) the Earth's pole moves by 0.9″ at 1e-10,
