@@ -1,7 +1,7 @@
 """JPL DE421 (read through skyfield): the Sun paths and the planetary integrator of
 ephem.orbit.de421, and the Moon's and the Sun's positions of ephem.earth.lunisolar, against the positions DE421 gives.
 
-(The integrations of the torque along DE421 positions, ephem.earth.lunisolar.integrate_de421 and the real-orbit rung,
+(The integrations of the torque along DE421 positions, ephem.earth.de421_integration.integrate_de421 and the real-orbit rung,
 are the library's own independent routes: tests/test_lunisolar.py, tests/test_physics_errors.py.)
 """
 import math

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from ephem.earth import lunisolar as L
+from ephem.earth.de421_integration import integrate_de421
 from ephem.bodies.catalogue import get_body
 from ephem.base.constants import ARCSEC, MAS
 from ephem.base.errors import InvalidInputError
@@ -63,7 +64,7 @@ def test_catalogue_hd_is_the_default_and_scales_the_rates():
 
 @pytest.fixture(scope="module")
 def de421_run():
-    return L.integrate_de421(J2000 - 7305.0, J2000 + 7305.0, "iers2010", step_days=0.5)   # 1980-2020
+    return integrate_de421(J2000 - 7305.0, J2000 + 7305.0, "iers2010", step_days=0.5)   # 1980-2020
 
 
 def _residual(num, series, extra=0.0):

@@ -1,5 +1,6 @@
 """The Earth's family: the lunisolar theory under the Moon and the Sun, and the non-rigid Earth.
 
+- :mod:`ephem.earth.de421_integration`: The Earth's pole integrated under DE421's Moon and Sun: the numerical reference of the lunisolar series.
 - :mod:`ephem.earth.family`: The Earth under the Moon and the Sun, as the library serves it: :mod:`ephem.earth.lunisolar` wired to the
 - :mod:`ephem.earth.lunisolar`: The Earth's forced precession and nutation under the Moon and the Sun (rigid Earth, first order).
 - :mod:`ephem.earth.nonrigid`: The non-rigid Earth's correction to each nutation term: the IERS 1996 transfer function.
