@@ -87,7 +87,7 @@ from ephem.earth import family as earth
 from ephem.orbit import de421 as ephemeris
 from ephem.rotation import free_motion
 from ephem.orbit import hansen
-from ephem.sun import bounds, rungs, spectrum, tables
+from ephem.sun import rungs, spectrum, tables
 from ephem.rotation import lie_series
 from ephem.forced import uncertainty  # noqa: E402
 from ephem.bodies.catalogue import Body, Orbit, Pole, get_body  # noqa: E402
@@ -400,11 +400,11 @@ def build_cases() -> list[Case]:
         b = synthetic(e, a_au=a, hd=hd, period_hours=period)
         m = build_model(b)
         _, _, t = grid(n, years * 365.25)
-        orbits = bounds.orbits_in_span(m, t)
+        orbits = rungs.orbits_in_span(m, t)
         strong = " (strong torque: H_d 0.3, w/n 40)" if hd > 0.1 else ""
         add(Case("spin_integration", f"DOP853, e={e}, {orbits:.0f} orbits, {n} epochs{strong}",
                  part(cost.spin_integration(orbits, e, n)),
-                 lambda m=m, t=t: integrate_spin_axis(m, t, rtol=bounds.NUMERICAL_RTOL), None, quick,
+                 lambda m=m, t=t: integrate_spin_axis(m, t, rtol=rungs.NUMERICAL_RTOL), None, quick,
                  trace=trace, reps=2,
                  extra={"orbits": orbits, "e": e, "n": n}))
 

@@ -31,13 +31,14 @@ from .exports.plots import HISTORY_KIND as HISTORY_PLOT_KIND
 from .exports.plots import KINDS as PLOT_KINDS
 from .exports.plots import MAX_PLOT_POINTS
 from .exports.plots import render as render_plot
-from .exports.tables import DELAUNAY_COLUMNS, FORMATS, LAYOUTS, render_nutation, write_tables
+from .exports.tables import FORMATS, LAYOUTS, render_nutation, write_tables
 from .families import MODELS
 from .forced.precession_nutation import MAX_ORDER, model_for
 from .orbit.geometry import icrf_to_ecliptic_matrix
 from .orbit.hansen import LAPLACE_LIMIT
+from .orbit.lunar import DELAUNAY_NAMES
 from .rotation.free_motion import SERIES_MAX_DELTA
-from .sun.bounds import MAX_NUMERICAL_ORBITS
+from .sun.rungs import MAX_NUMERICAL_ORBITS
 from .theory.tracks import AXES
 
 __all__ = [
@@ -53,7 +54,7 @@ __all__ = [
     # what a request may name, and its limits
     "MODELS", "AXES", "LAPLACE_LIMIT", "MAX_NUMERICAL_ORBITS", "SERIES_MAX_DELTA", "TIME_PATTERN_ECMA", "ut1_span",
     # exports: nutation tables, plots, SPICE kernels; catalogue import; batches of bodies
-    "render_nutation", "write_tables", "FORMATS", "LAYOUTS", "DELAUNAY_COLUMNS", "render_plot", "PLOT_KINDS",
+    "render_nutation", "write_tables", "FORMATS", "LAYOUTS", "DELAUNAY_NAMES", "render_plot", "PLOT_KINDS",
     "HISTORY_PLOT_KIND", "PLOT_DPI_RANGE",
     "PLOT_CONTENT_TYPES", "MAX_PLOT_POINTS", "write_pck_file", "import_catalogue", "run_batch", "BatchFailed",
     "HistorySpec",

@@ -24,7 +24,7 @@ from ephem.bodies.catalogue import available_datasets, load_catalogue
 from ephem.base.constants import ARCSEC, MAS
 from ephem.orbit.de421 import de421_span
 from ephem.forced.precession_nutation import cached_model
-from ephem.sun.bounds import NUMERICAL_RTOL, integration_bound
+from ephem.sun.rungs import NUMERICAL_RTOL, integration_bound
 from ephem.sun.ladder import Ladder
 from ephem.forced.physics_errors import (GAP_BIN_MAX_DAYS, GAP_BINS_PER_DECADE, GAP_DIGITS, measure_orbit_motion,
                                          measure_pole_gap)

@@ -1,6 +1,6 @@
 """The ladder's span-aware error bounds over given epochs: the theory terms of rungs 1-4 (nutation omitted,
-truncation, second order, higher order; :func:`theory_terms`), the numerical rungs' integration error, and the
-span and orbit count that limit the numerical rungs. They read the body's tables (:mod:`ephem.sun.tables`)."""
+truncation, second order, higher order; :func:`theory_terms`). They read the body's tables (:mod:`ephem.sun.tables`);
+the numerical rungs' own error and reach are theirs (:mod:`ephem.sun.rungs`)."""
 from __future__ import annotations
 
 import math
@@ -13,13 +13,6 @@ from ..forced.precession_nutation import PrecessionNutation
 from ..forced.second_order import SecondOrderTheory, eval_phi
 from ..orbit.harmonics import FRESH_STEPS, refined_count
 from .tables import TheoryTables, Window
-
-#: Relative tolerance of the numerical rungs.
-NUMERICAL_RTOL = 1e-12
-#: The numerical rungs integrate through every orbit (~5 ms each); beyond this many orbits from the
-#: pole epoch a request would tie up a worker for seconds, so they are not offered.
-MAX_NUMERICAL_ORBITS = 1000
-
 
 def _sup_abs(coef: np.ndarray) -> float:
     """sup over φ of |Σ_j c_j cos 2jφ + s_j sin 2jφ| <= |c0| + Σ_j |(c_j, s_j)| (φ-harmonics as in
@@ -295,39 +288,3 @@ def theory_terms(model: PrecessionNutation, theory: SecondOrderTheory, tables: T
     return {"nutation_omitted": nutation_omitted_bound(tables, window),
             "truncation": truncation_bounds(model, tables, window), "second_order": float(first),
             "higher_order": float(higher)}
-
-
-def integration_bound(model: PrecessionNutation, span_days: float) -> float:
-    """Error of the numerical rungs (radians) at rtol 1e-12.
-
-    Measured against rtol 1e-14: the error per orbit is a few times rtol times the pole's motion
-    per orbit, 2π (K/n)(1-e²)^(-3/2) (5e-16 for the Earth, 5e-15 for Itokawa, 1.2e-12 for a
-    K/n = 5e-3 body on an e = 0.5 orbit); the bound allows 100 rtol per orbit on that motion
-    plus 1e-3 rad, and a floor of 1e-12.
-    """
-    orbits = abs(span_days) * model.mean_motion / (2.0 * math.pi)
-    motion = 2.0 * math.pi * model.scaling_factor / model.mean_motion * eccentricity_factor(model.eccentricity)
-    return 1e-12 + orbits * 100.0 * NUMERICAL_RTOL * (motion + 1e-3)
-
-
-def orbits_in_span(model: PrecessionNutation, t: np.ndarray) -> float:
-    """Orbits the numerical rungs integrate through to reach the epochs from the pole epoch."""
-    return epoch_span(model, t) * model.mean_motion / (2.0 * math.pi)
-
-
-
-
-def epoch_span(model: PrecessionNutation, t: np.ndarray) -> float:
-    """Largest |t - t0| over the epochs (days): the theories' errors grow from the pole epoch."""
-    if t.size == 0:
-        return 0.0
-    return float(max(abs(t.max() - model.pole_epoch), abs(t.min() - model.pole_epoch)))
-
-
-def numerical_unavailable(model: PrecessionNutation, t: np.ndarray) -> str | None:
-    orbits = orbits_in_span(model, t)
-    if orbits <= MAX_NUMERICAL_ORBITS:
-        return None
-    return (f"the numerical rungs integrate through every orbit from the pole epoch and are limited to "
-            f"{MAX_NUMERICAL_ORBITS} orbits per request; these epochs need {orbits:.0f}")
-

@@ -69,8 +69,8 @@ from ..rotation.free_motion import Wobble, add_free_wobble, free_wobble_bound, w
 from ..theory import cost
 from ..theory.interface import Estimate, cheapest_within
 from ..theory.tracks import ROUNDING, check_axis, check_tolerance, check_wobble_axis, pole_vectors, with_free_wobble
-from .bounds import epoch_span, theory_terms
-from .rungs import RUNGS, EstimateInputs, TrackPrice, rung_named
+from .bounds import theory_terms
+from .rungs import RUNGS, EstimateInputs, TrackPrice, epoch_span, rung_named
 from .tables import MAX_LADDER_ORDER, Window, cached_tables, cached_theory, tables_built
 
 

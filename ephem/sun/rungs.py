@@ -1,6 +1,7 @@
 """The rungs of the single-perturber ladder, one record each (:class:`Rung`): its name, what it computes and
 drops, what it assumes, its price, its track and its error terms. :data:`RUNGS` lists them cheapest first;
-adding a rung is adding one record there (and its functions here).
+adding a rung is adding one record there (and its functions here). With them, the numerical rungs' integration
+error and reach (the orbits from the pole epoch they may integrate through).
 
 Rungs, cheapest first (names as reported in a track's ``model.name``):
 
@@ -22,6 +23,7 @@ import numpy as np
 from ..base.errors import InvalidInputError, NotApplicableError
 from ..bodies.catalogue import Body
 from ..forced.integration import integrate_spin_axis
+from ..forced.kinoshita import eccentricity_factor
 from ..forced.physics_errors import ephemeris_bound, real_orbit_unavailable, sun_path_for
 from ..forced.precession_nutation import PrecessionNutation, Track, cached_model
 from ..forced.second_order import SecondOrderTheory
@@ -29,7 +31,50 @@ from ..orbit.hansen import LAPLACE_LIMIT
 from ..theory import cost
 from ..theory.interface import Estimate
 from ..theory.tracks import ROUNDING
-from .bounds import NUMERICAL_RTOL, integration_bound, numerical_unavailable
+
+
+#: Relative tolerance of the numerical rungs.
+NUMERICAL_RTOL = 1e-12
+#: The numerical rungs integrate through every orbit (~5 ms each); beyond this many orbits from the
+#: pole epoch a request would tie up a worker for seconds, so they are not offered.
+MAX_NUMERICAL_ORBITS = 1000
+
+
+# --- the numerical rungs' error and reach ----------------------------------------------------------
+
+def integration_bound(model: PrecessionNutation, span_days: float) -> float:
+    """Error of the numerical rungs (radians) at rtol 1e-12.
+
+    Measured against rtol 1e-14: the error per orbit is a few times rtol times the pole's motion
+    per orbit, 2π (K/n)(1-e²)^(-3/2) (5e-16 for the Earth, 5e-15 for Itokawa, 1.2e-12 for a
+    K/n = 5e-3 body on an e = 0.5 orbit); the bound allows 100 rtol per orbit on that motion
+    plus 1e-3 rad, and a floor of 1e-12.
+    """
+    orbits = abs(span_days) * model.mean_motion / (2.0 * math.pi)
+    motion = 2.0 * math.pi * model.scaling_factor / model.mean_motion * eccentricity_factor(model.eccentricity)
+    return 1e-12 + orbits * 100.0 * NUMERICAL_RTOL * (motion + 1e-3)
+
+
+def orbits_in_span(model: PrecessionNutation, t: np.ndarray) -> float:
+    """Orbits the numerical rungs integrate through to reach the epochs from the pole epoch."""
+    return epoch_span(model, t) * model.mean_motion / (2.0 * math.pi)
+
+
+
+
+def epoch_span(model: PrecessionNutation, t: np.ndarray) -> float:
+    """Largest |t - t0| over the epochs (days): the theories' errors grow from the pole epoch."""
+    if t.size == 0:
+        return 0.0
+    return float(max(abs(t.max() - model.pole_epoch), abs(t.min() - model.pole_epoch)))
+
+
+def numerical_unavailable(model: PrecessionNutation, t: np.ndarray) -> str | None:
+    orbits = orbits_in_span(model, t)
+    if orbits <= MAX_NUMERICAL_ORBITS:
+        return None
+    return (f"the numerical rungs integrate through every orbit from the pole epoch and are limited to "
+            f"{MAX_NUMERICAL_ORBITS} orbits per request; these epochs need {orbits:.0f}")
 
 
 # --- evaluating a rung ----------------------------------------------------------------------------
