@@ -14,8 +14,9 @@ deterministic inputs only (fixed dates, spans, bodies; nothing read from the clo
   layouts), a history, free motion, POST /v1/batch (JSON and CSV bodies, a user's asteroid), POST
   /v1/precession-nutation, and the figures (status, content type and non-empty only: their bytes change with
   matplotlib's metadata);
-* a handful of CLI commands, ``python -m ephem.cli ...`` in subprocesses (slow: a second or two each), among them
-  ``ephem pck`` (the service has no PCK route): the kernel's text is recorded.
+* a dozen CLI commands, ``python -m ephem.cli ...`` in subprocesses (slow: a second or two each), in json, csv
+  and table formats, among them ``ephem pck`` (the service has no PCK route: the kernel's text is recorded) and
+  ``ephem tables`` (the csv, markdown and LaTeX files it writes, by name).
 
 It writes ``{case: {"status": int, "content_type": str, "body": parsed JSON, or text}}`` (an API call's status
 is 200, or 404/422/500 for UnknownBodyError/other EphemError/anything else, its body then the error's class name
@@ -319,6 +320,18 @@ CLI_CASES = [
     ("cli body moon --format json", ["body", "moon", "--dataset", DATASET, "--format", "json"], "application/json"),
     ("cli pck vesta mars", ["pck", "vesta", "mars", "--dataset", DATASET, "--start", "2000-01-01", "--stop",
                             "2000-05-01", "--out", "{tmp}/kernel.tpc"], "application/x-pck"),
+    ("cli tables vesta mars --format csv,markdown,latex",
+     ["tables", "vesta", "mars", "--dataset", DATASET, "--format", "csv", "--format", "markdown", "--format",
+      "latex", "--out", "{tmp}/files"], "files"),
+    ("cli bodies --format csv", ["bodies", "--dataset", DATASET, "--format", "csv"], "text/csv"),
+    ("cli nutation moon --format table", ["nutation", "moon", "--dataset", DATASET, "--format", "table"],
+     "text/plain"),
+    ("cli track earth --axis angular_momentum --format json",
+     ["track", "earth", "--dataset", DATASET, "--start", "2030-01-01", "--stop", "2030-06-01", "--step-days", "30",
+      "--axis", "angular_momentum", "--format", "json"], "application/json"),
+    ("cli free-motion vesta --J-arcsec 10 --format csv",
+     ["free-motion", "vesta", "--dataset", DATASET, "--start", "2020-01-01", "--stop", "2020-01-03", "--step-days",
+      "0.25", "--J-arcsec", "10", "--format", "csv"], "text/csv"),
 ]
 
 
@@ -335,6 +348,13 @@ def run_cli(argv: list[str], media: str, env: dict) -> dict:
         elif media == "application/x-pck":
             with open(os.path.join(tmp, "kernel.tpc"), encoding="ascii") as f:
                 body = {"stdout": stdout, "kernel": f.read()}
+        elif media == "files":                       # the files written to {tmp}/files, by name
+            folder = os.path.join(tmp, "files")
+            files = {}
+            for name in sorted(os.listdir(folder)):
+                with open(os.path.join(folder, name), encoding="utf-8") as f:
+                    files[name] = f.read()
+            body = {"stdout": stdout, "files": files}
         else:
             body = stdout
     return {"status": res.returncode, "content_type": media, "body": body}
