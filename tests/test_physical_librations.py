@@ -18,6 +18,7 @@ from scipy.interpolate import CubicSpline
 
 from ephem.orbit import lunar
 from ephem.moon import physical_librations as P
+from ephem.moon.libration_series import GENERAL_PRECESSION_RATE
 from ephem.base.constants import ARCSEC, J2000_JD
 from ephem.base.errors import InvalidInputError
 from ephem.orbit.lunar import delaunay_arguments, delaunay_rates, moon_position, sun_position
@@ -127,7 +128,7 @@ def _euler_residual(t: float, theta_of_t, I: float, moments, h: float = 2e-2) ->
         b = attitude(tt)
         w = b.T @ db
         # the frame of date turns at −p_A about the ecliptic pole: the inertial angular velocity
-        return b, np.array([w[2, 1], w[0, 2], w[1, 0]]) + b.T @ np.array([0.0, 0.0, -P.GENERAL_PRECESSION_RATE])
+        return b, np.array([w[2, 1], w[0, 2], w[1, 0]]) + b.T @ np.array([0.0, 0.0, -GENERAL_PRECESSION_RATE])
 
     b, w = omega(t)
     wd = (omega(t - 2 * h)[1] - 8 * omega(t - h)[1] + 8 * omega(t + h)[1] - omega(t + 2 * h)[1]) / (12 * h)
@@ -209,7 +210,7 @@ def _integrate_rigid_moon(series, years: float, step_out: float = 0.5):
     ls, _, rs = sun_position(args)
     sun = np.stack([rs * np.cos(ls), rs * np.sin(ls), 0 * ls], 1) - moon
     splines = [(lunar.gm_km3_day2("earth"), CubicSpline(grid, -moon)), (lunar.gm_km3_day2("sun"), CubicSpline(grid, sun))]
-    frame = np.array([0.0, 0.0, -P.GENERAL_PRECESSION_RATE])
+    frame = np.array([0.0, 0.0, -GENERAL_PRECESSION_RATE])
 
     def qmul(p, q):
         return np.array([p[0] * q[0] - p[1:] @ q[1:], *(p[0] * q[1:] + q[0] * p[1:] + np.cross(p[1:], q[1:]))])
@@ -283,7 +284,7 @@ def test_against_synchronous_rigid(catalogue):
 
     t0 = J2000_JD
     args, rates = delaunay_arguments(t0), delaunay_rates(0.0)
-    p_a = P.GENERAL_PRECESSION_RATE
+    p_a = GENERAL_PRECESSION_RATE
     orbit = SynchronousOrbit(mean_motion=rates[2] + rates[4] - p_a, eccentricity=0.0549,
                              inclination=math.radians(5.145), node_at_epoch=args[4], node_rate=rates[4] - p_a,
                              pericentre_at_epoch=args[2] - args[0], pericentre_rate=rates[2] - rates[0],
@@ -498,7 +499,7 @@ def test_pole_attitude_and_angles_agree(catalogue):
     w = np.einsum("nji,njk->nik", att, d)
     w_rel = np.stack([w[:, 2, 1], w[:, 0, 2], w[:, 1, 0]], axis=1)
     assert np.abs(catalogue.angular_velocity(jd, inertial=False) - w_rel).max() < 1e-8
-    frame = np.einsum("nji,j->ni", att, np.array([0.0, 0.0, -P.GENERAL_PRECESSION_RATE]))
+    frame = np.einsum("nji,j->ni", att, np.array([0.0, 0.0, -GENERAL_PRECESSION_RATE]))
     # the same numbers but φ̇'s p_A: their difference to the rounding of ω3 ≈ 0.23 rad/day (1 ulp = 2.8e-17)
     assert np.abs(catalogue.angular_velocity(jd) - catalogue.angular_velocity(jd, inertial=False) - frame).max() < 1e-16
 
@@ -573,7 +574,7 @@ def test_the_shipped_series_are_a_fresh_build(which, catalogue):
     """data/moon_librations holds what tools/derive_moon_librations.py writes: the same terms as a build here, each
     coefficient within 1e-6″ (FFTs and BLAS differ in their last bits between machines: ~1e-16 rad of terms of
     1e-3 rad; the fixed point's stopping test leaves ~1e-12 rad, far below 1e-6″ = 5e-12 rad)."""
-    from ephem.moon.physical_librations import shipped_series
+    from ephem.moon.libration_series import shipped_series
 
     built = catalogue if which == "catalogue" else P.moon_physical_librations(P.EFFECTIVE_MOMENTS)
     shipped = shipped_series(built.moments)

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 from ephem.bodies.catalogue import available_datasets, get_body
 from ephem.base.paths import data_dir
-from ephem.moon.physical_librations import EFFECTIVE_MOMENTS, SHIPPED_DIR, moon_physical_librations, write_series_csv
+from ephem.moon.libration_series import SHIPPED_DIR, write_series_csv
+from ephem.moon.physical_librations import EFFECTIVE_MOMENTS, moon_physical_librations
 
 
 def main() -> None:

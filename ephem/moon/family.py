@@ -61,7 +61,8 @@ from ..orbit.lunar import MIN_CUT_MAS, check_cut
 from ..orbit.geometry import carry, icrf_to_ecliptic_matrix, lon_lat, unit_vector
 from ..orbit.kepler import mean_motion_rad_per_day
 from ..forced.precession_nutation import Track
-from .physical_librations import EFFECTIVE_MOMENTS, moon_physical_librations, shipped_series
+from .libration_series import shipped_series
+from .physical_librations import EFFECTIVE_MOMENTS, moon_physical_librations
 from .rigid_integration import integrate_synchronous
 from ..theory.interface import (COVERS_ALL_TERMS, COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate, SpinAxisTheory,
                                 Spectrum, SpectrumExport, rate_values, selection_info)
