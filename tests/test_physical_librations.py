@@ -18,6 +18,7 @@ from scipy.interpolate import CubicSpline
 
 from ephem.orbit import lunar
 from ephem.moon import physical_librations as P
+from ephem.moon.libration_forcing import perturber_directions
 from ephem.moon.libration_series import GENERAL_PRECESSION_RATE
 from ephem.base.constants import ARCSEC, J2000_JD
 from ephem.base.errors import InvalidInputError
@@ -364,7 +365,7 @@ def test_de421_offset_sign_from_the_frame_kernel():
 def fresh_caches():
     """The module's caches cleared after the test (which changes ephem.orbit.lunar's data under them)."""
     yield
-    P._perturber_directions.cache_clear()
+    perturber_directions.cache_clear()
     P._build.cache_clear()
 
 
@@ -381,7 +382,7 @@ def test_the_pole_follows_the_laplace_plane(monkeypatch, fresh_caches):
     couplings: Eckhardt's 0.00196° (without them, and from another lunar theory) is then 0.7″ off."""
     jd = J2000_JD + np.arange(0.0, 6800.0, 10.0)
     kwargs = dict(moments=P.EFFECTIVE_MOMENTS, offset=P.DE421_PA_OFFSET, model="constant")
-    P._perturber_directions.cache_clear()
+    perturber_directions.cache_clear()
     P._build.cache_clear()
     tilted = P.moon_physical_librations(**kwargs)
     tilted_pole = tilted.pole(jd)
@@ -389,7 +390,7 @@ def test_the_pole_follows_the_laplace_plane(monkeypatch, fresh_caches):
     for row in data["moon"]["additive_latitude"]:
         row[5] = 0
     monkeypatch.setattr(lunar, "lunisolar_data", lambda: data)
-    P._perturber_directions.cache_clear()
+    perturber_directions.cache_clear()
     P._build.cache_clear()
     flat = P.moon_physical_librations(**kwargs)
     diff = tilted_pole - flat.pole(jd)

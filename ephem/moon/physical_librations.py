@@ -139,9 +139,10 @@ import numpy as np
 from ..base.constants import ARCSEC
 from ..base.errors import InvalidInputError
 from ..bodies.catalogue import get_body
-from ..orbit.lunar import delaunay_arguments, delaunay_rates, gm_km3_day2, moon_position, sun_position
-from .libration_series import (GENERAL_PRECESSION_RATE, PhysicalLibrations, canonical_sign, pole_amplitude, rodrigues,
-                               skew)
+from ..orbit.lunar import delaunay_arguments, delaunay_rates
+from .libration_forcing import (frame_rates, linearised_equations, perturber_directions, perturber_directions_at,
+                                torus_fields)
+from .libration_series import PhysicalLibrations, canonical_sign, pole_amplitude, rodrigues, skew
 
 #: θ's constant (rad) in DE421: the principal axes (PA) from the mean-Earth/rotation (ME) frame, the rotation of
 #: NAIF's moon_080317.tf (TKFRAME_31007: 67.92″, 78.56″, 0.30″ about z, y, x, from Williams et al. 2008, JPL IOM
@@ -179,91 +180,15 @@ def moments_from_beta_gamma(beta: float, gamma: float) -> tuple[float, float, fl
 EFFECTIVE_MOMENTS = moments_from_beta_gamma(*EFFECTIVE_BETA_GAMMA)
 
 
-# ----------------------------------------------------------------------------- the forcing on the torus
-
-def _directions(args: tuple, sun: bool):
-    """The Earth (and the Sun) seen from the Moon at Delaunay arguments ``args`` (five broadcastable arrays), in
-    the node frame N: z the ecliptic pole, x toward ecliptic longitude Ω + π (the lunar equator's ascending node).
-    Returns ((GM/r³ rad²/day², unit vectors (3, ...)), ...) per perturber: the Moon from :func:`moon_position`
-    (Meeus 1998 ch. 47), the Sun from :func:`sun_position`, the Sun's direction from the Moon, not the Earth."""
-    lam, bet, r = moon_position(args)
-    cb = np.cos(bet)
-    moon = np.stack(np.broadcast_arrays(r * cb * np.cos(lam), r * cb * np.sin(lam), r * np.sin(bet)))
-    vectors = [("earth", -moon)]
-    if sun:
-        lam_s, _, r_s = sun_position(args)
-        sun_vec = np.stack(np.broadcast_arrays(r_s * np.cos(lam_s), r_s * np.sin(lam_s), np.zeros_like(lam_s)))
-        vectors.append(("sun", sun_vec - moon))
-    node = np.broadcast_to(args[4], moon.shape[1:]) + math.pi
-    c, s = np.cos(node), np.sin(node)
-    out = []
-    for name, v in vectors:
-        d = np.sqrt(np.einsum("i...,i...->...", v, v))
-        u = v / d
-        out.append((gm_km3_day2(name) / d**3, np.stack([c * u[0] + s * u[1], -s * u[0] + c * u[1], u[2]])))
-    return tuple(out)
-
-
-@lru_cache(maxsize=4)
-def _perturber_directions(grid: tuple, sun: bool):
-    """:func:`_directions` on the torus grid (cached: it does not depend on I or the moments)."""
-    axes = [2.0 * math.pi * np.arange(n) / n for n in grid]
-    return _directions(tuple(a.reshape([-1 if i == j else 1 for j in range(5)]) for i, a in enumerate(axes)), sun)
-
-
-def _frame_rates(I: float) -> tuple[float, float, float]:
-    """(ν, w3, Ḟ): the reference frame R = Rz(Ω + π) Rx(I) Rz(F) turns in space at ω_R = (Ω̇ − p_A) K + Ḟ p,
-    in R's own axes (ν sin F, ν cos F, w3) with ν = (Ω̇ − p_A) sin I, w3 = Ḟ + (Ω̇ − p_A) cos I (rad/day)."""
-    rates = delaunay_rates(0.0)
-    node = rates[4] - GENERAL_PRECESSION_RATE
-    return node * math.sin(I), rates[2] + node * math.cos(I), rates[2]
-
-
-def _terms(directions, F, I: float, moments: np.ndarray):
-    """The linearised equations' terms (module docstring, eqs. (4)–(6)) at the perturbers' ``directions`` (node
-    frame) and argument of latitude F (broadcastable): the forcing f (3, ...), the stiffness M0 (3, 3, ...) and
-    the gyroscopic matrix M1 (3, 3, F's shape), in R's axes, moments with C = 1."""
-    ci, si = math.cos(I), math.sin(I)
-    F = np.asarray(F, dtype=float)
-    cF, sF = np.cos(F), np.sin(F)
-    mom = moments.reshape((3,) + (1,) * F.ndim)
-    f = 0.0
-    m0 = 0.0
-    for gm_r3, v in directions:
-        y, z = ci * v[1] + si * v[2], -si * v[1] + ci * v[2]           # Rx(−I)
-        u = np.stack(np.broadcast_arrays(cF * v[0] + sF * y, -sF * v[0] + cF * y, z))   # Rz(−F): u in R
-        iu = mom * u
-        su, siu = skew(u), skew(iu)
-        f = f + 3.0 * gm_r3 * np.cross(u, iu, axis=0)
-        m0 = m0 + 3.0 * gm_r3 * (np.einsum("ij...,jk...->ik...", siu, su)
-                                 - np.einsum("ij...,j,jk...->ik...", su, moments, su))
-    nu, w3, fdot = _frame_rates(I)
-    w = np.stack([nu * sF, nu * cF, np.full(F.shape, w3)])
-    wdot = np.stack([nu * fdot * cF, -nu * fdot * sF, np.zeros(F.shape)])
-    sw, siw, swd = skew(w), skew(mom * w), skew(wdot)
-    Im = np.diag(moments)
-    f_kin = -mom * wdot - np.cross(w, mom * w, axis=0)
-    m1 = np.einsum("ij,jk...->ik...", Im, sw) - siw + np.einsum("ij...,jk->ik...", sw, Im)
-    m0_kin = (np.einsum("ij,jk...->ik...", Im, swd) - np.einsum("ij...,jk...->ik...", siw, sw)
-              + np.einsum("ij...,j,jk...->ik...", sw, moments, sw))
-    return f + f_kin, m0 + m0_kin, m1
-
-
-def _fields(grid: tuple, sun: bool, I: float, moments: np.ndarray):
-    """:func:`_terms` on the torus grid: f (3, grid), M0 (3, 3, grid), M1 (3, 3, NF)."""
-    nf = grid[2]
-    F = (2.0 * math.pi * np.arange(nf) / nf).reshape(1, 1, nf, 1, 1)
-    f, m0, m1 = _terms(_perturber_directions(grid, sun), F, I, moments)
-    return f, m0, m1.reshape(3, 3, nf)
-
+# ----------------------------------------------------------------------------- the equations at epochs; chains on the torus
 
 def linearised_terms(jd_tdb, equator_inclination: float, moments, sun: bool = True):
     """f, M0, M1 of the linearised equations Λ θ̈ + M1 θ̇ + M0 θ = f (module docstring) at JD TDB epochs
     (shape (N,)): (3, N), (3, 3, N), (3, 3, N); moments normalised to C = 1. For checks (a numerical integration
     of the linear system, a numerical Jacobian of the full one)."""
     args = delaunay_arguments(np.atleast_1d(np.asarray(jd_tdb, dtype=float)))
-    directions = _directions(tuple(args[:, i] for i in range(5)), sun)
-    return _terms(directions, args[:, 2], float(equator_inclination), _normalised(moments))
+    directions = perturber_directions_at(tuple(args[:, i] for i in range(5)), sun)
+    return linearised_equations(directions, args[:, 2], float(equator_inclination), _normalised(moments))
 
 
 def _chain_operator(m0_f: np.ndarray, m1_f: np.ndarray, moments: np.ndarray, nf: int):
@@ -357,7 +282,7 @@ def _pole_longitude_terms(bases: np.ndarray, ms: np.ndarray, theta: np.ndarray):
 
 def _zero_chain_rho(grid: tuple, sun: bool, I: float, moments: np.ndarray) -> tuple[float, float]:
     """The constant ρ and σ the b = 0 chain (the F harmonics of the torus-averaged equations) gives at I."""
-    f, m0, m1 = _fields(grid, sun, I, moments)
+    f, m0, m1 = torus_fields(grid, sun, I, moments)
     nf = grid[2]
     f_f = f.mean(axis=(1, 2, 4, 5))                         # (3, NF): averaged over l, l', D, Ω
     m0_f = m0.mean(axis=(2, 3, 5, 6))
@@ -482,7 +407,7 @@ def _residual(spec: np.ndarray, nu: np.ndarray, grid: tuple, sun: bool, I: float
     thd = np.fft.ifftn(1j * nu * spec, axes=axes).real * n
     mv = mom.reshape((3,) + (1,) * 5)
     if model == "linear":
-        f, m0, m1 = _fields(grid, sun, I, mom)
+        f, m0, m1 = torus_fields(grid, sun, I, mom)
         thdd = np.fft.ifftn(-nu * nu * spec, axes=axes).real * n
         m1 = m1.reshape((3, 3, 1, 1, grid[2], 1, 1))
         return (mv * thdd + np.einsum("ij...,j...->i...", m1, thd) + np.einsum("ij...,j...->i...", m0, th) - f
@@ -490,14 +415,14 @@ def _residual(spec: np.ndarray, nu: np.ndarray, grid: tuple, sun: bool, I: float
     q, jr = rodrigues(th)
     nf = grid[2]
     F = (2.0 * math.pi * np.arange(nf) / nf).reshape(1, 1, nf, 1, 1)
-    nu_r, w3, _ = _frame_rates(I)
+    nu_r, w3, _ = frame_rates(I)
     w = np.stack(np.broadcast_arrays(nu_r * np.sin(F), nu_r * np.cos(F), np.full(F.shape, w3)))
     omega = np.einsum("ji...,j...->i...", q, w) + np.einsum("ij...,j...->i...", jr, thd)
     omega_dot = np.fft.ifftn(1j * nu * np.fft.fftn(omega, axes=axes), axes=axes).real
     res = mv * omega_dot + np.cross(omega, mv * omega, axis=0)
     ci, si = math.cos(I), math.sin(I)
     cF, sF = np.cos(F), np.sin(F)
-    for gm_r3, v in _perturber_directions(grid, sun):
+    for gm_r3, v in perturber_directions(grid, sun):
         y, z = ci * v[1] + si * v[2], -si * v[1] + ci * v[2]
         u_r = np.stack(np.broadcast_arrays(cF * v[0] + sF * y, -sF * v[0] + cF * y, z))
         u = np.einsum("ji...,j...->i...", q, u_r)
@@ -541,7 +466,7 @@ def _solve(grid: tuple, sun: bool, mom: np.ndarray, model: str, inclination: flo
         I = float(inclination)
     nf = grid[2]
     n = float(np.prod(grid))
-    f, m0, m1 = _fields(grid, sun, I, mom)
+    f, m0, m1 = torus_fields(grid, sun, I, mom)
     ms, T0, T1 = _chain_operator(m0.mean(axis=(2, 3, 5, 6)), m1, mom, nf)
     fspec = np.fft.fftn(f, axes=(1, 2, 3, 4, 5)) / n
     floor = FORCING_FLOOR * float(np.abs(fspec).max())
@@ -610,7 +535,7 @@ def _free_modes(grid: tuple, sun: bool, I: float, mom: np.ndarray) -> FreeModes:
     chain holds; the one kept is that whose eigenvector has most weight at m = 0 (the longitude mode and the
     wobble) or m = ±1 (the latitude mode: the pole circling the Cassini pole at nearly Ḟ in the body)."""
     nf = grid[2]
-    f, m0, m1 = _fields(grid, sun, I, mom)
+    f, m0, m1 = torus_fields(grid, sun, I, mom)
     ms, T0, T1 = _chain_operator(m0.mean(axis=(2, 3, 5, 6)), m1, mom, nf)
     fdot = delaunay_rates(0.0)[2]
     d = np.repeat(ms * fdot, 3)
