@@ -2,8 +2,8 @@
 
 Euler's equations for the angular velocity ω_b in the principal-axis (body) frame and the attitude as a unit
 quaternion q (scalar first, body to the Laplace frame), under the gravity-gradient torques of the primary and
-of the Sun (MacCullagh; the equations, units and quaternion kinematics of :mod:`ephem.forced.rigid_body`, whose helpers
-this module uses):
+of the Sun (MacCullagh; the equations, units and quaternion kinematics of :mod:`ephem.forced.rigid_body`, with the
+helpers of :mod:`ephem.forced.rigid_numerics`):
 
     A ω̇1 = (B − C) ω2 ω3 + Σ_j 3 (GM_j/r_j³) (C − B) y_j z_j       (and cyclically)
     q̇    = ½ q ⊗ (0, ω_b)
