@@ -24,7 +24,7 @@ from .batch.distributed import BatchFailed
 from .batch.distributed import run as run_batch
 from .batch.population import HistorySpec
 from .bodies.importer import import_catalogue
-from .exports.pck import write_pck_file
+from .exports.pck import write_pck, write_pck_file
 from .exports.plots import CONTENT_TYPES as PLOT_CONTENT_TYPES
 from .exports.plots import DPI_RANGE as PLOT_DPI_RANGE
 from .exports.plots import HISTORY_KIND as HISTORY_PLOT_KIND
@@ -56,7 +56,7 @@ __all__ = [
     # exports: nutation tables, plots, SPICE kernels; catalogue import; batches of bodies
     "render_nutation", "write_tables", "FORMATS", "LAYOUTS", "DELAUNAY_NAMES", "render_plot", "PLOT_KINDS",
     "HISTORY_PLOT_KIND", "PLOT_DPI_RANGE",
-    "PLOT_CONTENT_TYPES", "MAX_PLOT_POINTS", "write_pck_file", "import_catalogue", "run_batch", "BatchFailed",
+    "PLOT_CONTENT_TYPES", "MAX_PLOT_POINTS", "write_pck", "write_pck_file", "import_catalogue", "run_batch", "BatchFailed",
     "HistorySpec",
     # errors
     "EphemError", "InvalidInputError", "NotApplicableError", "UnknownBodyError",
