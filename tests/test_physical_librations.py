@@ -19,7 +19,7 @@ from scipy.interpolate import CubicSpline
 from ephem.orbit import lunar
 from ephem.moon import physical_librations as P
 from ephem.moon.libration_forcing import perturber_directions
-from ephem.moon.libration_series import GENERAL_PRECESSION_RATE
+from ephem.moon.libration_frames import GENERAL_PRECESSION_RATE
 from ephem.base.constants import ARCSEC, J2000_JD
 from ephem.base.errors import InvalidInputError
 from ephem.orbit.lunar import delaunay_arguments, delaunay_rates, moon_position, sun_position

@@ -2,6 +2,7 @@
 
 - :mod:`ephem.moon.cassini`: The Cassini state of a synchronous rotator: the mean pole of the Moon (Cassini's laws).
 - :mod:`ephem.moon.family`: A synchronous rotator (the Moon) as the library serves it: its pole from the Cassini state
+- :mod:`ephem.moon.libration_frames`: The Moon's frames in small rotations: the general precession that turns the frame of date, [v×] and exp([θ×]).
 - :mod:`ephem.moon.libration_forcing`: The torque on the Moon's turning reference frame, over the torus of the Delaunay arguments.
 - :mod:`ephem.moon.libration_series`: The Moon's physical librations as a series: its terms, their evaluation, and the shipped series on disk.
 - :mod:`ephem.moon.physical_librations`: The Moon's forced physical librations about its Cassini state: the pole and the prime meridian.

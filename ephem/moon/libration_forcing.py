@@ -13,7 +13,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..orbit.lunar import delaunay_rates, gm_km3_day2, moon_position, sun_position
-from .libration_series import GENERAL_PRECESSION_RATE, skew
+from .libration_frames import GENERAL_PRECESSION_RATE, skew
 
 
 def perturber_directions_at(args: tuple, sun: bool):

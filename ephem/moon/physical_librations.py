@@ -22,7 +22,7 @@ pole, Cassini state 2) and x toward the mean Earth (along the equator, F from th
 
     w = (ν sin F, ν cos F, w3),   ν = (Ω̇ − p_A) sin I,   w3 = Ḟ + (Ω̇ − p_A) cos I,
 
-p_A the general precession (:data:`ephem.moon.libration_series.GENERAL_PRECESSION_RATE`: the frame of date turns at −p_A about K). The
+p_A the general precession (:data:`ephem.moon.libration_frames.GENERAL_PRECESSION_RATE`: the frame of date turns at −p_A about K). The
 principal axes are B = R exp([θ×]): θ (rad, in R's axes) is the unknown, θ1 a roll about the mean Earth
 direction, θ2 a pitch about the along-track axis, θ3 a yaw about the pole. The published variables (Eckhardt
 1981, Moon and Planets 25, 3; Meeus 1998 ch. 53) are the principal axes' 3-1-3 Euler angles from E,
@@ -142,7 +142,8 @@ from ..bodies.catalogue import get_body
 from ..orbit.lunar import delaunay_arguments, delaunay_rates
 from .libration_forcing import (frame_rates, linearised_equations, perturber_directions, perturber_directions_at,
                                 torus_fields)
-from .libration_series import PhysicalLibrations, canonical_sign, pole_amplitude, rodrigues, skew
+from .libration_frames import rodrigues, skew
+from .libration_series import PhysicalLibrations, canonical_sign, pole_amplitude
 
 #: θ's constant (rad) in DE421: the principal axes (PA) from the mean-Earth/rotation (ME) frame, the rotation of
 #: NAIF's moon_080317.tf (TKFRAME_31007: 67.92″, 78.56″, 0.30″ about z, y, x, from Williams et al. 2008, JPL IOM
