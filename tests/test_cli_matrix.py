@@ -37,11 +37,11 @@ import pytest
 import typer
 from typer.testing import CliRunner
 
-from ephem import api, cli
+from ephem import api
 from ephem.exports import plots
 from ephem.exports import tables
 from ephem.bodies.catalogue import get_body, load_catalogue
-from ephem.cli import app
+from ephem.cli import app, one_body
 
 ROOT = Path(__file__).resolve().parent.parent
 SAMPLES = ROOT / "tests" / "data" / "import"
@@ -238,7 +238,7 @@ def _track_args(case: Case) -> list[str]:
 
 def _nutation_columns(case: Case) -> list[str]:
     # the Earth's and the Moon's terms are in the Delaunay arguments: their multipliers as five columns
-    lead = ["multiple", *tables.DELAUNAY_COLUMNS] if case.variant in ("earth", "moon") else ["multiple"]
+    lead = ["multiple", *api.DELAUNAY_NAMES] if case.variant in ("earth", "moon") else ["multiple"]
     return [*lead, *TERM_KEYS]
 
 
@@ -447,7 +447,7 @@ SPECS: dict[str, Spec] = {
         check=check_rows(lambda case: ["name", "naif_id", "kind", "dataset"], _bodies_json, exact=False)),
     "body": Spec(
         args=lambda case: case.family.args(),
-        check=check_rows(lambda case: list(cli.BODY_CSV_COLUMNS if case.fmt == "csv" else cli.BODY_TABLE_COLUMNS),
+        check=check_rows(lambda case: list(one_body.BODY_CSV_COLUMNS if case.fmt == "csv" else one_body.BODY_TABLE_COLUMNS),
                          has_keys(["name", "naif_id", "kind", "dataset", "dynamical_ellipticity", "perturbers",
                                    "values", "correlations"]), note="")),
     "precession": Spec(
@@ -480,7 +480,7 @@ SPECS: dict[str, Spec] = {
     "plot": Spec(
         args=_plot_args,
         variants=lambda: [f"{kind}:{family}" for kind in plots.KINDS for family in FAMILIES],
-        # the format is --out's suffix, refused unless plots.CONTENT_TYPES has it (ephem.cli.plot)
+        # the format is --out's suffix, refused unless plots.CONTENT_TYPES has it (ephem.cli.files.plot)
         formats=lambda command: list(plots.CONTENT_TYPES),
         format_args=lambda case: [],
         check=check_plot),

@@ -21,7 +21,7 @@ from ephem.bodies.catalogue import get_body, parse_catalogue, resolve_perturbers
 from ephem.cli import app as cli
 from ephem.base.errors import InvalidInputError, NotApplicableError
 from ephem.earth.lunisolar import earth_lunisolar
-from ephem.exports.tables import DELAUNAY_COLUMNS
+from ephem.orbit.lunar import DELAUNAY_NAMES
 from service.app import app as web
 from tests.test_catalogue import GOOD
 
@@ -345,7 +345,7 @@ def test_cli():
     assert r.exit_code == 0 and json.loads(r.stdout)["precession_rate_arcsec_per_year"] == pytest.approx(50.4043, abs=1e-4)
     r = CliRunner().invoke(cli, ["nutation", "earth", "--format", "csv", "--cut-mas", "1"])
     rows = list(csv.DictReader(io.StringIO(r.stdout)))
-    assert r.exit_code == 0 and len(rows) == 34 and [rows[0][c] for c in DELAUNAY_COLUMNS] == ["0", "0", "0", "0", "1"]
+    assert r.exit_code == 0 and len(rows) == 34 and [rows[0][c] for c in DELAUNAY_NAMES] == ["0", "0", "0", "0", "1"]
     r = CliRunner().invoke(cli, ["track", "earth", "--start", "2020-01-01", "--stop", "2020-03-01", "--step-days",
                                  "30", "--perturbers", "moon,sun", "--format", "csv"])
     assert r.exit_code == 0 and "model: lunisolar" in r.stderr

@@ -5,15 +5,15 @@ The kernels it writes, read back by SPICE itself against our track: tests/test_a
 """
 import pytest
 
-from ephem.exports import pck
+from ephem.exports import pck, pck_kernel
 from ephem.base.errors import InvalidInputError, NotApplicableError, UnknownBodyError
 
 
 def test_angles_owner_is_zzbodbry():
-    assert pck.angles_owner(2000004) == 2000004       # asteroid: its own ID
-    assert pck.angles_owner(399) == 3 and pck.angles_owner(499) == 4 and pck.angles_owner(301) == 3
-    assert pck.angles_owner(65001) == 6               # extended satellite code
-    assert pck.angles_owner(10) == 10 and pck.angles_owner(1000093) == 1000093
+    assert pck_kernel.angles_owner(2000004) == 2000004       # asteroid: its own ID
+    assert pck_kernel.angles_owner(399) == 3 and pck_kernel.angles_owner(499) == 4 and pck_kernel.angles_owner(301) == 3
+    assert pck_kernel.angles_owner(65001) == 6               # extended satellite code
+    assert pck_kernel.angles_owner(10) == 10 and pck_kernel.angles_owner(1000093) == 1000093
 
 
 @pytest.mark.parametrize("kwargs, error, field", [

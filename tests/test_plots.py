@@ -13,7 +13,7 @@ import pytest
 
 from ephem import api
 from ephem.answers import requests as answers   # where the plots take their answers: patched there
-from ephem.exports import plots
+from ephem.exports import plot_drawing, plots
 from ephem.base.errors import InvalidInputError, NotApplicableError, UnknownBodyError
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -117,8 +117,8 @@ def test_obliquity_offsets_from_the_labelled_mean(vesta_track):
 
 
 def test_obliquity_reference_only_for_small_ranges():
-    assert plots.obliquity_reference_deg(np.array([10.0, 10.4])) == 10.2
-    assert plots.obliquity_reference_deg(np.array([10.0, 10.6])) is None
+    assert plot_drawing.obliquity_reference_deg(np.array([10.0, 10.4])) == 10.2
+    assert plot_drawing.obliquity_reference_deg(np.array([10.0, 10.6])) is None
 
 
 def test_free_wobble_lines_are_the_free_motion():
@@ -179,7 +179,7 @@ def test_png_bytes_decode_to_the_figure_size():
     png = plots.render("precession", "Vesta", START, STOP, STEP, fmt="png", dpi=50)
     assert png.startswith(PNG_SIGNATURE)
     image = matplotlib.image.imread(io.BytesIO(png), format="png")
-    w, h = plots._FIGSIZE["precession"]
+    w, h = plot_drawing._FIGSIZE["precession"]
     assert image.shape[:2] == (round(h * 50), round(w * 50))
     assert image[..., :3].min() < 0.5                     # something dark was drawn on the white
 
@@ -368,9 +368,9 @@ def test_history_figure_draws_the_history_answer(ceres_history, ceres_history_fi
 
 
 def test_history_time_unit_follows_the_span():
-    assert plots.history_time_axis([-3e6, 1e6]) == (1e6, "years from J2000.0 (TDB) [Myr]")
-    assert plots.history_time_axis([-2e5, 1e5]) == (1e3, "years from J2000.0 (TDB) [kyr]")
-    assert plots.history_time_axis([0.0, 1000.0]) == (1.0, "years from J2000.0 (TDB) [yr]")
+    assert plot_drawing.history_time_axis([-3e6, 1e6]) == (1e6, "years from J2000.0 (TDB) [Myr]")
+    assert plot_drawing.history_time_axis([-2e5, 1e5]) == (1e3, "years from J2000.0 (TDB) [kyr]")
+    assert plot_drawing.history_time_axis([0.0, 1000.0]) == (1.0, "years from J2000.0 (TDB) [yr]")
 
 
 def test_history_hatches_where_it_stops_meaning_anything(monkeypatch):
@@ -381,7 +381,7 @@ def test_history_hatches_where_it_stops_meaning_anything(monkeypatch):
             "meaningful_from_year": -4000.0, "meaningful_to_year": 2000.0,
             "model": {"name": "secular", "estimated_error_mas": 4.0e6, "warnings": ["..."]}}
     monkeypatch.setattr(answers, "history", lambda *a, **k: fake)
-    assert plots.meaningless_spans(fake) == [pytest.approx((-10_000.0, -4000.0), abs=1e-9),
+    assert plot_drawing.meaningless_spans(fake) == [pytest.approx((-10_000.0, -4000.0), abs=1e-9),
                                              pytest.approx((2000.0, 5000.0), abs=1e-9)]
     fig = plots.figure(HISTORY, "Mars", -10_000, 5_000, step_years=500)
     top, bottom = fig.axes
@@ -394,7 +394,7 @@ def test_history_hatches_where_it_stops_meaning_anything(monkeypatch):
     assert "4e+06" not in fig.get_suptitle() and "1.11°" in fig.get_suptitle()   # 4e6 mas: in degrees
     # None: not limited on that side
     fake.update(meaningful_from_year=None, meaningful_to_year=2000.0)
-    assert plots.meaningless_spans(fake) == [pytest.approx((2000.0, 5000.0), abs=1e-9)]
+    assert plot_drawing.meaningless_spans(fake) == [pytest.approx((2000.0, 5000.0), abs=1e-9)]
 
 
 def test_history_default_step_is_a_nice_number():
@@ -418,7 +418,7 @@ def test_history_png_and_svg(ceres_history_figure):
     png = plots.render(HISTORY, "Ceres", Y0, Y1, fmt="png", dpi=40, step_years=YSTEP)
     assert png.startswith(PNG_SIGNATURE)
     image = matplotlib.image.imread(io.BytesIO(png), format="png")
-    w, h = plots._FIGSIZE[HISTORY]
+    w, h = plot_drawing._FIGSIZE[HISTORY]
     assert image.shape[:2] == (round(h * 40), round(w * 40))
     svg = plots.render(HISTORY, "Ceres", Y0, Y1, fmt="svg", step_years=YSTEP)
     assert ET.fromstring(svg).tag == "{http://www.w3.org/2000/svg}svg"

@@ -13,7 +13,8 @@ from ephem import api
 from ephem.cli import app
 from ephem.base.constants import MAS
 from ephem.base.errors import InvalidInputError
-from ephem.exports.tables import DELAUNAY_COLUMNS, FORMATS, LAYOUTS, _COLUMNS, latex_escape, render_nutation, table_rows
+from ephem.orbit.lunar import DELAUNAY_NAMES
+from ephem.exports.tables import FORMATS, LAYOUTS, _COLUMNS, latex_escape, render_nutation, table_rows
 
 FORMAT_NAMES = tuple(FORMATS)
 
@@ -187,15 +188,15 @@ def parse_earth(text: str, fmt: str, layout: str) -> dict:
     out = {}
     if fmt == "csv":
         rows = list(csv.DictReader(io.StringIO(text)))
-        assert "multiple" not in rows[0] and list(rows[0])[:7] == ["component", "arg", *DELAUNAY_COLUMNS]
+        assert "multiple" not in rows[0] and list(rows[0])[:7] == ["component", "arg", *DELAUNAY_NAMES]
         for r in rows:
             out[(r["component"], r["arg"])] = {k: float(r[k]) for k in keys}
-            out[(r["component"], r["arg"])]["k"] = [int(r[c]) for c in DELAUNAY_COLUMNS]
+            out[(r["component"], r["arg"])]["k"] = [int(r[c]) for c in DELAUNAY_NAMES]
     elif fmt == "json":
         for table in json.loads(text)["tables"]:
             for r in table["rows"]:
                 out[(table["component"], r["arg"])] = {k: r[k] for k in keys}
-                out[(table["component"], r["arg"])]["k"] = [r[c] for c in DELAUNAY_COLUMNS]
+                out[(table["component"], r["arg"])]["k"] = [r[c] for c in DELAUNAY_NAMES]
     else:
         comp = None
         for line in text.splitlines():
@@ -225,7 +226,7 @@ def test_earth_tables_carry_the_arguments_in_every_format(earth, layout):
         assert set(got) == set(rows), fmt
         for key, values in got.items():
             if "k" in values:
-                assert values.pop("k") == [rows[key][c] for c in DELAUNAY_COLUMNS]
+                assert values.pop("k") == [rows[key][c] for c in DELAUNAY_NAMES]
             for column, value in values.items():
                 places = {"amp_mas": 2, "period_days": 4}.get(column, 4)
                 exact = fmt in ("csv", "json")   # they print repr(), which reads back to the same double

@@ -96,7 +96,7 @@ def nutation(name: str = typer.Argument(..., metavar="BODY"), dataset: str = Dat
     for term in ans["terms"]:       # the Delaunay multipliers as five columns in CSV and tables
         row = {k: v for k, v in term.items() if k != "delaunay_multipliers"}
         if term.get("delaunay_multipliers") is not None:
-            row = {"multiple": None, **dict(zip(api.DELAUNAY_COLUMNS, term["delaunay_multipliers"])), **row}
+            row = {"multiple": None, **dict(zip(api.DELAUNAY_NAMES, term["delaunay_multipliers"])), **row}
         rows.append(row)
     emit(ans, fmt, rows)
 

@@ -35,10 +35,11 @@ by orthogonal least squares (the one that lowers the residual most), the coeffic
 squares over a dense grid of the span, RA weighted by cos DEC so that both residuals are angles on
 the sky. The fit error is the largest angle between the kernel's pole, evaluated as SPICE does, and
 the track over the fit grid and a grid :data:`CHECK_DENSITY` times denser offset from it, raised by
-:data:`CHECK_MARGIN` for the maxima between epochs, plus :func:`rounding_bound` for SPICE's
+:data:`~ephem.exports.pck_fit.CHECK_MARGIN` for the maxima between epochs, plus
+:func:`~ephem.exports.pck_kernel.rounding_bound` for SPICE's
 double-precision arithmetic. Terms are added until that error is below the
-aim (:data:`FIT_AIM_MAS`); if the angle budget runs out first the kernel is written only if the
-error is below the limit (:data:`FIT_LIMIT_MAS`; both default to a tenth of the model's estimated
+aim (:data:`~ephem.exports.pck_fit.FIT_AIM_MAS`); if the angle budget runs out first the kernel is written only if the
+error is below the limit (:data:`~ephem.exports.pck_fit.FIT_LIMIT_MAS`; both default to a tenth of the model's estimated
 error where that is smaller, the limit raised to 5 % of that error where it is larger (the Moon's
 models, whose estimates are arcseconds: the kernel adds at most 5 % to them); both are ``fit_tolerance_mas`` when given), and otherwise refused
 (:class:`~ephem.base.errors.InvalidInputError` on ``stop``).
@@ -51,7 +52,7 @@ longitude and latitude in SPICE's ECLIPJ2000 (``BODYbbb_CONSTANTS_REF_FRAME = 17
 rotates them back.
 
 The prime meridian. The catalogue has the rotation period P but no W0: W1 = 360° / P (days) and, for
-the bodies :func:`iau_orientation` knows (the catalogue's asteroids, Mars, the Earth), W0 puts the
+the bodies :func:`~ephem.exports.pck_fit.iau_orientation` knows (the catalogue's asteroids, Mars, the Earth), W0 puts the
 prime meridian where the IAU WGCCRE model puts it at the middle of the span: the IAU model's body x
 axis there, projected on our kernel's equator, measured from our node. Our pole and the IAU's differ
 (the IAU asteroid poles are fixed, ours precess), so this is the nearest meridian to the IAU's, not the
@@ -66,9 +67,8 @@ from pathlib import Path
 
 from ..bodies.catalogue import DEFAULT_DATASET, Body, resolve_body
 from ..base.errors import InvalidInputError
-# the fit's limits, tables and evaluation are part of this module's interface (the CLI, the tests)
-from .pck_fit import (DEFAULT_MAX_ANGLES, FIT_AIM_MAS, FIT_LIMIT_MAS, FRAME_FROM_J2000, SPICE_MAX_ANGLES, BodyFit,
-                      PckResult, angles_owner, fit_body, iau_orientation, rounding_bound)  # noqa: F401
+from .pck_fit import DEFAULT_MAX_ANGLES, SPICE_MAX_ANGLES, fit_body
+from .pck_kernel import PckResult, angles_owner
 from .pck_text import ascii_text, comment_lines, data_block, time_text
 from ..base.times import to_jd_tdb
 from ..base.units import in_unit
@@ -85,8 +85,8 @@ def write_pck(bodies, start, stop, dataset: str = DEFAULT_DATASET, tolerance_mas
     ``tolerance_mas``, ``model``, ``order``, ``axis``, ``perturbers``: the track's model, as in
     :func:`ephem.answers.requests.track` (the Earth with the Moon: the lunisolar series' terms are the frequencies).
     ``fit_tolerance_mas``: the largest angle (mas) allowed between the kernel's pole and the track
-    anywhere in the span; by default the fit aims at :data:`FIT_AIM_MAS` and accepts up to
-    :data:`FIT_LIMIT_MAS` (each at most a tenth of the model's estimated error). ``max_angles``: the
+    anywhere in the span; by default the fit aims at :data:`~ephem.exports.pck_fit.FIT_AIM_MAS` and accepts up to
+    :data:`~ephem.exports.pck_fit.FIT_LIMIT_MAS` (each at most a tenth of the model's estimated error). ``max_angles``: the
     nutation-precession angles allowed per body (default 100, the limit of SPICE toolkits before N0067;
     at most 200). ``generated``: the time stamped in the comments (default now).
 

@@ -4,7 +4,7 @@ orthogonal least-squares choice of the angles."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 
@@ -15,6 +15,10 @@ from ..base.errors import InvalidInputError
 from ..orbit.geometry import angle_between
 from ..families import theory_for
 from ..theory.interface import Spectrum
+# the track through its module, as tests patch it there (tests/test_stable_choices.py)
+from ..answers import requests as answers
+from .pck_kernel import (FRAME_FROM_J2000, BodyFit, jd_text, kernel_radec, radec_of_units, rotation_x, rounding_bound,
+                         theta_rad, unit_vectors)
 
 #: Terms are added until the fit error is below this (mas) ...
 FIT_AIM_MAS = 0.1
@@ -57,11 +61,6 @@ RELATIVE_TIE = 1e-8
 KEPT_COLUMNS_BYTES = 64 << 20
 #: A track that comes nearer than this to the J2000 pole (degrees of declination) is fitted in ECLIPJ2000.
 MAX_J2000_DEC_DEG = 80.0
-#: SPICE's ECLIPJ2000 is J2000 turned about its x axis by the IAU 1976 obliquity of J2000 (SPICELIB
-#: CHGIRF); IRFNUM codes of the two frames, for BODY#_CONSTANTS_REF_FRAME.
-ECLIPJ2000_OBLIQUITY_ARCSEC = 84381.448
-FRAME_CODES = {"J2000": 1, "ECLIPJ2000": 17}
-
 # The IAU WGCCRE orientation models, used only to place our W0 (module docstring). Asteroids and Mars:
 # Archinal et al. (2018), the WGCCRE 2015 report, as in NAIF's pck00011.tpc, read in NAIF's test utility
 # T_PCKANG (which checks that kernel's models) and cross-checked for Ceres, Vesta and Eros against
@@ -109,144 +108,9 @@ def iau_orientation(naif_id: int, jd_tdb: float) -> tuple[float, float, float, s
     return None
 
 
-def angles_owner(naif_id: int) -> int:
-    """The ID naming ``BODY#_NUT_PREC_ANGLES`` and ``BODY#_CONSTANTS_REF_FRAME`` for ``naif_id`` (ZZBODBRY)."""
-    if 100 <= naif_id <= 999:
-        return naif_id // 100
-    if 10000 <= naif_id <= 99999:
-        return naif_id // 10000
-    return naif_id
-
-
-def jd_text(jd: float) -> str:
-    """A Julian date TDB as the kernel's texts and messages write it."""
-    return f"JD {jd:.6f} TDB"
-
-
-def _rx(angle: float) -> np.ndarray:
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, s], [0.0, -s, c]])
-
-
 def _rz(angle: float) -> np.ndarray:
     c, s = math.cos(angle), math.sin(angle)
     return np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
-
-
-#: Vectors from J2000 to each kernel frame (rows: the frame's axes in J2000).
-FRAME_FROM_J2000 = {"J2000": np.eye(3), "ECLIPJ2000": _rx(ECLIPJ2000_OBLIQUITY_ARCSEC * ARCSEC)}
-
-
-@dataclass(frozen=True)
-class BodyFit:
-    """One body's kernel entry as written (degrees; T in Julian centuries, d in days of TDB from J2000;
-    RA and DEC in ``frame``) and the quality of its fit to the track."""
-
-    name: str
-    naif_id: int
-    dataset: str
-    model: dict                      # the track's model: name, order, estimated_error_mas, description, ...
-    frame: str                       # "J2000" or "ECLIPJ2000"
-    fit_error_mas: float             # largest angle between the kernel's pole and the track over the span
-    fit_rms_mas: float
-    fit_aim_mas: float
-    fit_limit_mas: float
-    check_epochs: int
-    pole_ra: tuple[float, float, float]
-    pole_dec: tuple[float, float, float]
-    pm: tuple[float, float, float]
-    pm_source: str
-    angles: tuple[tuple[float, float], ...]      # (θ0 deg, θ1 deg/century)
-    nut_prec_ra: tuple[float, ...]
-    nut_prec_dec: tuple[float, ...]
-    terms: tuple                                 # (label, j) of each pair of angles: see term_label
-    term_label: str                              # what a term's label is (k: θ = k M + j Ψ; or Delaunay multipliers)
-    precession_rate_deg_per_day: float           # ψ̇: the sidebands' step
-
-    @property
-    def angles_owner(self) -> int:
-        return angles_owner(self.naif_id)
-
-    def pole_radec(self, jd_tdb) -> tuple[np.ndarray, np.ndarray]:
-        """The kernel's RA and DEC (degrees, in :attr:`frame`) at epochs (JD TDB), as SPICE evaluates them."""
-        return _kernel_radec(self, np.asarray(jd_tdb, dtype=float))
-
-    def pole_j2000(self, jd_tdb) -> np.ndarray:
-        """The kernel's pole as unit vectors (..., 3) in J2000 at epochs (JD TDB)."""
-        return _unit(*self.pole_radec(jd_tdb)) @ FRAME_FROM_J2000[self.frame]
-
-
-@dataclass(frozen=True)
-class PckResult:
-    """A kernel: its ``text`` and, per body (``bodies``), the fit; the validity span (JD TDB and UTC)."""
-
-    text: str
-    bodies: tuple[BodyFit, ...]
-    start_jd_tdb: float
-    stop_jd_tdb: float
-    start_utc: str
-    stop_utc: str
-    generated_utc: str
-
-    @property
-    def fit_error_mas(self) -> dict[str, float]:
-        """Largest angle between the kernel's pole and the track over the span, per body (mas)."""
-        return {b.name: b.fit_error_mas for b in self.bodies}
-
-    @property
-    def models(self) -> dict[str, dict]:
-        """The model each body's track used (rung name, order, estimated error, ...)."""
-        return {b.name: b.model for b in self.bodies}
-
-
-# --------------------------------------------------------------------------- evaluation
-
-def _theta_rad(angles: np.ndarray, T: np.ndarray) -> np.ndarray:
-    """θ_i(T) in radians, shape (N, m), computed as TISBOD does: θ0 + θ1 T in degrees, then radians."""
-    angles = np.asarray(angles, dtype=float).reshape(-1, 2)
-    return np.radians(angles[:, 0][None, :] + T[:, None] * angles[:, 1][None, :])
-
-
-def _kernel_radec(fit: BodyFit, jd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    T = (np.atleast_1d(jd) - J2000_JD) / CENTURY_DAYS
-    ra = fit.pole_ra[0] + T * (fit.pole_ra[1] + T * fit.pole_ra[2])
-    dec = fit.pole_dec[0] + T * (fit.pole_dec[1] + T * fit.pole_dec[2])
-    if fit.angles:
-        theta = _theta_rad(fit.angles, T)
-        ra = ra + np.sin(theta[:, :len(fit.nut_prec_ra)]) @ np.asarray(fit.nut_prec_ra)
-        dec = dec + np.cos(theta[:, :len(fit.nut_prec_dec)]) @ np.asarray(fit.nut_prec_dec)
-    return ra, dec
-
-
-def rounding_bound(fit: BodyFit, jd: np.ndarray) -> float:
-    """A bound (radians) on what double-precision rounding in SPICE's evaluation of the kernel can move its
-    pole over the epochs: a few units in the last place of every term summed, in RA (times cos DEC) and DEC,
-    and of each angle θ = θ0 + θ1 T times its coefficients."""
-    T = (np.atleast_1d(jd) - J2000_JD) / CENTURY_DAYS
-    eps = 4.0 * np.finfo(float).eps
-    ang = np.asarray(fit.angles, dtype=float).reshape(-1, 2)
-    theta_err = eps * (np.abs(ang[:, 0])[None, :] + np.abs(T)[:, None] * np.abs(ang[:, 1])[None, :])   # deg
-
-    def part(poly, coef):
-        c = np.abs(np.asarray(coef, dtype=float))
-        terms = abs(poly[0]) + np.abs(T) * (abs(poly[1]) + np.abs(T) * abs(poly[2])) + float(c.sum())
-        return eps * terms + np.radians(theta_err[:, :c.size]) @ c
-
-    dec = np.radians(fit.pole_radec(jd)[1])
-    return float(np.max(np.hypot(np.cos(dec) * part(fit.pole_ra, fit.nut_prec_ra),
-                                 part(fit.pole_dec, fit.nut_prec_dec)))) * math.pi / 180.0
-
-
-def _unit(ra_deg, dec_deg) -> np.ndarray:
-    ra, dec = np.radians(ra_deg), np.radians(dec_deg)
-    cd = np.cos(dec)
-    return np.stack([cd * np.cos(ra), cd * np.sin(ra), np.sin(dec)], axis=-1)
-
-
-def _radec(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """RA (unwrapped along the rows, degrees) and DEC (degrees) of unit vectors (N, 3)."""
-    ra = np.unwrap(np.arctan2(v[:, 1], v[:, 0]))
-    return np.degrees(ra), np.degrees(np.arctan2(v[:, 2], np.hypot(v[:, 0], v[:, 1])))
 
 
 # --------------------------------------------------------------------------- fitting
@@ -449,12 +313,10 @@ def _candidates(spec: Spectrum, span: float, fit_step: float) -> list[tuple[int,
 
 def fit_body(b: Body, t0: float, t1: float, dataset: str, tolerance_mas, model, order, axis: str, perturbers,
               fit_tolerance_mas: float | None, max_angles: int) -> BodyFit:
-    from ..answers import requests as api
-
     span = t1 - t0
     # the model: chosen once (by tolerance, name or default) for the span's two ends, then named for both
     # grids, so that a tolerance cannot pick another one for other epochs
-    probe = api.track_arrays(b, t0, t1, span, dataset, order=order, tolerance_mas=tolerance_mas, model=model,
+    probe = answers.track_arrays(b, t0, t1, span, dataset, order=order, tolerance_mas=tolerance_mas, model=model,
                              axis=axis, perturbers=perturbers)
     info = probe["model"]
     estimate = info.get("estimated_error_mas")
@@ -475,20 +337,20 @@ def fit_body(b: Body, t0: float, t1: float, dataset: str, tolerance_mas, model, 
                                          math.ceil(SAMPLES_PER_PERIOD * fastest * span / (2.0 * math.pi)) + 1)))
     step = span / (count - 1)
     named = {"order": info["order"], "model": info["name"], "axis": axis, "perturbers": perturbers}
-    ans = api.track_arrays(b, t0, t1, step, dataset, max_samples=count + 1, **named)
+    ans = answers.track_arrays(b, t0, t1, step, dataset, max_samples=count + 1, **named)
     t = ans["jd_tdb"]
     check_count = CHECK_DENSITY * (t.size - 1)
     check_step = span / check_count
-    chk = api.track_arrays(b, t0 + 0.5 * check_step, t1, check_step, dataset, max_samples=check_count + 1, **named)
+    chk = answers.track_arrays(b, t0 + 0.5 * check_step, t1, check_step, dataset, max_samples=check_count + 1, **named)
     t_chk = chk["jd_tdb"]
     spec = theory.spectrum(aim, Tm, t, ans["psi_arcsec"] * ARCSEC)
 
     # the frame: J2000 unless the pole comes near its pole
     frame = "J2000" if float(np.max(np.abs(ans["pole_dec_deg"]))) <= MAX_J2000_DEC_DEG else "ECLIPJ2000"
     rot = FRAME_FROM_J2000[frame]
-    u_fit = _unit(ans["pole_ra_deg"], ans["pole_dec_deg"]) @ rot.T
-    u_chk = _unit(chk["pole_ra_deg"], chk["pole_dec_deg"]) @ rot.T
-    ra_deg, dec_deg = _radec(u_fit)
+    u_fit = unit_vectors(ans["pole_ra_deg"], ans["pole_dec_deg"]) @ rot.T
+    u_chk = unit_vectors(chk["pole_ra_deg"], chk["pole_dec_deg"]) @ rot.T
+    ra_deg, dec_deg = radec_of_units(u_fit)
     ra_deg -= 360.0 * math.floor(ra_deg[ra_deg.size // 2] / 360.0)      # RA in [0°, 360°) mid-span
 
     T = (t - J2000_JD) / CENTURY_DAYS
@@ -496,7 +358,7 @@ def fit_body(b: Body, t0: float, t1: float, dataset: str, tolerance_mas, model, 
     cands = _candidates(spec, span, step)
     cand_cols = np.empty((t.size, 2 * len(cands)))
     if cands:
-        theta = _theta_rad(np.array([spec.angle(i, j) for i, j in cands]), T)
+        theta = theta_rad(np.array([spec.angle(i, j) for i, j in cands]), T)
         cand_cols[:, 0::2], cand_cols[:, 1::2] = np.sin(theta), np.cos(theta)
     ra = _Ols(np.cos(np.radians(dec_deg)), ra_deg, cand_cols)        # RA weighted by cos DEC: an angle
     dec = _Ols(np.ones_like(t), dec_deg, cand_cols)
@@ -509,8 +371,8 @@ def fit_body(b: Body, t0: float, t1: float, dataset: str, tolerance_mas, model, 
                          aim, limit)
 
     def measure(fit: BodyFit) -> tuple[float, float, int]:
-        e1 = angle_between(_unit(*_kernel_radec(fit, t)), u_fit)
-        e2 = angle_between(_unit(*_kernel_radec(fit, t_chk)), u_chk)
+        e1 = angle_between(unit_vectors(*kernel_radec(fit, t)), u_fit)
+        e2 = angle_between(unit_vectors(*kernel_radec(fit, t_chk)), u_chk)
         worst = (max(float(e1.max()), float(e2.max())) * CHECK_MARGIN + rounding_bound(fit, t_chk)) / MAS
         return worst, math.sqrt(float(np.mean(np.concatenate([e1, e2]) ** 2))) / MAS, e1.size + e2.size
 
@@ -579,7 +441,7 @@ def _frame_axes(ra_deg: float, dec_deg: float, w_deg: float) -> np.ndarray:
     """Rows: the body-fixed axes, in the reference frame, of the PCK Euler angles: [W]3 [90° - DEC]1 [90° + RA]3
     (pck.req, "Orientation Models used by PCK Software")."""
     a, d, w = (math.radians(x) for x in (ra_deg, dec_deg, w_deg))
-    return _rz(w) @ _rx(math.pi / 2 - d) @ _rz(math.pi / 2 + a)
+    return _rz(w) @ rotation_x(math.pi / 2 - d) @ _rz(math.pi / 2 + a)
 
 
 def _prime_meridian(b: Body, fit: BodyFit, jd_anchor: float) -> tuple[tuple[float, float, float], str]:

@@ -7,7 +7,7 @@ import unicodedata
 import warnings
 
 from ..base.errors import InvalidInputError
-from .pck_fit import FRAME_CODES, BodyFit, jd_text
+from .pck_kernel import FRAME_CODES, BodyFit, jd_text
 
 def _num(x: float) -> str:
     """A kernel number: the shortest repr that reads back to the same double, exponent in upper case."""

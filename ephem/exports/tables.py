@@ -25,6 +25,9 @@ import math
 from pathlib import Path
 from typing import Callable, Iterable
 
+from ..base.errors import InvalidInputError
+from ..orbit.lunar import DELAUNAY_NAMES
+
 FORMATS = {"csv": "text/csv; charset=utf-8", "markdown": "text/markdown; charset=utf-8",
            "latex": "application/x-latex; charset=utf-8", "json": "application/json"}
 EXTENSIONS = {"csv": "csv", "markdown": "md", "latex": "tex", "json": "json"}
@@ -43,8 +46,6 @@ _DIGITS = {"sin-cos": 4, "amp-period": {"amp_mas": 2, "period_days": 4}}
 
 
 def _check(layout: str, fmt: str | None = None) -> None:
-    from ..base.errors import InvalidInputError
-
     if layout not in LAYOUTS:
         raise InvalidInputError("layout", f"must be one of {', '.join(LAYOUTS)}, got {layout!r}")
     if fmt is not None and fmt not in FORMATS:
@@ -55,8 +56,7 @@ def _arg(k: int) -> str:
     return "M" if k == 1 else f"{k}M"
 
 
-#: Column names of the Delaunay multipliers (CSV, JSON), and their symbols in Markdown and LaTeX.
-DELAUNAY_COLUMNS = ("l", "l'", "F", "D", "Omega")
+#: The Delaunay multipliers' symbols in Markdown and LaTeX (their CSV and JSON columns are DELAUNAY_NAMES).
 _DELAUNAY_SYMBOLS = ("l", "l′", "F", "D", "Ω")
 _DELAUNAY_LATEX = ("l", "l'", "F", "D", r"\Omega")
 
@@ -93,7 +93,7 @@ def table_rows(answer: dict, layout: str = "sin-cos") -> list[dict]:
             amp = math.hypot(s, c) * scale
             if t.get("delaunay_multipliers") is not None:
                 k = [int(v) for v in t["delaunay_multipliers"]]
-                row = {"component": comp, "arg": delaunay_arg(k), **dict(zip(DELAUNAY_COLUMNS, k))}
+                row = {"component": comp, "arg": delaunay_arg(k), **dict(zip(DELAUNAY_NAMES, k))}
             else:
                 row = {"component": comp, "multiple": int(t["multiple"]), "arg": _arg(int(t["multiple"]))}
             sig_amp = t.get(f"{comp}_amplitude_arcsec_uncertainty")
@@ -182,7 +182,7 @@ def render_nutation(answer: dict, fmt: str, digits: int | None = None, layout: s
     columns = _COLUMNS[layout]
     sigma = any(v is not None for r in rows for k, v in r.items() if k.endswith("_uncertainty"))
     if fmt == "csv":
-        keys = ["component", "arg", *DELAUNAY_COLUMNS] if _is_delaunay(answer) else ["component", "multiple", "arg"]
+        keys = ["component", "arg", *DELAUNAY_NAMES] if _is_delaunay(answer) else ["component", "multiple", "arg"]
         for key, *_ in columns:
             keys.append(key)
             if _has_sigma(rows, key):
@@ -214,7 +214,7 @@ def render_nutation(answer: dict, fmt: str, digits: int | None = None, layout: s
             lines = [r"\begin{table}", r"\centering", rf"\caption{{{_latex_caption(answer, comp, layout, sigma)}}}",
                      r"\begin{tabular}{" + "r" * len(columns) + "l}", r"\toprule", " & ".join(head) + r" \\",
                      r"\midrule"]
-            lines += [" & ".join(c + [delaunay_arg([r[k] for k in DELAUNAY_COLUMNS], latex=True) if "l" in r
+            lines += [" & ".join(c + [delaunay_arg([r[k] for k in DELAUNAY_NAMES], latex=True) if "l" in r
                                       else r["arg"].replace("M", r"$M$")]) + r" \\" for c, r in zip(cells, part)]
             lines += [r"\bottomrule", r"\end{tabular}", r"\end{table}"]
         blocks.append("\n".join(lines))
