@@ -13,7 +13,7 @@ document states, so the contract tested is the deployed one.
 One check is sharpened rather than taken as is: schemathesis's positive_data_acceptance wants every
 schema-valid request answered 2xx. Some rules cannot be written in JSON Schema (stop after start, a
 real calendar day, tolerance_mas or order, the physics of the body: "not applicable"), so the
-service's OpenAPI document states them in each operation's description (service.app.OPERATION_RULES).
+service's OpenAPI document states them in each operation's description (service.openapi_rules.OPERATION_RULES).
 A schema-valid request may be refused with 422 only for one of those stated rules: the check below
 maps each refusal's reason to its rule and fails when the operation does not state it.
 """
@@ -26,7 +26,8 @@ from hypothesis import HealthCheck, settings
 from schemathesis.checks import positive_data_acceptance
 from schemathesis.config import SchemathesisConfig
 
-from service.app import OPERATION_RULES, create_app
+from service.app import create_app
+from service.openapi_rules import OPERATION_RULES
 from service.problems import PROBLEM, TYPE_BASE
 from service.settings import Settings
 

@@ -14,7 +14,8 @@ from ephem.bodies.catalogue import get_body, resolve_perturbers
 from ephem.base.constants import JD_RANGE
 from ephem.base.errors import InvalidInputError, NotApplicableError
 from ephem.base.times import TIME_PATTERN, TIME_PATTERN_ECMA, to_jd_tdb, ut1_span
-from service.app import BODY_RULES, OPERATION_RULES, PARAMETER_RULES, PERTURBERS_PATTERN, create_app
+from service.app import create_app
+from service.openapi_rules import BODY_RULES, OPERATION_RULES, PARAMETER_RULES, PERTURBERS_PATTERN
 from service.problems import PROBLEM
 from service.settings import Settings
 
