@@ -40,7 +40,7 @@ ALLOWED = {
 #: importing module must not load at its own import: (importer, imported) -> why.
 DEFERRED = {
     (f"ephem.cli.{m}", "ephem.api"): "numpy, astropy and the theories: `ephem --help` answers without them "
-                                     "(tests/test_cli_imports.py)" for m in ("common", "one_body", "files", "demo")
+                                     "(tests/test_cli_imports.py)" for m in ("one_body", "files", "demo")
 }
 
 

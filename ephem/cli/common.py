@@ -33,12 +33,12 @@ ToleranceOpt = typer.Option(None, "--tolerance-mas", help="Let the fidelity ladd
                             "model estimated within this many milliarcseconds of the truth.")
 
 
-def fail(exc) -> None:
-    """Print a library error (an :class:`ephem.api.EphemError`) and exit: 3 if the theory does not apply, else 2."""
-    from .. import api
-
+def fail(exc, not_applicable: type) -> None:
+    """Print a library error (an :class:`ephem.api.EphemError`) and exit: 3 if the theory does not apply (the
+    command passes ``api.NotApplicableError``: this module does not import the api, one step less between a
+    command and the library), else 2."""
     typer.echo(f"error: {exc}", err=True)
-    raise typer.Exit(3 if isinstance(exc, api.NotApplicableError) else 2)
+    raise typer.Exit(3 if isinstance(exc, not_applicable) else 2)
 
 
 def _rows_to_csv(rows: list[dict]) -> str:

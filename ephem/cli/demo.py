@@ -24,7 +24,7 @@ def demo(dataset: str = DatasetOpt):
     try:
         bodies = [b["name"] for b in api.list_bodies(dataset)]
     except api.EphemError as exc:
-        fail(exc)
+        fail(exc, api.NotApplicableError)
     typer.echo(f"Precession rates ({dataset} dataset)")
     rows = []
     for name in bodies:

@@ -50,7 +50,7 @@ def tables(names: Optional[list[str]] = typer.Argument(None, metavar="[BODY]..."
                     skipped.append(str(exc))
         written = api.write_tables(answers, out, [f.value for f in formats], [x.value for x in layouts])
     except api.EphemError as exc:
-        fail(exc)
+        fail(exc, api.NotApplicableError)
     for why in skipped:
         typer.echo(f"skipped: {why}", err=True)
     typer.echo(f"wrote {len(written)} files for {len(answers)} bodies to {out}/")
@@ -91,7 +91,7 @@ def plot(name: str = typer.Argument(..., metavar="BODY"),
                                 tolerance_mas=tolerance_mas, model=model, order=order, J_arcsec=j_arcsec,
                                 step_years=step_years, orbit_model=orbit_model)
     except api.EphemError as exc:
-        fail(exc)
+        fail(exc, api.NotApplicableError)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_bytes(image)
     typer.echo(f"wrote {out} ({len(image)} bytes)")
@@ -114,7 +114,7 @@ def pck(names: list[str] = typer.Argument(..., metavar="BODY..."),
         result = api.write_pck_file(out, names, start, stop, dataset=dataset, tolerance_mas=tolerance_mas,
                                     model=model, max_angles=max_angles)
     except api.EphemError as exc:
-        fail(exc)
+        fail(exc, api.NotApplicableError)
     for f in result.bodies:
         est = f.model.get("estimated_error_mas")
         typer.echo(f"{f.name}: fitting error {f.fit_error_mas:.4g} mas with {len(f.angles)} angles (model "
@@ -167,7 +167,7 @@ def batch(input_path: str = typer.Argument(..., metavar="INPUT", help="The bodie
             given = next(k for k, v in years.items() if v is not None)
             raise api.InvalidInputError(given, "only with --history")
     except api.EphemError as exc:
-        fail(exc)
+        fail(exc, api.NotApplicableError)
     spec = None
     if history:
         spec = api.HistorySpec(start_year, stop_year, step_years)
@@ -199,7 +199,7 @@ def batch(input_path: str = typer.Argument(..., metavar="INPUT", help="The bodie
     except api.BatchFailed as exc:
         failed, result = exc, exc.result
     except api.EphemError as exc:
-        fail(exc)
+        fail(exc, api.NotApplicableError)
     rate = f", {result.rows_computed / result.seconds:.4g} bodies/s" if result.rows_computed else ""
     resumed = f", {result.partitions_skipped} resumed" if result.partitions_skipped else ""
     typer.echo(f"{result.rows} rows ({result.rows_failed} failed) in {result.partitions} partitions{resumed} to "
@@ -243,7 +243,7 @@ def catalogue_import(orbits: str = typer.Option(..., "--orbits", help="Orbit fil
         result = api.import_catalogue(orbits, poles, name, orbit_format.value if orbit_format else None,
                                   skip_unmatched=skip_unmatched, force=force)
     except api.EphemError as exc:
-        fail(exc)
+        fail(exc, api.NotApplicableError)
     for skipped in result.skipped:
         typer.echo(f"note: skipped {skipped}", err=True)
     names = result.catalogue.names

@@ -21,7 +21,7 @@ def bodies(dataset: str = DatasetOpt, fmt: Format = FormatOpt):
     try:
         rows = api.list_bodies(dataset)
     except api.EphemError as exc:
-        fail(exc)
+        fail(exc, api.NotApplicableError)
     emit(rows, fmt, rows)
 
 
@@ -44,7 +44,7 @@ def body(name: str = typer.Argument(..., metavar="BODY"), dataset: str = Dataset
     try:
         record = api.body_record(name, dataset)
     except api.EphemError as exc:
-        fail(exc)
+        fail(exc, api.NotApplicableError)
     if fmt is Format.json:
         emit(record, fmt)
         return
@@ -70,7 +70,7 @@ def precession(name: str = typer.Argument(..., metavar="BODY"), dataset: str = D
     try:
         ans = api.precession(name, dataset, order, tolerance_mas, perturbers=perturbers)
     except api.EphemError as exc:
-        fail(exc)
+        fail(exc, api.NotApplicableError)
     emit(ans, fmt, [flat_answer(ans)])
 
 
@@ -91,7 +91,7 @@ def nutation(name: str = typer.Argument(..., metavar="BODY"), dataset: str = Dat
     try:
         ans = api.nutation(name, dataset, order, tolerance_mas, perturbers=perturbers, cut_mas=cut_mas)
     except api.EphemError as exc:
-        fail(exc)
+        fail(exc, api.NotApplicableError)
     rows = []
     for term in ans["terms"]:       # the Delaunay multipliers as five columns in CSV and tables
         row = {k: v for k, v in term.items() if k != "delaunay_multipliers"}
@@ -140,7 +140,7 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
                         axis=axis, free_wobble_phase_deg=wobble_phase, free_wobble_J_arcsec=wobble_j,
                         free_wobble_epoch=wobble_epoch, perturbers=perturbers, rotation_phase_deg=rotation_phase)
     except api.EphemError as exc:
-        fail(exc)
+        fail(exc, api.NotApplicableError)
     if fmt is not Format.json:
         info = ans["model"]
         err = info["estimated_error_mas"]
@@ -200,7 +200,7 @@ def history(name: str = typer.Argument(..., metavar="BODY"),
             if bar is not None:
                 bar.__exit__(None, None, None)
     except api.EphemError as exc:
-        fail(exc)
+        fail(exc, api.NotApplicableError)
     if fmt is not Format.json:
         info = ans["model"]
         span = (ans["meaningful_from_year"], ans["meaningful_to_year"])
@@ -230,7 +230,7 @@ def free_motion(name: str = typer.Argument(..., metavar="BODY"),
     try:
         ans = api.free_motion_answer(name, start, stop, step_days, j_arcsec, method, dataset)
     except api.EphemError as exc:
-        fail(exc)
+        fail(exc, api.NotApplicableError)
     rows = [dict(zip(api.FREE_MOTION_KEYS, vals)) for vals in zip(*(ans[k] for k in api.FREE_MOTION_KEYS))]
     if fmt is not Format.json:
         typer.echo(f"{ans['mode']} mode, method {ans['method']}: wobble period {ans['wobble_period_days']:.6g} d, "
