@@ -16,7 +16,7 @@ import numpy as np
 import typer
 
 from ephem import api
-from ephem.exports import pck
+from ephem.exports import pck, pck_kernel
 from ephem.base.errors import InvalidInputError
 
 MAS = math.pi / 648_000_000.0
@@ -47,7 +47,7 @@ def _unit(ra_deg, dec_deg) -> np.ndarray:
     return np.stack([np.cos(dec) * np.cos(ra), np.cos(dec) * np.sin(ra), np.sin(dec)], axis=-1)
 
 
-def spice_error_mas(result: pck.PckResult, body: str, kwargs: dict, count: int = 3000) -> float:
+def spice_error_mas(result: pck_kernel.PckResult, body: str, kwargs: dict, count: int = 3000) -> float:
     """The largest angle (mas) between SPICE's pole of the kernel and the track at ``count`` epochs off the
     fit and check grids."""
     import spiceypy as spice
