@@ -19,7 +19,7 @@ def test_vesta_node_regresses_on_the_invariable_plane_at_its_proper_frequency():
     # 6.39): about the invariable pole its node turns at s to within roughly the ratio of
     # the two, ~15 %. Measured over 1925-2025: -40.7 "/yr. Invariable plane: i = 1.578694
     # deg, node 107.582222 deg on the J2000 ecliptic (Souami & Souchay 2012).
-    path = E.sun_path("Vesta", Y1925, get_body("Vesta").orbit.epoch_jd_tdb)
+    path = E.sun_path(get_body("Vesta"), Y1925, get_body("Vesta").orbit.epoch_jd_tdb)
     jd = np.arange(path.start_jd_tdb, path.stop_jd_tdb, 2.0)
     w = path.orbit_normal(jd) @ icrf_to_ecliptic_matrix().T
     i, node = math.radians(1.578694), math.radians(107.582222)

@@ -13,6 +13,7 @@ import pytest
 from ephem.orbit import de421 as E
 from ephem.earth import lunisolar as L
 from ephem.base.constants import ARCSEC
+from ephem.bodies.catalogue import get_body
 from tests.test_ephemeris import Y1900, Y1950, Y2050
 
 J2000 = 2451545.0
@@ -22,7 +23,7 @@ J2000 = 2451545.0
 
 @pytest.mark.parametrize("name, key", [("Earth", "earth"), ("Mars", "mars")])
 def test_planet_path_is_skyfields_geometric_sun_vector(name, key):
-    path = E.sun_path(name, Y1900, Y2050)
+    path = E.sun_path(get_body(name), Y1900, Y2050)
     assert path.fit_error_rel < E.FIT_TOLERANCE
     eph, ts = E.kernel(), E.timescale()
     jd = np.random.default_rng(7).uniform(Y1900, Y2050, 3000)

@@ -89,7 +89,7 @@ def test_earth_orbit_normal_turns_with_the_iau2006_ecliptic_precession():
     # Q_A = -46.811015 T + 0.0510283 T^2 (arcsec, T Julian centuries from J2000). The
     # pole (P_A, -Q_A, .) in J2000 ecliptic axes; its mean slope over 1900-2050 (T = -1..0.5)
     # is the slope at T = -0.25. The Earth's monthly wobble about the EMB averages out.
-    path = E.sun_path("Earth", Y1900, Y2050)
+    path = E.sun_path(get_body("Earth"), Y1900, Y2050)
     jd = np.arange(Y1900, Y2050, 1.0)
     w = path.orbit_normal(jd) @ icrf_to_ecliptic_matrix().T
     slope = np.polyfit((jd - 2451545.0) / 36525, w[:, :2], 1)[0] / ARCSEC

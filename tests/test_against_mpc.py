@@ -29,7 +29,7 @@ def test_ceres_integrated_back_twelve_years_meets_the_mpc_2013_elements():
     # prints, while in those 12 years they moved by -0.006, -0.078 and (mod
     # 360) several hundred degrees.
     old = get_body("Ceres", "petit2014").orbit
-    path = E.sun_path("Ceres", old.epoch_jd_tdb, get_body("Ceres").orbit.epoch_jd_tdb)
+    path = E.sun_path(get_body("Ceres"), old.epoch_jd_tdb, get_body("Ceres").orbit.epoch_jd_tdb)
     rot = icrf_to_ecliptic_matrix()
     r = -rot @ path.position(old.epoch_jd_tdb)[0]
     v = -rot @ path.velocity(old.epoch_jd_tdb)[0]

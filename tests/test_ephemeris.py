@@ -39,18 +39,18 @@ def test_without_planet_masses_the_path_is_the_kepler_ellipse():
 @pytest.mark.parametrize("start, stop", [(2400000.5, 2451545.0), (2451545.0, 2480000.5)])
 def test_outside_de421_is_not_applicable_and_names_the_span(start, stop):
     with pytest.raises(NotApplicableError, match="1899-07-29 to 2053-10-09") as info:
-        E.sun_path("Vesta", start, stop)
+        E.sun_path(get_body("Vesta"), start, stop)
     assert info.value.body == "Vesta" and "DE421" in str(info.value)
 
 
 def test_moon_is_not_applicable():
     with pytest.raises(NotApplicableError, match="Earth"):
-        E.sun_path("Moon", Y1950, Y1950 + 10)
+        E.sun_path(get_body("Moon"), Y1950, Y1950 + 10)
 
 
 def test_paths_are_cached_and_guard_their_span():
-    a = E.sun_path("Mars", Y1950 + 0.3, Y1950 + 99.7)
-    assert E.sun_path("Mars", Y1950, Y1950 + 100) is a       # same whole-day span
+    a = E.sun_path(get_body("Mars"), Y1950 + 0.3, Y1950 + 99.7)
+    assert E.sun_path(get_body("Mars"), Y1950, Y1950 + 100) is a       # same whole-day span
     with pytest.raises(ValueError, match="outside"):
         a.position([Y1950 + 101])
     with pytest.raises(ValueError, match="outside"):

@@ -180,7 +180,7 @@ def test_the_pole_follows_the_integrated_orbit_for_a_century(name, budget_arcmin
     on Ceres reach 2′); its secular drift over the century is a few tenths of an arcminute. Budget: 2.5′ Ceres, 1.5′
     Vesta; measured 2.0′, 1.0′."""
     body = get_body(name)
-    path = E.sun_path(name, 2424151.5, body.orbit.epoch_jd_tdb)
+    path = E.sun_path(get_body(name), 2424151.5, body.orbit.epoch_jd_tdb)
     jd = np.arange(path.start_jd_tdb, path.stop_jd_tdb, 2.0)
     w = path.orbit_normal(jd) @ ECLIPTIC.T
     ours = _history(name).pole_at((jd - J2000_JD) / JULIAN_YEAR_DAYS)
@@ -198,7 +198,7 @@ def test_a_crossing_orbit_is_refused_and_would_drift(monkeypatch):
     monkeypatch.setattr(S, "_refuse_crossing", lambda *args, **kwargs: None)
     body = get_body("Eros")
     history = S.secular_orbit_history(body.orbit)
-    path = E.sun_path("Eros", 2424151.5, body.orbit.epoch_jd_tdb)
+    path = E.sun_path(get_body("Eros"), 2424151.5, body.orbit.epoch_jd_tdb)
     jd = np.arange(path.start_jd_tdb, path.stop_jd_tdb, 2.0)
     w = path.orbit_normal(jd) @ ECLIPTIC.T
     ours = history.pole_at((jd - J2000_JD) / JULIAN_YEAR_DAYS)

@@ -47,6 +47,8 @@ from pathlib import Path
 from typing import Any
 
 from ..base.errors import EphemError, InvalidInputError
+from .population import spoil_rows
+from .. import __version__
 
 #: the module holding ``INPUT_COLUMNS``, ``evaluate`` and ``batch_cost``; the tasks import it by this name
 CORE = "ephem.batch.population"
@@ -277,7 +279,6 @@ def _output_table(result: Mapping[str, Any], n: int, bad: Mapping[int, str], fmt
     import numpy as np
     import pyarrow as pa
 
-    from .population import spoil_rows
 
     arrays, names = [], []
     for key, value in result.items():
@@ -573,7 +574,6 @@ def run(input_path, out_path, *, scheduler: str | None = None, workers: int | No
     _, _, reader = _batches(path, _input_format(path), known_columns(core))  # the header, before OUT is made
     with contextlib.suppress(AttributeError):
         reader.close()
-    from .. import __version__
 
     settings = {"partition_rows": partition_rows, "output_format": output_format,
                 "history": _history_dict(history), "ephem_version": __version__}

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..bodies.catalogue import MAX_ANGLE_DEG, MIN_ROTATION_PERIOD_HOURS, spin_rate_rad_per_day
+from ..bodies.catalogue import Body, MAX_ANGLE_DEG, MIN_ROTATION_PERIOD_HOURS, Orbit, Pole, spin_rate_rad_per_day
 from ..base.constants import ARCSEC, CENTER_HILL_AU, CENTER_RADIUS_AU, J2000_JD, JD_RANGE, JULIAN_YEAR_DAYS, MAS
 from ..orbit.geometry import icrf_to_ecliptic_matrix, spin_angles, unit_vector
 from ..orbit.hansen import exact_available, fft_lengths, hansen_exact_many
@@ -34,6 +34,11 @@ from ..orbit.kepler import mean_motion_rad_per_day
 from ..forced.kinoshita import (TERM_FLOOR, exact_series_floor, mean_pole, nutation_coefficients, precession_rate,
                                 scaling_factor)
 from ..forced.precession_nutation import MIN_SPIN_ORBIT_RATIO
+from ..base.budget import prepaid
+from ..base.errors import EphemError, InvalidInputError
+from ..longterm.history import MAX_HISTORY_SAMPLES, history_answer, history_grid
+from ..families import theory_for
+from ..theory import cost
 
 #: The input columns: name -> (unit, meaning). Required: name, the orbit, the pole, the period and one of the
 #: three inertia forms (dynamical_ellipticity, else the moments, else the ellipsoid's semi-axes).
@@ -393,11 +398,6 @@ _INERTIA_INPUTS = ("dynamical_ellipticity", "moment_a", "moment_b", "moment_c", 
 def _histories(columns: Mapping, x: dict, ok: np.ndarray, spec: HistorySpec) -> dict:
     """Each good row's obliquity range and dominant period over the span (ephem.longterm.history.history_answer, as
     ephem.answers.requests.history serves it, on the secular orbit)."""
-    from ..base.budget import prepaid
-    from ..bodies.catalogue import Body, Orbit, Pole
-    from ..base.errors import EphemError
-    from ..longterm.history import history_answer
-    from ..families import theory_for
 
     n_rows = ok.size
     out = {k: np.full(n_rows, np.nan) for k in HISTORY_COLUMNS[:3]}
@@ -436,7 +436,6 @@ def batch_cost(rows: int, history: HistorySpec | None = None, sigma_inputs: int 
     only. Without ``columns`` (``ephem batch``'s note, made before any partition is read), every row is priced at
     the low eccentricities of a main-belt population, which the fixed part covers.
     """
-    from ..theory import cost
 
     ok = x = None
     groups = []
@@ -492,8 +491,6 @@ def history_epochs(spec: HistorySpec) -> int:
     """The epochs of every row's history over ``spec``, validated as each history validates them
     (:func:`ephem.longterm.history.history_grid`, each field named in its error), so that a bad span is refused once,
     before any row, instead of in every row."""
-    from ..base.errors import InvalidInputError
-    from ..longterm.history import MAX_HISTORY_SAMPLES, history_grid
 
     try:
         return int(history_grid(spec.start_year, spec.stop_year, spec.step_years).size)

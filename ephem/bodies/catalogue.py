@@ -22,8 +22,9 @@ from pathlib import Path
 
 from ..base.constants import CENTER_HILL_AU, CENTER_RADIUS_AU, GM_CENTER, J2000_JD, JD_RANGE
 from ..base.errors import InvalidInputError, NotApplicableError, UnknownBodyError
-from .inertia import hd_of_moments
+from .inertia import METHODS, derive, hd_of_moments
 from ..base.paths import data_dir
+from ..orbit.geometry import ecliptic_to_icrf, lon_lat
 
 DEFAULT_DATASET = "current"
 #: Bodies that may torque a body (the ``perturbers`` of a record): an orbit's centre, or the Moon
@@ -186,7 +187,6 @@ class Pole:
                       body: str | None = None) -> Pole:
         """The pole at ecliptic (J2000) longitude and latitude ``lon_deg``, ``lat_deg``, in the ICRF (the
         obliquity of a pole on an orbit in the ecliptic is 90° - latitude)."""
-        from ..orbit.geometry import ecliptic_to_icrf, lon_lat  # numpy: the catalogue module itself does without it
 
         check_angle(body, "pole.lon", lon_deg)        # before the rotation turns it into another angle
         ra, dec = lon_lat(ecliptic_to_icrf(math.radians(lon_deg), math.radians(lat_deg)))
@@ -460,7 +460,6 @@ def _rotation_period(rotation: dict, values: dict, name: str, get) -> float:
 def _derived_moments(spec: dict, values: dict, correlations: dict, name: str) -> tuple[float, float, float]:
     """A, B, C from what was measured (:mod:`ephem.bodies.inertia`), stored as ``inertia.A`` … with their 1-σ, and
     their correlations added to ``correlations``."""
-    from .inertia import METHODS, derive
 
     where = "inertia.derived_from"
     if not isinstance(spec, dict):

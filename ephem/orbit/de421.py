@@ -38,6 +38,8 @@ import numpy as np
 from ..base.budget import checkpoint
 from ..base.constants import AU_M, DAY_S
 from ..base.errors import NotApplicableError
+from .geometry import icrf_to_ecliptic_matrix
+from .kepler import orbit_basis, solve_kepler_scalar
 
 # ----------------------------------------------------------------- constants
 
@@ -328,8 +330,6 @@ def elements_to_state(orbit, gm: float = GM_SUN_DE421) -> tuple[np.ndarray, np.n
     with). The ecliptic is turned into the ICRF with the transpose of
     :func:`ephem.orbit.geometry.icrf_to_ecliptic_matrix`.
     """
-    from .geometry import icrf_to_ecliptic_matrix
-    from .kepler import orbit_basis, solve_kepler_scalar
 
     a, e = orbit.a_au, orbit.e
     p, q, _ = orbit_basis(math.radians(orbit.i_deg), math.radians(orbit.node_deg),
@@ -451,7 +451,7 @@ def _snap(start: float, stop: float) -> tuple[float, float]:
 def sun_path(body, start_jd_tdb: float, stop_jd_tdb: float) -> SunPath:
     """The Sun's position seen from ``body`` over [start, stop] (TDB JD), as a SunPath.
 
-    ``body`` is a :class:`~ephem.bodies.catalogue.Body` or a catalogue name. Planets
+    ``body`` is a :class:`~ephem.bodies.catalogue.Body` (its name, NAIF id and orbit are read). Planets
     in DE421 (Earth 399, Mars 499, ...) come straight from the kernel; other
     heliocentric bodies are integrated from their osculating elements
     (:func:`integrate_heliocentric`). Raises NotApplicableError for orbits not
@@ -460,10 +460,6 @@ def sun_path(body, start_jd_tdb: float, stop_jd_tdb: float) -> SunPath:
     the theory assumes) and for spans outside DE421. Paths are cached by body
     and span (widened to whole days).
     """
-    from ..bodies.catalogue import Body, get_body
-
-    if not isinstance(body, Body):
-        body = get_body(body)
     if body.orbit.center != "Sun":
         raise NotApplicableError(
             body.name, f"its orbit is centred on the {body.orbit.center}, not the Sun (and a synchronous "

@@ -32,6 +32,9 @@ from ..base.paths import data_dir
 from ..base.constants import ARCSEC
 from ..base.errors import InvalidInputError, NotApplicableError
 from ..orbit.geometry import carry
+from .andoyer import rot1, rot1_cs, rot3
+from .lie_series import SamSeriesSolution
+from .euler_poinsot import FreeRotation
 
 METHODS = ("auto", "exact", "series", "numeric")
 #: δ = 2 sin²(J/2) up to which ``auto`` takes the series (J ≈ 25°): Lara (2014) Eq. 28; the
@@ -96,7 +99,6 @@ def _numeric_attitudes(moments, L0: np.ndarray, R0: np.ndarray, t: np.ndarray) -
 
 
 def _series_attitudes(moments, M: float, J: float, t: np.ndarray) -> np.ndarray:
-    from .andoyer import rot1_cs, rot3
 
     sol = _series(moments)
     m0 = np.array([0.0, M * math.sin(J), M * math.cos(J)])   # ν = 0: L in the b2-b3 plane
@@ -112,7 +114,6 @@ def _series_attitudes(moments, M: float, J: float, t: np.ndarray) -> np.ndarray:
 
 @lru_cache(maxsize=32)
 def _series(moments):
-    from .lie_series import SamSeriesSolution
 
     return SamSeriesSolution(moments, SERIES_ORDER)
 
@@ -149,8 +150,6 @@ def choose_method(method: str, mode: str, J: float, body: str = "free motion") -
 
 def free_motion(body: Body, jd_tdb: np.ndarray, J_arcsec: float | None = None, method: str = "auto") -> dict:
     """Figure-axis offsets from the angular momentum (arcsec), Andoyer angles and the periods (days)."""
-    from .andoyer import rot1
-    from .euler_poinsot import FreeRotation
 
     start = time.perf_counter()
     moments = _moments(body)
@@ -240,8 +239,6 @@ def make_wobble(body: Body, phase_deg, J_arcsec=None, epoch_jd_tdb: float | None
 def _wobble_path(body: Body, wobble: Wobble, jd_tdb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(opening, azimuth) of the figure axis about L (radians) at the epochs, by the exact solution started
     at the wobble's epoch; the azimuth counted from its value at the epoch, positive anticlockwise about L."""
-    from .andoyer import rot1
-    from .euler_poinsot import FreeRotation
 
     moments = _moments(body)
     omega = body.spin_rate_rad_per_day
