@@ -9,7 +9,7 @@ BIN := $(VENV)/bin
 HOST ?= 127.0.0.1
 PORT ?= 8000
 WORKERS ?= 2
-# extra pytest arguments for `make test`, e.g. PYTEST_ARGS="-n 0 tests/test_service.py"
+# extra pytest arguments for `make test`, e.g. PYTEST_ARGS="-n 0 tests/service/test_service.py"
 PYTEST_ARGS ?=
 # The lock (a pip constraints file): every runtime and test dependency, pip and the build backend,
 # pinned for CPython 3.11 on Linux. `make lock` regenerates it from pyproject.toml.

@@ -80,7 +80,7 @@ CSV_CHUNK = 20_000
 #: Swagger UI and ReDoc, vendored (service/static/README.md): the docs pages load nothing from the network
 STATIC_DIR = pathlib.Path(__file__).resolve().parent / "static"
 #: docs/accuracy.md, served at /docs/accuracy: the package's copy (service/static/accuracy.md, which ships in the
-#: wheel and the image; tests/test_http.py keeps it identical to docs/), else the repository's
+#: wheel and the image; tests/service/test_http.py keeps it identical to docs/), else the repository's
 ACCURACY_DOC_CANDIDATES = (STATIC_DIR / "accuracy.md",
                            pathlib.Path(__file__).resolve().parent.parent / "docs" / "accuracy.md")
 

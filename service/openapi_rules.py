@@ -14,7 +14,7 @@ from .settings import Settings
 # What the service enforces beyond the parameter types, stated in the OpenAPI document: as schema constraints
 # where JSON Schema can say it (each enforced by ephem with a 422 naming the field, so the document and the
 # service agree), and in the operation descriptions where it cannot (rules across fields, or of the body's
-# physics). tests/test_schemathesis.py holds the service to exactly these: a schema-valid request is refused
+# physics). tests/service/test_schemathesis.py holds the service to exactly these: a schema-valid request is refused
 # only for a rule written here.
 
 _NAME = "|".join("".join(f"[{c.upper()}{c.lower()}]" for c in n.lower()) for n in KNOWN_PERTURBERS)

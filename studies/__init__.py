@@ -1,6 +1,6 @@
 """Studies of the library: the scripts behind the committed charts and the tables of docs/*.md.
 
-They are not the library. ``ephem`` and ``service`` never import this package (tests/test_studies_outside_library.py
+They are not the library. ``ephem`` and ``service`` never import this package (tests/house/test_studies_outside_library.py
 checks it), and the wheel does not ship it (pyproject.toml packages only ``ephem`` and ``service``): the studies
 run from a checkout, from the project root, each as a module:
 

@@ -3,7 +3,7 @@ largest angle between SPICE's own pole (spiceypy's ``tipbod``) and the track at 
 
 A study, not the library (see :mod:`studies`): run from the project root as ``python -m studies.pck_fits``; it
 prints the Markdown table that docs/pck.md carries. The rows' angle counts are the same on every CPU (the fit's
-choice is made stable against rounding: tests/test_stable_choices.py), the errors agree to the digits shown.
+choice is made stable against rounding: tests/theory/test_stable_choices.py), the errors agree to the digits shown.
 """
 from __future__ import annotations
 

@@ -10,7 +10,7 @@ closed-form rotation-scale terms, and writes ``rotation_scale_population.csv``: 
 track includes: "none", "oppolzer", "all") and axis (figure or angular momentum), the true largest error, the
 estimate and its pieces. :func:`ratio_rows` and the chart summarise it (estimate over truth per variant).
 
-The comparison :func:`compare` is also the reference of tests/test_rotation_scale.py.
+The comparison :func:`compare` is also the reference of tests/forced/test_rotation_scale.py.
 """
 from __future__ import annotations
 

@@ -2,7 +2,7 @@
 series, Archinal et al. 2011, which the 2015 report dropped and NAIF kept): data/wgccre/moon_pck00011.toml.
 
 A study's helper, not the library (see :mod:`studies`): :mod:`studies.moon` compares the Moon's pole with it and
-tests/test_against_wgccre_moon.py checks it against its printed values and CSPICE. With ``d`` days and ``T``
+tests/moon/test_against_wgccre_moon.py checks it against its printed values and CSPICE. With ``d`` days and ``T``
 Julian centuries (36525 d) of TDB from J2000 (JD 2451545.0 TDB), degrees, ICRF:
 
     α0 = a0 + a1 T + a2 T² + Σ_i A_i sin E_i

@@ -4,7 +4,7 @@
   ``pytest -n 2`` (one process per core): a multi-threaded BLAS in each worker oversubscribes the
   cores, and on a many-core host given two CPUs (a container, a CI runner) OpenBLAS starts one
   thread per *host* core in each worker. Measured on two shared cores: the IAU 2000A fit of
-  tests/test_against_erfa.py (a 34786 x 190 least-squares problem) takes 2.8 s with one thread and
+  tests/earth/test_against_erfa.py (a 34786 x 190 least-squares problem) takes 2.8 s with one thread and
   8.1 s with 16, and it grows with the thread count. Single-threaded
   BLAS also fixes the order of its sums. An explicit setting in the environment wins.
 * Hypothesis is derandomized (the same examples on every machine and every run), keeps no example
@@ -57,7 +57,7 @@ def vesta_like():
 def nf():
     """Lara's normal form of the free rigid body at the order the Lie-series suites use."""
     from ephem.rotation.lie_series import sam_normal_form
-    from tests.test_lie_series import ORDER
+    from tests.rotation.test_lie_series import ORDER
 
     return sam_normal_form(ORDER)
 
@@ -76,7 +76,7 @@ def moderate_reference():
     import numpy as np
 
     from ephem.rotation.lie_series import SamParameters
-    from tests.test_lie_series import MODERATE, _initial_m, _reference_quaternion
+    from tests.rotation.test_lie_series import MODERATE, _initial_m, _reference_quaternion
 
     p = SamParameters(*MODERATE)
     t = np.linspace(0.0, 2 * 2 * math.pi / p.kappa, 400)

@@ -1,5 +1,5 @@
 """Derive data/laskar2004/: the Earth's and Mars' obliquity and eccentricity histories of Laskar et al. (2004), the
-outside references of the long-term spin axis (tests/test_against_laskar2004.py, docs/long_term.md).
+outside references of the long-term spin axis (tests/longterm/test_against_laskar2004.py, docs/long_term.md).
 
 The sources are IMCCE's published solution files (Laskar, Robutel, Joutel, Gastineau, Correia & Levrard 2004,
 A&A 428, 261, "A long-term numerical solution for the insolation quantities of the Earth"; Laskar, Correia,

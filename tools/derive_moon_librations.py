@@ -4,7 +4,7 @@ data/moon_librations/*.csv, so that a request reads them instead of building the
 
     python -m tools.derive_moon_librations
 
-tests/test_physical_librations.py checks the shipped files against a fresh build.
+tests/moon/test_physical_librations.py checks the shipped files against a fresh build.
 """
 from __future__ import annotations
 

@@ -6,7 +6,7 @@ theory with exact Hansen coefficients, the model the single-body answers serve b
 body. Each step is the single-body one applied to columns (the same functions: ``kinoshita.scaling_factor``,
 ``geometry.spin_angles``, ``hansen.hansen_exact_many`` grouped by FFT length, ``kinoshita.nutation_coefficients``,
 the mean pole's fixed point ``kinoshita.mean_pole``, ``kinoshita.precession_rate``), so the outputs equal
-``ephem.answers.requests.precession`` / ``ephem.answers.requests.nutation`` for the same body (tests/test_population.py).
+``ephem.answers.requests.precession`` / ``ephem.answers.requests.nutation`` for the same body (tests/batch/test_population.py).
 
 A row the theory cannot take (a missing or impossible value, a slow rotator, an orbit too eccentric for the
 Fourier series, a pole normal to the orbit) gets its reason in ``error``, named by its column as the catalogue

@@ -17,7 +17,7 @@ from .usage import UsageGroup, UsageTyper
 
 # api.FORMATS' and api.LAYOUTS' names, as choices the option parser checks before any body is computed and that
 # `--help` reads: spelled here because loading ephem.api for them would load numpy for every `--help` and usage
-# error. tests/test_cli_matrix.py::test_the_formats_are_read_from_the_options holds the formats equal to
+# error. tests/cli/test_cli_matrix.py::test_the_formats_are_read_from_the_options holds the formats equal to
 # api.FORMATS; write_tables refuses a layout outside api.LAYOUTS.
 TableFormat = Enum("TableFormat", [(f, f) for f in ("csv", "markdown", "latex", "json")], type=str)
 TableLayout = Enum("TableLayout", [(x, x) for x in ("sin-cos", "amp-period")], type=str)

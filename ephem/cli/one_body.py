@@ -2,7 +2,7 @@
 precession | nutation | track | history | free-motion``.
 
 Each command imports :mod:`ephem.api` when it runs, not at the top, so that ``--help`` and usage errors answer
-without numpy and the theories (tests/test_cli_imports.py).
+without numpy and the theories (tests/cli/test_cli_imports.py).
 """
 from __future__ import annotations
 

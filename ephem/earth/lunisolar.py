@@ -3,7 +3,7 @@
 Kinoshita's first-order theory (Kinoshita 1977, Celest. Mech. 15, 277) for two perturbers on
 moving orbits, in the Delaunay arguments l, l', F, D, Ω of IERS Conventions (2010) eq. 5.43.
 The Sun-only, fixed-ellipse case is :mod:`ephem.forced.kinoshita`; this module reproduces it with
-``perturbers=("sun",)`` (tests/test_lunisolar.py).
+``perturbers=("sun",)`` (tests/earth/test_lunisolar.py).
 
 Torque and equations (rotation-averaged, degree-2 potential, the numerical.py convention)
 -----------------------------------------------------------------------------------------
@@ -78,7 +78,7 @@ from ..theory.tracks import AXES
 
 PERTURBERS = ("moon", "sun")
 #: Default FFT grid on the torus (l, l', F, D, Ω). Against (32, 16, 32, 32, 8) and
-#: (64, 16, 64, 64, 8) no term above 0.05 mas moves by more than 1e-6 mas (tests/test_lunisolar.py);
+#: (64, 16, 64, 64, 8) no term above 0.05 mas moves by more than 1e-6 mas (tests/earth/test_lunisolar.py);
 #: 8 points in l' are not enough (0.06 mas of aliasing from the solar ellipse).
 DEFAULT_GRID = (24, 12, 16, 24, 6)
 #: Terms of longer period than this (the 10 500-year 2(L_sun - l') term, twice the solar perigee)
@@ -211,7 +211,7 @@ class TermProducts:
 
     at most 1.9e-18 rad in Δψ and 1.0e-18 rad in Δε over 1900-2100 for the served 82-term series (Σ w_n ≈
     19 400 and 10 100 mas), 8.9e-18 and 4.6e-18 for the 414 terms of a 0.001 mas cut. Measured against the
-    same sum in long double: 1.5e-19 and 8e-20 rad (tests/test_lunisolar.py checks the bound at random epochs,
+    same sum in long double: 1.5e-19 and 8e-20 rad (tests/earth/test_lunisolar.py checks the bound at random epochs,
     on even grids and at the window's ends, for both axes and the Poisson terms apart). The direct route's
     bound is larger (its phase a @ k rounds by up to 5 u Σ_j |k_j a_j| ≤ 10π |k|₁ u rad: u Σ_n w_n
     (36 |k_n|₁ + 17 + 3 n)), its measured error alike (1.1e-19 rad); the two routes differ by at most
@@ -549,7 +549,7 @@ def precession_nutation_coupling(series: LunisolarSeries) -> np.ndarray:
     The precession rate goes as cos ε, so the nutation in obliquity Δε feeds
     -tan ε ψ̇ Δε into dψ/dt; integrated per term it adds (-tan ε ψ̇/ν)(E sin φ - F cos φ) to Δψ
     for Δε = E cos φ + F sin φ: +2.9 mas on the 18.6-yr term, under 0.02 mas elsewhere. The
-    DE421 integration contains it (tests/test_lunisolar.py).
+    DE421 integration contains it (tests/earth/test_lunisolar.py).
     """
     k = -math.tan(series.obliquity) * series.precession_rate
     c = series.coefficients

@@ -21,7 +21,7 @@ reading is the resonance expansion the table's columns describe, and it is check
 to 7e-5 (the precession is not rescaled), and our rigid terms times T reproduce KSV_1996_3's own
 coefficients to 0.02 mas and IAU 2000A's (MHB2000, whose transfer function adds anelasticity
 and ocean corrections) to 0.06 mas for every leading term shorter than a year
-(tests/test_nonrigid.py, tests/test_against_iau2006.py). Its imaginary part gives the out-of-phase terms, with the routine's
+(tests/earth/test_nonrigid.py, tests/earth/test_against_iau2006.py). Its imaginary part gives the out-of-phase terms, with the routine's
 sign convention ("amplitudes defined as ar - ai"): T* multiplies our e^{+iφ} components.
 
 This is the explanation of our differences from IAU 2000A, not part of our model: the series

@@ -55,7 +55,7 @@ from pathlib import Path
 
 import numpy as np
 
-# the answers through their module, as tests patch them there (tests/test_plots.py)
+# the answers through their module, as tests patch them there (tests/exports/test_plots.py)
 from ..answers import requests as answers
 from ..base.errors import InvalidInputError, count_text
 from ..base.times import to_jd_tdb

@@ -14,7 +14,7 @@ eq. 5.43) in CSV and JSON, which then have no ``multiple`` column. Input: the an
 (with ``*_uncertainty`` keys on its terms when the catalogue's uncertainties were propagated: they
 become ± columns). :func:`render_nutation` gives the text; :func:`write_tables` writes a set of
 bodies at once. Every format is rendered from the same rows (:func:`table_rows`), so they carry
-the same numbers (tests/test_tables.py parses each back).
+the same numbers (tests/exports/test_tables.py parses each back).
 """
 from __future__ import annotations
 

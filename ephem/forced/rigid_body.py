@@ -265,7 +265,7 @@ def compare_with_averaged(model: PrecessionNutation, jd_tdb, moments=None, initi
 
     Both start with L on the pole (rung 7 with ``start="aligned"``), the comparison the averaged theory's
     convergence as ω/n falls is about; the forced start, the rotation-scale terms and their error estimate are
-    compared in :mod:`studies.rotation_scale` and tests/test_rotation_scale.py."""
+    compared in :mod:`studies.rotation_scale` and tests/forced/test_rotation_scale.py."""
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     rig = integrate_rigid_body(model, t, moments, initial_angle, rtol=rtol, start="aligned")
     avg = integrate_spin_axis(model, t, rtol=rtol)

@@ -57,7 +57,7 @@ def model_moments(model) -> tuple[float, float, float]:
 def worst_case_moments(hd: float) -> tuple[float, float, float]:
     """(1 - 2 H_d, 1, 1): of all rigid bodies with this H_d, the one with the largest triaxiality, (B - A)/C =
     2 H_d, which drives the semi-diurnal terms of :mod:`ephem.forced.rotation_scale`, for an error bound when the shape is
-    unknown (tests/test_rigid.py checks that it bounds the catalogue shapes)."""
+    unknown (tests/forced/test_rigid.py checks that it bounds the catalogue shapes)."""
     if not 0.0 < hd <= 0.5:
         raise ValueError(f"H_d must lie in (0, 0.5], got {hd!r}")
     # H_d = 0.5 is the needle A = 0, a limit no body reaches: keep A positive for the moment checks

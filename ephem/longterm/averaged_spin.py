@@ -41,7 +41,7 @@ from ..theory.cost import spin_history
 
 #: DOP853's relative tolerance: over 4 Myr (the shipped N-body orbits) the Earth's pole moves by 0.9″ at 1e-10,
 #: Vesta's by 0.5″, Ceres' and Mars' by 0.1″, their obliquities by at most 0.13″, far below the nutation the
-#: averaged equation leaves out (the Earth's 12″; checked in tests/test_spin_history.py). At 1e-8 the Earth's
+#: averaged equation leaves out (the Earth's 12″; checked in tests/longterm/test_spin_history.py). At 1e-8 the Earth's
 #: pole moved by 11.6″ once its tidal neighbour joined the stacked solutions; 5e-9 costs 15-30 % more
 #: evaluations than 1e-8, 1e-10 twice as many
 RTOL = 5e-9
@@ -55,7 +55,7 @@ MEANINGFUL_LIMIT = math.radians(1.0)
 #: mean tidal drift is counted apart, ephem.earth.family.tidal_constant_drift). It is added in quadrature to the published
 #: σ of today's constant (Mars': 2.8e-4, Baland et al. 2020; the Earth's: 3e-7, IERS 2010), which alone would
 #: claim a constant known over millions of years to that level: the Earth's estimate would then no longer cover
-#: La2004 beyond ±0.3 Myr (tests/test_against_laskar2004.py)
+#: La2004 beyond ±0.3 Myr (tests/longterm/test_against_laskar2004.py)
 DEFAULT_CONSTANT_PROBE = 1e-3
 #: the pole probe where no σ is published (radians): 0.01°, the printed digits of most catalogue poles
 DEFAULT_POLE_PROBE = math.radians(0.01)

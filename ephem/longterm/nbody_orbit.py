@@ -29,7 +29,7 @@ shared by the tool and the library):
 
 The samples are osculating: they carry the short-period terms of the orbit normal (the planets' pulls over
 synodic periods), aliased by the 500-year sampling into noise of that size: measured by dropping every other
-sample and interpolating (tests/test_orbit_history.py): the EMB 1.1″, Mars 3.5″, Vesta 50″, Ceres 146″. A
+sample and interpolating (tests/longterm/test_orbit_history.py): the EMB 1.1″, Mars 3.5″, Vesta 50″, Ceres 146″. A
 spin-axis integration sees them averaged over its precession period; a mean (filtered) plane is not shipped.
 
 Horizon: the times where a clone started 1 km away (a test particle) has its orbit normal 1 arcmin (1 deg)

@@ -40,7 +40,7 @@ Good for the slow modes over millennia; what it leaves out (second order in the 
 near-resonance, the mean-motion near-resonances of the asteroids with Jupiter, the higher powers of e and I)
 shows as an error in the frequencies: 1.3 % for the ecliptic's motion against Vondrák et al. (2011), 0.7-2.3 %
 for Ceres' and Vesta's s and 5-9 % for their g against AstDyS's synthetic proper frequencies
-(tests/test_secular_orbit.py). :class:`SecularOrbit` turns that into a horizon. Radians and days unless a name
+(tests/longterm/test_secular_orbit.py). :class:`SecularOrbit` turns that into a horizon. Radians and days unless a name
 says otherwise; the :class:`SecularOrbit` methods take Julian years from J2000.0 TDB.
 """
 from __future__ import annotations

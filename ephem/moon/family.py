@@ -84,7 +84,7 @@ CIRCLE_SIDEBANDS = 8
 #: costs 3.6 µs an epoch instead of 70)
 LIBRATION_CUT = 0.01 * ARCSEC
 #: the rigid degree-2 body's omissions on the pole (rad): the degree-3 field's terms in l ± F (up to 1.15″,
-#: tests/test_physical_librations.py) and the dissipation's constant offset (0.26″, Williams et al. 2001)
+#: tests/moon/test_physical_librations.py) and the dissipation's constant offset (0.26″, Williams et al. 2001)
 PHYSICS_OMITTED = (1.15 + 0.26) * ARCSEC
 #: IAU 2006's π_A rate, the ecliptic pole's speed (arcsec per Julian century; Capitaine et al. 2003, P03)
 ECLIPTIC_POLE_ARCSEC_PER_CENTURY = 46.998973

@@ -85,7 +85,7 @@ not assumed); an ``offset`` (a constant θ the degree-2 torque does not give, be
 corrected at each step. The series (:class:`PhysicalLibrations`) are the FFT of the exact Euler angles (E) of the
 converged θ on the grid.
 
-Checks (tests/test_physical_librations.py)
+Checks (tests/moon/test_physical_librations.py)
 ------------------------------------------
 (4)–(6) against central differences of (1)–(2) (2e-6 relative); the "linear" series against a numerical
 integration of (3) itself (2 years, < 0.001″); the "full" series against a numerical integration of the rigid Moon
@@ -148,17 +148,17 @@ from .libration_series import PhysicalLibrations, canonical_sign, pole_amplitude
 #: θ's constant (rad) in DE421: the principal axes (PA) from the mean-Earth/rotation (ME) frame, the rotation of
 #: NAIF's moon_080317.tf (TKFRAME_31007: 67.92″, 78.56″, 0.30″ about z, y, x, from Williams et al. 2008, JPL IOM
 #: 335-JW,DB,WF-20080314-001), as (x, y, z); mostly the degree-3 field's constant torque (module docstring). Sign:
-#: v_ME = exp([θ×]) v_PA, checked on the kernel's own example (tests/test_physical_librations.py).
+#: v_ME = exp([θ×]) v_PA, checked on the kernel's own example (tests/moon/test_physical_librations.py).
 DE421_PA_OFFSET = (0.30 * ARCSEC, 78.56 * ARCSEC, 67.92 * ARCSEC)
 #: β = (C − A)/B and γ = (B − A)/C of a rigid degree-2 Moon that has the observed mean inclination, I = 1.54242°
 #: (the IAU value, Meeus 1998 p. 372), and free libration in longitude, 1056.16 d (Yang et al. 2017, RAA 17, 127,
 #: from DE430), in this module's full model with the Sun and :data:`DE421_PA_OFFSET` (solved by Newton's method on
-#: (β, γ); tests/test_physical_librations.py re-checks both). LLR's β (631.0e-6) gives I 12″ too large here (the
+#: (β, γ); tests/moon/test_physical_librations.py re-checks both). LLR's β (631.0e-6) gives I 12″ too large here (the
 #: degree-3 field's share of the precession torque, left out); the catalogue's Lara (2014) ratios give γ =
 #: 233.0e-6 and a free period of 1046 d.
 EFFECTIVE_BETA_GAMMA = (629.9834e-6, 228.5628e-6)
 #: The FFT grid on the torus (l, l', F, D, Ω) of the forcing and of the operator's coefficients: against grids
-#: finer on each axis the series move by < 1e-5″ (tests/test_physical_librations.py, test_grid_converges); Ω needs
+#: finer on each axis the series move by < 1e-5″ (tests/moon/test_physical_librations.py, test_grid_converges); Ω needs
 #: 6 points (|k_Ω| = 2 from the products of the Laplace plane's Ω terms: 4 points were 0.007″ off).
 DEFAULT_GRID = (16, 8, 16, 16, 6)
 #: Forcing harmonics kept: those above this fraction of the largest (the F term that holds the Cassini state);

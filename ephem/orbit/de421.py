@@ -15,7 +15,7 @@ Sun's geometric position relative to the body (no light time): au, ICRF axes
 (the DE421 frame), time argument a TDB Julian date. DE421 spans 1899-07-29 to
 2053-10-09 TDB; outside it :class:`~ephem.base.errors.NotApplicableError` is raised.
 
-Accuracy (measured, tests/test_against_de421.py): the fit reproduces its source to
+Accuracy (measured, tests/orbit/test_against_de421.py): the fit reproduces its source to
 < 1e-11 of the Sun's distance (2e-13 for Earth, Mars, Ceres, Vesta over
 1900-2050; 5e-12 for Itokawa, whose Earth encounters need 8-day pieces). The
 integrator started from DE421's Mars follows DE421's Mars to 4e-8 au after 10

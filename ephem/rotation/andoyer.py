@@ -44,7 +44,7 @@ variables approach to the short-axis-mode rotation of a rigid body", AMNS 3
 (2018) 537 (seeds/002); P. Gurfil, A. Elipe, W. Tangren, M. Efroimsky, "The
 Serret-Andoyer formalism in rigid-body dynamics: I", Regul. Chaotic Dyn. 12
 (2007) 389 (seeds/003). Every formula used here was re-derived and is checked
-by tests/test_andoyer.py (canonicity by numerical Jacobians, Hamiltonians
+by tests/rotation/test_andoyer.py (canonicity by numerical Jacobians, Hamiltonians
 against the kinetic energy, round trips).
 """
 from __future__ import annotations

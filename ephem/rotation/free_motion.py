@@ -38,7 +38,7 @@ from .euler_poinsot import FreeRotation
 
 METHODS = ("auto", "exact", "series", "numeric")
 #: δ = 2 sin²(J/2) up to which ``auto`` takes the series (J ≈ 25°): Lara (2014) Eq. 28; the
-#: series then gains ×3.6 per order or more (measured, tests/test_lie_series.py).
+#: series then gains ×3.6 per order or more (measured, tests/rotation/test_lie_series.py).
 SERIES_MAX_DELTA = 0.1
 #: Order of the series ``auto`` and ``series`` use (0.5 s to build once, cached).
 SERIES_ORDER = 12
@@ -206,7 +206,7 @@ def free_wobble_bound(body: Body) -> float | None:
 
     J0 is the angle at ν = 0 (the angular momentum in the body's b2-b3 plane), where it is largest in the
     short-axis mode: energy conservation, sin²J (sin²ν/A + cos²ν/B) + cos²J/C = const with A ≤ B < C,
-    gives sin²J(ν = 90°) = sin²J0 (1/B - 1/C)/(1/A - 1/C) ≤ sin²J0 (tests/test_free_wobble.py checks
+    gives sin²J(ν = 90°) = sin²J0 (1/B - 1/C)/(1/A - 1/C) ≤ sin²J0 (tests/rotation/test_free_wobble.py checks
     it against the exact solution).
     """
     j0 = default_wobble_arcsec(body)
