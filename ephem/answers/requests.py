@@ -15,15 +15,17 @@ from ..theory import cost
 from ..base.budget import OverBudgetError, charge, checkpoint, prepaid
 from ..bodies.catalogue import (DEFAULT_DATASET, Body, check_angle, get_body, load_catalogue, load_references,
                                 resolve_body, resolve_perturbers)
-from ..base.constants import ARCSEC, MAS
+from ..base.constants import MAS
 from ..base.errors import InvalidInputError, NotApplicableError, count_text
 from ..orbit.hansen import hansen_series
-from ..longterm.history import MAX_HISTORY_SAMPLES, history_answer
+from ..longterm.history import MAX_HISTORY_SAMPLES, spin_axis_history
 from ..rotation.free_motion import free_motion, make_wobble
 from ..theory.tracks import check_axis, check_tolerance, check_wobble_axis
 from ..forced.precession_nutation import check_order
 from ..families import MODELS, refuse_model, theory_for
-from ..theory.interface import cheapest_within, selection_info
+from ..theory.interface import cheapest_within
+from ..theory.results import selection
+from . import render
 from ..forced.catalogue_sigmas import input_sigmas
 from ..forced.uncertainty import pole_uncertainty, propagated
 from ..base.times import to_jd_tdb
@@ -64,24 +66,6 @@ def _perturbers(b: Body, perturbers) -> tuple[str, ...]:
     if perturbers is None:
         return b.perturbers
     return resolve_perturbers(perturbers, b)
-
-
-def _moon_left_out(b: Body, per: tuple[str, ...]) -> list[str]:
-    """The warning a single-perturber answer carries when the catalogue gives the body the Moon too."""
-    if "Moon" not in b.perturbers or "Moon" in per:
-        return []
-    return [f"perturbers={','.join(per)} leaves out the Moon, which the catalogue lists for {b.name}: this is the "
-            f"Sun's part of the motion only (about a third of the Earth's precession), and its error estimate is "
-            f"against a Sun-only {b.name}, not the real one"]
-
-
-def _tag_perturbers(ans: dict, b: Body, per: tuple[str, ...]) -> dict:
-    model = ans.pop("model")        # the perturbers go before the model object, which closes every answer
-    ans["perturbers"] = list(per)
-    ans["model"] = model
-    ans["model"]["perturbers"] = list(per)
-    ans["model"]["warnings"].extend(_moon_left_out(b, per))
-    return ans
 
 
 def warm_up(dataset: str = DEFAULT_DATASET) -> None:
@@ -144,7 +128,7 @@ def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: in
     b = resolve_body(body, dataset)
     per = _perturbers(b, perturbers)
     tol, order = _tolerance(tolerance_mas), check_order(order)
-    ans = _tag_perturbers(theory_for(b, per).precession_answer(order, tol, start), b, per)
+    ans = render.with_perturbers(render.precession(theory_for(b, per).precession(order, tol, start)), b, per)
     return with_units(ans) if quantities else ans
 
 
@@ -172,7 +156,8 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
     b = resolve_body(body, dataset)
     per = _perturbers(b, perturbers)
     tol, order = _tolerance(tolerance_mas), check_order(order)
-    ans = _tag_perturbers(theory_for(b, per).nutation_answer(order, tol, cut_mas, start), b, per)
+    ans = render.with_perturbers(render.nutation(theory_for(b, per).nutation(order, tol, cut_mas, start)), b,
+                                 per)
     return with_units(ans) if quantities else ans
 
 
@@ -217,14 +202,14 @@ def precession_nutation(body: Body, order: int | None = None, track: dict | None
 def history(body: str | int | Body, start_year, stop_year, step_years, dataset: str = DEFAULT_DATASET,
             tolerance_mas=None, orbit_model: str | None = None, perturbers=None,
             max_samples: int = MAX_HISTORY_SAMPLES, progress=None) -> dict:
-    """The spin axis over millennia and millions of years (:func:`ephem.longterm.history.history_answer`): times in Julian
+    """The spin axis over millennia and millions of years (:func:`ephem.longterm.history.spin_axis_history`): times in Julian
     years from J2000.0 TDB (negative: the past), the orbit model chosen by ``tolerance_mas`` or named by
     ``orbit_model`` ("secular" or "nbody"), through the theory serving the body under ``perturbers``."""
     b = resolve_body(body, dataset)
     per = _perturbers(b, perturbers)
-    ans = history_answer(b, theory_for(b, per), start_year, stop_year, step_years, _tolerance(tolerance_mas),
-                         orbit_model, max_samples, progress)
-    return _tag_perturbers(ans, b, per)
+    result = spin_axis_history(b, theory_for(b, per), start_year, stop_year, step_years, _tolerance(tolerance_mas),
+                               orbit_model, max_samples, progress)
+    return render.with_perturbers(render.history(result), b, per)
 
 
 def epoch_grid(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPLES) -> tuple[float, float, int]:
@@ -325,10 +310,11 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     for term in () if est is None else est.unestimated:
         info["warnings"].append(UNESTIMATED_WARNINGS[term])
     _meaningful(b, estimate, info)
-    selection = selection_info(theory, name, order, estimate, 1e3 * (time.perf_counter() - begin), tol,
-                                None if est is None else est.terms)
+    chosen = selection(theory, name, order, estimate, 1e3 * (time.perf_counter() - begin), tol,
+                       None if est is None else est.terms)
+    scale = None
     if est is not None and est.rotation_scale is not None:
-        selection["rotation_scale"] = {"modelled": est.rotation_scale, "rotation_phase_deg": phase}
+        scale = {"modelled": est.rotation_scale, "rotation_phase_deg": phase}
     # the mean obliquity's 1σ from the catalogue's uncertainties (null: unknown), as in precession(), and the
     # pole's along the track (its angle's 1σ at each epoch, growing with the rate's)
     sigma, pole_sigma = None, None
@@ -337,11 +323,9 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
         with_sigma = sum(1 for s in input_sigmas(b).values() if s)
         charge(cost.pole_uncertainty(b, with_sigma, count, order), b.name)
         pole_sigma = pole_uncertainty(b, tr.jd_tdb, b.dataset, order)
-    ans = _track_answer(b, tr, info, selection, axis, wobble if with_wobble else None, sigma,
-                        theory.extra_description())
-    ans["pole_uncertainty_deg"] = None if pole_sigma is None else np.degrees(pole_sigma)
-    ans["model"] = ans.pop("model")          # the model object closes every answer
-    return _tag_perturbers(ans, b, per)
+    ans = render.track(b, tr, info, chosen, axis, wobble if with_wobble else None, sigma, pole_sigma,
+                       theory.track_cut_mas, scale)
+    return render.with_perturbers(ans, b, per)
 
 
 #: the warning an answer carries for each error term its estimate could not include
@@ -373,35 +357,6 @@ def _meaningful(b: Body, estimate: float | None, info: dict) -> None:
     if mas > WARN_ESTIMATE_MAS:
         info["warnings"].append(f"the estimated error is {mas / 3.6e6:.3g} deg: over {WARN_ESTIMATE_MAS / 3.6e6:g} "
                                 "deg, these poles are rough; bring the epochs nearer the pole epoch for better")
-
-
-def _track_answer(b: Body, tr, info: dict, selection: dict, axis: str, wobble, obliquity_sigma,
-                  extra_model: dict | None = None, perturbers: tuple[str, ...] | None = None) -> dict:
-    """The track answer shared by every theory: the arrays of ``tr`` and the ``model`` object ``info``
-    completed with the selection, the axis and the free wobble added (``wobble`` or None)."""
-    if wobble is not None:
-        info["warnings"].append("the free wobble added is a rigid body's; its amplitude and phase are yours, "
-                                "and the estimate does not include their uncertainty")
-    info.update(selection)
-    info["axis"] = axis
-    info["free_wobble"] = None if wobble is None else {
-        "J_arcsec": wobble.J_arcsec, "phase_deg": wobble.phase_deg, "epoch_jd_tdb": wobble.epoch_jd_tdb}
-    info.update(extra_model or {})
-    ans = {
-        "body": b.name, "dataset": b.dataset,
-        "jd_tdb": tr.jd_tdb,
-        "psi_arcsec": tr.psi / ARCSEC,
-        "delta_psi_arcsec": tr.delta_psi / ARCSEC,
-        "delta_epsilon_arcsec": tr.delta_epsilon / ARCSEC,
-        "obliquity_deg": np.degrees(tr.obliquity),
-        "obliquity_deg_uncertainty": obliquity_sigma,
-        "pole_ra_deg": np.degrees(tr.pole_ra),
-        "pole_dec_deg": np.degrees(tr.pole_dec),
-    }
-    if perturbers is not None:
-        ans["perturbers"] = list(perturbers)
-    ans["model"] = info
-    return ans
 
 
 def track(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,

@@ -36,7 +36,7 @@ from ..forced.kinoshita import (TERM_FLOOR, exact_series_floor, mean_pole, nutat
 from ..forced.precession_nutation import MIN_SPIN_ORBIT_RATIO
 from ..base.budget import prepaid
 from ..base.errors import EphemError, InvalidInputError
-from ..longterm.history import MAX_HISTORY_SAMPLES, history_answer, history_grid
+from ..longterm.history import MAX_HISTORY_SAMPLES, history_grid, spin_axis_history
 from ..families import theory_for
 from ..theory import cost
 
@@ -396,8 +396,8 @@ _INERTIA_INPUTS = ("dynamical_ellipticity", "moment_a", "moment_b", "moment_c", 
 
 
 def _histories(columns: Mapping, x: dict, ok: np.ndarray, spec: HistorySpec) -> dict:
-    """Each good row's obliquity range and dominant period over the span (ephem.longterm.history.history_answer, as
-    ephem.answers.requests.history serves it, on the secular orbit)."""
+    """Each good row's obliquity range and dominant period over the span (ephem.longterm.history.spin_axis_history,
+    as ephem.answers.requests.history serves it, on the secular orbit)."""
 
     n_rows = ok.size
     out = {k: np.full(n_rows, np.nan) for k in HISTORY_COLUMNS[:3]}
@@ -412,14 +412,14 @@ def _histories(columns: Mapping, x: dict, ok: np.ndarray, spec: HistorySpec) -> 
                         rotation_period_hours=x["rotation_period_hours"][j],
                         dynamical_ellipticity=float(x["_hd"][j]))
             with prepaid():          # batch_cost charged every history before the first
-                h = history_answer(body, theory_for(body, body.perturbers), spec.start_year, spec.stop_year,
-                                   spec.step_years, orbit_model="secular")
+                h = spin_axis_history(body, theory_for(body, body.perturbers), spec.start_year, spec.stop_year,
+                                      spec.step_years, orbit_model="secular")
         except EphemError as exc:
             reason[j] = f"history: {exc}"
             continue
-        eps = np.asarray(h["obliquity_deg"])
+        eps = np.degrees(h.history.obliquity)
         out["obliquity_min_deg"][j], out["obliquity_max_deg"][j] = eps.min(), eps.max()
-        out["obliquity_period_years"][j] = crossing_period(np.asarray(h["year"]), eps)
+        out["obliquity_period_years"][j] = crossing_period(h.years, eps)
     return {**out, "history_error": reason.astype(str)}
 
 

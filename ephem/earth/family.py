@@ -66,8 +66,9 @@ from ..forced.precession_nutation import Track, cached_model, model_for
 from ..forced.physics_errors import rotation_averaging_bound
 from ..orbit.relativity import geodesic_precession_rate
 from ..longterm.averaged_spin import SpinConstants, spin_constants
-from ..theory.interface import (COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate, SpectrumExport, SpinAxisTheory,
-                                Spectrum, cheapest_within, rate_values, selection_info)
+from ..theory.interface import Estimate, SpectrumExport, SpinAxisTheory, Spectrum, cheapest_within
+from ..theory.results import (COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, NutationResult, NutationTerm,
+                              PrecessionResult, RateSigmas, selection)
 from ..forced.catalogue_sigmas import dynamical_ellipticity_sigma, no_uncertainty_reasons
 from ..forced.uncertainty import SCALAR_KEYS
 from ..base.units import in_unit
@@ -435,6 +436,7 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
     summary = "the Earth's lunisolar theory (the Earth under the Moon and the Sun)"
     models = ("lunisolar",)
     descriptions = {"lunisolar": SELECTION_DESCRIPTION}
+    track_cut_mas = TRACK_CUT_MAS
 
     @classmethod
     def serves(cls, body: Body, perturbers: tuple[str, ...]) -> bool:
@@ -501,9 +503,6 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
                               "of it in the estimate",
                               constant_drift=tidal_constant_drift((total - sun) / total))
 
-    def extra_description(self) -> dict:
-        return {"cut_mas": TRACK_CUT_MAS}
-
     def spectrum(self, aim_mas: float, mid_centuries: float, jd_tdb=None, psi=None) -> Spectrum:
         """The lunisolar series' terms: phases in the Delaunay arguments, their polynomials linearised at
         ``mid_centuries``; plus a base at 0 for the precession alone. The track's rate is the series' own."""
@@ -535,23 +534,21 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
         model_for(self.body, self.body.dataset)           # applicability (the Moon)
         no_order(self.body, order)
 
-    def precession_answer(self, order: int | None, tolerance: float | None, start: float) -> dict:
+    def precession(self, order: int | None, tolerance: float | None, start: float) -> PrecessionResult:
         b = self.body
         self._check_answer(order)
         charge(self.answer_cost(order), b.name)
         lm = lunisolar_earth(b, "figure", TRACK_CUT_MAS, self.perturbers)
-        ans = rate_values(b, lm, rate_uncertainties(b, lm))
-        ans["uncertainty"] = uncertainty_summary(b)
-        ans["model"] = describe_model(b, self.perturbers, lm)
-        ans["model"]["assumptions"].append("scaling_factor_arcsec_per_year: with several perturbers, 2ψ̇/cos ε̄ (the "
-                                           "K of one perturber on a circular orbit in the ecliptic giving the same "
-                                           "rate)")
+        info = describe_model(b, self.perturbers, lm)
+        info["assumptions"].append("scaling_factor_arcsec_per_year: with several perturbers, 2ψ̇/cos ε̄ (the K of one "
+                                   "perturber on a circular orbit in the ecliptic giving the same rate)")
         # the rate does not depend on the nutation's amplitude cut: nothing truncated
-        ans["model"].update(selection_info(self, "lunisolar", None, None, 1e3 * (time.perf_counter() - start),
-                                           tolerance, covers=COVERS_NOTHING_TRUNCATED))
-        return ans
+        return PrecessionResult(b, lm.obliquity, lm.hd, lm.scaling_factor, lm.precession_rate,
+                                rate_sigmas(b, lm), uncertainty_summary(b), info,
+                                selection(self, "lunisolar", None, None, 1e3 * (time.perf_counter() - start),
+                                          tolerance, covers=COVERS_NOTHING_TRUNCATED))
 
-    def nutation_answer(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> dict:
+    def nutation(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> NutationResult:
         b, per = self.body, self.perturbers
         self._check_answer(order)
         if tolerance is not None and cut_mas is not None:
@@ -569,47 +566,29 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
         rel = hd_relative_sigma(b)
         terms = []
         for t in lm.series.terms:
-            term = {"multiple": None, "delaunay_multipliers": list(t["delaunay_multipliers"]),
-                    "period_days": t["period_days"], "period_years": t["period_days"] / JULIAN_YEAR_DAYS}
-            for comp in ("longitude", "obliquity"):
-                for part in ("sin", "cos"):
-                    term[f"{comp}_{part}_arcsec"] = t[f"{comp}_{part}_mas"] / 1e3
-            term["period_days_uncertainty"] = None          # the lunar theory's rates: published without a σ
-            for comp in ("longitude", "obliquity"):
-                for part in ("sin", "cos"):
-                    term[f"{comp}_{part}_arcsec_uncertainty"] = _scaled(term[f"{comp}_{part}_arcsec"], rel)
-                    term[f"{comp}_{part}_rate_arcsec_per_century"] = t[f"{comp}_{part}_rate_mas_per_century"] / 1e3
-                amp = math.hypot(term[f"{comp}_sin_arcsec"], term[f"{comp}_cos_arcsec"])
-                term[f"{comp}_amplitude_arcsec"] = amp * (sin_eps if comp == "longitude" else 1.0)
-                term[f"{comp}_amplitude_arcsec_uncertainty"] = _scaled(term[f"{comp}_amplitude_arcsec"], rel)
-            terms.append(term)
-        half_psi, half_eps = half_peak_to_peak(lm)
+            coef = [t[f"{comp}_{part}_mas"] * MAS for comp in ("longitude", "obliquity") for part in ("sin", "cos")]
+            amplitudes = (math.hypot(coef[0], coef[1]) * sin_eps, math.hypot(coef[2], coef[3]))
+            terms.append(NutationTerm(
+                None, tuple(t["delaunay_multipliers"]), t["period_days"], *coef,
+                None,                           # the lunar theory's rates: published without a σ
+                *(_scaled(c, rel) for c in coef), *(_scaled(a, rel) for a in amplitudes),
+                rates=tuple(t[f"{comp}_{part}_rate_mas_per_century"] * MAS for comp in ("longitude", "obliquity")
+                            for part in ("sin", "cos"))))
+        half = half_peak_to_peak(lm)
         orbit_epoch = b.orbit.epoch_jd_tdb
         omitted = omitted_bound(b, cut, "figure", per)
         info = describe_model(b, per, lm)
-        info.update(selection_info(self, "lunisolar", None, omitted, 1e3 * (time.perf_counter() - start), tolerance,
-                                   {"truncation": omitted}, covers=COVERS_TRUNCATION))
-        info["cut_mas"] = cut
         info["assumptions"].append("terms: Δψ = Σ (S + Ṡ T) sin φ + (C + Ċ T) cos φ (likewise Δε), φ = the "
                                    "multipliers · (l, l′, F, D, Ω), T Julian centuries TDB from J2000; `multiple` is "
                                    "null (no single mean anomaly), periods are signed (negative: the argument "
                                    "decreases); half peak-to-peak over 1900-2100")
-        return {
-            "body": b.name, "dataset": b.dataset, "argument": ARGUMENT,
+        chosen = selection(self, "lunisolar", None, omitted, 1e3 * (time.perf_counter() - start), tolerance,
+                           {"truncation": omitted}, covers=COVERS_TRUNCATION, cut_mas=cut)
+        return NutationResult(
             # the Earth's orbital mean anomaly is l′ (the Sun's mean anomaly seen from the Earth)
-            "mean_anomaly_at_epoch_deg": math.degrees(float(delaunay_arguments(orbit_epoch)[1])) % 360.0,
-            "orbit_epoch_jd_tdb": orbit_epoch,
-            "mean_motion_deg_per_day": math.degrees(float(delaunay_rates((orbit_epoch - J2000_JD)
-                                                                          / DAYS_PER_CENTURY)[1])),
-            "obliquity_deg": math.degrees(eps),
-            "terms": terms,
-            "delta_psi_half_peak_to_peak_arcsec": half_psi / ARCSEC,
-            "delta_epsilon_half_peak_to_peak_arcsec": half_eps / ARCSEC,
-            "delta_psi_half_peak_to_peak_arcsec_uncertainty": _scaled(half_psi / ARCSEC, rel),
-            "delta_epsilon_half_peak_to_peak_arcsec_uncertainty": _scaled(half_eps / ARCSEC, rel),
-            "uncertainty": uncertainty_summary(b),
-            "model": info,
-        }
+            b, ARGUMENT, float(delaunay_arguments(orbit_epoch)[1]), orbit_epoch,
+            float(delaunay_rates((orbit_epoch - J2000_JD) / DAYS_PER_CENTURY)[1]), eps, tuple(terms), sin_eps,
+            half, (_scaled(half[0], rel), _scaled(half[1], rel)), uncertainty_summary(b), info, chosen)
 
 
 def hd_relative_sigma(b: Body) -> float | None:
@@ -622,22 +601,19 @@ def _scaled(value: float, rel: float | None) -> float | None:
     return None if rel is None else abs(value) * rel
 
 
-def rate_uncertainties(b: Body, lm: LunisolarEarth) -> dict | None:
+def rate_sigmas(b: Body, lm: LunisolarEarth) -> RateSigmas | None:
     """The precession answer's 1σ: every term of Kinoshita's first-order theory is proportional to H_d (the
     rate, K, the nutation), so each carries H_d's relative σ; the mean obliquity, the pole's less the nutation
     at the pole epoch, moves by that nutation's Δε times it. The other inputs have no published σ."""
     rel = hd_relative_sigma(b)
     if rel is None:
         return None
-    per_year = JULIAN_YEAR_DAYS / ARCSEC
-    return {"obliquity_deg_uncertainty": math.degrees(abs(lm.nutation_at_pole_epoch[1]) * rel),
-            "dynamical_ellipticity_uncertainty": rel * lm.hd,
-            "scaling_factor_arcsec_per_year_uncertainty": abs(lm.scaling_factor) * per_year * rel,
-            "precession_rate_arcsec_per_year_uncertainty": abs(lm.precession_rate) * per_year * rel}
+    return RateSigmas(abs(lm.nutation_at_pole_epoch[1]) * rel, rel * lm.hd, abs(lm.scaling_factor) * rel,
+                      abs(lm.precession_rate) * rel)
 
 
 def uncertainty_summary(b: Body) -> dict:
-    """The answers' ``uncertainty`` object: H_d's relative σ scales every value (:func:`rate_uncertainties`); the
+    """The answers' ``uncertainty`` object: H_d's relative σ scales every value (:func:`rate_sigmas`); the
     inputs without a σ are listed with the record's reasons."""
     inputs = sorted(k for k in b.values if k.split(".")[0] in ("orbit", "pole", "rotation", "inertia"))
     unpropagated = [k for k in inputs if b.values[k].uncertainty is None and not k.endswith(".epoch")]

@@ -1,9 +1,10 @@
-"""A body's history request over millennia and millions of years: the orbit chosen, the cost charged, the answer shaped.
+"""A body's history over millennia and millions of years: the orbit chosen, the cost charged, the result typed.
 
 Every family of :mod:`ephem.families` gives its body's spin averaged over the rotation and the orbit
 (:meth:`~ephem.theory.interface.SpinAxisTheory.secular_spin`: the averaged spin equation of :mod:`ephem.longterm.averaged_spin`
 with the theory's precession constant, or the Moon's Cassini state carried along the ecliptic); this module
-chooses the orbit it moves along, charges the cost before the work, and shapes the answer.
+chooses the orbit it moves along, charges the cost before the work, and returns a :class:`HistoryResult`
+(rendered by :func:`ephem.answers.render.history`).
 
 Two models of the orbit, cheapest first (:data:`ORBIT_MODELS`):
 
@@ -279,12 +280,12 @@ def history_cost(spin, choice: OrbitChoice, lo: float, hi: float, count: int) ->
     return choice.cost + cost.Cost((spin.cost(float(max(lo, hi, t0) - min(lo, hi, t0)), count),))
 
 
-def history_answer(b: Body, theory, start_year, stop_year, step_years, tolerance: float | None = None,
-                   orbit_model: str | None = None, max_samples: int = MAX_HISTORY_SAMPLES, progress=None) -> dict:
-    """The history answer of ``b`` served by ``theory`` (a :class:`~ephem.theory.interface.SpinAxisTheory`): arrays
-    ``year``, ``obliquity_deg``, ``precession_angle_deg``, ``pole_ra_deg``, ``pole_dec_deg`` (ICRF),
-    ``orbit_inclination_deg`` (to the J2000 ecliptic), ``estimated_error_deg``, where the history stops meaning
-    anything, and the ``model`` object. ``tolerance`` (radians) or ``orbit_model`` ("secular" or "nbody"), not
+def spin_axis_history(b: Body, theory, start_year, stop_year, step_years, tolerance: float | None = None,
+                      orbit_model: str | None = None, max_samples: int = MAX_HISTORY_SAMPLES,
+                      progress=None) -> HistoryResult:
+    """The history of ``b`` served by ``theory`` (a :class:`~ephem.theory.interface.SpinAxisTheory`): the spin
+    at each epoch of the grid, its error by named term, where it stops meaning anything and the orbit model
+    used (:class:`HistoryResult`). ``tolerance`` (radians) or ``orbit_model`` ("secular" or "nbody"), not
     both; by default the shipped N-body orbit where it covers the span, else the cheapest available; with a
     tolerance, the cheapest whose estimate meets it. ``progress``: called with the fraction integrated (a
     console's progress bar)."""
@@ -297,7 +298,7 @@ def history_answer(b: Body, theory, start_year, stop_year, step_years, tolerance
     spin = theory.secular_spin()
     choices = orbit_choices(b, spin.orbit_body, float(years[0]), float(years[-1]))
     chosen, result, estimates = _choose(b, spin, choices, years, tolerance, orbit_model, progress)
-    return _answer(b, theory, spin, chosen, result, estimates, years, tolerance, t_start)
+    return _result(b, theory, spin, chosen, result, estimates, years, tolerance, t_start)
 
 
 @dataclass(frozen=True)
@@ -370,47 +371,69 @@ def _choose(b: Body, spin, choices: list[OrbitChoice], years, tolerance, orbit_m
     for c in available:
         h, terms = _run(b, spin, c, years, progress)
         tried[c.name] = terms
-        if float(np.max(_total(terms))) <= tolerance:
+        if float(np.max(total(terms))) <= tolerance:
             return c, (h, terms), tried
-    best = min(tried, key=lambda k: float(np.max(_total(tried[k]))))
+    best = min(tried, key=lambda k: float(np.max(total(tried[k]))))
     raise NotApplicableError(b.name, f"no orbit model meets tolerance_mas={tolerance / MAS:.6g} over "
                              f"[{years[0]:g}, {years[-1]:g}] years: the best, {best}, is estimated at "
-                             f"{float(np.max(_total(tried[best]))) / MAS:.4g} mas (largest terms: "
+                             f"{float(np.max(total(tried[best]))) / MAS:.4g} mas (largest terms: "
                              + ", ".join(f"{k} {float(np.max(v)) / MAS:.4g}" for k, v in
                                          sorted(tried[best].items(), key=lambda kv: -float(np.max(kv[1])))[:2])
                              + "); the history has no nutation: for a few centuries ask for the track")
 
 
-def _total(terms: dict) -> np.ndarray:
+def total(terms: dict) -> np.ndarray:
     return np.minimum(sum(terms.values()), math.pi)
 
 
-def _answer(b, theory, spin, chosen: OrbitChoice, result, estimates, years, tolerance, t_start) -> dict:
+#: what every history assumes (the answer's ``model.assumptions``)
+HISTORY_ASSUMPTIONS = (
+    "averaged over the rotation and the orbit: no nutation (its size is the nutation term)",
+    "the precession constant follows the orbit's a and e; the body's moments and spin rate are fixed "
+    "(no tidal or YORP evolution)",
+    "an orbit error is taken as the pole's error",
+    "the precession_constant and pole terms are the divergence of neighbouring solutions; where no 1-sigma "
+    "is published they are probes (listed in probed_terms)",
+)
+
+
+@dataclass(frozen=True)
+class HistoryResult:
+    """A history: the spin at ``years`` (radians: the obliquity to the moving orbit, the precession angle, the
+    ICRF pole, the orbit's inclination to the J2000 ecliptic), its error by named term per epoch (radians;
+    ``obliquity_terms`` the obliquity's own), every tried orbit model's terms (``estimates``), the span where it
+    means something (``meaningful``: years, infinite where not limited; equal ends: nowhere), the orbit model
+    chosen and what it is, and the warnings. :func:`ephem.answers.render.history` renders it."""
+
+    body: Body
+    years: np.ndarray
+    history: SpinHistory
+    terms: dict
+    estimates: dict
+    meaningful: tuple[float, float]
+    orbit_model: str
+    orbit_source: str | None
+    orbit_horizon_years: tuple[float, float] | None
+    theory: str
+    spin: str
+    tolerance: float | None
+    cost_ms: float
+    warnings: tuple[str, ...]
+
+    @property
+    def error(self) -> np.ndarray:
+        """The estimate at each epoch (radians): the sum of the terms."""
+        return total(self.terms)
+
+    @property
+    def obliquity_error(self) -> np.ndarray:
+        return total(self.history.obliquity_terms)
+
+
+def _result(b, theory, spin, chosen: OrbitChoice, result, estimates, years, tolerance, t_start) -> HistoryResult:
     h, terms = result
-    error = _total(terms)
     meaningful = _meaningful(years, spin, h, terms)
     horizon = getattr(chosen.orbit, "horizon_years", None)
-    model = {
-        "name": chosen.name, "description": DESCRIPTIONS[chosen.name],
-        "theory": theory.summary, "spin": spin.source,
-        "orbit": {"model": chosen.name, "source": getattr(chosen.orbit, "source", None),
-                  "horizon_years": None if horizon is None else [float(x) for x in horizon]},
-        "estimated_error_mas": float(np.max(error)) / MAS,
-        "error_terms_mas": {k: float(np.max(v)) / MAS for k, v in terms.items()},
-        "obliquity_error_terms_mas": {k: float(np.max(v)) / MAS for k, v in h.obliquity_terms.items()},
-        "probed_terms": list(h.unestimated),
-        "estimates_mas": {k: float(np.max(_total(v))) / MAS for k, v in estimates.items()},
-        "tolerance_mas": None if tolerance is None else tolerance / MAS,
-        "cost_ms": (time.perf_counter() - t_start) * 1e3,
-        "assumptions": [
-            "averaged over the rotation and the orbit: no nutation (its size is the nutation term)",
-            "the precession constant follows the orbit's a and e; the body's moments and spin rate are fixed "
-            "(no tidal or YORP evolution)",
-            "an orbit error is taken as the pole's error",
-            f"the precession_constant and pole terms are the divergence of neighbouring solutions; where no 1-sigma "
-            f"is published they are probes (listed in probed_terms)",
-        ],
-    }
     warnings = []
     if meaningful[0] == meaningful[1]:
         warnings.append(f"the history means nothing anywhere in the span: its orbit's error is "
@@ -421,22 +444,10 @@ def _answer(b, theory, spin, chosen: OrbitChoice, result, estimates, years, tole
         warnings.append(f"the history stops meaning anything outside [{meaningful[0]:g}, {meaningful[1]:g}] years "
                         f"from J2000.0: neighbouring solutions or orbits part by more than "
                         f"{math.degrees(MEANINGFUL_LIMIT):g} deg there")
-    model["warnings"] = warnings
-    return {
-        "body": b.name, "dataset": b.dataset,
-        "year": years,
-        "obliquity_deg": np.degrees(h.obliquity),
-        "precession_angle_deg": np.degrees(h.precession_angle),
-        "pole_ra_deg": np.degrees(h.pole_ra),
-        "pole_dec_deg": np.degrees(h.pole_dec),
-        "orbit_inclination_deg": np.degrees(h.orbit_inclination),
-        "estimated_error_deg": np.degrees(error),
-        "obliquity_error_deg": np.degrees(_total(h.obliquity_terms)),
-        # equal: nowhere; None: not limited within the span
-        "meaningful_from_year": None if math.isinf(meaningful[0]) else meaningful[0],
-        "meaningful_to_year": None if math.isinf(meaningful[1]) else meaningful[1],
-        "model": model,
-    }
+    return HistoryResult(b, years, h, terms, estimates, meaningful, chosen.name,
+                         getattr(chosen.orbit, "source", None),
+                         None if horizon is None else tuple(float(x) for x in horizon), theory.summary, spin.source,
+                         tolerance, (time.perf_counter() - t_start) * 1e3, tuple(warnings))
 
 
 def _meaningful(years, spin, h: SpinHistory, terms: dict) -> tuple[float, float]:

@@ -163,19 +163,20 @@ class WithLongTerm(SpinAxisTheory, SpectrumExport):
     def answer_cost(self, order, nutation=False, tolerance=False) -> Cost:
         return self.inner.answer_cost(order, nutation, tolerance)
 
-    def precession_answer(self, order, tolerance, start) -> dict:
-        return self.inner.precession_answer(order, tolerance, start)
+    def precession(self, order, tolerance, start):
+        return self.inner.precession(order, tolerance, start)
 
-    def nutation_answer(self, order, tolerance, cut_mas, start) -> dict:
-        return self.inner.nutation_answer(order, tolerance, cut_mas, start)
+    def nutation(self, order, tolerance, cut_mas, start):
+        return self.inner.nutation(order, tolerance, cut_mas, start)
 
     def spectrum(self, aim_mas, mid_centuries, jd_tdb=None, psi=None):
         if not isinstance(self.inner, SpectrumExport):
             raise NotApplicableError(self.body.name, f"{self.summary} gives no spectrum of its track")
         return self.inner.spectrum(aim_mas, mid_centuries, jd_tdb, psi)
 
-    def extra_description(self) -> dict:
-        return self.inner.extra_description()
+    @property
+    def track_cut_mas(self) -> float | None:
+        return self.inner.track_cut_mas
 
     def secular_spin(self):
         return self.inner.secular_spin()

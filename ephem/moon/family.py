@@ -64,8 +64,9 @@ from ..forced.precession_nutation import Track
 from .libration_series import shipped_series
 from .physical_librations import EFFECTIVE_MOMENTS, moon_physical_librations
 from .rigid_integration import integrate_synchronous
-from ..theory.interface import (COVERS_ALL_TERMS, COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate, SpinAxisTheory,
-                                Spectrum, SpectrumExport, rate_values, selection_info)
+from ..theory.interface import Estimate, SpinAxisTheory, Spectrum, SpectrumExport
+from ..theory.results import (COVERS_ALL_TERMS, COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, CassiniState,
+                              NutationResult, NutationTerm, PrecessionResult, RateSigmas, selection)
 from ..forced.rigid_numerics import quaternion_from_matrix
 from ..forced.catalogue_sigmas import dynamical_ellipticity_sigma, moments_function_sigma, no_uncertainty_reasons
 from ..forced.uncertainty import SCALAR_KEYS
@@ -512,26 +513,25 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
 
     # --- the precession and nutation answers
 
-    def precession_answer(self, order: int | None, tolerance: float | None, start: float) -> dict:
+    def precession(self, order: int | None, tolerance: float | None, start: float) -> PrecessionResult:
         b = self.body
         check_body(b)
         no_order(b, order)
         charge(self.answer_cost(order), b.name)
         m = self.model
-        ans = rate_values(b, m, rate_uncertainties(b, m))
-        ans["cassini"] = cassini_summary(m)
-        ans["uncertainty"] = uncertainty_summary(b)
-        ans["model"] = self.describe(None, "cassini", None, False)
-        ans["model"]["assumptions"].append(
+        info = self.describe(None, "cassini", None, False)
+        info["assumptions"].append(
             "precession_rate_arcsec_per_year: the node's inertial regression (the pole turns with it about the "
             "Laplace pole); obliquity_deg: the mean pole's θ = i + I to the orbit; scaling_factor_arcsec_per_year: "
             "2 P(0), twice the synchronous torque's precession constant (ephem.moon.cassini)")
         # the rate and the mean obliquity are the bare Cassini state's: nothing truncated
-        ans["model"].update(selection_info(self, "cassini", None, None, 1e3 * (time.perf_counter() - start), tolerance,
-                                           covers=COVERS_NOTHING_TRUNCATED))
-        return ans
+        return PrecessionResult(b, m.obliquity, m.hd, m.scaling_factor, m.precession_rate, rate_sigmas(b, m),
+                                uncertainty_summary(b), info,
+                                selection(self, "cassini", None, None, 1e3 * (time.perf_counter() - start),
+                                          tolerance, covers=COVERS_NOTHING_TRUNCATED),
+                                derived_cassini_state(m))
 
-    def nutation_answer(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> dict:
+    def nutation(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> NutationResult:
         b = self.body
         check_body(b)
         no_order(b, order)
@@ -551,7 +551,7 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         charge(self.answer_cost(order, nutation=True), b.name)
         name = "cassini" if m.series is None else "librations"
         info = self.describe(None, name, None, False)
-        terms, omitted = [], None
+        terms, omitted = (), None
         if m.series is not None:
             series = m.series.truncated(cut)
             omitted = m.series.omitted_bound(cut)[0]
@@ -563,21 +563,15 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
                 "(l, l′, F, D, Ω) (IERS 2010 eq. 5.43); Eckhardt's (1981) variables, ephem.moon.physical_librations")
         if omitted is not None and not omitted > 0.0:
             omitted = None          # every term kept: nothing truncated here (issue 29: an estimate of 0 is no bound)
-        info.update(selection_info(self, name, None, omitted, 1e3 * (time.perf_counter() - start), tolerance,
-                                   None if omitted is None else {"truncation": omitted},
-                                   covers=COVERS_TRUNCATION if omitted is not None else COVERS_ALL_TERMS))
-        info["cut_mas"] = None if cut is None else cut / MAS
-        half = [0.0, 0.0] if m.series is None else half_peak_to_peak(m.series.truncated(cut))
-        return {
-            "body": b.name, "dataset": b.dataset, "argument": "Delaunay arguments l, l′, F, D, Ω (IERS 2010 eq. 5.43)",
-            "mean_anomaly_at_epoch_deg": b.orbit.mean_anomaly_deg, "orbit_epoch_jd_tdb": b.orbit.epoch_jd_tdb,
-            "mean_motion_deg_per_day": math.degrees(m.orbit.mean_motion), "obliquity_deg": math.degrees(m.obliquity),
-            "terms": terms, "delta_psi_half_peak_to_peak_arcsec": half[0] / ARCSEC,
-            "delta_epsilon_half_peak_to_peak_arcsec": half[1] / ARCSEC,
-            "delta_psi_half_peak_to_peak_arcsec_uncertainty": None,
-            "delta_epsilon_half_peak_to_peak_arcsec_uncertainty": None,
-            "uncertainty": uncertainty_summary(b), "model": info,
-        }
+        chosen = selection(self, name, None, omitted, 1e3 * (time.perf_counter() - start), tolerance,
+                           None if omitted is None else {"truncation": omitted},
+                           covers=COVERS_TRUNCATION if omitted is not None else COVERS_ALL_TERMS,
+                           cut_mas=None if cut is None else cut / MAS)
+        half = (0.0, 0.0) if m.series is None else half_peak_to_peak(m.series.truncated(cut))
+        # Δψ = σ is already the pole's displacement: its amplitude is not scaled by sin ε
+        return NutationResult(b, "Delaunay arguments l, l′, F, D, Ω (IERS 2010 eq. 5.43)",
+                              math.radians(b.orbit.mean_anomaly_deg), b.orbit.epoch_jd_tdb, m.orbit.mean_motion,
+                              m.obliquity, terms, 1.0, half, (None, None), uncertainty_summary(b), info, chosen)
 
 
 #: terms of the Moon's series above :data:`LIBRATION_CUT` (the cost before it is built)
@@ -599,24 +593,18 @@ def cut_for_tolerance(series, tolerance: float, name: str) -> float:
     return MIN_CUT_MAS * MAS
 
 
-def nutation_terms(series) -> list[dict]:
-    """The nutation answer's terms of a libration series (arcsec; Δψ = σ, Δε = ρ), largest pole amplitude first."""
+def nutation_terms(series) -> tuple[NutationTerm, ...]:
+    """The nutation terms of a libration series (radians; Δψ = σ, Δε = ρ; no 1σ: the librations are not
+    propagated), largest pole amplitude first."""
     out = []
     order = np.argsort(-series.pole_amplitudes, kind="stable")
     for i in order:
-        k = series.multipliers[i]
         freq = float(series.frequencies[i])
-        period = 2.0 * math.pi / freq if freq else math.inf
-        term = {"multiple": None, "delaunay_multipliers": [int(x) for x in k], "period_days": period,
-                "period_years": period / JULIAN_YEAR_DAYS, "period_days_uncertainty": None}
-        for comp, coef in (("longitude", series.sigma[i]), ("obliquity", series.rho[i])):
-            term[f"{comp}_sin_arcsec"] = float(coef[1]) / ARCSEC
-            term[f"{comp}_cos_arcsec"] = float(coef[0]) / ARCSEC
-            term[f"{comp}_amplitude_arcsec"] = math.hypot(*coef) / ARCSEC
-            for part in ("sin", "cos", "amplitude"):
-                term[f"{comp}_{part}_arcsec_uncertainty"] = None
-        out.append(term)
-    return out
+        sigma, rho = series.sigma[i], series.rho[i]           # (cos, sin) coefficients
+        out.append(NutationTerm(None, tuple(int(x) for x in series.multipliers[i]),
+                                2.0 * math.pi / freq if freq else math.inf,
+                                float(sigma[1]), float(sigma[0]), float(rho[1]), float(rho[0])))
+    return tuple(out)
 
 
 def half_peak_to_peak(series) -> tuple[float, float]:
@@ -625,36 +613,24 @@ def half_peak_to_peak(series) -> tuple[float, float]:
     return 0.5 * float(np.ptp(sigma)), 0.5 * float(np.ptp(rho))
 
 
-def cassini_summary(m: SynchronousModel) -> dict:
+def derived_cassini_state(m: SynchronousModel) -> CassiniState:
     """The Cassini state the theory derives (the answer's ``cassini`` object), beside the served mean pole."""
     alpha, beta, gamma = moment_ratios(m.body.moments)
     free = free_librations(m.orbit, m.body.moments, m.state)
-    return {
-        "equator_inclination_deg": math.degrees(m.inclination),
-        "derived_equator_inclination_deg": math.degrees(m.state.equator_inclination),
-        "derived_obliquity_deg": math.degrees(m.state.obliquity),
-        "orbit_inclination_deg": math.degrees(m.orbit.inclination),
-        "node_rate_deg_per_year": math.degrees(m.orbit.node_rate) * JULIAN_YEAR_DAYS,
-        "node_period_years": 2.0 * math.pi / abs(m.orbit.node_rate) / JULIAN_YEAR_DAYS,
-        "beta": beta, "gamma": gamma,
-        "free_libration_longitude_days": free.longitude_days,
-        "free_libration_latitude_days": free.latitude_days,
-        "free_precession_space_days": free.precession_space_days,
-        "free_wobble_days": free.wobble_days,
-    }
+    return CassiniState(m.inclination, m.state.equator_inclination, m.state.obliquity, m.orbit.inclination,
+                        m.orbit.node_rate, beta, gamma, free.longitude_days, free.latitude_days,
+                        free.precession_space_days, free.wobble_days)
 
 
-def rate_uncertainties(b: Body, m: SynchronousModel) -> dict:
+def rate_sigmas(b: Body, m: SynchronousModel) -> RateSigmas:
     """The precession answer's 1σ where the inputs have one: H_d and K = 2 P(0) ∝ (C − A)/C from the moments' σ
     and correlation (the Moon's: lunar laser ranging's β and γ); the rate is the orbit node's and the mean
     obliquity the catalogue pole's, neither with a published σ (None)."""
     A, B, C = b.moments
     polar = (C - A) / C
     sigma_polar = moments_function_sigma(b, lambda a, _b, c: (c - a) / c)
-    k = abs(m.scaling_factor) * JULIAN_YEAR_DAYS / ARCSEC
-    return {"obliquity_deg_uncertainty": None, "precession_rate_arcsec_per_year_uncertainty": None,
-            "dynamical_ellipticity_uncertainty": dynamical_ellipticity_sigma(b),
-            "scaling_factor_arcsec_per_year_uncertainty": None if sigma_polar is None else k * sigma_polar / polar}
+    return RateSigmas(None, dynamical_ellipticity_sigma(b),
+                      None if sigma_polar is None else abs(m.scaling_factor) * sigma_polar / polar, None)
 
 
 def uncertainty_summary(b: Body) -> dict:

@@ -21,8 +21,9 @@ from ..longterm.averaged_spin import SpinConstants, spin_constants
 from ..orbit.hansen import LAPLACE_LIMIT
 from ..theory import cost
 from ..base.budget import Cost
-from ..theory.interface import (COVERS_TRUNCATION, Estimate, Spectrum, SpectrumExport, SpinAxisTheory, rate_values,
-                                selection_info)
+from ..theory.interface import Estimate, Spectrum, SpectrumExport, SpinAxisTheory
+from ..theory.results import (COVERS_TRUNCATION, NutationResult, NutationTerm, PrecessionResult, RateSigmas, Selection,
+                              selection)
 from .ladder import Ladder
 from .rungs import RUNG_NAMES, RUNGS, rung_named
 from .spectrum import mean_anomaly_spectrum, semi_amplitudes
@@ -175,7 +176,7 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
                     return n
         return None
 
-    def _selection(self, order: int | None, tol: float | None, start: float) -> dict:
+    def _selection(self, order: int | None, tol: float | None, start: float) -> Selection:
         m = cached_model(self.body)
         # never 0 (issue 29): the exact coefficients' own floor, the harmonics dropped under their amplitude cut
         # (twice: they also move the mean pole) and the rounding of every coefficient kept, is part of both
@@ -185,22 +186,19 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
             raise NotApplicableError(self.body.name, (
                 f"no e-order meets the tolerance of {tol / MAS:.6g} mas: the exact Hansen coefficients are good to "
                 f"{estimate / MAS:.3g} mas (the harmonics under their amplitude cut and the coefficients' rounding)"))
-        return selection_info(self, "hansen" if order is None else "series", order, estimate,
-                              1e3 * (time.perf_counter() - start), tol, covers=COVERS_TRUNCATION)
+        return selection(self, "hansen" if order is None else "series", order, estimate,
+                         1e3 * (time.perf_counter() - start), tol, covers=COVERS_TRUNCATION)
 
-    def precession_answer(self, order: int | None, tolerance: float | None, start: float) -> dict:
+    def precession(self, order: int | None, tolerance: float | None, start: float) -> PrecessionResult:
         b = self.body
         charge(self.answer_cost(order, tolerance=tolerance is not None), b.name)
         order = self.order_for_tolerance(tolerance, order)
         m = model_for(b, b.dataset, order)
         unc = propagated(b, order)
-        ans = rate_values(b, m, unc)
-        ans["uncertainty"] = summary(unc)
-        ans["model"] = forced_model_info(m, b)
-        ans["model"].update(self._selection(order, tolerance, start))
-        return ans
+        return PrecessionResult(b, m.obliquity, m.hd, m.scaling_factor, m.precession_rate, rate_sigmas(unc),
+                                summary(unc), forced_model_info(m, b), self._selection(order, tolerance, start))
 
-    def nutation_answer(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> dict:
+    def nutation(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> NutationResult:
         b = self.body
         if cut_mas is not None:
             raise InvalidInputError("cut_mas", "an amplitude cut applies to the lunisolar series (the Earth with the "
@@ -209,39 +207,37 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
         order = self.order_for_tolerance(tolerance, order)
         m = model_for(b, b.dataset, order)
         s = m.nutation
-        terms = [{
-            "multiple": int(k), "period_days": float(p), "period_years": float(p / JULIAN_YEAR_DAYS),
-            "longitude_sin_arcsec": float(a / ARCSEC), "longitude_cos_arcsec": float(c / ARCSEC),
-            "obliquity_sin_arcsec": float(d / ARCSEC), "obliquity_cos_arcsec": float(f / ARCSEC),
-        } for k, p, a, c, d, f in zip(s.multiple, s.period_days, s.lon_sin, s.lon_cos, s.obl_sin, s.obl_cos)]
         unc = propagated(b, order)
-        sin_eps = abs(math.sin(m.obliquity))
-        for term, sigma in zip(terms, unc["terms"]):
-            if sigma["multiple"] != term["multiple"]:  # pragma: no cover - both come from the same series
+        terms = []
+        for k, p, a, c, d, f, sigma in zip(s.multiple, s.period_days, s.lon_sin, s.lon_cos, s.obl_sin, s.obl_cos,
+                                           unc["terms"]):
+            if sigma["multiple"] != k:  # pragma: no cover - both come from the same series
                 raise RuntimeError("uncertainty terms out of step with the nutation terms")
-            term["period_days_uncertainty"] = sigma["period_days_uncertainty"]
-            for comp in ("longitude", "obliquity"):
-                for part in ("sin", "cos"):
-                    term[f"{comp}_{part}_arcsec_uncertainty"] = sigma[f"{comp}_{part}_arcsec_uncertainty"]
-                # the paper's Amp: (Sin² + Cos²)^½, times sin ε in longitude
-                amp = math.hypot(term[f"{comp}_sin_arcsec"], term[f"{comp}_cos_arcsec"])
-                term[f"{comp}_amplitude_arcsec"] = amp * (sin_eps if comp == "longitude" else 1.0)
-                term[f"{comp}_amplitude_arcsec_uncertainty"] = sigma[f"amplitude_{comp}_arcsec_uncertainty"]
-        half_psi, half_eps = semi_amplitudes(b, m.order)
-        ans = {
-            "body": b.name, "dataset": b.dataset, "argument": "mean anomaly M",
-            "mean_anomaly_at_epoch_deg": math.degrees(m.mean_anomaly_at_epoch) % 360.0,
-            "orbit_epoch_jd_tdb": m.orbit_epoch,
-            "mean_motion_deg_per_day": math.degrees(m.mean_motion),
-            "obliquity_deg": math.degrees(m.obliquity),
-            "terms": terms,
-            "delta_psi_half_peak_to_peak_arcsec": half_psi / ARCSEC,
-            "delta_epsilon_half_peak_to_peak_arcsec": half_eps / ARCSEC,
-            "delta_psi_half_peak_to_peak_arcsec_uncertainty": unc["delta_psi_half_peak_to_peak_arcsec_uncertainty"],
-            "delta_epsilon_half_peak_to_peak_arcsec_uncertainty":
-                unc["delta_epsilon_half_peak_to_peak_arcsec_uncertainty"],
-            "uncertainty": summary(unc),
-            "model": forced_model_info(m, b),
-        }
-        ans["model"].update(self._selection(order, tolerance, start))
-        return ans
+            terms.append(NutationTerm(
+                int(k), None, float(p), float(a), float(c), float(d), float(f), sigma["period_days_uncertainty"],
+                *(_radians(sigma[f"{comp}_{part}_arcsec_uncertainty"]) for comp in ("longitude", "obliquity")
+                  for part in ("sin", "cos")),
+                _radians(sigma["amplitude_longitude_arcsec_uncertainty"]),
+                _radians(sigma["amplitude_obliquity_arcsec_uncertainty"])))
+        # the selection's cost_ms is measured here, after the terms and their 1σ, as the answer is ready
+        chosen = self._selection(order, tolerance, start)
+        return NutationResult(
+            b, "mean anomaly M", m.mean_anomaly_at_epoch, m.orbit_epoch, m.mean_motion, m.obliquity, tuple(terms),
+            abs(math.sin(m.obliquity)), semi_amplitudes(b, m.order),
+            (_radians(unc["delta_psi_half_peak_to_peak_arcsec_uncertainty"]),
+             _radians(unc["delta_epsilon_half_peak_to_peak_arcsec_uncertainty"])),
+            summary(unc), forced_model_info(m, b), chosen)
+
+
+def _radians(arcsec: float | None) -> float | None:
+    return None if arcsec is None else arcsec * ARCSEC
+
+
+def rate_sigmas(unc: dict) -> RateSigmas:
+    """The precession answer's 1σ from :func:`ephem.forced.uncertainty.propagated` (which gives them in the
+    answer's units), in radians and rad/day."""
+    per_day = ARCSEC / JULIAN_YEAR_DAYS
+    obliquity, k, rate = (unc["obliquity_deg_uncertainty"], unc["scaling_factor_arcsec_per_year_uncertainty"],
+                          unc["precession_rate_arcsec_per_year_uncertainty"])
+    return RateSigmas(None if obliquity is None else math.radians(obliquity), unc["dynamical_ellipticity_uncertainty"],
+                      None if k is None else k * per_day, None if rate is None else rate * per_day)

@@ -13,6 +13,8 @@ and for each:
   :class:`Estimate` per model, cheapest first; :func:`cheapest_within` picks one by tolerance);
 - the track over an even grid of epochs (:meth:`track`, each family's fast path);
 - a description, the ``model`` object of the answer (:meth:`describe`);
+- the precession and nutation answers' numbers (:meth:`precession`, :meth:`nutation`), typed results in radians
+  (:mod:`ephem.theory.results`) that :mod:`ephem.answers.render` alone turns into the answers' dicts;
 - optionally, the frequencies of its track for the SPICE kernel writer (:class:`SpectrumExport`).
 
 :mod:`ephem.families` lists the families; :func:`ephem.families.theory_for` gives the one serving a
@@ -30,9 +32,10 @@ import numpy as np
 
 from ..base.budget import Cost
 from ..bodies.catalogue import Body
-from ..base.constants import ARCSEC, JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS, MAS
+from ..base.constants import JULIAN_CENTURY_DAYS, MAS
 from ..base.errors import NotApplicableError
 from ..forced.precession_nutation import Track
+from .results import NutationResult, PrecessionResult
 
 #: Error terms of the physics left out rather than of a theory's approximations (the orbit's motion, the
 #: rotation, the free wobble): what :attr:`Estimate.theory_total` leaves out
@@ -94,52 +97,6 @@ def cheapest_within(candidates: list, tolerance: float, body: str, wobble_given:
     raise NotApplicableError(body, (
         f"no model meets the tolerance of {tolerance / MAS:.6g} mas over these epochs: the best, "
         f"'{best.rung}', is estimated good to {best.total / MAS:.6g} mas (largest term: {largest}); {hint}"))
-
-
-#: what a track's estimate bounds (``model.estimate_covers``)
-COVERS_TRACK = ("the whole: the pole's distance from the truth over the epochs, every named term (error_terms_mas) "
-                "summed")
-#: a closed-form rate with nothing truncated: no number to give
-COVERS_NOTHING_TRUNCATED = ("nothing: the rate and the mean obliquity are the theory's closed form, nothing is "
-                            "truncated, so the estimate is null; the theory's own error is a track's estimate")
-#: a series served with every term it has
-COVERS_ALL_TERMS = ("nothing: every term of the series is served, nothing is truncated here, so the estimate is "
-                    "null; the series' own error is a track's estimate")
-#: what a rate's or a nutation series' estimate bounds: they have no epochs, so no theory term applies
-COVERS_TRUNCATION = ("the truncation alone: the series served against the same first-order theory untruncated "
-                     "(exact coefficients, every term); not the theory's own error, which a track's estimate "
-                     "gives")
-
-
-def selection_info(theory, name: str, order: int | None, estimate: float | None, cost_ms: float,
-                   tolerance: float | None, terms: dict | None = None, covers: str = COVERS_TRACK) -> dict:
-    """The selection part of an answer's ``model`` object: which of ``theory``'s models answered (``theory``: a
-    family or an instance), how good it is estimated to be (radians in, mas out), what that estimate bounds
-    (``covers``) and what it cost. An estimate is never 0 (issue 29: no bound is): a rate or series with
-    nothing truncated states the floor of its exact coefficients, or None with the reason in ``covers``."""
-    return {"name": name, "order": order, "description": theory.descriptions[name],
-            "estimated_error_mas": None if estimate is None else estimate / MAS, "estimate_covers": covers,
-            "error_terms_mas": None if terms is None else {k: v / MAS for k, v in terms.items()},
-            "tolerance_mas": None if tolerance is None else float(f"{tolerance / MAS:.12g}"), "cost_ms": cost_ms,
-            "axis": None, "free_wobble": None, "rotation_scale": None,   # tracks only
-            "cut_mas": None}                     # the lunisolar series only
-
-
-#: the precession answer's values (Petit et al. Table 4 columns)
-RATE_KEYS = ("obliquity_deg", "dynamical_ellipticity", "scaling_factor_arcsec_per_year",
-             "precession_rate_arcsec_per_year")
-
-
-def rate_values(b: Body, m, unc: dict | None) -> dict:
-    """The precession answer's values from a model with obliquity, hd, scaling_factor and precession_rate (any
-    family's; radians and days), and their 1σ from ``unc`` (None: not propagated)."""
-    per_year = JULIAN_YEAR_DAYS / ARCSEC
-    ans = {"body": b.name, "dataset": b.dataset, "obliquity_deg": math.degrees(m.obliquity),
-           "dynamical_ellipticity": m.hd, "scaling_factor_arcsec_per_year": m.scaling_factor * per_year,
-           "precession_rate_arcsec_per_year": m.precession_rate * per_year}
-    for key in RATE_KEYS:
-        ans[f"{key}_uncertainty"] = None if unc is None else unc[f"{key}_uncertainty"]
-    return ans
 
 
 @dataclass(frozen=True)
@@ -215,6 +172,10 @@ class SpinAxisTheory(Pricing):
     #: replicates the single-perturber theory only)
     propagates_uncertainty: ClassVar[bool] = False
 
+    #: the amplitude cut (mas) of the series a track is made of, where the family cuts its series by amplitude (the
+    #: track answer's ``model.cut_mas``); None: it does not
+    track_cut_mas: ClassVar[float | None] = None
+
     #: whether the family's tracks can add the rotation-scale terms (:mod:`ephem.forced.rotation_scale`) and so take
     #: a rotation phase
     models_rotation_scale: ClassVar[bool] = False
@@ -282,14 +243,14 @@ class SpinAxisTheory(Pricing):
         spin-orbit ratio and epochs."""
 
     @abstractmethod
-    def precession_answer(self, order: int | None, tolerance: float | None, start: float) -> dict:
-        """The precession answer (rates, their 1σ, the ``model`` object with the selection), charged first;
-        ``start``: the request's ``time.perf_counter()`` at its start (for ``cost_ms``)."""
+    def precession(self, order: int | None, tolerance: float | None, start: float) -> PrecessionResult:
+        """The mean obliquity, H_d, K and the precession rate with their 1σ and the selection, charged first;
+        ``start``: the request's ``time.perf_counter()`` at its start (for the selection's ``cost_ms``)."""
 
     @abstractmethod
-    def nutation_answer(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> dict:
-        """The nutation answer (the terms with their 1σ, half peak-to-peak amplitudes, the ``model``
-        object), charged first."""
+    def nutation(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> NutationResult:
+        """The nutation terms with their 1σ, the half peak-to-peak amplitudes and the selection, charged
+        first."""
 
     def secular_spin(self):
         """The body's spin averaged over the rotation and the orbit, for spans of millennia and more
@@ -297,10 +258,6 @@ class SpinAxisTheory(Pricing):
         SpinHistory`), ``orbit_body`` (whose orbit history drives it) and ``source``. A family without one says
         "not applicable" with the reason."""
         raise NotApplicableError(self.body.name, f"{self.summary} has no long-term (secular) model of the spin axis")
-
-    def extra_description(self) -> dict:
-        """Keys of the ``model`` object only this family fills (the lunisolar amplitude cut)."""
-        return {}
 
     @staticmethod
     def grid(t0: float, step: float, count: int) -> np.ndarray:

@@ -1,0 +1,218 @@
+"""The one place answers are rendered: typed results in, the contract's dicts out.
+
+The families compute numbers in radians, rad/day and JD TDB (:mod:`ephem.theory.results`, the
+:class:`~ephem.forced.precession_nutation.Track`, :class:`~ephem.longterm.history.HistoryResult`); this module
+turns them into the answers the CLI and the service print, with the units in the keys: angles in degrees,
+precession and nutation in arcseconds, rates per Julian year (the precession) or per Julian century (the
+Poisson terms), estimates in milliarcseconds. A key's name, order and unit are decided here and nowhere else.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..base.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
+from ..bodies.catalogue import Body
+from ..longterm.history import DESCRIPTIONS as HISTORY_DESCRIPTIONS, HISTORY_ASSUMPTIONS, HistoryResult, total
+from ..theory.results import CassiniState, NutationResult, NutationTerm, PrecessionResult, Selection
+
+#: the precession answer's values (Petit et al. Table 4 columns)
+RATE_KEYS = ("obliquity_deg", "dynamical_ellipticity", "scaling_factor_arcsec_per_year",
+             "precession_rate_arcsec_per_year")
+#: arcsec per Julian year from rad/day
+_PER_YEAR = JULIAN_YEAR_DAYS / ARCSEC
+
+
+def _arcsec(x: float | None) -> float | None:
+    return None if x is None else x / ARCSEC
+
+
+def selection(s: Selection) -> dict:
+    """The selection part of an answer's ``model`` object (estimates in mas)."""
+    return {"name": s.name, "order": s.order, "description": s.description,
+            "estimated_error_mas": None if s.estimate is None else s.estimate / MAS, "estimate_covers": s.covers,
+            "error_terms_mas": None if s.terms is None else {k: v / MAS for k, v in s.terms.items()},
+            "tolerance_mas": None if s.tolerance is None else float(f"{s.tolerance / MAS:.12g}"),
+            "cost_ms": s.cost_ms,
+            "axis": None, "free_wobble": None, "rotation_scale": None,   # tracks only
+            "cut_mas": s.cut_mas}                # the lunisolar and libration series only
+
+
+def _model(description: dict, s: Selection) -> dict:
+    model = dict(description)
+    model.update(selection(s))
+    return model
+
+
+def _cassini(c: CassiniState) -> dict:
+    return {
+        "equator_inclination_deg": math.degrees(c.equator_inclination),
+        "derived_equator_inclination_deg": math.degrees(c.derived_equator_inclination),
+        "derived_obliquity_deg": math.degrees(c.derived_obliquity),
+        "orbit_inclination_deg": math.degrees(c.orbit_inclination),
+        "node_rate_deg_per_year": math.degrees(c.node_rate) * JULIAN_YEAR_DAYS,
+        "node_period_years": 2.0 * math.pi / abs(c.node_rate) / JULIAN_YEAR_DAYS,
+        "beta": c.beta, "gamma": c.gamma,
+        "free_libration_longitude_days": c.free_libration_longitude_days,
+        "free_libration_latitude_days": c.free_libration_latitude_days,
+        "free_precession_space_days": c.free_precession_space_days,
+        "free_wobble_days": c.free_wobble_days,
+    }
+
+
+def precession(r: PrecessionResult) -> dict:
+    """The precession answer: obliquity (deg), H_d, K and ψ̇ (arcsec/yr), each with its 1σ (null: unknown),
+    the Cassini state of a synchronous satellite, the uncertainty's method and the ``model`` object."""
+    b, s = r.body, r.sigmas
+    ans = {"body": b.name, "dataset": b.dataset, "obliquity_deg": math.degrees(r.obliquity),
+           "dynamical_ellipticity": r.dynamical_ellipticity,
+           "scaling_factor_arcsec_per_year": r.scaling_factor * _PER_YEAR,
+           "precession_rate_arcsec_per_year": r.precession_rate * _PER_YEAR}
+    sigmas = (None, None, None, None) if s is None else (
+        None if s.obliquity is None else math.degrees(s.obliquity), s.dynamical_ellipticity,
+        None if s.scaling_factor is None else s.scaling_factor * _PER_YEAR,
+        None if s.precession_rate is None else s.precession_rate * _PER_YEAR)
+    for key, sigma in zip(RATE_KEYS, sigmas):
+        ans[f"{key}_uncertainty"] = sigma
+    if r.cassini is not None:
+        ans["cassini"] = _cassini(r.cassini)
+    ans["uncertainty"] = r.uncertainty
+    ans["model"] = _model(r.description, r.selection)
+    return ans
+
+
+def _term(t: NutationTerm, longitude_factor: float) -> dict:
+    term = {"multiple": t.multiple}
+    if t.delaunay_multipliers is not None:
+        term["delaunay_multipliers"] = list(t.delaunay_multipliers)
+    term["period_days"] = t.period_days
+    term["period_years"] = t.period_days / JULIAN_YEAR_DAYS
+    for comp in ("longitude", "obliquity"):
+        for part in ("sin", "cos"):
+            term[f"{comp}_{part}_arcsec"] = getattr(t, f"{comp}_{part}") / ARCSEC
+    term["period_days_uncertainty"] = t.period_days_sigma
+    for i, comp in enumerate(("longitude", "obliquity")):
+        for j, part in enumerate(("sin", "cos")):
+            term[f"{comp}_{part}_arcsec_uncertainty"] = _arcsec(getattr(t, f"{comp}_{part}_sigma"))
+            if t.rates is not None:
+                term[f"{comp}_{part}_rate_arcsec_per_century"] = t.rates[2 * i + j] / ARCSEC
+        # the paper's Amp: (Sin² + Cos²)^½, in longitude times sin ε where Δψ runs along the ecliptic
+        amp = math.hypot(term[f"{comp}_sin_arcsec"], term[f"{comp}_cos_arcsec"])
+        term[f"{comp}_amplitude_arcsec"] = amp * (longitude_factor if comp == "longitude" else 1.0)
+        term[f"{comp}_amplitude_arcsec_uncertainty"] = _arcsec(getattr(t, f"{comp}_amplitude_sigma"))
+    return term
+
+
+def nutation(r: NutationResult) -> dict:
+    """The nutation answer: the terms (arcsec, periods in days and years, 1σ, Poisson rates per century where
+    the series has them), the argument, the half peak-to-peak Δψ and Δε with their 1σ, the uncertainty's
+    method and the ``model`` object."""
+    b = r.body
+    (half_psi, half_eps), (sigma_psi, sigma_eps) = r.half_peak_to_peak, r.half_peak_to_peak_sigma
+    return {
+        "body": b.name, "dataset": b.dataset, "argument": r.argument,
+        "mean_anomaly_at_epoch_deg": math.degrees(r.mean_anomaly_at_epoch) % 360.0,
+        "orbit_epoch_jd_tdb": r.orbit_epoch_jd_tdb,
+        "mean_motion_deg_per_day": math.degrees(r.mean_motion),
+        "obliquity_deg": math.degrees(r.obliquity),
+        "terms": [_term(t, r.longitude_amplitude_factor) for t in r.terms],
+        "delta_psi_half_peak_to_peak_arcsec": half_psi / ARCSEC,
+        "delta_epsilon_half_peak_to_peak_arcsec": half_eps / ARCSEC,
+        "delta_psi_half_peak_to_peak_arcsec_uncertainty": _arcsec(sigma_psi),
+        "delta_epsilon_half_peak_to_peak_arcsec_uncertainty": _arcsec(sigma_eps),
+        "uncertainty": r.uncertainty,
+        "model": _model(r.description, r.selection),
+    }
+
+
+def moon_left_out(b: Body, per: tuple[str, ...]) -> list[str]:
+    """The warning a single-perturber answer carries when the catalogue gives the body the Moon too."""
+    if "Moon" not in b.perturbers or "Moon" in per:
+        return []
+    return [f"perturbers={','.join(per)} leaves out the Moon, which the catalogue lists for {b.name}: this is the "
+            f"Sun's part of the motion only (about a third of the Earth's precession), and its error estimate is "
+            f"against a Sun-only {b.name}, not the real one"]
+
+
+def with_perturbers(ans: dict, b: Body, per: tuple[str, ...]) -> dict:
+    """``ans`` with the request's perturbers, before the ``model`` object (which closes every answer) and in it,
+    and the warning when they leave out the Moon."""
+    model = ans.pop("model")
+    ans["perturbers"] = list(per)
+    ans["model"] = model
+    ans["model"]["perturbers"] = list(per)
+    ans["model"]["warnings"].extend(moon_left_out(b, per))
+    return ans
+
+
+def track(b: Body, tr, info: dict, s: Selection, axis: str, wobble, obliquity_sigma_deg: float | None,
+          pole_sigma, cut_mas: float | None = None, rotation_scale: dict | None = None) -> dict:
+    """The track answer shared by every theory: the arrays of ``tr`` (numpy; ψ, Δψ, Δε in arcsec, the
+    obliquity and the pole in degrees) and the ``model`` object ``info`` completed with the selection, the
+    axis and the free wobble added (``wobble`` or None); the mean obliquity's 1σ (``obliquity_sigma_deg``, as
+    :func:`ephem.forced.uncertainty.propagated` gives it) and the pole's at each epoch (``pole_sigma``,
+    radians), each None where unknown; ``cut_mas``: the amplitude cut of the track's series (None: not cut by
+    amplitude); ``rotation_scale``: the rotation-scale terms modelled and the phase given."""
+    if wobble is not None:
+        info["warnings"].append("the free wobble added is a rigid body's; its amplitude and phase are yours, "
+                                "and the estimate does not include their uncertainty")
+    info.update(selection(s))
+    if rotation_scale is not None:
+        info["rotation_scale"] = rotation_scale
+    info["axis"] = axis
+    info["free_wobble"] = None if wobble is None else {
+        "J_arcsec": wobble.J_arcsec, "phase_deg": wobble.phase_deg, "epoch_jd_tdb": wobble.epoch_jd_tdb}
+    info["cut_mas"] = cut_mas
+    return {
+        "body": b.name, "dataset": b.dataset,
+        "jd_tdb": tr.jd_tdb,
+        "psi_arcsec": tr.psi / ARCSEC,
+        "delta_psi_arcsec": tr.delta_psi / ARCSEC,
+        "delta_epsilon_arcsec": tr.delta_epsilon / ARCSEC,
+        "obliquity_deg": np.degrees(tr.obliquity),
+        "obliquity_deg_uncertainty": obliquity_sigma_deg,
+        "pole_ra_deg": np.degrees(tr.pole_ra),
+        "pole_dec_deg": np.degrees(tr.pole_dec),
+        "pole_uncertainty_deg": None if pole_sigma is None else np.degrees(pole_sigma),
+        "model": info,
+    }
+
+
+def history(r: HistoryResult) -> dict:
+    """The history answer: arrays ``year``, ``obliquity_deg``, ``precession_angle_deg``, ``pole_ra_deg``,
+    ``pole_dec_deg`` (ICRF), ``orbit_inclination_deg`` (to the J2000 ecliptic), ``estimated_error_deg`` and
+    ``obliquity_error_deg`` (numpy), where the history stops meaning anything (years; null: not limited within
+    the span) and the ``model`` object (estimates in mas, the largest over the epochs)."""
+    b, h = r.body, r.history
+    error = r.error
+    model = {
+        "name": r.orbit_model, "description": HISTORY_DESCRIPTIONS[r.orbit_model],
+        "theory": r.theory, "spin": r.spin,
+        "orbit": {"model": r.orbit_model, "source": r.orbit_source,
+                  "horizon_years": None if r.orbit_horizon_years is None else list(r.orbit_horizon_years)},
+        "estimated_error_mas": float(np.max(error)) / MAS,
+        "error_terms_mas": {k: float(np.max(v)) / MAS for k, v in r.terms.items()},
+        "obliquity_error_terms_mas": {k: float(np.max(v)) / MAS for k, v in h.obliquity_terms.items()},
+        "probed_terms": list(h.unestimated),
+        "estimates_mas": {k: float(np.max(total(v))) / MAS for k, v in r.estimates.items()},
+        "tolerance_mas": None if r.tolerance is None else r.tolerance / MAS,
+        "cost_ms": r.cost_ms,
+        "assumptions": list(HISTORY_ASSUMPTIONS),
+        "warnings": list(r.warnings),
+    }
+    start, stop = r.meaningful
+    return {
+        "body": b.name, "dataset": b.dataset,
+        "year": r.years,
+        "obliquity_deg": np.degrees(h.obliquity),
+        "precession_angle_deg": np.degrees(h.precession_angle),
+        "pole_ra_deg": np.degrees(h.pole_ra),
+        "pole_dec_deg": np.degrees(h.pole_dec),
+        "orbit_inclination_deg": np.degrees(h.orbit_inclination),
+        "estimated_error_deg": np.degrees(error),
+        "obliquity_error_deg": np.degrees(r.obliquity_error),
+        "meaningful_from_year": None if math.isinf(start) else start,
+        "meaningful_to_year": None if math.isinf(stop) else stop,
+        "model": model,
+    }

@@ -1,0 +1,158 @@
+"""What a family computes for an answer: typed results in the library's own units.
+
+A family (:class:`~ephem.theory.interface.SpinAxisTheory`) returns these; one module,
+:mod:`ephem.answers.render`, turns them into the answers' dicts, with the contract's units in the keys
+(degrees, arcseconds, per Julian year). Here every angle is in radians, every rate in radians per day,
+every time a JD TDB or a duration in days; a 1σ is in its value's unit, None where it is unknown (a σ of
+0 would claim a certainty no input has).
+
+- :class:`Selection`: which of a family's models answered, its estimated error and what that bounds, its cost;
+- :class:`PrecessionResult`: the mean obliquity, H_d, K and the precession rate with their 1σ
+  (:class:`RateSigmas`), and for a synchronous satellite its :class:`CassiniState`;
+- :class:`NutationResult`: the terms (:class:`NutationTerm`) with their 1σ and the half peak-to-peak.
+
+The texts that describe a model (its theory, assumptions, warnings, epochs: the ``model`` object before the
+selection) are the family's own words and travel as they are (``description``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping
+
+from ..bodies.catalogue import Body
+
+#: what a track's estimate bounds (``model.estimate_covers``)
+COVERS_TRACK = ("the whole: the pole's distance from the truth over the epochs, every named term (error_terms_mas) "
+                "summed")
+#: a closed-form rate with nothing truncated: no number to give
+COVERS_NOTHING_TRUNCATED = ("nothing: the rate and the mean obliquity are the theory's closed form, nothing is "
+                            "truncated, so the estimate is null; the theory's own error is a track's estimate")
+#: a series served with every term it has
+COVERS_ALL_TERMS = ("nothing: every term of the series is served, nothing is truncated here, so the estimate is "
+                    "null; the series' own error is a track's estimate")
+#: what a rate's or a nutation series' estimate bounds: they have no epochs, so no theory term applies
+COVERS_TRUNCATION = ("the truncation alone: the series served against the same first-order theory untruncated "
+                     "(exact coefficients, every term); not the theory's own error, which a track's estimate "
+                     "gives")
+
+
+@dataclass(frozen=True)
+class Selection:
+    """Which of a family's models answered and how good it is estimated to be.
+
+    An estimate is never 0 (issue 29: no bound is): a rate or series with nothing truncated states the floor
+    of its exact coefficients, or None with the reason in ``covers``."""
+
+    name: str
+    order: int | None
+    description: str
+    estimate: float | None               # radians; None: nothing to bound (``covers`` says why)
+    covers: str
+    terms: Mapping[str, float] | None    # the estimate by named term, radians
+    tolerance: float | None              # the request's, radians
+    cost_ms: float                       # wall time from the request's start to the choice
+    #: the amplitude cut of a lunisolar or libration series, in mas (the unit the lunisolar theory takes it in)
+    cut_mas: float | None = None
+
+
+def selection(theory, name: str, order: int | None, estimate: float | None, cost_ms: float,
+              tolerance: float | None, terms: Mapping[str, float] | None = None, covers: str = COVERS_TRACK,
+              cut_mas: float | None = None) -> Selection:
+    """The :class:`Selection` of ``theory``'s model ``name`` (``theory``: a family or an instance, whose
+    ``descriptions`` name the model)."""
+    return Selection(name, order, theory.descriptions[name], estimate, covers, terms, tolerance, cost_ms, cut_mas)
+
+
+@dataclass(frozen=True)
+class RateSigmas:
+    """The 1σ of a precession answer's values (None: unknown): the mean obliquity (rad), H_d, the scaling
+    factor K and the precession rate ψ̇ (rad/day)."""
+
+    obliquity: float | None
+    dynamical_ellipticity: float | None
+    scaling_factor: float | None
+    precession_rate: float | None
+
+
+@dataclass(frozen=True)
+class CassiniState:
+    """A synchronous satellite's Cassini state as its theory derives it (:mod:`ephem.moon.cassini`), beside the
+    served mean pole: angles in radians, the node's rate in rad/day, the free librations' periods in days."""
+
+    equator_inclination: float           # the catalogue pole's, to the ecliptic
+    derived_equator_inclination: float
+    derived_obliquity: float
+    orbit_inclination: float
+    node_rate: float
+    beta: float
+    gamma: float
+    free_libration_longitude_days: float
+    free_libration_latitude_days: float
+    free_precession_space_days: float
+    free_wobble_days: float
+
+
+@dataclass(frozen=True)
+class PrecessionResult:
+    """The mean obliquity ε, the dynamical ellipticity H_d, the scaling factor K and the precession rate ψ̇
+    (Petit et al. 2014 Table 4's columns; radians and rad/day) with their 1σ, how those were found
+    (``uncertainty``: the method, the inputs without a σ and why), the model's description and the
+    selection."""
+
+    body: Body
+    obliquity: float
+    dynamical_ellipticity: float
+    scaling_factor: float
+    precession_rate: float
+    sigmas: RateSigmas | None            # None: not propagated
+    uncertainty: dict
+    description: dict
+    selection: Selection
+    cassini: CassiniState | None = None
+
+
+@dataclass(frozen=True)
+class NutationTerm:
+    """One term of Δψ = S sin φ + C cos φ (likewise Δε), in radians; φ a multiple of the mean anomaly
+    (``multiple``) or an integer combination of the Delaunay arguments (``delaunay_multipliers``).
+    ``rates``: the Poisson terms' (Ṡψ, Ċψ, Ṡε, Ċε) in radians per Julian century, for series that have them."""
+
+    multiple: int | None
+    delaunay_multipliers: tuple[int, ...] | None
+    period_days: float                   # signed: negative where the argument decreases
+    longitude_sin: float
+    longitude_cos: float
+    obliquity_sin: float
+    obliquity_cos: float
+    period_days_sigma: float | None = None
+    longitude_sin_sigma: float | None = None
+    longitude_cos_sigma: float | None = None
+    obliquity_sin_sigma: float | None = None
+    obliquity_cos_sigma: float | None = None
+    longitude_amplitude_sigma: float | None = None
+    obliquity_amplitude_sigma: float | None = None
+    rates: tuple[float, float, float, float] | None = None
+
+
+@dataclass(frozen=True)
+class NutationResult:
+    """A nutation series: its terms (:class:`NutationTerm`), the argument they are in, the orbit's mean
+    anomaly and motion at its epoch, the mean obliquity and the half peak-to-peak Δψ, Δε (radians) with their
+    1σ, the uncertainty's method, the model's description and the selection.
+
+    ``longitude_amplitude_factor``: what turns a longitude amplitude into the pole's displacement (sin ε for
+    Δψ along the ecliptic, the paper's Amp; 1 where Δψ is already a displacement, the Moon's σ)."""
+
+    body: Body
+    argument: str
+    mean_anomaly_at_epoch: float
+    orbit_epoch_jd_tdb: float
+    mean_motion: float
+    obliquity: float
+    terms: tuple[NutationTerm, ...]
+    longitude_amplitude_factor: float
+    half_peak_to_peak: tuple[float, float]
+    half_peak_to_peak_sigma: tuple[float | None, float | None]
+    uncertainty: dict
+    description: dict
+    selection: Selection
