@@ -19,7 +19,8 @@ from .base.constants import GM_CENTER
 from .base.errors import EphemError, InvalidInputError, NotApplicableError, UnknownBodyError
 from .base.times import TIME_PATTERN_ECMA, ut1_span
 from .bodies.catalogue import (DEFAULT_DATASET, KNOWN_PERTURBERS, MAX_ANGLE_DEG, MIN_ROTATION_PERIOD_HOURS, Body,
-                               Orbit, Pole, available_datasets, get_body, load_catalogue, resolve_body)
+                               Orbit, Pole, get_body, load_catalogue, resolve_body)
+from .bodies.datasets import available_datasets
 from .batch.distributed import BatchFailed
 from .batch.distributed import run as run_batch
 from .batch.population import HistorySpec

@@ -8,7 +8,8 @@ tests/moon/test_physical_librations.py checks the shipped files against a fresh 
 """
 from __future__ import annotations
 
-from ephem.bodies.catalogue import available_datasets, get_body
+from ephem.bodies.catalogue import get_body
+from ephem.bodies.datasets import available_datasets
 from ephem.base.paths import data_dir
 from ephem.moon.libration_series import SHIPPED_DIR, write_series_csv
 from ephem.moon.physical_librations import EFFECTIVE_MOMENTS, moon_physical_librations

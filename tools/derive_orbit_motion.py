@@ -20,7 +20,8 @@ import sys
 import time
 from pathlib import Path
 
-from ephem.bodies.catalogue import available_datasets, load_catalogue
+from ephem.bodies.catalogue import load_catalogue
+from ephem.bodies.datasets import available_datasets
 from ephem.base.constants import ARCSEC, MAS
 from ephem.orbit.de421 import de421_span
 from ephem.forced.precession_nutation import cached_model

@@ -1,8 +1,10 @@
 """The bodies: the catalogue (orbit, pole, rotation, moments, each value with unit, uncertainty and source), the moments of inertia, and catalogue import.
 
-- :mod:`ephem.bodies.catalogue`: The body catalogue: orbits, spin poles, rotation periods and moments of inertia.
-- :mod:`ephem.bodies.importer`: Bring your own data: a dataset built from a user's orbit file and pole/period table (docs/catalogue_import.md).
+- :mod:`ephem.bodies.catalogue`: The body catalogue: orbits, spin poles, rotation periods and moments of inertia (the records, a dataset's TOML read into them, the lookups).
+- :mod:`ephem.bodies.measured`: A catalogue value as published (value, unit, uncertainty, source), and the values a body record's tables give.
+- :mod:`ephem.bodies.datasets`: Where the datasets of bodies live, and which there are: the shipped ones and a user's own.
 - :mod:`ephem.bodies.inertia`: Principal moments of inertia from what is measured, with their covariance.
+- :mod:`ephem.bodies.importer`: Bring your own data: a dataset built from a user's orbit file and pole/period table (docs/catalogue_import.md).
 
 The package imports none of its modules: importing one loads only what it needs.
 """

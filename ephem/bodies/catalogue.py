@@ -9,12 +9,15 @@ the units their field names state.
 Records validate themselves: a bad value raises
 :class:`~ephem.base.errors.InvalidInputError` naming the body and the field, whether
 it comes from a catalogue file or from a user's own body.
+
+Here: the records (:class:`Orbit`, :class:`Pole`, :class:`Body`), a dataset's TOML read into them
+(:func:`parse_catalogue`), and the lookups (:func:`load_catalogue`, :func:`get_body`, :func:`resolve_body`).
+A value table of a record is read by :mod:`ephem.bodies.measured`; where the datasets live, shipped or
+the user's, is :mod:`ephem.bodies.datasets`.
 """
 from __future__ import annotations
 
 import math
-import os
-import re
 import tomllib
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -22,7 +25,10 @@ from pathlib import Path
 
 from ..base.constants import CENTER_HILL_AU, CENTER_RADIUS_AU, GM_CENTER, J2000_JD, JD_RANGE
 from ..base.errors import InvalidInputError, NotApplicableError, UnknownBodyError
-from .inertia import METHODS, derive, hd_of_moments
+from .datasets import available_datasets, dataset_file
+from .inertia import hd_of_moments
+from .measured import (Measured, check_finite, convert, derived_moments, measured, rotation_period, section_reason,
+                       stated_correlations)
 from ..base.paths import data_dir
 from ..orbit.geometry import ecliptic_to_icrf, lon_lat
 
@@ -50,24 +56,6 @@ def spin_rate_rad_per_day(rotation_period_hours: float) -> float:
     return 2.0 * math.pi / (rotation_period_hours / 24.0)
 
 
-@dataclass(frozen=True)
-class Measured:
-    """A catalogue value as published: value, unit, 1-sigma uncertainty, source key; ``no_uncertainty``: why the
-    source gives no σ (the record says so rather than inventing one)."""
-
-    value: float
-    unit: str
-    source: str
-    uncertainty: float | None = None
-    note: str | None = None
-    no_uncertainty: str | None = None
-
-
-def _check_finite(body: str | None, name: str, value: float) -> None:
-    if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
-        raise InvalidInputError(name, f"must be a finite number, got {value!r}", body)
-
-
 #: Largest |angle| accepted for an angle taken modulo 360 deg (an orbit's node, argument of pericentre and mean
 #: anomaly, a pole's right ascension or ecliptic longitude, a phase), deg: any number of turns up to 2778. Near
 #: 1e6 the doubles are 2^-33 deg = 1.2e-10 deg (0.4 µas) apart, the rounding the answers carry already; each
@@ -79,7 +67,7 @@ MAX_ANGLE_DEG = 1e6
 def check_angle(body: str | None, name: str, value: float) -> None:
     """``value`` (deg) a finite number within ±:data:`MAX_ANGLE_DEG`, else :class:`InvalidInputError` naming
     ``name`` (its full path: ``pole.ra_deg``)."""
-    _check_finite(body, name, value)
+    check_finite(body, name, value)
     if abs(value) > MAX_ANGLE_DEG:
         raise InvalidInputError(name, f"an angle must lie within ±{MAX_ANGLE_DEG:g} deg: beyond it the doubles are "
                                 f"more than {math.ulp(MAX_ANGLE_DEG):.2g} deg apart and its remainder modulo 360 deg "
@@ -137,11 +125,11 @@ class Orbit:
     def __post_init__(self):
         b = self.body
         for name in ("a_au", "e", "i_deg", "node_deg", "peri_deg", "mean_anomaly_deg", "epoch_jd_tdb"):
-            _check_finite(b, f"orbit.{name}", getattr(self, name))
+            check_finite(b, f"orbit.{name}", getattr(self, name))
         for name in ("node_deg", "peri_deg", "mean_anomaly_deg"):
             check_angle(b, f"orbit.{name}", getattr(self, name))
         if self.node_rate_deg_per_year is not None:
-            _check_finite(b, "orbit.node_rate_deg_per_year", self.node_rate_deg_per_year)
+            check_finite(b, "orbit.node_rate_deg_per_year", self.node_rate_deg_per_year)
         if self.theory is not None and self.theory not in ORBIT_THEORIES:
             raise InvalidInputError("orbit.theory", f"must be one of {', '.join(ORBIT_THEORIES)} or omitted, got "
                                     f"{self.theory!r}", b)
@@ -176,7 +164,7 @@ class Pole:
 
     def __post_init__(self):
         for name in ("ra_deg", "dec_deg", "epoch_jd_tdb"):
-            _check_finite(self.body, f"pole.{name}", getattr(self, name))
+            check_finite(self.body, f"pole.{name}", getattr(self, name))
         check_angle(self.body, "pole.ra_deg", self.ra_deg)
         _check_epoch(self.body, "pole.epoch_jd_tdb", self.epoch_jd_tdb)
         if abs(self.dec_deg) > 90.0:
@@ -224,13 +212,13 @@ class Body:
         
         n = self.name
         object.__setattr__(self, "perturbers", resolve_perturbers(self.perturbers, self))
-        _check_finite(n, "rotation_period_hours", self.rotation_period_hours)
+        check_finite(n, "rotation_period_hours", self.rotation_period_hours)
         if self.rotation_period_hours < MIN_ROTATION_PERIOD_HOURS:
             raise InvalidInputError("rotation_period_hours",
                                     f"must be at least {MIN_ROTATION_PERIOD_HOURS:g} h (0.36 s; the fastest known "
                                     f"rotator, 2020 HS7, turns in 2.99 s), got {self.rotation_period_hours}", n)
         if self.mean_radius_km is not None:
-            _check_finite(n, "mean_radius_km", self.mean_radius_km)
+            check_finite(n, "mean_radius_km", self.mean_radius_km)
             if self.mean_radius_km <= 0:
                 raise InvalidInputError("mean_radius_km", f"must be positive, got {self.mean_radius_km}", n)
         if self.moments is None and self.dynamical_ellipticity is None:
@@ -240,10 +228,10 @@ class Body:
             if len(self.moments) != 3:
                 raise InvalidInputError("moments", "expected three principal moments (A, B, C)", n)
             for label, v in zip("ABC", self.moments):
-                _check_finite(n, f"moments.{label}", v)
+                check_finite(n, f"moments.{label}", v)
             hd_moments = dynamical_ellipticity(*self.moments, body=n)
         if self.dynamical_ellipticity is not None:
-            _check_finite(n, "dynamical_ellipticity", self.dynamical_ellipticity)
+            check_finite(n, "dynamical_ellipticity", self.dynamical_ellipticity)
             if not 0.0 < self.dynamical_ellipticity <= 0.5:
                 raise InvalidInputError(
                     "dynamical_ellipticity",
@@ -322,43 +310,6 @@ def resolve_perturbers(value, body: Body) -> tuple[str, ...]:
 
 # --------------------------------------------------------------------------- loading
 
-def _measured(raw: dict, where: str, body: str, default_reason: str | None = None) -> Measured:
-    """A value table as a :class:`Measured`; ``default_reason``: the section's ``no_uncertainty`` (why its values
-    have no σ), for the values that give neither a σ nor a reason of their own."""
-    if not isinstance(raw, dict) or "value" not in raw:
-        raise InvalidInputError(where, "expected a table {value, unit, source[, uncertainty | no_uncertainty, "
-                                "note]}", body)
-    if "source" not in raw:
-        raise InvalidInputError(where, "every value needs a source key", body)
-    _check_finite(body, where, raw["value"])
-    unc = raw.get("uncertainty")
-    if unc is not None:
-        _check_finite(body, f"{where}.uncertainty", unc)
-        if unc < 0:
-            raise InvalidInputError(f"{where}.uncertainty", f"must be >= 0, got {unc}", body)
-    reason = raw.get("no_uncertainty")
-    if reason is None and unc is None:
-        reason = default_reason
-    if reason is not None:
-        if not isinstance(reason, str) or not reason.strip():
-            raise InvalidInputError(f"{where}.no_uncertainty", "must be the reason no sigma is given (a non-empty "
-                                    "string)", body)
-        if unc is not None:
-            raise InvalidInputError(f"{where}.no_uncertainty", "a value with an uncertainty needs no reason for "
-                                    "lacking one: give one of the two", body)
-    return Measured(float(raw["value"]), str(raw.get("unit", "")), str(raw["source"]),
-                    None if unc is None else float(unc), raw.get("note"), reason)
-
-
-def _convert(m: Measured, target: str, where: str, body: str) -> float:
-    import astropy.units as u
-
-    try:
-        return float((m.value * u.Unit(m.unit)).to_value(u.Unit(target)))
-    except (ValueError, u.UnitConversionError) as exc:
-        raise InvalidInputError(where, f"cannot convert unit {m.unit!r} to {target!r}: {exc}", body) from None
-
-
 def _body_from_record(rec: dict, dataset: str) -> Body:
     name = rec.get("name")
     if not name:
@@ -373,10 +324,10 @@ def _body_from_record(rec: dict, dataset: str) -> Body:
             return None
         where = f"{section}.{key}" if section else key
         # a section's reason is for its measured values: an epoch is a definition
-        reason = _section_reason(sec, section, name) if section and key != "epoch" else None
-        m = _measured(sec[key], where, name, reason)
+        reason = section_reason(sec, section, name) if section and key != "epoch" else None
+        m = measured(sec[key], where, name, reason)
         values[where] = m
-        return _convert(m, target, where, name)
+        return convert(m, target, where, name)
 
     orbit_rec = rec.get("orbit", {})
     orbit = Orbit(
@@ -399,14 +350,14 @@ def _body_from_record(rec: dict, dataset: str) -> Body:
     else:
         raise InvalidInputError("pole.frame", f"must be 'icrf' or 'ecliptic_j2000', got {frame!r}", name)
 
-    period_h = _rotation_period(rec.get("rotation", {}), values, name, get)
+    period_h = rotation_period(rec.get("rotation", {}), values, name, get)
     inertia = rec.get("inertia", {})
     moments = None
     correlations: dict[tuple[str, str], float] = {}
     if "derived_from" in inertia:
         if any(k in inertia for k in "ABC"):
             raise InvalidInputError("inertia", "give the moments A, B, C or inertia.derived_from, not both", name)
-        moments = _derived_moments(inertia["derived_from"], values, correlations, name)
+        moments = derived_moments(inertia["derived_from"], values, correlations, name)
     elif all(k in inertia for k in "ABC"):
         units = {inertia[k].get("unit", "") for k in "ABC" if isinstance(inertia[k], dict)}
         if len(units) != 1:
@@ -421,98 +372,11 @@ def _body_from_record(rec: dict, dataset: str) -> Body:
     perturbers = rec.get("perturbers")
     if perturbers is not None and not isinstance(perturbers, list):
         raise InvalidInputError("perturbers", f"expected a list of names, got {perturbers!r}", name)
-    correlations.update(_stated_correlations(rec.get("correlation", []), values, name))
+    correlations.update(stated_correlations(rec.get("correlation", []), values, name))
     return Body(name=name, orbit=orbit, pole=pole, rotation_period_hours=period_h, moments=moments,
                 dynamical_ellipticity=hd, naif_id=None if naif is None else int(naif),
                 kind=rec.get("kind", "asteroid"), dataset=dataset, mean_radius_km=radius, values=values,
                 correlations=correlations, perturbers=None if perturbers is None else tuple(perturbers))
-
-
-def _section_reason(section: dict, where: str, name: str) -> str | None:
-    """A section's ``no_uncertainty``: the reason its values without a σ of their own have none."""
-    reason = section.get("no_uncertainty")
-    if reason is not None and (not isinstance(reason, str) or not reason.strip()):
-        raise InvalidInputError(f"{where}.no_uncertainty", "must be the reason the section's values have no sigma "
-                                "(a non-empty string)", name)
-    return reason
-
-
-def _rotation_period(rotation: dict, values: dict, name: str, get) -> float:
-    """The rotation period (h): ``rotation.period`` as given, or derived from the rate W' that rotation models
-    publish (``rotation.rate``, deg/d): P = 360°/W', σ_P = P σ_W/W'."""
-    if "rate" not in rotation:
-        return get("rotation", "period", "h")
-    if "period" in rotation:
-        raise InvalidInputError("rotation", "give the period or the rate W', not both", name)
-    rate = get("rotation", "rate", "deg/d")
-    if rate <= 0.0:
-        raise InvalidInputError("rotation.rate", f"must be positive (the pole is the right-hand spin axis), got "
-                                f"{rate}", name)
-    m = values["rotation.rate"]
-    period = 360.0 / rate * 24.0
-    per_unit = _convert(Measured(1.0, m.unit, m.source), "deg/d", "rotation.rate", name)
-    sigma = None if m.uncertainty is None else period * m.uncertainty * per_unit / rate
-    values["rotation.period"] = Measured(period, "h", m.source, sigma, f"derived: 360 deg / W' with W' = {m.value:.12g} "
-                                         f"{m.unit} (rotation.rate)", m.no_uncertainty)
-    return period
-
-
-def _derived_moments(spec: dict, values: dict, correlations: dict, name: str) -> tuple[float, float, float]:
-    """A, B, C from what was measured (:mod:`ephem.bodies.inertia`), stored as ``inertia.A`` … with their 1-σ, and
-    their correlations added to ``correlations``."""
-
-    where = "inertia.derived_from"
-    if not isinstance(spec, dict):
-        raise InvalidInputError(where, "expected a table {method = ..., <inputs> = {value, unit, source, ...}}", name)
-    method = spec.get("method")
-    m = METHODS.get(method)
-    if m is None:
-        raise InvalidInputError(f"{where}.method", f"must be one of {', '.join(METHODS)}, got {method!r}", name)
-    unknown = sorted(set(spec) - set(m.inputs) - {"method", "note", "no_uncertainty"})
-    if unknown:
-        raise InvalidInputError(where, f"unknown inputs {', '.join(unknown)} for method {method!r} (it takes "
-                                f"{', '.join(m.inputs)})", name)
-    given, sigmas = {}, {}
-    for key in m.inputs:
-        if key not in spec:
-            raise InvalidInputError(f"{where}.{key}", f"missing: method {method!r} needs {', '.join(m.inputs)}", name)
-        meas = _measured(spec[key], f"{where}.{key}", name, _section_reason(spec, where, name))
-        values[f"{where}.{key}"] = meas
-        scale = _convert(Measured(1.0, meas.unit, meas.source), m.input_unit, f"{where}.{key}", name)
-        given[key] = meas.value * scale
-        sigmas[key] = None if meas.uncertainty is None else meas.uncertainty * scale
-    d = derive(method, given, sigmas, name)
-    first = values[f"{where}.{m.inputs[0]}"]
-    missing = "; ".join(f"{k}: {values[f'{where}.{k}'].no_uncertainty or 'no reason given'}" for k in d.missing_sigma)
-    for label, value, sigma in zip("ABC", d.moments, d.sigma):
-        values[f"inertia.{label}"] = Measured(
-            value, d.unit, first.source, sigma, f"derived by {method} from {', '.join(m.inputs)} ({m.description})",
-            None if sigma is not None else f"derived from inputs without a published sigma ({missing})")
-    correlations.update(d.correlations)
-    return d.moments
-
-
-def _stated_correlations(entries, values: dict, name: str) -> dict:
-    """``[[body.correlation]]`` entries {inputs = [key, key], value = ρ, source = key} as {(key, key): ρ}."""
-    out = {}
-    if not isinstance(entries, list):
-        raise InvalidInputError("correlation", "expected an array of tables [[body.correlation]]", name)
-    for n, entry in enumerate(entries):
-        where = f"correlation[{n}]"
-        keys = entry.get("inputs") if isinstance(entry, dict) else None
-        if not isinstance(keys, list) or len(keys) != 2 or keys[0] == keys[1]:
-            raise InvalidInputError(f"{where}.inputs", f"expected two different value keys, got {keys!r}", name)
-        for k in keys:
-            if k not in values or values[k].uncertainty is None:
-                raise InvalidInputError(f"{where}.inputs", f"{k!r} is not a value of this record with an "
-                                        f"uncertainty", name)
-        rho = entry.get("value")
-        if isinstance(rho, bool) or not isinstance(rho, (int, float)) or not -1.0 <= rho <= 1.0:
-            raise InvalidInputError(f"{where}.value", f"a correlation must lie in [-1, 1], got {rho!r}", name)
-        if "source" not in entry:
-            raise InvalidInputError(f"{where}.source", "every correlation needs a source key", name)
-        out[(keys[0], keys[1])] = float(rho)
-    return out
 
 
 @dataclass(frozen=True)
@@ -533,56 +397,6 @@ class Catalogue:
             if b.name.lower() == q.lower() or (b.naif_id is not None and q == str(b.naif_id)):
                 return b
         raise UnknownBodyError(str(query), self.names)
-
-
-#: the name a user dataset may take (its file is NAME.toml in :func:`user_catalogue_dir`)
-DATASET_NAME = r"[A-Za-z0-9][A-Za-z0-9_-]{0,63}"
-
-
-def user_catalogue_dir() -> Path | None:
-    """Directory of the user's own datasets (``ephem catalogue import``, docs/catalogue_import.md):
-    ``$EPHEM_USER_CATALOGUE_DIR``, else ``$XDG_DATA_HOME/ephem/catalogue``, else
-    ``~/.local/share/ephem/catalogue``; None when there is no home directory to put it in."""
-    env = os.environ.get("EPHEM_USER_CATALOGUE_DIR")
-    if env:
-        return Path(env).expanduser()
-    xdg = os.environ.get("XDG_DATA_HOME")
-    if xdg and Path(xdg).is_absolute():
-        return Path(xdg) / "ephem" / "catalogue"
-    try:
-        return Path.home() / ".local" / "share" / "ephem" / "catalogue"
-    except (RuntimeError, KeyError):
-        return None
-
-
-def shipped_datasets() -> list[str]:
-    """The datasets shipped in ``data/catalogue/`` ("current", "petit2014")."""
-    return sorted(p.stem for p in (data_dir() / "catalogue").glob("*.toml"))
-
-
-def _user_dataset_files() -> dict[str, Path]:
-    """The user's datasets (name -> file) that no shipped dataset shadows (names compared in any case)."""
-    where = user_catalogue_dir()
-    if where is None or not where.is_dir():
-        return {}
-    shipped = {s.lower() for s in shipped_datasets()}
-    return {p.stem: p for p in sorted(where.glob("*.toml"))
-            if re.fullmatch(DATASET_NAME, p.stem) and p.stem.lower() not in shipped and p.is_file()}
-
-
-def _dataset_file(dataset: str) -> Path | None:
-    """The file of ``dataset``: a shipped one first, then the user's (:func:`user_catalogue_dir`)."""
-    if not isinstance(dataset, str) or not re.fullmatch(DATASET_NAME, dataset):
-        return None
-    shipped = data_dir() / "catalogue" / f"{dataset}.toml"
-    if shipped.is_file():
-        return shipped
-    return _user_dataset_files().get(dataset)
-
-
-def available_datasets() -> list[str]:
-    """The shipped datasets (sorted), then the user's imported ones (sorted; docs/catalogue_import.md)."""
-    return shipped_datasets() + sorted(_user_dataset_files())
 
 
 def parse_catalogue(text: str, dataset: str) -> Catalogue:
@@ -608,12 +422,13 @@ def _load_catalogue_file(path: str, dataset: str, mtime_ns: int, size: int) -> C
 
 def load_catalogue(dataset: str = DEFAULT_DATASET) -> Catalogue:
     """Load (once per version of its file) and validate a dataset: a shipped one, "current" (default) or
-    "petit2014", or one the user imported (``ephem catalogue import``, in :func:`user_catalogue_dir`).
+    "petit2014", or one the user imported (``ephem catalogue import``, in
+    :func:`ephem.bodies.datasets.user_catalogue_dir`).
 
     The parsed catalogue is cached under the file's path, modification time and size, so a dataset imported
     or replaced after the first call is seen by the next one; ``load_catalogue.cache_clear()`` empties the cache.
     """
-    path = _dataset_file(dataset)
+    path = dataset_file(dataset)
     try:
         st = path.stat() if path is not None else None
     except OSError:

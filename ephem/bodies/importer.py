@@ -41,8 +41,8 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .catalogue import (DATASET_NAME, Catalogue, Orbit, load_catalogue, parse_catalogue, shipped_datasets,
-                        user_catalogue_dir)
+from .catalogue import Catalogue, Orbit, load_catalogue, parse_catalogue
+from .datasets import DATASET_NAME, shipped_datasets, user_catalogue_dir
 from ..base.errors import InvalidInputError
 
 FORMATS = ("mpcorb", "sbdb-json", "sbdb-csv")
@@ -713,7 +713,7 @@ def import_catalogue(orbits: str | Path, poles: str | Path, name: str, fmt: str 
                      skip_unmatched: bool = False, force: bool = False, directory: str | Path | None = None,
                      today: str | None = None) -> ImportResult:
     """Read ``orbits`` and ``poles``, build and validate the dataset ``name``, and write it to ``directory``
-    (default :func:`ephem.bodies.catalogue.user_catalogue_dir`) as ``NAME.toml``; then ``load_catalogue(name)`` and
+    (default :func:`ephem.bodies.datasets.user_catalogue_dir`) as ``NAME.toml``; then ``load_catalogue(name)`` and
     every ``dataset=name`` see it (the catalogue cache is keyed by the file's modification time, and is cleared
     here as well). An existing dataset of that name is replaced only with ``force``."""
     check_dataset_name(name)

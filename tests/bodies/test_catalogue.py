@@ -10,7 +10,8 @@ import re
 import numpy as np
 import pytest
 
-from ephem.bodies.catalogue import available_datasets, get_body, load_catalogue, load_references, parse_catalogue
+from ephem.bodies.catalogue import get_body, load_catalogue, load_references, parse_catalogue
+from ephem.bodies.datasets import available_datasets
 from ephem.base.errors import InvalidInputError, UnknownBodyError
 
 BODIES = ["Ceres", "Vesta", "Eros", "Steins", "Itokawa", "Earth", "Moon", "Mars"]

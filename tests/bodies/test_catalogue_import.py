@@ -19,7 +19,8 @@ import pytest
 from typer.testing import CliRunner
 
 from ephem import api
-from ephem.bodies.catalogue import available_datasets, load_catalogue, user_catalogue_dir
+from ephem.bodies.catalogue import load_catalogue
+from ephem.bodies.datasets import available_datasets, user_catalogue_dir
 from ephem.bodies.importer import (CatalogueImportError, import_catalogue, julian_day, parse_mpcorb, parse_orbits,
                                    parse_poles, unpack_designation, unpack_epoch)
 from ephem.cli import app as cli

@@ -187,7 +187,8 @@ def test_pole_gap_table_rederives_for_mars():
 
 
 def test_orbit_motion_table_covers_every_heliocentric_catalogue_body():
-    from ephem.bodies.catalogue import available_datasets, load_catalogue
+    from ephem.bodies.catalogue import load_catalogue
+    from ephem.bodies.datasets import available_datasets
     for ds in available_datasets():
         for body in load_catalogue(ds).bodies:
             if body.orbit.center == "Sun":

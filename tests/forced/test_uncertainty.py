@@ -405,7 +405,7 @@ def test_the_poles_uncertainty_along_a_track_is_the_monte_carlo_one():
 def _vesta_with_a_polar_moment_sigma(sigma_c: float):
     """Vesta as the catalogue has it, with a σ on Park et al. (2025)'s polar moment (none is published), its
     moments and their covariance derived as the loader derives them (ephem.bodies.inertia)."""
-    from ephem.bodies.catalogue import Measured
+    from ephem.bodies.measured import Measured
     from ephem.bodies.inertia import derive
 
     vesta = get_body("vesta")
