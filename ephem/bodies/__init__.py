@@ -5,6 +5,9 @@
 - :mod:`ephem.bodies.datasets`: Where the datasets of bodies live, and which there are: the shipped ones and a user's own.
 - :mod:`ephem.bodies.inertia`: Principal moments of inertia from what is measured, with their covariance.
 - :mod:`ephem.bodies.importer`: Bring your own data: a dataset built from a user's orbit file and pole/period table (docs/catalogue_import.md).
+- :mod:`ephem.bodies.orbit_files`: The orbit files an import reads: MPCORB, SBDB JSON, SBDB CSV.
+- :mod:`ephem.bodies.pole_table`: The pole/period table an import reads.
+- :mod:`ephem.bodies.import_records`: What an import reads (orbit and pole records, each value), its error naming file, line and field, and the readers both files share.
 
 The package imports none of its modules: importing one loads only what it needs.
 """

@@ -1,4 +1,5 @@
-"""Bring your own data: `ephem catalogue import` (ephem/bodies/importer.py, docs/catalogue_import.md).
+"""Bring your own data: `ephem catalogue import` (ephem/bodies/importer.py with orbit_files, pole_table and
+import_records; docs/catalogue_import.md).
 
 The sample files in tests/data/import/ carry the values of data/catalogue/current.toml (its MPCORB records for
 Ceres, Vesta and Eros, its WGCCRE poles and periods, its moments) in the formats users have: the MPC's MPCORB
@@ -21,8 +22,10 @@ from typer.testing import CliRunner
 from ephem import api
 from ephem.bodies.catalogue import load_catalogue
 from ephem.bodies.datasets import available_datasets, user_catalogue_dir
-from ephem.bodies.importer import (CatalogueImportError, import_catalogue, julian_day, parse_mpcorb, parse_orbits,
-                                   parse_poles, unpack_designation, unpack_epoch)
+from ephem.bodies.import_records import CatalogueImportError
+from ephem.bodies.importer import import_catalogue
+from ephem.bodies.orbit_files import julian_day, parse_mpcorb, parse_orbits, unpack_designation, unpack_epoch
+from ephem.bodies.pole_table import parse_poles
 from ephem.cli import app as cli
 from ephem.base.errors import InvalidInputError
 
@@ -73,7 +76,7 @@ def test_parsing_reproduces_the_catalogue_elements(path):
 
 
 def test_the_format_is_detected_and_the_mpc_names_have_aliases():
-    from ephem.bodies.importer import detect_format
+    from ephem.bodies.orbit_files import detect_format
 
     assert [detect_format(p.read_text(encoding="utf-8"), p.name) for p in (MPCORB, SBDB_JSON, SBDB_CSV)] == \
         ["mpcorb", "sbdb-json", "sbdb-csv"]
@@ -314,8 +317,9 @@ def test_the_service_selects_an_imported_dataset(user_dir):
     assert float(rate) == pytest.approx(api.precession("ceres")["precession_rate_arcsec_per_year"], rel=1e-12)
 
 
-def test_the_import_module_uses_no_network():
-    tree = ast.parse((ROOT / "ephem" / "bodies" / "importer.py").read_text(encoding="utf-8"))
+@pytest.mark.parametrize("module", ["importer", "import_records", "orbit_files", "pole_table"])
+def test_the_import_modules_use_no_network(module):
+    tree = ast.parse((ROOT / "ephem" / "bodies" / f"{module}.py").read_text(encoding="utf-8"))
     imported = {a.name.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
     imported |= {(n.module or "").split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.level == 0}
     assert not imported & {"urllib", "http", "requests", "httpx", "socket", "skyfield", "astroquery", "ftplib"}, imported
