@@ -22,6 +22,8 @@ from typer.testing import CliRunner
 
 from ephem.batch import distributed as batch
 from ephem.batch import population
+from ephem.batch.partitions import INERTIA_GROUPS, REQUIRED_COLUMNS
+from ephem.batch.task import known_columns
 from ephem.cli import app
 from ephem.base.errors import InvalidInputError
 
@@ -260,9 +262,9 @@ def test_the_cli(tmp_path, cluster, monkeypatch):
 # ------------------------------------------------------------------ the input's refusals (no cluster)
 
 def test_the_required_columns_are_the_cores():
-    assert batch.REQUIRED_COLUMNS == population.REQUIRED
-    assert {c for group in batch.INERTIA_GROUPS for c in group} <= set(population.INPUT_COLUMNS)
-    assert "e_sigma" in batch.known_columns(population)
+    assert REQUIRED_COLUMNS == population.REQUIRED
+    assert {c for group in INERTIA_GROUPS for c in group} <= set(population.INPUT_COLUMNS)
+    assert "e_sigma" in known_columns(population)
 
 
 def test_bad_inputs_are_refused_naming_the_field(tmp_path):
