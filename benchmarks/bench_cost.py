@@ -83,7 +83,7 @@ import numpy as np  # noqa: E402
 from ephem import api
 from ephem.base import budget
 from ephem.theory import cost
-from ephem.earth import family as earth
+from ephem.earth import model as earth
 from ephem.orbit import de421 as ephemeris
 from ephem.rotation import free_motion
 from ephem.orbit import hansen

@@ -30,7 +30,7 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 BLAS_VARS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
-WINDOW = (2415020.5, 2488069.5)          # 1900-01-01 .. 2100-01-01 TDB (ephem.earth.family.window())
+WINDOW = (2415020.5, 2488069.5)          # 1900-01-01 .. 2100-01-01 TDB (ephem.earth.estimates.window())
 TRACK_STEP = 0.2                         # days: 3.6 x 10^5 epochs span 197 years
 DEFAULT_OUTPUT = ROOT / "benchmarks" / "RESULTS_earth_track.md"
 

@@ -15,7 +15,7 @@ from .answers.requests import (FREE_MOTION_KEYS, MAX_TRACK_SAMPLES, REFUSE_ESTIM
                                list_bodies, nutation, precession, precession_nutation, track, track_arrays, warm_up)
 from .base import memo
 from .base.budget import Budget, BusyError, DeadlineExceededError, OverBudgetError, budget, charge
-from .base.constants import GM_CENTER
+from .base.constants import AXES, GM_CENTER
 from .base.errors import EphemError, InvalidInputError, NotApplicableError, UnknownBodyError
 from .base.times import TIME_PATTERN_ECMA, ut1_span
 from .bodies.catalogue import (DEFAULT_DATASET, KNOWN_PERTURBERS, MAX_ANGLE_DEG, MIN_ROTATION_PERIOD_HOURS, Body,
@@ -40,7 +40,6 @@ from .orbit.hansen import LAPLACE_LIMIT
 from .orbit.lunar import DELAUNAY_NAMES
 from .rotation.free_motion import SERIES_MAX_DELTA
 from .sun.rungs import MAX_NUMERICAL_ORBITS
-from .theory.tracks import AXES
 
 __all__ = [
     # answers (dicts, units in the keys)

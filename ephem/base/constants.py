@@ -36,3 +36,6 @@ CENTER_RADIUS_AU = {"Sun": 695_700.0 / 149_597_870.7, "Earth": 6378.1366 / 149_5
 CENTER_HILL_AU = {"Sun": 2.3e5, "Earth": 0.0100}
 #: Julian dates accepted anywhere (times and epochs alike), open interval: 4713 BC to AD 22666.
 JD_RANGE = (0.0, 1e7)
+#: The poles a spin-axis track can follow: the figure axis (the body's axis of largest inertia, which circles the
+#: angular momentum by the free wobble) or the angular momentum.
+AXES = ("figure", "angular_momentum")

@@ -70,11 +70,10 @@ import numpy as np
 from ..base.budget import checkpoint
 from ..base.paths import data_dir
 from ..bodies.catalogue import get_body
-from ..base.constants import ARCSEC, AU_M, JULIAN_YEAR_DAYS, MAS
+from ..base.constants import ARCSEC, AU_M, AXES, JULIAN_YEAR_DAYS, MAS
 from ..base.errors import InvalidInputError
 from ..orbit.lunar import (DAYS_PER_CENTURY, centuries, delaunay_arguments, delaunay_rates, gm_km3_day2, lunisolar_data,
                            moon_position, obliquity_arcsec, sun_position)
-from ..theory.tracks import AXES
 
 PERTURBERS = ("moon", "sun")
 #: Default FFT grid on the torus (l, l', F, D, Ω). Against (32, 16, 32, 32, 8) and

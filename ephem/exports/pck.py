@@ -30,7 +30,7 @@ angles, linear in T, represent exactly; one frequency takes two angles (Î¸ and Î
 takes only sines and DEC only cosines. The quadratic polynomials carry the secular motion. The
 frequencies (0 <= k <= 2 k_max of the nutation series, |j| <= :data:`ephem.sun.ladder.TRACK_SIDEBANDS`; for the Earth with
 the Moon, the ``lunisolar`` model, the lunisolar series' terms instead, their phases in the Delaunay
-arguments linearised at the span's middle, |j| <= :data:`ephem.earth.family.TRACK_SIDEBANDS`) are chosen one at a time
+arguments linearised at the span's middle, |j| <= :data:`ephem.earth.model.TRACK_SIDEBANDS`) are chosen one at a time
 by orthogonal least squares (the one that lowers the residual most), the coefficients by linear least
 squares over a dense grid of the span, RA weighted by cos DEC so that both residuals are angles on
 the sky. The fit error is the largest angle between the kernel's pole, evaluated as SPICE does, and

@@ -52,7 +52,7 @@ ATOL = 1e-12
 MEANINGFUL_LIMIT = math.radians(1.0)
 #: the relative probe of the precession constant's own change over the span, which no source bounds: the equation
 #: holds the moments and the spin fixed (the figure's response to ice loads, true polar wander, YORP; the Earth's
-#: mean tidal drift is counted apart, ephem.earth.family.tidal_constant_drift). It is added in quadrature to the published
+#: mean tidal drift is counted apart, ephem.earth.model.tidal_constant_drift). It is added in quadrature to the published
 #: σ of today's constant (Mars': 2.8e-4, Baland et al. 2020; the Earth's: 3e-7, IERS 2010), which alone would
 #: claim a constant known over millions of years to that level: the Earth's estimate would then no longer cover
 #: La2004 beyond ±0.3 Myr (tests/longterm/test_against_laskar2004.py)

@@ -30,7 +30,7 @@ motion, so that one tolerance fits every component.
   ch. 47: ELP-2000/82 truncated, ~10″ in longitude, 4″ in latitude, Meeus's planetary terms A1-A3, up to 14″,
   left out) and the Sun of :func:`ephem.orbit.lunar.sun_position` (the Earth-Moon barycentre's Kepler ellipse),
   both on the mean ecliptic and equinox of date, rotated to the ecliptic and equinox of J2000 (the Laplace frame
-  of :func:`ephem.moon.family.synchronous_orbit`: equinox of J2000, inertial node rate) by the IAU 2006
+  of :func:`ephem.moon.model.synchronous_orbit`: equinox of J2000, inertial node rate) by the IAU 2006
   ecliptic matrices, R = ecm06(J2000) · ecm06(t)ᵀ (erfa; the frame bias cancels in the product). Left out:
   the difference between Meeus's ecliptic and equinox of date and IAU 2006's (mas), and the ecliptic's own
   motion (47″ per century) as a motion of the Laplace plane (the orbit regresses on the ecliptic of date, the

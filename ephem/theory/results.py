@@ -8,7 +8,7 @@ every time a JD TDB or a duration in days; a 1σ is in its value's unit, None wh
 
 - :class:`Selection`: which of a family's models answered, its estimated error and what that bounds, its cost;
 - :class:`PrecessionResult`: the mean obliquity, H_d, K and the precession rate with their 1σ
-  (:class:`RateSigmas`), and for a synchronous satellite its :class:`CassiniState`;
+  (:class:`RateSigmas`), and for a synchronous satellite its :class:`CassiniSummary`;
 - :class:`NutationResult`: the terms (:class:`NutationTerm`) with their 1σ and the half peak-to-peak.
 
 The texts that describe a model (its theory, assumptions, warnings, epochs: the ``model`` object before the
@@ -75,7 +75,7 @@ class RateSigmas:
 
 
 @dataclass(frozen=True)
-class CassiniState:
+class CassiniSummary:
     """A synchronous satellite's Cassini state as its theory derives it (:mod:`ephem.moon.cassini`), beside the
     served mean pole: angles in radians, the node's rate in rad/day, the free librations' periods in days."""
 
@@ -108,7 +108,7 @@ class PrecessionResult:
     uncertainty: dict
     description: dict
     selection: Selection
-    cassini: CassiniState | None = None
+    cassini: CassiniSummary | None = None
 
 
 @dataclass(frozen=True)

@@ -6,11 +6,9 @@ import math
 
 import numpy as np
 
+from ..base.constants import AXES
 from ..base.errors import InvalidInputError
 from ..forced.precession_nutation import PrecessionNutation, Track
-
-#: The poles a track can follow (see the module docstring).
-AXES = ("figure", "angular_momentum")
 
 #: Rounding floor of any pole computed in double precision through a few rotations (radians, 0.2 µas).
 ROUNDING = 1e-12
@@ -37,7 +35,7 @@ def with_free_wobble(model: PrecessionNutation, track: Track, figure_icrf: np.nd
 
 
 def check_axis(axis: str, body: str | None = None) -> None:
-    """Refuse a pole that is not one of :data:`AXES`."""
+    """Refuse a pole that is not one of :data:`ephem.base.constants.AXES`."""
     if axis not in AXES:
         raise InvalidInputError("axis", f"must be one of {', '.join(AXES)}, got {axis!r}", body)
 

@@ -21,7 +21,8 @@ from ephem.earth import lunisolar as L
 from ephem.earth import nonrigid as N
 from ephem.bodies.catalogue import get_body
 from ephem.base.constants import ARCSEC, J2000_JD, MAS
-from ephem.earth.family import estimate_terms, lunisolar_earth
+from ephem.earth.estimates import estimate_terms
+from ephem.earth.model import lunisolar_earth
 from ephem.orbit.geometry import icrf_to_ecliptic_matrix, spin_geometry
 from ephem.theory.tracks import pole_vectors
 from ephem.earth.lunisolar import earth_lunisolar, residual_vs_iau2000a

@@ -10,7 +10,7 @@ from ephem.moon.cassini import (SynchronousOrbit, cassini_state, free_librations
                                 precession_constant)
 from ephem.bodies.catalogue import get_body
 from ephem.base.errors import NotApplicableError
-from ephem.moon.family import synchronous_orbit
+from ephem.moon.model import synchronous_orbit
 
 MOON = get_body("moon")
 # lunar laser ranging's moments: beta = (C-A)/B = 631.486e-6, gamma = (B-A)/C = 227.871e-6 (Williams et al. 2014,

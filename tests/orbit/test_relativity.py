@@ -8,7 +8,7 @@ import pytest
 
 from ephem.bodies.catalogue import get_body
 from ephem.base.constants import ARCSEC, AU_M, GM_SUN, JULIAN_CENTURY_DAYS, SPEED_OF_LIGHT_M_S
-from ephem.earth.family import lunisolar_earth
+from ephem.earth.model import lunisolar_earth
 from ephem.orbit.kepler import mean_motion_rad_per_day, solve_kepler
 from ephem.orbit.lunar import lunisolar_data
 from ephem.orbit.relativity import geodesic_precession_rate

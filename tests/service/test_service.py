@@ -224,7 +224,7 @@ def test_warm_up_setting(monkeypatch):
 
 def test_start_up_builds_the_earths_series():
     # the first Earth request must not build the lunisolar series (1.5 s): start-up does
-    from ephem.earth import family as earth
+    from ephem.earth import model as earth
     from ephem.earth import lunisolar
 
     lunisolar._build.cache_clear()

@@ -190,7 +190,7 @@ def test_the_service_takes_its_names_from_the_library():
     """One source of names: a model added to ephem.families, a dataset to data/catalogue, an axis to the
     ladder, or a higher e-order to ephem.forced.precession_nutation is what the service accepts and documents."""
     from ephem.bodies.datasets import available_datasets
-    from ephem.theory.tracks import AXES
+    from ephem.base.constants import AXES
     from ephem.forced.precession_nutation import MAX_ORDER
     from ephem.families import MODELS
     from service.app import Axis, Dataset, Rung

@@ -1,0 +1,148 @@
+"""The Earth's lunisolar model from the catalogue: :func:`ephem.earth.lunisolar.earth_lunisolar`'s series wired to
+the catalogue's pole and orbit (:class:`LunisolarEarth`, :func:`lunisolar_earth`).
+
+The track follows :mod:`ephem.forced.precession_nutation`'s definition in the frame of the catalogue's orbit and
+the mean equinox at the pole epoch t0:
+
+    ψ(t) = ψ̇ (t − t0) + Δψ(t),    ε(t) = ε̄ + Δε(t),
+
+with the catalogue pole the instantaneous axis at t0: ε̄ and the mean equinox are the catalogue's obliquity and
+equinox with the series' own Δε(t0), Δψ(t0) removed (exactly, not by iteration: the lunisolar series depend on
+time only). ``axis="figure"`` serves the figure-axis series (the Oppolzer terms included: the analogue of the
+IAU's CIP), ``axis="angular_momentum"`` the angular-momentum one. Radians and days unless a name says otherwise.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import lru_cache
+import numpy as np
+from ..bodies.catalogue import Body, is_earth
+from ..base.constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS
+from ..base.constants import JULIAN_CENTURY_DAYS as DAYS_PER_CENTURY
+from ..base.errors import NotApplicableError
+from ..orbit.geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
+from ..forced.kinoshita import mean_pole
+from ..orbit.lunar import obliquity_arcsec
+from .lunisolar import earth_lunisolar
+from ..forced.precession_nutation import Track
+from ..orbit.relativity import geodesic_precession_rate
+
+
+#: Sidebands ±j ψ̇ a track carries about each lunisolar term (the Earth's precession is slow, its terms many)
+TRACK_SIDEBANDS = 1
+#: Amplitude cut of the served track's series (mas): the cut the residual envelope was measured with.
+TRACK_CUT_MAS = 0.1
+#: The series are built at IAU 2006's ε_A; a pole whose mean obliquity departs by more is refused.
+MAX_OBLIQUITY_MISMATCH = 60.0 * ARCSEC
+#: The tides' secular change of the precession constant, which the averaged spin equation leaves out (relative per
+#: year; the long-term estimate's α neighbour drifts at it). The Moon's share of α goes as a⁻³ with the Moon receding
+#: at 3.82 ± 0.07 cm/yr (lunar laser ranging: Dickey et al. 1994, Science 265, 482) from 3.844e8 m; the whole of α
+#: as H_d/ω with H_d ∝ ω² (the figure follows the spin over such spans), i.e. as ω, which tidal braking slows at
+#: 6.39 ± 0.03e-22 rad/s² (the predicted tidal deceleration of Morrison, Stephenson, Hohenkerk & Zawilski 2021,
+#: "Addendum 2020 to 'Measurement of the Earth's rotation: 720 BC to AD 2015'", Proc. R. Soc. A 477) from
+#: 7.292115e-5 rad/s: 2.77e-10 per year. Both lower α towards the future; the magnitudes add (about 4.8e-10 per
+#: year with the Moon's 69 % share), a sign-blind bound, as La2004's own tidal parameters are not ours.
+MOON_RECESSION_PER_YEAR = 0.0382 / 3.844e8
+SPIN_BRAKING_PER_YEAR = 6.39e-22 / 7.292115e-5 * 86400.0 * JULIAN_YEAR_DAYS
+
+
+def tidal_constant_drift(moon_share: float) -> float:
+    """The relative change of the precession constant per year that tides cause (:data:`MOON_RECESSION_PER_YEAR`,
+    :data:`SPIN_BRAKING_PER_YEAR`), for the Moon's share ``moon_share`` of it."""
+    return 3.0 * MOON_RECESSION_PER_YEAR * moon_share + SPIN_BRAKING_PER_YEAR
+
+
+def _lower(perturbers) -> tuple[str, ...]:
+    return tuple(p.lower() for p in perturbers)
+
+
+@dataclass(frozen=True, eq=False)
+class LunisolarEarth:
+    """The Earth's lunisolar precession-nutation from the catalogue's pole and orbit (radians, days)."""
+
+    body: Body
+    series: object                       # ephem.earth.lunisolar.LunisolarSeries
+    axis: str
+    perturbers: tuple[str, ...]          # canonical names ("Moon", "Sun")
+    obliquity: float                     # ε̄: mean obliquity on the catalogue orbit at t0
+    pole_epoch: float                    # t0
+    nutation_at_pole_epoch: tuple[float, float]
+    icrf_from_orbit: np.ndarray = field(repr=False)   # columns: mean equinox at t0, W × it, W (ICRF)
+    orbit_tilt: float = 0.0              # the catalogue orbit normal from the J2000 ecliptic pole
+    geodesic_rate: float = 0.0           # Ω_gp (rad/day): the geodesic precession the track adds (ephem.orbit.relativity)
+
+    @property
+    def precession_rate(self) -> float:
+        """ψ̇ of the torque (rad/day): the first-order lunisolar rate (the precession answer's)."""
+        return float(self.series.precession_rate)
+
+    @property
+    def track_rate(self) -> float:
+        """The track's ψ̇ (rad/day): the torque's less the geodesic precession, which turns the axis about the
+        orbit normal in the orbital (prograde) sense."""
+        return self.precession_rate - self.geodesic_rate
+
+    @property
+    def hd(self) -> float:
+        return self.series.hd
+
+    @property
+    def spin_rate(self) -> float:
+        return self.series.spin_rate
+
+    @property
+    def scaling_factor(self) -> float:
+        """2 ψ̇ / cos ε̄: the K of one perturber on a circular orbit in the ecliptic giving the same rate."""
+        return 2.0 * self.precession_rate / math.cos(self.obliquity)
+
+    def angles(self, jd_tdb):
+        """ψ, Δψ, Δε, ε (radians) at JD TDB."""
+        t = np.asarray(jd_tdb, dtype=float)
+        dpsi, deps = self.series.nutation_at(t)
+        return self.track_rate * (t - self.pole_epoch) + dpsi, dpsi, deps, self.obliquity + deps
+
+    def track(self, jd_tdb) -> Track:
+        t = np.asarray(jd_tdb, dtype=float)
+        psi, dpsi, deps, eps = self.angles(t)
+        se = np.sin(eps)
+        v = np.stack([se * np.sin(psi), se * np.cos(psi), np.cos(eps)], axis=-1) @ self.icrf_from_orbit.T
+        ra = np.remainder(np.arctan2(v[..., 1], v[..., 0]), 2.0 * math.pi)
+        dec = np.arctan2(v[..., 2], np.hypot(v[..., 0], v[..., 1]))
+        return Track(t, psi, dpsi, deps, eps, ra, dec)
+
+
+def check_earth(body: Body) -> None:
+    if not is_earth(body) or body.orbit.center != "Sun":
+        raise NotApplicableError(body.name, "the lunisolar theory (the Moon as a perturber) is modelled for the "
+                                 "Earth only")
+
+
+@lru_cache(maxsize=64)
+def lunisolar_earth(body: Body, axis: str = "figure", cut_mas: float = TRACK_CUT_MAS,
+                    perturbers: tuple[str, ...] = ("Moon", "Sun")) -> LunisolarEarth:
+    """The lunisolar model of the Earth ``body`` (its H_d, spin rate, pole and orbit)."""
+    check_earth(body)
+    series = earth_lunisolar(cut_mas=cut_mas, perturbers=_lower(perturbers), hd=float(body.hd), axis=axis,
+                             spin_rate=body.spin_rate_rad_per_day)
+    ecl_from_icrf = icrf_to_ecliptic_matrix()
+    s_ecl = ecl_from_icrf @ unit_vector(math.radians(body.pole.ra_deg), math.radians(body.pole.dec_deg))
+    o = body.orbit
+    geo = spin_geometry(s_ecl, *(math.radians(x) for x in (o.i_deg, o.node_deg, o.peri_deg)), body.name)
+    t0 = body.pole.epoch_jd_tdb
+    # the lunisolar series does not depend on the mean pole: one pass of the fixed point is exact
+    eps_mean, _, dpsi0, deps0 = mean_pole(geo.obliquity, geo.equinox_to_pericentre,
+                                          lambda *_: series.nutation_at(np.array(t0)), passes=1)
+    eps_a = obliquity_arcsec((t0 - J2000_JD) / DAYS_PER_CENTURY) * ARCSEC
+    if abs(eps_mean - eps_a) > MAX_OBLIQUITY_MISMATCH:
+        raise NotApplicableError(body.name, (
+            f"the pole gives a mean obliquity of {math.degrees(eps_mean):.6f} deg on the orbit, "
+            f"{abs(eps_mean - eps_a) / ARCSEC:.1f} arcsec from IAU 2006's {math.degrees(eps_a):.6f} deg at its "
+            f"epoch; the lunisolar series are built at the latter (accepted within "
+            f"{MAX_OBLIQUITY_MISMATCH / ARCSEC:g} arcsec)"))
+    gamma, y_true, w = geo.orbit_frame
+    x_mean = math.cos(dpsi0) * gamma + math.sin(dpsi0) * y_true
+    icrf_from_orbit = ecl_from_icrf.T @ np.vstack([x_mean, np.cross(w, x_mean), w]).T
+    tilt = math.atan2(float(np.linalg.norm(w[:2])), float(w[2]))
+    return LunisolarEarth(body, series, axis, tuple(perturbers), eps_mean, t0, (dpsi0, deps0), icrf_from_orbit, tilt,
+                          geodesic_precession_rate(o.a_au, o.e, o.center))
