@@ -14,8 +14,9 @@ import numpy as np
 
 from ..base.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from ..bodies.catalogue import Body
+from ..rotation.free_motion import FreeMotion
 from ..longterm.history import DESCRIPTIONS as HISTORY_DESCRIPTIONS, HISTORY_ASSUMPTIONS, HistoryResult, total
-from ..theory.results import CassiniState, NutationResult, NutationTerm, PrecessionResult, Selection
+from ..theory.results import CassiniSummary, NutationResult, NutationTerm, PrecessionResult, Selection
 
 #: the precession answer's values (Petit et al. Table 4 columns)
 RATE_KEYS = ("obliquity_deg", "dynamical_ellipticity", "scaling_factor_arcsec_per_year",
@@ -45,7 +46,7 @@ def _model(description: dict, s: Selection) -> dict:
     return model
 
 
-def _cassini(c: CassiniState) -> dict:
+def _cassini(c: CassiniSummary) -> dict:
     return {
         "equator_inclination_deg": math.degrees(c.equator_inclination),
         "derived_equator_inclination_deg": math.degrees(c.derived_equator_inclination),
@@ -215,4 +216,19 @@ def history(r: HistoryResult) -> dict:
         "meaningful_from_year": None if math.isinf(start) else start,
         "meaningful_to_year": None if math.isinf(stop) else stop,
         "model": model,
+    }
+
+
+def free_motion(r: FreeMotion) -> dict:
+    """The free-motion answer: the figure axis's offsets from the angular momentum and the angle J (arcsec),
+    Andoyer's ν (deg), the periods (days), the mode and the method (numpy arrays)."""
+    b = r.body
+    return {
+        "body": b.name, "dataset": b.dataset, "jd_tdb": r.jd_tdb,
+        "figure_axis_offset_x_arcsec": np.ascontiguousarray(r.figure_axis_offsets[:, 0] / ARCSEC),
+        "figure_axis_offset_y_arcsec": np.ascontiguousarray(r.figure_axis_offsets[:, 1] / ARCSEC),
+        "wobble_angle_J_arcsec": np.degrees(r.wobble_angle) * 3600.0, "andoyer_nu_deg": np.degrees(r.andoyer_nu),
+        "wobble_period_days": r.wobble_period_days, "precession_period_days": r.precession_period_days,
+        "mode": r.mode, "method": r.method, "J_arcsec": r.J_arcsec,
+        "moments_over_C": list(r.moments_over_C), "cost_ms": r.cost_ms,
     }

@@ -419,7 +419,8 @@ def free_motion_arrays(body: str | int | Body, start, stop, step_days: float, J_
     rotations = step * (count - 1) * 24.0 / b.rotation_period_hours
     charge(cost.Cost((cost.free_rotation(method, count, rotations), cost.serialised(count, len(FREE_MOTION_KEYS)))),
            b.name)
-    return free_motion(b, t0 + step * np.arange(count), in_unit(J_arcsec, "arcsec", "J_arcsec"), method)
+    return render.free_motion(free_motion(b, t0 + step * np.arange(count), in_unit(J_arcsec, "arcsec", "J_arcsec"),
+                                          method))
 
 
 def free_motion_answer(body: str | int | Body, start, stop, step_days: float, J_arcsec: float | None = None,

@@ -146,7 +146,7 @@ def _wobble_periods(b, t0: float, J_arcsec, method: str) -> tuple[float, float]:
     """(wobble, precession) periods in days, from the free-motion module at one epoch (this also
     raises the clear J_arcsec error for a body without a published amplitude)."""
     one = free_motion(b, np.array([t0]), J_arcsec, method)
-    return float(one["wobble_period_days"]), float(one["precession_period_days"])
+    return float(one.wobble_period_days), float(one.precession_period_days)
 
 
 def _fastest_wobble_period(periods: tuple[float, float]) -> float:

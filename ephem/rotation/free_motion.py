@@ -66,11 +66,11 @@ def _moments(body: Body) -> tuple[float, float, float]:
 
 
 def _figure_offsets(R: np.ndarray) -> np.ndarray:
-    """(N, 2) offsets (arcsec) of the figure axis from L = +z, from attitudes R (inertial to body)."""
+    """(N, 2) offsets (radians) of the figure axis from L = +z, from attitudes R (inertial to body)."""
     f = R[:, 2, :]                       # the body's third axis in inertial coordinates: row 3 of R
     opening = np.arctan2(np.hypot(f[:, 0], f[:, 1]), f[:, 2])
     az = np.arctan2(f[:, 1], f[:, 0])
-    return np.stack([opening * np.cos(az), opening * np.sin(az)], axis=-1) / ARCSEC
+    return np.stack([opening * np.cos(az), opening * np.sin(az)], axis=-1)
 
 
 def _numeric_attitudes(moments, L0: np.ndarray, R0: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -148,8 +148,29 @@ def choose_method(method: str, mode: str, J: float, body: str = "free motion") -
     return method
 
 
-def free_motion(body: Body, jd_tdb: np.ndarray, J_arcsec: float | None = None, method: str = "auto") -> dict:
-    """Figure-axis offsets from the angular momentum (arcsec), Andoyer angles and the periods (days)."""
+@dataclass(frozen=True)
+class FreeMotion:
+    """The torque-free motion of a body's figure axis at ``jd_tdb``: its two tangent-plane offsets from the
+    angular momentum (radians, ``figure_axis_offsets[:, 0]`` and ``[:, 1]``), the angle J between them and
+    Andoyer's ν (radians), the wobble and precession periods (days), the mode (short- or long-axis), the method
+    used and the J it was started with (arcsec, as given). :func:`ephem.answers.render.free_motion` renders it."""
+
+    body: Body
+    jd_tdb: np.ndarray
+    figure_axis_offsets: np.ndarray
+    wobble_angle: np.ndarray
+    andoyer_nu: np.ndarray
+    wobble_period_days: float
+    precession_period_days: float
+    mode: str
+    method: str
+    J_arcsec: float
+    moments_over_C: tuple[float, float, float]
+    cost_ms: float
+
+
+def free_motion(body: Body, jd_tdb: np.ndarray, J_arcsec: float | None = None, method: str = "auto") -> FreeMotion:
+    """The figure axis's offsets from the angular momentum, Andoyer's angles and the periods (:class:`FreeMotion`)."""
 
     start = time.perf_counter()
     moments = _moments(body)
@@ -172,17 +193,10 @@ def free_motion(body: Body, jd_tdb: np.ndarray, J_arcsec: float | None = None, m
         R = _numeric_attitudes(moments, rot.L0, rot.R0, t)
     offsets = _figure_offsets(R) if t.size else np.empty((0, 2))
     L_body = np.einsum("nij,j->ni", R, np.array([0.0, 0.0, M])) if t.size else np.empty((0, 3))
-    nu = np.degrees(np.arctan2(L_body[:, 0], L_body[:, 1]))
-    opening = np.degrees(np.arctan2(np.hypot(L_body[:, 0], L_body[:, 1]), L_body[:, 2])) * 3600.0
-    return {
-        "body": body.name, "dataset": body.dataset, "jd_tdb": t,
-        "figure_axis_offset_x_arcsec": np.ascontiguousarray(offsets[:, 0]),
-        "figure_axis_offset_y_arcsec": np.ascontiguousarray(offsets[:, 1]),
-        "wobble_angle_J_arcsec": opening, "andoyer_nu_deg": nu,
-        "wobble_period_days": rot.wobble_period, "precession_period_days": rot.precession_period,
-        "mode": rot.mode, "method": used, "J_arcsec": float(J_arcsec),
-        "moments_over_C": list(moments), "cost_ms": 1e3 * (time.perf_counter() - start),
-    }
+    nu = np.arctan2(L_body[:, 0], L_body[:, 1])
+    opening = np.arctan2(np.hypot(L_body[:, 0], L_body[:, 1]), L_body[:, 2])
+    return FreeMotion(body, t, offsets, opening, nu, rot.wobble_period, rot.precession_period, rot.mode, used,
+                      float(J_arcsec), tuple(moments), 1e3 * (time.perf_counter() - start))
 
 
 # --- the free wobble on a forced spin-axis track --------------------------------------------------
@@ -291,7 +305,7 @@ def wobble_model_bound(body: Body, wobble: Wobble, jd_tdb, pole_icrf: np.ndarray
     observed = observed_wobble_period_days(body)
     if observed is not None:
         rigid = free_motion(body, np.array([wobble.epoch_jd_tdb]), max(wobble.J_arcsec, 1e-3),
-                            "exact")["wobble_period_days"]
+                            "exact").wobble_period_days
         dphi = 2.0 * math.pi * abs(1.0 / rigid - 1.0 / observed) * float(np.max(np.abs(t - wobble.epoch_jd_tdb)))
         bound += 2.0 * J * (1.0 if dphi >= math.pi else math.sin(0.5 * dphi))
     return bound

@@ -8,6 +8,7 @@ Read from the source text (ast), so a function-local import counts as much as on
 from __future__ import annotations
 
 import ast
+import re
 from pathlib import Path
 
 import pytest
@@ -200,3 +201,50 @@ def test_the_service_takes_the_library_only_through_its_api(path):
                                              if node.module == "ephem"])
              if target and target.startswith("ephem.") and target != "ephem.api"]
     assert not taken, taken
+
+
+#: The packages that compute and render nothing: they return typed results in the library's units (radians,
+#: rad/day, days, JD TDB; ephem.theory.results, the Track, the HistoryResult, the FreeMotion), and
+#: ephem.answers.render alone writes an answer's keys with their units (docs/architecture.md).
+COMPUTING = ("base", "orbit", "bodies", "rotation", "forced", "theory", "longterm", "sun", "earth", "moon", "families")
+#: an answer's key naming its unit
+UNIT_KEY = re.compile(r"_(deg|arcsec|mas)(_|$)")
+#: modules of those packages that write unit-named keys, each with why that is no answer rendered
+UNIT_KEYS_ALLOWED = {
+    "ephem.earth.lunisolar": "the lunisolar series' terms as data/lunisolar.toml records them (mas)",
+    "ephem.earth.nonrigid": "the IERS transfer function's corrections, records of the same form as the series'",
+    "ephem.forced.uncertainty": "propagates the catalogue's 1-sigma through the answers' own values, which it "
+                                "names as the answers do",
+    "ephem.moon.family": "the uncertainty object's dominant_input, keyed by the answer's value names",
+    "ephem.bodies.importer": "reads orbit files into the catalogue's records, whose fields name their units",
+    "ephem.bodies.orbit_files": "the catalogue's record fields, which name their units (an input, not an answer)",
+    "ephem.bodies.pole_table": "a pole table's records, the catalogue's input fields (an input, not an answer)",
+}
+
+
+def _unit_keys(tree: ast.Module) -> list[tuple[int, str]]:
+    """(line, key) of every string key naming a unit that a dict display or a subscript assignment writes."""
+    keys = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Dict):
+            keys += [k for k in node.keys if isinstance(k, ast.Constant) and isinstance(k.value, str)]
+        elif isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Store) and \
+                isinstance(node.slice, ast.Constant) and isinstance(node.slice.value, str):
+            keys.append(node.slice)
+    return [(k.lineno, k.value) for k in keys if UNIT_KEY.search(k.value)]
+
+
+@pytest.mark.parametrize("module", sorted(m for m in MODULES if _package(m) in COMPUTING))
+def test_answers_are_rendered_in_one_place(module):
+    found = _unit_keys(MODULES[module])
+    if module in UNIT_KEYS_ALLOWED:
+        assert found, f"{module} writes no unit-named key now: drop it from UNIT_KEYS_ALLOWED"
+        return
+    assert not found, f"{module} writes answer keys {found}: return a typed result and render it in " \
+                      "ephem.answers.render"
+
+
+def test_the_rendering_check_can_fail():
+    tree = ast.parse("def f(x):\n    out = {'obliquity_deg': x}\n    out['psi_arcsec'] = x\n    return out\n")
+    assert _unit_keys(tree) == [(2, "obliquity_deg"), (3, "psi_arcsec")]
+    assert set(UNIT_KEYS_ALLOWED) <= set(MODULES), set(UNIT_KEYS_ALLOWED) - set(MODULES)

@@ -4,6 +4,7 @@ import math
 import numpy as np
 import pytest
 
+from ephem.base.constants import ARCSEC
 from ephem.bodies.catalogue import get_body
 from ephem.base.errors import InvalidInputError, NotApplicableError
 from ephem.rotation.free_motion import free_motion
@@ -12,7 +13,8 @@ J2000 = 2451545.0
 
 
 def offsets(ans):
-    return np.stack([ans["figure_axis_offset_x_arcsec"], ans["figure_axis_offset_y_arcsec"]], axis=-1)
+    """The figure axis's offsets from the angular momentum, arcsec."""
+    return ans.figure_axis_offsets / ARCSEC
 
 
 @pytest.mark.parametrize("name,J_arcsec,days", [("earth", None, 400.0), ("mars", None, 400.0), ("eros", None, 2.0),
@@ -22,10 +24,10 @@ def test_exact_and_numerical_solutions_agree(name, J_arcsec, days):
     exact = free_motion(get_body(name), t, J_arcsec, "exact")
     numeric = free_motion(get_body(name), t, J_arcsec, "numeric")
     gap = np.max(np.linalg.norm(offsets(exact) - offsets(numeric), axis=1))
-    assert gap < 1e-8 * exact["J_arcsec"] + 1e-9, gap
+    assert gap < 1e-8 * exact.J_arcsec + 1e-9, gap
     # at t0 the exact solution returns the J it was started with, through atan2 of rounded components: a few ε
     # relative to J (the components scale with sin J), so 1e-12 even for a 1" wobble
-    assert exact["wobble_angle_J_arcsec"][0] == pytest.approx(exact["J_arcsec"], rel=1e-12)
+    assert exact.wobble_angle[0] / ARCSEC == pytest.approx(exact.J_arcsec, rel=1e-12)
 
 
 @pytest.mark.parametrize("name,J_arcsec", [("eros", 55.0), ("eros", 4 * 3600.0), ("mars", 0.1), ("mars", 100.0),
@@ -45,15 +47,15 @@ def test_earth_rigid_euler_period_from_the_exact_solution():
     a, b, c = get_body("earth").moments
     omega_days = 24.0 / get_body("earth").rotation_period_hours
     euler = 1.0 / (omega_days * math.sqrt((c / a - 1.0) * (c / b - 1.0)))
-    assert ans["wobble_period_days"] == pytest.approx(euler, rel=1e-6)
-    assert 300.0 < ans["wobble_period_days"] < 306.0
+    assert ans.wobble_period_days == pytest.approx(euler, rel=1e-6)
+    assert 300.0 < ans.wobble_period_days < 306.0
 
 
 def test_auto_serves_the_exact_solution_and_the_series_only_where_it_converges():
     eros = get_body("eros")
     t = J2000 + np.linspace(0.0, 1.0, 5)
-    assert free_motion(eros, t, 3600.0, "auto")["method"] == "exact"       # cheapest and most accurate
-    assert free_motion(eros, t, 3600.0, "series")["method"] == "series"    # δ = 1.5e-4: served on request
+    assert free_motion(eros, t, 3600.0, "auto").method == "exact"       # cheapest and most accurate
+    assert free_motion(eros, t, 3600.0, "series").method == "series"    # δ = 1.5e-4: served on request
     with pytest.raises(NotApplicableError, match="short-axis"):
         free_motion(eros, t, 60 * 3600.0, "series")                         # δ = 0.5: refused
 

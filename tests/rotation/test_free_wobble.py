@@ -36,15 +36,15 @@ def test_the_published_amplitude_is_the_largest_offset_over_a_wobble(name):
     # J0 is the angle at ν = 0; energy conservation makes it the largest (ephem.rotation.free_motion.free_wobble_bound)
     body = get_body(name)
     first = free_motion(body, np.array([J2000]))
-    t = J2000 + np.linspace(0.0, first["wobble_period_days"], 2001)
-    opening = free_motion(body, t)["wobble_angle_J_arcsec"]
+    t = J2000 + np.linspace(0.0, first.wobble_period_days, 2001)
+    opening = free_motion(body, t).wobble_angle
     # the grid starts at ν = 0, where J = J0 (measured: 1-2 ε); elsewhere J is smaller. rel 1e-9 leaves room
     # for a grid that would straddle the maximum (J is stationary there: (π/2000)² x its small variation)
-    assert np.max(opening) == pytest.approx(free_wobble_bound(body) / ARCSEC, rel=1e-9)
+    assert np.max(opening) == pytest.approx(free_wobble_bound(body), rel=1e-9)
     A, B, C = (x / body.moments[2] for x in body.moments)
     j0 = free_wobble_bound(body)
     smallest = math.asin(math.sin(j0) * math.sqrt((1 / B - 1 / C) / (1 / A - 1 / C)))
-    assert np.min(opening) == pytest.approx(smallest / ARCSEC, rel=1e-6)
+    assert np.min(opening) == pytest.approx(smallest, rel=1e-6)
 
 
 def rigid_figure_axis(name, phase_deg, t):
@@ -126,7 +126,7 @@ def test_the_earths_rigid_wobble_loses_phase_against_the_chandler_wobble():
     # the phase loss is the same; only the transport term (2 J times the pole's motion in 6 days) differs
     assert near_sun["free_wobble_model"] == pytest.approx(near, abs=0.01)
     # 2 J sin(π Δf Δt): Δf = 1/303.15 - 1/433 per day
-    df = 1 / free_motion(earth, np.array([J2000]))["wobble_period_days"] - 1 / 433.0
+    df = 1 / free_motion(earth, np.array([J2000])).wobble_period_days - 1 / 433.0
     assert near == pytest.approx(2000.0 * math.sin(math.pi * df * 6.0), rel=0.02)
     assert 2000.0 <= far <= 2000.5      # 726 days: the phase is lost (Δφ > π); plus the transport term
     for perturbers in (None, "sun"):
