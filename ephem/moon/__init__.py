@@ -4,6 +4,9 @@
 - :mod:`ephem.moon.family`: A synchronous rotator (the Moon) as the library serves it: its pole from the Cassini state
 - :mod:`ephem.moon.libration_frames`: The Moon's frames in small rotations: the general precession that turns the frame of date, [v×] and exp([θ×]).
 - :mod:`ephem.moon.libration_forcing`: The torque on the Moon's turning reference frame, over the torus of the Delaunay arguments.
+- :mod:`ephem.moon.libration_angles`: The Moon's libration angles: the Cassini state's turning frame R, and Eckhardt's ρ, σ, τ from the rotation θ.
+- :mod:`ephem.moon.libration_chains`: The Moon's physical librations solved linearly, chain by chain: the harmonic balance on the torus of the arguments.
+- :mod:`ephem.moon.libration_modes`: The Moon's free librations about its Cassini state: the periods of the linearised system's free modes.
 - :mod:`ephem.moon.libration_series`: The Moon's physical librations as a series: its terms, their evaluation, and the shipped series on disk.
 - :mod:`ephem.moon.physical_librations`: The Moon's forced physical librations about its Cassini state: the pole and the prime meridian.
 - :mod:`ephem.moon.rigid_integration`: The full rigid synchronous satellite, integrated: the independent check of the Cassini-state theory.

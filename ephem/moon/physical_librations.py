@@ -8,6 +8,11 @@ that state: the physical librations. This module derives them from the rigid bod
 series of :mod:`ephem.earth.lunisolar` (Meeus 1998 ch. 47, a truncation of ELP-2000/82) and the Sun, without fitting.
 Radians and days throughout; JD TDB.
 
+This module holds the fixed point (the equations' residual, the iteration) and the public entry; beside it are the
+torque and the coefficients (:mod:`ephem.moon.libration_forcing`, eqs. (4)–(6)), the linear solve chain by chain
+(:mod:`ephem.moon.libration_chains`), the frame (R) and the angles (E) (:mod:`ephem.moon.libration_angles`), the
+series returned (:mod:`ephem.moon.libration_series`) and the free modes (:mod:`ephem.moon.libration_modes`).
+
 Frames and angles (all signs stated)
 ------------------------------------
 E: the mean ecliptic and equinox of date (x to the equinox, z the ecliptic pole K). Ω, F = L − Ω, l, l', D: the
@@ -72,7 +77,8 @@ least squares, no leakage; the grid's convergence is tested), M1 depends on F al
   then splits into independent chains k = (b, m) over the F multiplier m (b = the other four): one small linear
   solve per chain, [−ν_m² Λ + i ν_m M1 + M0]_{m,m'} c_{m'} = f_m with ν_m = k·φ̇. This is the response of the
   linear system at each forcing frequency, resonances included: nothing is fitted; the free modes
-  (:func:`free_modes`, the same operator's Floquet exponents) sit where the chain matrix is singular.
+  (:func:`ephem.moon.libration_modes.free_modes`, the same operator's Floquet exponents) sit where the chain
+  matrix is singular.
 * "linear": (3) with all its coefficients: the fixed point θ ← θ − L_F⁻¹ r(θ), r = Λ θ̈ + M1 θ̇ + M0 θ − f on the
   grid (time derivatives spectral), L_F the chain operator above. Contracts by ~3e-3 a step.
 * "full" (default): r the residual of (1)–(2) themselves, all orders in θ. The second-order terms matter where
@@ -131,7 +137,6 @@ Units: radians, rad/day; amplitudes in radians.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -140,9 +145,11 @@ from ..base.constants import ARCSEC
 from ..base.errors import InvalidInputError
 from ..bodies.catalogue import get_body
 from ..orbit.lunar import delaunay_arguments, delaunay_rates
+from .libration_angles import euler_angles, remove_rho_constant, rho_constant
+from .libration_chains import chain_operator, dc_response, grid_frequencies, scatter, solve_chains
 from .libration_forcing import (frame_rates, linearised_equations, perturber_directions, perturber_directions_at,
                                 torus_fields)
-from .libration_frames import rodrigues, skew
+from .libration_frames import rodrigues
 from .libration_series import PhysicalLibrations, canonical_sign, pole_amplitude
 
 #: θ's constant (rad) in DE421: the principal axes (PA) from the mean-Earth/rotation (ME) frame, the rotation of
@@ -189,69 +196,7 @@ def linearised_terms(jd_tdb, equator_inclination: float, moments, sun: bool = Tr
     of the linear system, a numerical Jacobian of the full one)."""
     args = delaunay_arguments(np.atleast_1d(np.asarray(jd_tdb, dtype=float)))
     directions = perturber_directions_at(tuple(args[:, i] for i in range(5)), sun)
-    return linearised_equations(directions, args[:, 2], float(equator_inclination), _normalised(moments))
-
-
-def _chain_operator(m0_f: np.ndarray, m1_f: np.ndarray, moments: np.ndarray, nf: int):
-    """The F-chain blocks: for a chain of multipliers k_m = (b, m) (m = −J..J, J = NF/2 − 1), the harmonic-balance
-    matrix is T0 + i T1 diag(ν_m) − diag(ν_m²) ⊗ diag(A, B, C), with T0[m, m'] = M0_{m−m'} and T1[m, m'] =
-    M1_{m−m'} the F-harmonics of the F-dependent part of the coefficients (those with |m − m'| > J dropped:
-    beyond the grid's resolution). Returns (ms, T0, T1) with T0, T1 of shape (3 nm, 3 nm)."""
-    J = nf // 2 - 1
-    ms = np.arange(-J, J + 1)
-    M0 = np.fft.fft(m0_f, axis=2) / nf
-    M1 = np.fft.fft(m1_f, axis=2) / nf
-    jd = ms[:, None] - ms[None, :]
-    keep = np.abs(jd) <= J
-    nm = ms.size
-
-    def blocks(M):
-        t = M[:, :, jd % nf] * keep                  # (3, 3, nm, nm)
-        return t.transpose(2, 0, 3, 1).reshape(3 * nm, 3 * nm)
-
-    return ms, blocks(M0), blocks(M1)
-
-
-def _solve_chains(spec: np.ndarray, grid: tuple, ms: np.ndarray, T0: np.ndarray, T1: np.ndarray,
-                  moments: np.ndarray, floor: float):
-    """Harmonic balance, chain by chain: every forcing harmonic k = (l, l', F, D, Ω) above ``floor`` of the
-    spectrum ``spec`` (3, grid; coefficients of e^{ik·φ}) belongs to the chain of its base b = (l, l', D, Ω); one
-    chain per ±b pair is solved (the other is its conjugate: the forcing is real). Returns (bases (nb, 4),
-    coefficients (nb, nm, 3) of θ at k = (b, ms))."""
-    rates = delaunay_rates(0.0)
-    nm = ms.size
-    mag = np.abs(spec).max(axis=0)
-    idx = np.argwhere(mag > floor * mag.max())
-    half = np.array(grid) // 2
-    signed = np.where(idx > half, idx - np.array(grid), idx)
-    signed = signed[np.all(2 * np.abs(signed) < np.array(grid), axis=1)]   # no Nyquist rows
-    b = signed[:, [0, 1, 3, 4]]
-    # one chain per ±b: first non-zero of (Ω, D, l, l') positive
-    sign = np.zeros(b.shape[0], dtype=int)
-    for i in (3, 2, 0, 1):
-        undecided = sign == 0
-        sign[undecided] = np.sign(b[undecided, i])
-    sign[sign == 0] = 1
-    bases = np.unique(b * sign[:, None], axis=0)
-    brates = rates[[0, 1, 3, 4]]
-    out = np.zeros((bases.shape[0], nm, 3), dtype=complex)
-    diag_i = np.tile(moments, nm)
-    chunk = 256
-    for start in range(0, bases.shape[0], chunk):
-        bb = bases[start:start + chunk]
-        nu = (bb @ brates)[:, None] + ms[None, :] * rates[2]                  # (nb, nm)
-        nu3 = np.repeat(nu, 3, axis=1)                                        # (nb, 3 nm)
-        mat = T0[None] + 1j * T1[None] * nu3[:, None, :]
-        mat[:, np.arange(3 * nm), np.arange(3 * nm)] -= nu3**2 * diag_i
-        k = np.empty((bb.shape[0], nm, 5), dtype=int)
-        k[:, :, [0, 1, 3, 4]] = bb[:, None, :]
-        k[:, :, 2] = ms[None, :]
-        ok = np.all(2 * np.abs(k) < np.array(grid), axis=2)
-        kk = np.where(k < 0, k + np.array(grid), k)
-        rhs = spec[:, kk[..., 0], kk[..., 1], kk[..., 2], kk[..., 3], kk[..., 4]]   # (3, nb, nm)
-        rhs = np.where(ok[None], rhs, 0.0).transpose(1, 2, 0).reshape(bb.shape[0], 3 * nm)
-        out[start:start + chunk] = np.linalg.solve(mat, rhs[..., None])[..., 0].reshape(bb.shape[0], nm, 3)
-    return bases, out
+    return linearised_equations(directions, args[:, 2], float(equator_inclination), moments_over_c(moments))
 
 
 def _pole_longitude_terms(bases: np.ndarray, ms: np.ndarray, theta: np.ndarray):
@@ -287,7 +232,7 @@ def _zero_chain_rho(grid: tuple, sun: bool, I: float, moments: np.ndarray) -> tu
     nf = grid[2]
     f_f = f.mean(axis=(1, 2, 4, 5))                         # (3, NF): averaged over l, l', D, Ω
     m0_f = m0.mean(axis=(2, 3, 5, 6))
-    ms, T0, T1 = _chain_operator(m0_f, m1, moments, nf)
+    ms, T0, T1 = chain_operator(m0_f, m1, moments, nf)
     spec = np.fft.fft(f_f, axis=1) / nf                     # (3, NF)
     nu = np.repeat(ms * delaunay_rates(0.0)[2], 3)
     mat = T0 + 1j * T1 * nu[None, :]
@@ -298,41 +243,11 @@ def _zero_chain_rho(grid: tuple, sun: bool, I: float, moments: np.ndarray) -> tu
     return float(const[0]), float(const[1])
 
 
-def _normalised(moments) -> np.ndarray:
+def moments_over_c(moments) -> np.ndarray:
     m = np.asarray(moments, dtype=float).reshape(-1)
     if m.size != 3 or not np.all(np.isfinite(m)) or not 0.0 < m[0] <= m[1] < m[2]:
         raise InvalidInputError("moments", f"principal moments A <= B < C, all positive, got {moments!r}")
     return m / m[2]
-
-
-def _euler_angles(theta_grid: np.ndarray, I: float, grid: tuple) -> np.ndarray:
-    """Eckhardt's (ρ, σ, τ) (3, grid), exactly, from θ on the grid: with the principal axes B = Rz(Ω + π) M,
-    M = Rx(I) Rz(F) exp([θ×]) = Rz(Δφ) Rx(I + ρ) Rz(F + Δψ) (3-1-3 Euler angles from the ecliptic of date,
-    signed by atan2), σ = sin I Δφ and τ = Δφ + Δψ (the prime meridian's longitude along the node and the
-    equator, less its mean L + π)."""
-    th = theta_grid
-    angle = np.sqrt(np.einsum("i...,i...->...", th, th))
-    safe = np.where(angle > 0.0, angle, 1.0)
-    k = skew(th)
-    kk = np.einsum("ij...,jk...->ik...", k, k)
-    q = (np.eye(3).reshape(3, 3, 1, 1, 1, 1, 1) + (np.sin(safe) / safe) * k + ((1.0 - np.cos(safe)) / safe**2) * kk)
-    nf = grid[2]
-    F = (2.0 * math.pi * np.arange(nf) / nf).reshape(1, 1, nf, 1, 1)
-    cf, sf = np.cos(F), np.sin(F)
-    # Rz(F) q, then Rx(I): only rows 1..3 of the result are needed as below
-    r0 = cf * q[0] - sf * q[1]
-    r1 = sf * q[0] + cf * q[1]
-    r2 = q[2]
-    ci, si = math.cos(I), math.sin(I)
-    m0 = r0
-    m1 = ci * r1 - si * r2
-    m2 = si * r1 + ci * r2
-    # M13 = sin Δφ sin θ, M23 = −cos Δφ sin θ, M31 = sin θ sin ψ, M32 = sin θ cos ψ, M33 = cos θ
-    dphi = np.arctan2(m0[2], -m1[2])
-    incl = np.arctan2(np.hypot(m0[2], m1[2]), m2[2])
-    psi = np.arctan2(m2[0], m2[1])
-    dpsi = np.angle(np.exp(1j * (psi - F)))
-    return np.stack([incl - I, math.sin(I) * dphi, dphi + dpsi])
 
 
 def _series_terms(values: np.ndarray, grid: tuple, floor: float):
@@ -348,52 +263,6 @@ def _series_terms(values: np.ndarray, grid: tuple, floor: float):
     idx, k = idx[ok], k[ok]
     c = spec[(slice(None),) + tuple(idx.T)].T                     # (n, 3)
     return k, 2.0 * c.real, -2.0 * c.imag, constant
-
-
-def _scatter(bases: np.ndarray, theta: np.ndarray, ms: np.ndarray, grid: tuple) -> np.ndarray:
-    """The spectrum (3, grid) of chains (bases (nb, 4), coefficients (nb, nm, 3)) and their conjugates (the b = 0
-    chain holds both signs of m itself)."""
-    gsize = np.array(grid)
-    full = np.zeros((3,) + grid, dtype=complex)
-    for sgn in (1, -1):
-        sel = np.ones(bases.shape[0], dtype=bool) if sgn == 1 else np.any(bases, axis=1)
-        k = np.empty((int(sel.sum()), ms.size, 5), dtype=int)
-        k[:, :, [0, 1, 3, 4]] = sgn * bases[sel, None, :]
-        k[:, :, 2] = sgn * ms[None, :]
-        idx = tuple(np.moveaxis(k % gsize, -1, 0))
-        vals = theta[sel] if sgn == 1 else np.conj(theta[sel])
-        np.add.at(full, (slice(None),) + idx, np.moveaxis(vals, -1, 0))
-    return full
-
-
-def _grid_frequencies(grid: tuple) -> np.ndarray:
-    """ν_k = k · (dl/dt, dl'/dt, dF/dt, dD/dt, dΩ/dt) (rad/day) at every index of the grid's spectrum (0 at the
-    Nyquist indices, whose harmonics the grid cannot resolve)."""
-    rates = delaunay_rates(0.0)
-    nu = 0.0
-    for i, n in enumerate(grid):
-        k = np.fft.fftfreq(n, 1.0 / n)
-        k[np.abs(k) * 2 >= n] = 0.0
-        nu = nu + (k * rates[i]).reshape([-1 if i == j else 1 for j in range(5)])
-    return nu
-
-
-def _rho_constant(spec: np.ndarray) -> float:
-    """The constant of ρ = θ1 cos F − θ2 sin F (first order in θ) from θ's spectrum."""
-    zero = (0, 0)
-    t1p, t1m = spec[(0,) + zero + (1,) + zero], spec[(0,) + zero + (-1,) + zero]
-    t2p, t2m = spec[(1,) + zero + (1,) + zero], spec[(1,) + zero + (-1,) + zero]
-    return float((0.5 * (t1m + t1p) - (t2m - t2p) / 2j).real)
-
-
-def _remove_rho_constant(spec: np.ndarray, rho0: float) -> None:
-    """θ −= ρ0 (cos F, −sin F, 0): what turning the reference frame R by ρ0 about the equator's node does to θ
-    (to first order); the caller adds ρ0 to I."""
-    zero = (0, 0)
-    spec[(0,) + zero + (1,) + zero] -= 0.5 * rho0
-    spec[(0,) + zero + (-1,) + zero] -= 0.5 * rho0
-    spec[(1,) + zero + (1,) + zero] -= 0.5j * rho0
-    spec[(1,) + zero + (-1,) + zero] += 0.5j * rho0
 
 
 def _residual(spec: np.ndarray, nu: np.ndarray, grid: tuple, sun: bool, I: float, mom: np.ndarray,
@@ -440,18 +309,6 @@ CONVERGENCE = 1e-10
 MAX_STEPS = 30
 
 
-def _dc_response(ms: np.ndarray, T0: np.ndarray, T1: np.ndarray, mom: np.ndarray) -> np.ndarray:
-    """G (3, 3): the constant θ a unit constant torque about each principal axis gives (the b = 0 chain, rad per
-    rad/day² with C = 1)."""
-    nu = np.repeat(ms * delaunay_rates(0.0)[2], 3)
-    mat = T0 + 1j * T1 * nu[None, :]
-    mat[np.arange(nu.size), np.arange(nu.size)] -= nu**2 * np.tile(mom, ms.size)
-    centre = 3 * (ms.size // 2)
-    rhs = np.zeros((nu.size, 3), dtype=complex)
-    rhs[centre:centre + 3] = np.eye(3)
-    return np.linalg.solve(mat, rhs)[centre:centre + 3].real
-
-
 def _solve(grid: tuple, sun: bool, mom: np.ndarray, model: str, inclination: float | None, offset):
     """θ's spectrum (3, grid), I and the number of fixed-point steps: θ = L_F⁻¹ f, then (models "linear" and
     "full") θ ← θ − L_F⁻¹ r(θ) with r the model's residual, I absorbing θ's constant ρ at each step (unless given)
@@ -468,33 +325,33 @@ def _solve(grid: tuple, sun: bool, mom: np.ndarray, model: str, inclination: flo
     nf = grid[2]
     n = float(np.prod(grid))
     f, m0, m1 = torus_fields(grid, sun, I, mom)
-    ms, T0, T1 = _chain_operator(m0.mean(axis=(2, 3, 5, 6)), m1, mom, nf)
+    ms, T0, T1 = chain_operator(m0.mean(axis=(2, 3, 5, 6)), m1, mom, nf)
     fspec = np.fft.fftn(f, axes=(1, 2, 3, 4, 5)) / n
     floor = FORCING_FLOOR * float(np.abs(fspec).max())
     torque = np.zeros(3)
     if offset is not None:
-        gain = _dc_response(ms, T0, T1, mom)
+        gain = dc_response(ms, T0, T1, mom)
         torque = np.linalg.solve(gain, np.asarray(offset, dtype=float))
         fspec[(slice(None),) + (0,) * 5] += torque
-    bases, theta = _solve_chains(fspec, grid, ms, T0, T1, mom, FORCING_FLOOR)
-    spec = _scatter(bases, theta, ms, grid)
+    bases, theta = solve_chains(fspec, grid, ms, T0, T1, mom, FORCING_FLOOR)
+    spec = scatter(bases, theta, ms, grid)
     if model == "constant":
         return spec, I, 0
-    nu = _grid_frequencies(grid)
+    nu = grid_frequencies(grid)
     for step in range(1, MAX_STEPS + 1):
         r = _residual(spec, nu, grid, sun, I, mom, model, torque)
         rspec = np.fft.fftn(r, axes=(1, 2, 3, 4, 5)) / n
         top = float(np.abs(rspec).max())
         if top == 0.0:
             return spec, I, step
-        bases, theta = _solve_chains(rspec, grid, ms, T0, T1, mom, floor / top)
-        delta = _scatter(bases, theta, ms, grid)
+        bases, theta = solve_chains(rspec, grid, ms, T0, T1, mom, floor / top)
+        delta = scatter(bases, theta, ms, grid)
         spec -= delta
         moved = float(np.abs(delta).max())
         if inclination is None:
-            rho0 = _rho_constant(spec)
+            rho0 = rho_constant(spec)
             I += rho0
-            _remove_rho_constant(spec, rho0)
+            remove_rho_constant(spec, rho0)
             moved = max(moved, abs(rho0))
         if offset is not None:
             miss = np.asarray(offset, dtype=float) - spec[(slice(None),) + (0,) * 5].real
@@ -508,70 +365,16 @@ def _solve(grid: tuple, sun: bool, mom: np.ndarray, model: str, inclination: flo
 @lru_cache(maxsize=8)
 def _build(moments: tuple, sun: bool, grid: tuple, model: str, inclination: float | None,
            offset: tuple | None) -> PhysicalLibrations:
-    mom = _normalised(moments)
+    mom = moments_over_c(moments)
     spec, I, steps = _solve(grid, sun, mom, model, inclination, offset)
     theta_grid = np.fft.ifftn(spec, axes=(1, 2, 3, 4, 5)).real * float(np.prod(grid))
     rotation = _series_terms(theta_grid, grid, TERM_FLOOR)
-    k, cos_, sin_, const = _series_terms(_euler_angles(theta_grid, I, grid), grid, TERM_FLOOR)
+    k, cos_, sin_, const = _series_terms(euler_angles(theta_grid, I, grid), grid, TERM_FLOOR)
     rho, sigma, tau = (np.stack([cos_[:, j], sin_[:, j]], axis=1) for j in range(3))
     amp = np.maximum(pole_amplitude(rho, sigma), np.hypot(tau[:, 0], tau[:, 1]))
     order = np.argsort(-amp, kind="stable")
     return PhysicalLibrations(k[order], rho[order], sigma[order], tau[order], const, I,
                               tuple(float(x) for x in moments), sun, grid, model, steps, rotation, offset)
-
-
-@dataclass(frozen=True)
-class FreeModes:
-    """The free librations of the linearised system about the Cassini state (periods in days): the Floquet
-    exponents of the F-chain operator, folded into (−Ḟ/2, Ḟ/2]."""
-
-    longitude_days: float       # the libration in longitude (τ)
-    latitude_days: float        # the free libration in latitude: the pole about the Cassini pole, in the node's frame
-    wobble_days: float          # the free wobble, in the body (R) frame
-
-
-def _free_modes(grid: tuple, sun: bool, I: float, mom: np.ndarray) -> FreeModes:
-    """θ = e^{iλt} Σ_m c_m e^{imF}: det[T0 + i T1 diag(λ + mḞ) − diag((λ + mḞ)²) ⊗ diag(A, B, C)] = 0, a quadratic
-    eigenvalue problem in λ, linearised to twice its size. Each mode appears once per shift λ + jḞ the truncated
-    chain holds; the one kept is that whose eigenvector has most weight at m = 0 (the longitude mode and the
-    wobble) or m = ±1 (the latitude mode: the pole circling the Cassini pole at nearly Ḟ in the body)."""
-    nf = grid[2]
-    f, m0, m1 = torus_fields(grid, sun, I, mom)
-    ms, T0, T1 = _chain_operator(m0.mean(axis=(2, 3, 5, 6)), m1, mom, nf)
-    fdot = delaunay_rates(0.0)[2]
-    d = np.repeat(ms * fdot, 3)
-    idiag = np.tile(mom, ms.size)
-    size = d.size
-    # Q(λ) = −I λ² + (i T1 − 2 I D) λ + (T0 + i T1 D − I D²); z = (c, λc): λ z = [[0, 1], [−Q2⁻¹Q0, −Q2⁻¹Q1]] z
-    q2 = -idiag
-    q1 = 1j * T1 - np.diag(2.0 * idiag * d)
-    q0 = T0 + 1j * T1 * d[None, :] - np.diag(idiag * d * d)
-    comp = np.zeros((2 * size, 2 * size), dtype=complex)
-    comp[:size, size:] = np.eye(size)
-    comp[size:, :size] = -q0 / q2[:, None]
-    comp[size:, size:] = -q1 / q2[:, None]
-    lam, vec = np.linalg.eig(comp)
-    vec = vec[:size]
-    weight = np.abs(vec.reshape(ms.size, 3, -1)) ** 2
-    weight = weight / weight.sum(axis=(0, 1), keepdims=True)
-    centre = ms.size // 2
-    ok = (np.abs(lam.imag) < 1e-9 * fdot) & (lam.real > 0) & (lam.real <= 0.5 * fdot)
-    at0 = weight[centre].sum(axis=0)
-    at1 = weight[centre - 1].sum(axis=0) + weight[centre + 1].sum(axis=0)
-    tau_share = weight[:, 2].sum(axis=0)
-    cand = np.nonzero(ok)[0]
-    lon = cand[np.argmax(tau_share[cand] * at0[cand])]
-    pole = cand[tau_share[cand] < 0.5]
-    wob = pole[np.argmax(at0[pole])]
-    lat = pole[np.argmax(at1[pole])]
-    period = lambda i: 2.0 * math.pi / float(lam[i].real)  # noqa: E731
-    return FreeModes(period(lon), period(lat), period(wob))
-
-
-def free_modes(moments=None, *, sun: bool = True, grid: tuple = DEFAULT_GRID) -> FreeModes:
-    """The free libration periods about the series' own Cassini state (:class:`FreeModes`)."""
-    series = moon_physical_librations(moments, sun=sun, grid=grid, model="constant")
-    return _free_modes(series.grid, series.sun, series.equator_inclination, _normalised(series.moments))
 
 
 def moon_physical_librations(moments=None, *, sun: bool = True, grid: tuple = DEFAULT_GRID, model: str = "full",
@@ -604,22 +407,3 @@ def moon_physical_librations(moments=None, *, sun: bool = True, grid: tuple = DE
             raise InvalidInputError("offset", f"three small angles (rad, |θ| < 0.01), got {offset!r}")
     return _build(tuple(float(x) for x in np.asarray(moments, dtype=float).reshape(-1)), bool(sun), grid, model,
                   None if equator_inclination is None else float(equator_inclination), offset)
-
-
-def reference_frame(jd_tdb, equator_inclination: float, node=None) -> np.ndarray:
-    """R = Rz(Ω + π) Rx(I) Rz(F) (..., 3, 3): the Cassini state's uniformly turning frame (its columns: x toward
-    the mean Earth, z the Cassini pole), from the mean ecliptic and equinox of date. Ω and F are the Delaunay
-    arguments (IERS 2010 eq. 5.43); ``node`` replaces Ω."""
-    args = delaunay_arguments(np.asarray(jd_tdb, dtype=float))
-    om = args[..., 4] if node is None else np.asarray(node, dtype=float)
-    F = args[..., 2]
-    a, ci, si = om + math.pi, math.cos(equator_inclination), math.sin(equator_inclination)
-    ca, sa, cf, sf = np.cos(a), np.sin(a), np.cos(F), np.sin(F)
-    # Rz(a) Rx(I) Rz(F), written out
-    return np.stack([
-        np.stack([ca * cf - sa * ci * sf, -ca * sf - sa * ci * cf, sa * si], axis=-1),
-        np.stack([sa * cf + ca * ci * sf, -sa * sf + ca * ci * cf, -ca * si], axis=-1),
-        np.stack([si * sf, si * cf, np.full(np.shape(F), ci)], axis=-1)], axis=-2)
-
-
-

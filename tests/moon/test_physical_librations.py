@@ -18,8 +18,10 @@ from scipy.interpolate import CubicSpline
 
 from ephem.orbit import lunar
 from ephem.moon import physical_librations as P
+from ephem.moon.libration_angles import reference_frame
 from ephem.moon.libration_forcing import perturber_directions
 from ephem.moon.libration_frames import GENERAL_PRECESSION_RATE
+from ephem.moon.libration_modes import free_modes
 from ephem.base.constants import ARCSEC, J2000_JD
 from ephem.base.errors import InvalidInputError
 from ephem.orbit.lunar import delaunay_arguments, delaunay_rates, moon_position, sun_position
@@ -122,7 +124,7 @@ def _euler_residual(t: float, theta_of_t, I: float, moments, h: float = 2e-2) ->
         a = np.linalg.norm(th)
         k = np.array([[0, -th[2], th[1]], [th[2], 0, -th[0]], [-th[1], th[0], 0]])
         q = np.eye(3) if a == 0 else np.eye(3) + math.sin(a) / a * k + (1 - math.cos(a)) / a**2 * k @ k
-        return P.reference_frame(tt, I) @ q
+        return reference_frame(tt, I) @ q
 
     def omega(tt):
         db = (-attitude(tt + 2 * h) + 8 * attitude(tt + h) - 8 * attitude(tt - h) + attitude(tt - 2 * h)) / (12 * h)
@@ -418,7 +420,7 @@ def test_calibration_reproduces_its_inputs(effective):
     8824 d against 8806.9 d: 4 d from the same β, the rest the real Moon's fluid core (C_f/C ~ 7e-4 shifts the
     pole's modes by ~0.1 %): 0.3 % allowed."""
     assert math.degrees(effective.equator_inclination) == pytest.approx(I_OBSERVED, abs=1e-6)
-    free = P.free_modes(P.EFFECTIVE_MOMENTS)
+    free = free_modes(P.EFFECTIVE_MOMENTS)
     assert free.longitude_days == pytest.approx(T_LONGITUDE, abs=0.05)
     assert abs(free.wobble_days - 27262.99) < 60.0
     assert free.latitude_days == pytest.approx(8806.9, rel=3e-3)
@@ -493,7 +495,7 @@ def test_pole_attitude_and_angles_agree(catalogue):
         a = np.linalg.norm(theta[i])
         k = np.array([[0, -theta[i, 2], theta[i, 1]], [theta[i, 2], 0, -theta[i, 0]], [-theta[i, 1], theta[i, 0], 0]])
         q = np.eye(3) + math.sin(a) / a * k + (1 - math.cos(a)) / a**2 * k @ k
-        assert np.abs(P.reference_frame(jd[i], I) @ q - att[i]).max() / ARCSEC < 1e-3
+        assert np.abs(reference_frame(jd[i], I) @ q - att[i]).max() / ARCSEC < 1e-3
     h = 0.05
     d = (-catalogue.attitude(jd + 2 * h) + 8 * catalogue.attitude(jd + h) - 8 * catalogue.attitude(jd - h)
          + catalogue.attitude(jd - 2 * h)) / (12 * h)
