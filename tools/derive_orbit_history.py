@@ -187,7 +187,7 @@ def assemble(work: Path) -> None:
         'frame = "mean ecliptic and equinox J2000 (erfa.ecm06 at J2000, ephem.orbit.geometry.icrf_to_ecliptic_matrix)"',
         'massive_bodies = "Sun and the barycentres of Mercury..Neptune (Earth: Earth-Moon barycentre) from DE421 '
         'at J2000.0 TDB (Folkner, Williams & Boggs 2009) via skyfield + skyfield-data; GMs DE421 header '
-        '(ephem.orbit.de421.GM_DE421, GM_SUN_DE421); moved to the centre of mass"',
+        '(ephem.orbit.de421_header.GM_DE421, GM_SUN_DE421); moved to the centre of mass"',
         'test_particles = "Ceres, Vesta, Eros, Steins, Itokawa: catalogue \'current\' osculating heliocentric '
         'elements (ecliptic J2000, own epochs), placed among the DE421 planets of their epoch and carried to '
         'J2000.0 with IAS15; massless; plus one clone each, 1 km further from the Sun"',

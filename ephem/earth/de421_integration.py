@@ -13,7 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..base.constants import ARCSEC, J2000_JD
-from ..orbit.de421 import GM_DE421, GM_SUN_DE421, barycentric, check_span
+from ..orbit.de421 import barycentric, check_span
+from ..orbit.de421_header import GM_DE421, GM_SUN_DE421
 from ..orbit.geometry import icrf_to_ecliptic_matrix
 from ..orbit.lunar import obliquity_arcsec
 from .lunisolar import PERTURBERS, earth_spin_rate, resolve_hd

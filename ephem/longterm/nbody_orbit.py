@@ -11,8 +11,8 @@ shared by the tool and the library):
 * the Sun and the barycentres of the eight planetary systems (the Earth–Moon barycentre, EMB, for the
   Earth) at J2000.0 TDB from DE421 (Folkner, Williams & Boggs 2009, IPN PR 42-178) through skyfield and
   skyfield-data (:func:`ephem.orbit.de421.barycentric`, offline), rotated to the mean ecliptic and equinox
-  J2000 (:func:`ephem.orbit.geometry.icrf_to_ecliptic_matrix`); GMs DE421's (:data:`ephem.orbit.de421.GM_DE421`,
-  :data:`~ephem.orbit.de421.GM_SUN_DE421`); units au, day, solar mass, G = GM_SUN_DE421 (au^3/day^2);
+  J2000 (:func:`ephem.orbit.geometry.icrf_to_ecliptic_matrix`); GMs DE421's (:data:`ephem.orbit.de421_header.GM_DE421`,
+  :data:`~ephem.orbit.de421_header.GM_SUN_DE421`); units au, day, solar mass, G = GM_SUN_DE421 (au^3/day^2);
   moved to the centre of mass. No general relativity, no Moon as a separate body, no asteroid masses,
   no Pluto: see the module's horizon note.
 * asteroids as massless test particles (``sim.N_active``). Their catalogue elements (osculating,
@@ -56,7 +56,8 @@ from ..bodies.catalogue import Orbit, load_catalogue
 from ..base.paths import data_dir
 from ..base.constants import J2000_JD, JULIAN_YEAR_DAYS
 from ..base.errors import InvalidInputError, NotApplicableError
-from ..orbit.de421 import GM_DE421, GM_SUN_DE421, barycentric
+from ..orbit.de421 import barycentric
+from ..orbit.de421_header import GM_DE421, GM_SUN_DE421
 from ..orbit.geometry import icrf_to_ecliptic_matrix
 
 #: the massive bodies of the run: (name, NAIF id of the DE421 barycentre, GM keys in GM_DE421 (none: the Sun))

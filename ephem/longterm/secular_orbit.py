@@ -21,7 +21,7 @@ of B (rad/day; one f is zero: the invariable plane) and their eigenvectors give
 
 the amplitudes and phases fixed by the planets' elements at J2000. Those come from the mean planetary theory of
 Simon et al. (1994) (``erfa.plan94``: Mercury to Neptune, the Earth-Moon barycentre for the Earth); the masses
-are DE421's (:data:`ephem.orbit.de421.GM_DE421`, the planetary systems). Each mode is named after the planet that
+are DE421's (:data:`ephem.orbit.de421_header.GM_DE421`, the planetary systems). Each mode is named after the planet that
 carries the largest share of its angular momentum (g_1 … g_8, s_1 … s_8; s_5 = 0 is the invariable plane's).
 
 A massless body of semi-major axis a in that field (M&D §7.7) has the free frequencies
@@ -52,7 +52,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..base.constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS
-from ..orbit.de421 import GM_DE421, GM_SUN_DE421
+from ..orbit.de421_header import GM_DE421, GM_SUN_DE421
 from ..base.errors import NotApplicableError
 from ..orbit.geometry import icrf_to_ecliptic_matrix
 

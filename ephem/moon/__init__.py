@@ -1,13 +1,14 @@
 """The Moon's family (and synchronous rotators): the Cassini state, the physical librations and the rigid integration.
 
 - :mod:`ephem.moon.cassini`: The Cassini state of a synchronous rotator: the mean pole of the Moon (Cassini's laws).
-- :mod:`ephem.moon.family`: A synchronous rotator (the Moon) as the library serves it: its pole from the Cassini state
+- :mod:`ephem.moon.family`: The Moon's family behind the common interface: its models' estimates, results, history and spectrum.
 - :mod:`ephem.moon.libration_frames`: The Moon's frames in small rotations: the general precession that turns the frame of date, [v×] and exp([θ×]).
 - :mod:`ephem.moon.libration_forcing`: The torque on the Moon's turning reference frame, over the torus of the Delaunay arguments.
 - :mod:`ephem.moon.libration_angles`: The Moon's libration angles: the Cassini state's turning frame R, and Eckhardt's ρ, σ, τ from the rotation θ.
 - :mod:`ephem.moon.libration_chains`: The Moon's physical librations solved linearly, chain by chain: the harmonic balance on the torus of the arguments.
 - :mod:`ephem.moon.libration_modes`: The Moon's free librations about its Cassini state: the periods of the linearised system's free modes.
 - :mod:`ephem.moon.libration_series`: The Moon's physical librations as a series: its terms, their evaluation, and the shipped series on disk.
+- :mod:`ephem.moon.model`: A synchronous rotator's pole from its Cassini state: the model the family serves, and its integrated track.
 - :mod:`ephem.moon.physical_librations`: The Moon's forced physical librations about its Cassini state: the pole and the prime meridian.
 - :mod:`ephem.moon.rigid_integration`: The full rigid synchronous satellite, integrated: the independent check of the Cassini-state theory.
 

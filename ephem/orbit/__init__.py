@@ -1,6 +1,7 @@
 """The orbit and its geometry: Kepler's equation, frames, Hansen coefficients, harmonic sums, relativity, the DE421 ephemeris and the analytic Moon and Sun (the Delaunay arguments), shared by every family.
 
 - :mod:`ephem.orbit.de421`: The Sun's position seen from a body, from the JPL ephemeris DE421 (offline).
+- :mod:`ephem.orbit.de421_header`: The constants of DE421's header: its au, the speed of light, the GMs of the Sun, the planets and the Moon.
 - :mod:`ephem.orbit.geometry`: Spin-pole and orbit geometry: obliquity, the body's equinox, the angle to pericentre.
 - :mod:`ephem.orbit.hansen`: Hansen (Cayley) coefficients of the three functions that drive the nutation.
 - :mod:`ephem.orbit.harmonics`: Harmonic sums Σ_k S_k sin kx + C_k cos kx, k = 1..K, at many angles x: the engine the theories' series run on.

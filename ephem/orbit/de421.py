@@ -36,44 +36,13 @@ from operator import mul
 import numpy as np
 
 from ..base.budget import checkpoint
-from ..base.constants import AU_M, DAY_S
+from ..base.constants import AU_M
 from ..base.errors import NotApplicableError
+from .de421_header import C_AU_PER_DAY, GM_DE421, GM_SUN_DE421, PERTURBERS
 from .geometry import icrf_to_ecliptic_matrix
 from .kepler import orbit_basis, solve_kepler_scalar
 
 # ----------------------------------------------------------------- constants
-
-#: DE421 astronomical unit, km (DE421 header), and the ratio to the IAU 2012 au.
-_AU_DE421_KM = 149_597_870.699_626_2
-_DE_AU = _AU_DE421_KM * 1e3 / AU_M
-#: Speed of light, au/day.
-C_AU_PER_DAY = 299_792_458.0 * DAY_S / AU_M
-#: DE421 Earth/Moon mass ratio (header constant EMRAT).
-_EMRAT = 81.300_569_069_915_3
-
-#: GM of the Sun and of the perturbers (NAIF id: GM), DE421 header constants
-#: GM1..GM9, GMB and EMRAT in au_DE421^3/day^2 (Folkner et al. 2009), converted to
-#: IAU au^3/day^2. Pluto's is DE405's (its pull on an asteroid is ~1e-13 of the
-#: Sun's). The Sun's is k^2 (Gaussian constant): DE421's GMS, and the value MPC
-#: and JPL elements are computed with (the IAU 2015 nominal GM_SUN differs by
-#: 3e-11). Barycentres 1, 2, 4-9 carry the planet plus its satellites. Nothing
-#: here resolves these values from DE405's: the Mars check gives 6.2e-7 au with
-#: either set after a century.
-GM_SUN_DE421 = 0.01720209895**2 / _DE_AU**3
-_GMB = 0.899_701_152_970_881_167e-9
-GM_DE421 = {k: v / _DE_AU**3 for k, v in {
-    1: 0.491_254_745_145_081_187e-10,    # Mercury
-    2: 0.724_345_233_302_178_764e-9,     # Venus
-    399: _GMB * _EMRAT / (1.0 + _EMRAT),  # Earth
-    301: _GMB / (1.0 + _EMRAT),          # Moon
-    4: 0.954_954_891_857_520_080e-10,    # Mars system
-    5: 0.282_534_585_557_186_464e-6,     # Jupiter system
-    6: 0.845_972_727_826_697_794e-7,     # Saturn system
-    7: 0.129_202_491_678_196_939e-7,     # Uranus system
-    8: 0.152_435_890_078_427_628e-7,     # Neptune system
-    9: 0.218_869_976_542_596_968e-11,    # Pluto system (DE405 value; negligible here)
-}.items()}
-PERTURBERS = tuple(GM_DE421)
 
 #: Relative accuracy a fitted path must reach (checked, see SunPath.fit_error_au).
 FIT_TOLERANCE = 1e-11

@@ -16,7 +16,7 @@ import numpy as np
 from ..base.constants import ARCSEC, AU_M, J2000_JD
 from ..base.errors import InvalidInputError
 from ..base.paths import data_dir
-from .de421 import GM_DE421, GM_SUN_DE421
+from .de421_header import GM_DE421, GM_SUN_DE421
 from .kepler import solve_kepler
 
 DAYS_PER_CENTURY = 36525.0

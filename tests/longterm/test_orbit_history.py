@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from ephem.orbit import de421 as E
+from ephem.orbit import de421_header as H
 from ephem.bodies.catalogue import Orbit, get_body
 from ephem.base.constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS
 from ephem.base.errors import InvalidInputError, NotApplicableError
@@ -84,7 +85,7 @@ def test_the_planets_start_from_de421(name, naif):
     r, v = ECLIPTIC @ r[0], ECLIPTIC @ v[0]
     n = np.cross(r, v)
     n /= np.linalg.norm(n)
-    gm = E.GM_SUN_DE421 + (E.GM_DE421[399] + E.GM_DE421[301] if naif == 3 else E.GM_DE421[naif])
+    gm = H.GM_SUN_DE421 + (H.GM_DE421[399] + H.GM_DE421[301] if naif == 3 else H.GM_DE421[naif])
     a = 1.0 / (2.0 / np.linalg.norm(r) - v @ v / gm)
     i0 = int(np.argmin(np.abs(h.years)))
     assert abs(h.years[i0]) < 1e-9

@@ -17,7 +17,7 @@ from ephem.orbit import de421 as E
 from ephem.longterm import secular_orbit as S
 from ephem.bodies.catalogue import Orbit, get_body
 from ephem.base.constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS
-from ephem.orbit.de421 import GM_SUN_DE421
+from ephem.orbit.de421_header import GM_SUN_DE421
 from ephem.base.errors import NotApplicableError
 from ephem.orbit.geometry import icrf_to_ecliptic_matrix
 from ephem.longterm.secular_orbit import laplace_coefficient, laplace_lagrange, secular_matrix

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from ephem.orbit import de421 as E
+from ephem.orbit import de421_header as H
 from ephem.earth import lunisolar as L
 from ephem.base.constants import ARCSEC
 from ephem.bodies.catalogue import get_body
@@ -45,8 +46,8 @@ def test_integrator_started_on_de421_mars_follows_de421_mars_for_a_century():
     # the planet's own mass dropped ~1e-4 au: the bound catches both.
     r0, v0 = E.heliocentric(4, Y1950, velocity=True)
     states = E.integrate_heliocentric(r0[0], v0[0], Y1950, Y1950, Y2050,
-                                      perturbers=tuple(p for p in E.PERTURBERS if p != 4),
-                                      gm_self=E.GM_DE421[4])
+                                      perturbers=tuple(p for p in H.PERTURBERS if p != 4),
+                                      gm_self=H.GM_DE421[4])
     jd = np.linspace(Y1950, Y2050, 1001)
     err = np.linalg.norm(states(jd)[:, :3] - E.heliocentric(4, jd), axis=1)
     assert err[:101].max() < 1e-7     # first 10 years

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from ephem.orbit import de421 as E
+from ephem.orbit import de421_header as H
 from ephem.bodies.catalogue import get_body
 from ephem.orbit.geometry import icrf_to_ecliptic_matrix
 
@@ -33,7 +34,7 @@ def test_ceres_integrated_back_twelve_years_meets_the_mpc_2013_elements():
     rot = icrf_to_ecliptic_matrix()
     r = -rot @ path.position(old.epoch_jd_tdb)[0]
     v = -rot @ path.velocity(old.epoch_jd_tdb)[0]
-    i, node, m = _ecliptic_elements(r, v, E.GM_SUN_DE421)
+    i, node, m = _ecliptic_elements(r, v, H.GM_SUN_DE421)
     assert i == pytest.approx(old.i_deg, abs=2e-5)                                   # measured 7e-6
     assert (node - old.node_deg) * math.sin(math.radians(i)) == pytest.approx(0, abs=2e-5)  # 5e-6
     assert m == pytest.approx(old.mean_anomaly_deg, abs=5e-5)                        # measured 1e-5
