@@ -37,7 +37,7 @@ from ..forced.precession_nutation import MIN_SPIN_ORBIT_RATIO
 from ..base.budget import prepaid
 from ..base.errors import EphemError, InvalidInputError
 from ..longterm.history import MAX_HISTORY_SAMPLES, history_grid, spin_axis_history
-from ..families import theory_for
+from ..sun.family import SunLadder
 from ..theory import cost
 
 #: The input columns: name -> (unit, meaning). Required: name, the orbit, the pole, the period and one of the
@@ -412,7 +412,9 @@ def _histories(columns: Mapping, x: dict, ok: np.ndarray, spec: HistorySpec) -> 
                         rotation_period_hours=x["rotation_period_hours"][j],
                         dynamical_ellipticity=float(x["_hd"][j]))
             with prepaid():          # batch_cost charged every history before the first
-                h = spin_axis_history(body, theory_for(body, body.perturbers), spec.start_year, spec.stop_year,
+                # the rows are fast rotators about the Sun (omega/n >= MIN_SPIN_ORBIT_RATIO, checked above): the
+                # single-perturber family is the one ephem.families.theory_for gives them
+                h = spin_axis_history(body, SunLadder(body, body.perturbers), spec.start_year, spec.stop_year,
                                       spec.step_years, orbit_model="secular")
         except EphemError as exc:
             reason[j] = f"history: {exc}"

@@ -29,7 +29,7 @@ ALLOWED = {
     "earth": {"base", "orbit", "bodies", "rotation", "forced", "theory", "longterm"},
     "moon": {"base", "orbit", "bodies", "rotation", "forced", "theory", "longterm"},
     "families": {"base", "bodies", "theory", "longterm", "sun", "earth", "moon"},
-    "batch": {"base", "orbit", "bodies", "forced", "theory", "longterm", "families"},
+    "batch": {"base", "orbit", "bodies", "forced", "theory", "longterm", "sun"},
     "answers": {"base", "orbit", "bodies", "rotation", "forced", "theory", "longterm", "families", "batch"},
     "exports": {"base", "orbit", "bodies", "rotation", "theory", "longterm", "families", "answers"},
     "api": {"base", "orbit", "bodies", "rotation", "forced", "theory", "longterm", "sun", "earth", "moon", "families",
