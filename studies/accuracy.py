@@ -52,8 +52,8 @@ from ephem.base.errors import EphemError
 from ephem.orbit.hansen import LAPLACE_LIMIT
 from ephem.forced.precession_nutation import cached_model
 from ephem.sun.ladder import Ladder
-from ephem.sun.tables import truncation_bound
-from ephem.theory.interface import Estimate
+from ephem.sun.bounds import truncation_bound
+from ephem.theory.results import Estimate
 from ephem.theory.tracks import pole_vectors
 from ephem.forced.integration import angular_separation
 

@@ -28,7 +28,8 @@ import numpy as np
 from ephem.bodies.catalogue import Body, Orbit, Pole, get_body
 from ephem.base.constants import JULIAN_YEAR_DAYS, MAS
 from ephem.orbit.hansen import LAPLACE_LIMIT
-from ephem.theory.tracks import ROUNDING, pole_vectors
+from ephem.base.constants import ROUNDING
+from ephem.theory.tracks import pole_vectors
 from ephem.sun.ladder import Ladder
 from ephem.forced.integration import angular_separation
 

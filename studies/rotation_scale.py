@@ -27,7 +27,7 @@ from ephem.forced import rotation_scale as rs
 from ephem.bodies.catalogue import Body, Pole, get_body
 from ephem.base.constants import MAS
 from ephem.orbit.geometry import lon_lat
-from ephem.theory.tracks import ROUNDING
+from ephem.base.constants import ROUNDING
 from ephem.forced.precession_nutation import cached_model
 from ephem.forced.integration import angular_separation, integrate_spin_axis
 from ephem.forced.rigid_body import integrate_rigid_body, study_epochs

@@ -30,18 +30,19 @@ import math
 from functools import lru_cache
 import numpy as np
 from ..bodies.catalogue import Body
-from ..base.constants import ARCSEC, J2000_JD, MAS
+from ..base.constants import ARCSEC, J2000_JD, MAS, ROUNDING
 from ..base.constants import JULIAN_CENTURY_DAYS as DAYS_PER_CENTURY
 from ..base.errors import NotApplicableError
 from ..rotation.free_motion import add_free_wobble, free_wobble_bound, wobble_model_bound
 from ..orbit.de421 import tdb_date
 from ..forced.kinoshita import pole_displacement_sum, pole_displacements
-from ..theory.tracks import ROUNDING, pole_vectors, with_free_wobble
+from ..theory.tracks import pole_vectors, with_free_wobble
 from ..orbit.lunar import lunisolar_data
 from .lunisolar import earth_lunisolar, term_amplitudes
 from ..forced.precession_nutation import Track, cached_model
 from ..forced.physics_errors import rotation_averaging_bound
-from ..theory.interface import Estimate, cheapest_within
+from ..theory.interface import cheapest_within
+from ..theory.results import Estimate
 from ..orbit.lunar import MIN_CUT_MAS
 from .model import LunisolarEarth, TRACK_CUT_MAS, lunisolar_earth
 

@@ -27,8 +27,8 @@ from ..forced.describe import model_info
 from ..orbit.lunar import delaunay_arguments, delaunay_rates, lunisolar_data
 from ..forced.precession_nutation import Track, cached_model, model_for
 from ..longterm.averaged_spin import SpinConstants, spin_constants
-from ..theory.interface import Estimate, SpectrumExport, SpinAxisTheory, Spectrum
-from ..theory.results import (COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, NutationResult, NutationTerm,
+from ..theory.interface import SpectrumExport, SpinAxisTheory, Spectrum
+from ..theory.results import (COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate, NutationResult, NutationTerm,
                               PrecessionResult, RateSigmas, selection)
 from ..forced.catalogue_sigmas import dynamical_ellipticity_sigma, no_uncertainty_reasons
 from ..forced.uncertainty import SCALAR_KEYS

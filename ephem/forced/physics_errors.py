@@ -50,7 +50,7 @@ from .kinoshita import eccentricity_factor, pole_displacements
 from .precession_nutation import PrecessionNutation, cached_model
 from .rigid_numerics import body_moments
 from .rotation_scale import error_terms
-from ..orbit.de421 import DE421_BODIES, de421_span, sun_path, tdb_date
+from ..orbit.de421 import sun_path
 from .integration import integrate_spin_axis
 
 #: The gap is sampled at t0 + k days (k whole): the bins' ends are samples.
@@ -215,7 +215,7 @@ def measure_pole_gap(body: Body, start: float, stop: float, starts, rtol: float,
 
     Each bin adds both integrations' error (``integration_error`` twice; the ladder's is 1e-12 rad and
     up) at its outer end. The real orbit's own error is not added. The real-orbit rung's ``ephemeris`` term
-    (:func:`ephemeris_bound`: 1e-10 rad, 0.02 mas, plus as much per century) is below the asteroids' gap
+    (:func:`ephem.sun.rungs.ephemeris_bound`: 1e-10 rad, 0.02 mas, plus as much per century) is below the asteroids' gap
     from the first day (0.05-2.6 mas one day from t0) and 100 times below it beyond 2-50 days (Itokawa
     from the start). The gap of the Earth and Mars, whose real orbit is DE421's own (fitted to 1e-11),
     stays under that floor for the first 5 months (0.003 mas after a day, at most 0.02 mas to 151 days)
@@ -432,35 +432,3 @@ def rotation_averaging_bound(body: Body, model: PrecessionNutation, jd_tdb, axis
     moments = body_moments(body, model)
     which = "figure" if axis == "figure" else "momentum"
     return max(sum(error_terms(model, moments, s, which, modelled, pole).values()) for s in sides)
-
-
-def real_orbit_unavailable(body: Body, jd_tdb: np.ndarray) -> str | None:
-    """Why rung 6 cannot serve these epochs, or None if it can."""
-    if body.orbit.center != "Sun":
-        return (f"the orbit is centred on the {body.orbit.center}: the real-orbit rung follows heliocentric "
-                "orbits only")
-    lo, hi = de421_span()
-    t = np.asarray(jd_tdb, dtype=float)
-    need = [body.pole.epoch_jd_tdb] + ([float(t.min()), float(t.max())] if t.size else [])
-    if body.naif_id not in DE421_BODIES:
-        need.append(body.orbit.epoch_jd_tdb)
-    if min(need) < lo or max(need) > hi:
-        return (f"the real orbit comes from DE421, which spans {tdb_date(lo)} to {tdb_date(hi)} TDB; these epochs "
-                f"(with the pole epoch{'' if body.naif_id in DE421_BODIES else ' and the elements epoch'}) "
-                f"need JD {min(need):.1f} to {max(need):.1f}")
-    return None
-
-
-def ephemeris_bound(body: Body, model: PrecessionNutation, span_days: float) -> float:
-    """Error of rung 6's orbit: the fit (< 1e-11 relative) and the integrated asteroid orbit (6e-7 au after
-    100 years for Mars against DE421) move the Sun's direction by < 1e-9 rad per century; through the
-    nutation's phase sensitivity and the precession that is far below a micro-arcsecond, so a floor of
-    1e-10 rad per century of span stands for it."""
-    return 1e-10 * (1.0 + abs(span_days) / 36525.0)
-
-
-def sun_path_for(body: Body, jd_tdb: np.ndarray):
-    """The real Sun path covering the epochs and the pole epoch (where the integration starts)."""
-    t = np.asarray(jd_tdb, dtype=float)
-    t0 = body.pole.epoch_jd_tdb
-    return sun_path(body, min(t0, float(t.min())), max(t0, float(t.max())))

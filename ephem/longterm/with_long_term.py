@@ -20,7 +20,8 @@ from ..base.errors import NotApplicableError
 from .history import DESCRIPTIONS as ORBIT_DESCRIPTIONS
 from .history import long_term_run, long_term_cost
 from ..forced.precession_nutation import Track
-from ..theory.interface import Estimate, SpectrumExport, SpinAxisTheory
+from ..theory.interface import SpectrumExport, SpinAxisTheory
+from ..theory.results import Estimate
 
 NAME = "long_term"
 DESCRIPTION = ("the spin averaged over the rotation and the orbit, integrated (DOP853) along the long-term orbit "

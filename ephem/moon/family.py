@@ -40,20 +40,19 @@ from ..theory import cost
 from ..base.budget import Cost, charge
 from .cassini import SYNCHRONOUS_TOLERANCE, free_librations, moment_ratios
 from ..bodies.catalogue import Body
-from ..base.constants import J2000_JD, JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS, MAS
+from ..base.constants import J2000_JD, JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS, MAS, ROUNDING
 from ..base.errors import InvalidInputError, NotApplicableError
 from ..orbit.lunar import MIN_CUT_MAS, check_cut
 from ..orbit.geometry import carry
 from ..orbit.kepler import mean_motion_rad_per_day
 from ..forced.precession_nutation import Track
-from ..theory.interface import Estimate, SpinAxisTheory, Spectrum, SpectrumExport
-from ..theory.results import (COVERS_ALL_TERMS, COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, CassiniSummary,
+from ..theory.interface import SpinAxisTheory, Spectrum, SpectrumExport
+from ..theory.results import (COVERS_ALL_TERMS, COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, CassiniSummary, Estimate,
                               NutationResult, NutationTerm, PrecessionResult, RateSigmas, selection)
 from ..forced.catalogue_sigmas import dynamical_ellipticity_sigma, moments_function_sigma, no_uncertainty_reasons
 from ..forced.uncertainty import SCALAR_KEYS
 from ..longterm.averaged_spin import history_arrays
 from ..orbit.lunar import delaunay_arguments, delaunay_rates
-from ..theory.tracks import ROUNDING
 from ..base.units import in_unit
 from .model import (CIRCLE_SIDEBANDS, INTEGRATION_ERROR, LIBRATION_CUT, PHYSICS_OMITTED, SynchronousModel, check_body,
                     ecliptic_lag, integrate_track, libration_series, moments_bound, series_built, synchronous_model)

@@ -1,9 +1,9 @@
 """The single-perturber family: the fidelity ladder of Kinoshita's theory under the orbit's centre.
 
-- :mod:`ephem.sun.tables`: the per-body tables over one orbit the error bounds read, and the truncation bound.
-- :mod:`ephem.sun.bounds`: the span-aware error bounds of the analytic rungs over given epochs.
+- :mod:`ephem.sun.bounds`: the span-aware error bounds of the analytic rungs over given epochs, and the per-body
+  tables over one orbit they read (with the truncation bound of an e-order).
 - :mod:`ephem.sun.rungs`: the rungs, one record each (text, assumptions, price, track, error terms), cheapest first;
-  the numerical rungs' error and reach.
+  the numerical rungs' error and reach, and the real orbit's (rung 6).
 - :mod:`ephem.sun.ladder`: the ladder of one body: estimates, choice by tolerance, price and tracks.
 - :mod:`ephem.sun.family`: the ladder behind the common interface of the theories (:class:`SunLadder`).
 - :mod:`ephem.sun.spectrum`: the track's frequencies for the SPICE kernel writer.

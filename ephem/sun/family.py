@@ -21,13 +21,13 @@ from ..longterm.averaged_spin import SpinConstants, spin_constants
 from ..orbit.hansen import LAPLACE_LIMIT
 from ..theory import cost
 from ..base.budget import Cost
-from ..theory.interface import Estimate, Spectrum, SpectrumExport, SpinAxisTheory
-from ..theory.results import (COVERS_TRUNCATION, NutationResult, NutationTerm, PrecessionResult, RateSigmas, Selection,
-                              selection)
+from ..theory.interface import Spectrum, SpectrumExport, SpinAxisTheory
+from ..theory.results import (COVERS_TRUNCATION, Estimate, NutationResult, NutationTerm, PrecessionResult, RateSigmas,
+                              Selection, selection)
+from .bounds import truncation_bound
 from .ladder import Ladder
 from .rungs import RUNG_NAMES, RUNGS, rung_named
 from .spectrum import mean_anomaly_spectrum, semi_amplitudes
-from .tables import truncation_bound
 
 def forced_model_info(m, b: Body) -> dict:
     """:func:`ephem.forced.describe.model_info` with what the exact or the truncated series (``m.order``) assumes."""

@@ -21,7 +21,7 @@ between its pole and the truth over the requested epochs, as a sum of named term
 The theory terms (the four above) are span-aware: every rung starts from the catalogue pole, so
 each is the largest excursion since the pole epoch of a periodic function of the mean anomaly
 over the orbit's part the epochs cover (a table over one orbit per body, no sum over the
-epochs, :mod:`ephem.sun.tables`), plus drifts growing with the time from the pole epoch
+epochs, :mod:`ephem.sun.bounds`), plus drifts growing with the time from the pole epoch
 (:mod:`ephem.sun.bounds`).
 * ``integration`` (rungs 5-6): the ODE tolerance;
 * ``orbit_motion`` (rungs 1-5): the fixed Keplerian orbit against the real one: for a catalogue
@@ -56,7 +56,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..base.budget import Cost
-from ..base.constants import ARCSEC
+from ..base.constants import ARCSEC, ROUNDING
 from ..base.errors import InvalidInputError
 from ..bodies.catalogue import Body
 from ..forced import rotation_scale
@@ -67,11 +67,11 @@ from ..forced.second_order import SecondOrderTheory
 from ..orbit.kepler import mean_motion_rad_per_day
 from ..rotation.free_motion import Wobble, add_free_wobble, free_wobble_bound, wobble_model_bound
 from ..theory import cost
-from ..theory.interface import Estimate, cheapest_within
-from ..theory.tracks import ROUNDING, check_axis, check_tolerance, check_wobble_axis, pole_vectors, with_free_wobble
-from .bounds import theory_terms
+from ..theory.interface import cheapest_within
+from ..theory.results import Estimate
+from ..theory.tracks import check_axis, check_tolerance, check_wobble_axis, pole_vectors, with_free_wobble
+from .bounds import MAX_LADDER_ORDER, Window, cached_tables, cached_theory, tables_built, theory_terms
 from .rungs import RUNGS, EstimateInputs, TrackPrice, epoch_span, rung_named
-from .tables import MAX_LADDER_ORDER, Window, cached_tables, cached_theory, tables_built
 
 
 @dataclass(frozen=True)

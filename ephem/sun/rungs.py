@@ -20,17 +20,17 @@ from typing import Callable
 
 import numpy as np
 
+from ..base.constants import ROUNDING
 from ..base.errors import InvalidInputError, NotApplicableError
 from ..bodies.catalogue import Body
 from ..forced.integration import integrate_spin_axis
 from ..forced.kinoshita import eccentricity_factor
-from ..forced.physics_errors import ephemeris_bound, real_orbit_unavailable, sun_path_for
 from ..forced.precession_nutation import PrecessionNutation, Track, cached_model
 from ..forced.second_order import SecondOrderTheory
+from ..orbit.de421 import DE421_BODIES, de421_span, sun_path, tdb_date
 from ..orbit.hansen import LAPLACE_LIMIT
 from ..theory import cost
-from ..theory.interface import Estimate
-from ..theory.tracks import ROUNDING
+from ..theory.results import Estimate
 
 
 #: Relative tolerance of the numerical rungs.
@@ -273,3 +273,37 @@ def rung_named(name: str, body: str | None = None) -> Rung:
     if name not in _BY_NAME:
         raise InvalidInputError("model", f"unknown rung {name!r}; one of {', '.join(RUNG_NAMES)}", body)
     return _BY_NAME[name]
+
+
+# ----------------------------------------------------------------------------- the real orbit (rung 6)
+
+def real_orbit_unavailable(body: Body, jd_tdb: np.ndarray) -> str | None:
+    """Why rung 6 cannot serve these epochs, or None if it can."""
+    if body.orbit.center != "Sun":
+        return (f"the orbit is centred on the {body.orbit.center}: the real-orbit rung follows heliocentric "
+                "orbits only")
+    lo, hi = de421_span()
+    t = np.asarray(jd_tdb, dtype=float)
+    need = [body.pole.epoch_jd_tdb] + ([float(t.min()), float(t.max())] if t.size else [])
+    if body.naif_id not in DE421_BODIES:
+        need.append(body.orbit.epoch_jd_tdb)
+    if min(need) < lo or max(need) > hi:
+        return (f"the real orbit comes from DE421, which spans {tdb_date(lo)} to {tdb_date(hi)} TDB; these epochs "
+                f"(with the pole epoch{'' if body.naif_id in DE421_BODIES else ' and the elements epoch'}) "
+                f"need JD {min(need):.1f} to {max(need):.1f}")
+    return None
+
+
+def ephemeris_bound(body: Body, model: PrecessionNutation, span_days: float) -> float:
+    """Error of rung 6's orbit: the fit (< 1e-11 relative) and the integrated asteroid orbit (6e-7 au after
+    100 years for Mars against DE421) move the Sun's direction by < 1e-9 rad per century; through the
+    nutation's phase sensitivity and the precession that is far below a micro-arcsecond, so a floor of
+    1e-10 rad per century of span stands for it."""
+    return 1e-10 * (1.0 + abs(span_days) / 36525.0)
+
+
+def sun_path_for(body: Body, jd_tdb: np.ndarray):
+    """The real Sun path covering the epochs and the pole epoch (where the integration starts)."""
+    t = np.asarray(jd_tdb, dtype=float)
+    t0 = body.pole.epoch_jd_tdb
+    return sun_path(body, min(t0, float(t.min())), max(t0, float(t.max())))

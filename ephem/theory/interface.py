@@ -35,38 +35,7 @@ from ..bodies.catalogue import Body
 from ..base.constants import JULIAN_CENTURY_DAYS, MAS
 from ..base.errors import NotApplicableError
 from ..forced.precession_nutation import Track
-from .results import NutationResult, PrecessionResult
-
-#: Error terms of the physics left out rather than of a theory's approximations (the orbit's motion, the
-#: rotation, the free wobble): what :attr:`Estimate.theory_total` leaves out
-PHYSICS_TERMS = ("orbit_motion", "rotation_averaging", "free_wobble", "free_wobble_model")
-
-
-@dataclass(frozen=True)
-class Estimate:
-    """Estimated pole error of one model (radians), by named term."""
-
-    rung: str
-    order: int | None
-    terms: dict = field(compare=False)
-    available: bool = True
-    why_not: str | None = None
-    #: terms that could not be estimated (a user's body: its orbit's motion was never measured)
-    unestimated: tuple = ()
-    #: the track adds the free wobble of the figure axis (:func:`ephem.rotation.free_motion.add_free_wobble`)
-    free_wobble: bool = False
-    #: the track adds the rotation-scale terms (:mod:`ephem.forced.rotation_scale`): "oppolzer" or "all"; None: not
-    rotation_scale: str | None = None
-
-    @property
-    def total(self) -> float:
-        return float(sum(self.terms.values()))
-
-    @property
-    def theory_total(self) -> float:
-        """The estimate without the physics terms: the error against the numerical integration."""
-        return float(sum(v for k, v in self.terms.items() if k not in PHYSICS_TERMS))
-
+from .results import Estimate, NutationResult, PrecessionResult
 
 #: what to suggest when the largest term of the best estimate is a theory's own limit
 THEORY_LIMIT_HINTS = {

@@ -6,6 +6,7 @@ A family (:class:`~ephem.theory.interface.SpinAxisTheory`) returns these; one mo
 every time a JD TDB or a duration in days; a 1σ is in its value's unit, None where it is unknown (a σ of
 0 would claim a certainty no input has).
 
+- :class:`Estimate`: a model's estimated pole error over a request's epochs, by named term;
 - :class:`Selection`: which of a family's models answered, its estimated error and what that bounds, its cost;
 - :class:`PrecessionResult`: the mean obliquity, H_d, K and the precession rate with their 1σ
   (:class:`RateSigmas`), and for a synchronous satellite its :class:`CassiniSummary`;
@@ -16,7 +17,7 @@ selection) are the family's own words and travel as they are (``description``).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Mapping
 
 from ..bodies.catalogue import Body
@@ -34,6 +35,37 @@ COVERS_ALL_TERMS = ("nothing: every term of the series is served, nothing is tru
 COVERS_TRUNCATION = ("the truncation alone: the series served against the same first-order theory untruncated "
                      "(exact coefficients, every term); not the theory's own error, which a track's estimate "
                      "gives")
+
+
+#: Error terms of the physics left out rather than of a theory's approximations (the orbit's motion, the
+#: rotation, the free wobble): what :attr:`Estimate.theory_total` leaves out
+PHYSICS_TERMS = ("orbit_motion", "rotation_averaging", "free_wobble", "free_wobble_model")
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """Estimated pole error of one model (radians), by named term."""
+
+    rung: str
+    order: int | None
+    terms: dict = field(compare=False)
+    available: bool = True
+    why_not: str | None = None
+    #: terms that could not be estimated (a user's body: its orbit's motion was never measured)
+    unestimated: tuple = ()
+    #: the track adds the free wobble of the figure axis (:func:`ephem.rotation.free_motion.add_free_wobble`)
+    free_wobble: bool = False
+    #: the track adds the rotation-scale terms (:mod:`ephem.forced.rotation_scale`): "oppolzer" or "all"; None: not
+    rotation_scale: str | None = None
+
+    @property
+    def total(self) -> float:
+        return float(sum(self.terms.values()))
+
+    @property
+    def theory_total(self) -> float:
+        """The estimate without the physics terms: the error against the numerical integration."""
+        return float(sum(v for k, v in self.terms.items() if k not in PHYSICS_TERMS))
 
 
 @dataclass(frozen=True)

@@ -1,4 +1,4 @@
-"""What every family's track shares: the poles it may follow, the rounding of its numbers, its pole vectors, the
+"""What every family's track shares: its pole vectors, the
 free wobble carried into its angles, and the checks of a request's axis, wobble and tolerance."""
 from __future__ import annotations
 
@@ -9,9 +9,6 @@ import numpy as np
 from ..base.constants import AXES
 from ..base.errors import InvalidInputError
 from ..forced.precession_nutation import PrecessionNutation, Track
-
-#: Rounding floor of any pole computed in double precision through a few rotations (radians, 0.2 µas).
-ROUNDING = 1e-12
 
 
 def pole_vectors(track: Track) -> np.ndarray:

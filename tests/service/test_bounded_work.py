@@ -191,7 +191,7 @@ def test_the_budget_is_charged_before_the_work_and_sums_the_parts():
 def test_the_predicted_cost_grows_with_what_drives_it():
     from ephem.sun.ladder import Ladder
 
-    from ephem.sun.tables import cached_tables
+    from ephem.sun.bounds import cached_tables
 
     ladder = Ladder(Body("x", Orbit(2.36, 0.3, 7.0, 0.0, 0.0, 0.0, 2451545.0), Pole(10.0, 20.0), 5.0,
                              dynamical_ellipticity=0.1))

@@ -16,7 +16,7 @@ from ephem.orbit.hansen import LAPLACE_LIMIT
 from ephem.forced.precession_nutation import cached_model
 from ephem.sun.ladder import Ladder
 from ephem.sun.rungs import RUNG_NAMES as RUNGS
-from ephem.sun.tables import truncation_bound
+from ephem.sun.bounds import truncation_bound
 from ephem.theory.tracks import pole_vectors
 from ephem.forced.integration import angular_separation
 from scenes import address_space_cap, synthetic_body

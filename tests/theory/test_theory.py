@@ -6,7 +6,8 @@ import pytest
 
 from ephem.bodies.catalogue import get_body
 from ephem.rotation.free_motion import make_wobble
-from ephem.theory.tracks import ROUNDING, pole_vectors
+from ephem.base.constants import ROUNDING
+from ephem.theory.tracks import pole_vectors
 from ephem.sun.family import SunLadder
 from ephem.earth.family import LunisolarTheory
 from ephem.families import MODELS, THEORIES, theory_for

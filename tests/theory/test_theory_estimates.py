@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from ephem.sun import bounds
-from ephem.sun.tables import cached_tables
+from ephem.sun.bounds import cached_tables
 from ephem.bodies.catalogue import get_body
 from ephem.base.constants import JULIAN_YEAR_DAYS
 from ephem.orbit.hansen import LAPLACE_LIMIT
