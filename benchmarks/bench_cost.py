@@ -119,7 +119,7 @@ WHY_CSV = ("service.app._csv_rows formats every float with repr (Python), ~20x s
 WHY_PATH = ("Ladder.cost charges cost.orbit_integration over the span from the track to the pole epoch, but "
             "ephemeris.integrate_heliocentric integrates from the orbit's elements' epoch (orbit.epoch_jd_tdb) to "
             "cover that span: up to the whole DE421 span (~150 years) more.")
-WHY_LIE = ("the Lie series (lie_series.SamSeriesSolution.propagate) evaluates its order-12 polynomials on complex "
+WHY_LIE = ("the Lie series (sam_series.SamSeriesSolution.propagate) evaluates its order-12 polynomials on complex "
            "arrays over all the epochs at once, many temporaries an epoch, while cost.free_rotation charges "
            "track_bytes_per_epoch (250 B) an epoch.")
 WHY_PATH_MB = ("the integration keeps DOP853's dense output of every step (solve_ivp dense_output=True) and the "

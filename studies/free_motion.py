@@ -146,7 +146,7 @@ def _cpu(fn, repeats: int):
 
 
 def _series(moments, order: int):
-    from ephem.rotation.lie_series import SamSeriesSolution
+    from ephem.rotation.sam_series import SamSeriesSolution
 
     return SamSeriesSolution(moments, order)
 

@@ -75,7 +75,7 @@ def moderate_reference():
 
     import numpy as np
 
-    from ephem.rotation.lie_series import SamParameters
+    from ephem.rotation.sam_series import SamParameters
     from tests.rotation.test_lie_series import MODERATE, _initial_m, _reference_quaternion
 
     p = SamParameters(*MODERATE)

@@ -33,7 +33,7 @@ from ..base.constants import ARCSEC
 from ..base.errors import InvalidInputError, NotApplicableError
 from ..orbit.geometry import carry
 from .andoyer import rot1, rot1_cs, rot3
-from .lie_series import SamSeriesSolution
+from .sam_series import SamSeriesSolution
 from .euler_poinsot import FreeRotation
 
 METHODS = ("auto", "exact", "series", "numeric")

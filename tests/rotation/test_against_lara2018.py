@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 from scipy.special import ellipk
 
-from ephem.rotation.euler_poinsot import FreeRotation, sadov_action_angle
-from ephem.rotation.lie_series import SamSeriesSolution, body_to_action_angle
+from ephem.rotation.euler_poinsot import FreeRotation
+from ephem.rotation.free_periods import sadov_action_angle
+from ephem.rotation.sam_series import SamSeriesSolution, body_to_action_angle
 from ephem.rotation.polynomials import beta_poly, parse_polynomial
 from tests.rotation.test_against_lara2014 import ERRATA, LARA, _as_beta_poly, _printed_2014
 from tests.rotation.test_euler_poinsot import TRIAXIAL

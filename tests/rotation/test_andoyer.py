@@ -13,6 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ephem.rotation import andoyer as an
+from ephem.rotation import poincare as pc
 from ephem.base.errors import InvalidInputError
 
 EPS = np.finfo(float).eps
@@ -142,14 +143,14 @@ def test_poincare_and_complex_hamiltonians(mom):
     R, L = random_states(moments=mom)
     L[:, 2] = np.abs(L[:, 2])
     _lam, mu, nu, _Lam, M, N = an.andoyer_from_attitude(R, L)
-    x, g, X, G = an.poincare_from_andoyer(mu, nu, M, N)
+    x, g, X, G = pc.poincare_from_andoyer(mu, nu, M, N)
     main, pert = an.sam_main_problem(nu, M, N, mom), an.sam_perturbation(nu, M, N, mom)
-    assert np.allclose(an.sam_main_problem_poincare(x, X, G, mom), main, rtol=1e-13)
-    assert np.allclose(an.sam_perturbation_poincare(x, X, mom), pert, rtol=1e-12, atol=1e-15 * np.abs(main).max())
-    assert np.allclose(an.hamiltonian_poincare(x, X, G, mom), an.energy(L, mom), rtol=1e-14)
-    u, _v, U, V = an.complex_from_poincare(x, g, X, G, mom)
+    assert np.allclose(pc.sam_main_problem_poincare(x, X, G, mom), main, rtol=1e-13)
+    assert np.allclose(pc.sam_perturbation_poincare(x, X, mom), pert, rtol=1e-12, atol=1e-15 * np.abs(main).max())
+    assert np.allclose(pc.hamiltonian_poincare(x, X, G, mom), an.energy(L, mom), rtol=1e-14)
+    u, _v, U, V = pc.complex_from_poincare(x, g, X, G, mom)
     assert np.allclose(U, 1j * np.conj(u), atol=1e-15)          # real states: U = i ū
-    hm, hp = an.sam_main_problem_complex(u, U, V, mom), an.sam_perturbation_complex(u, U, mom)
+    hm, hp = pc.sam_main_problem_complex(u, U, V, mom), pc.sam_perturbation_complex(u, U, mom)
     assert np.allclose(hm, main, rtol=1e-13) and np.abs(hm.imag).max() < 1e-14 * np.abs(main).max()
     assert np.allclose(hp, pert, rtol=1e-11, atol=1e-15 * np.abs(main).max())
 
@@ -182,7 +183,7 @@ def assert_symplectic(fn, z, tol=1e-7):
 def test_poincare_transformation_is_canonical(hemisphere):
     # (μ, ν; M, N) -> (x, g; X, G): Lara 2018 Proposition 1 (and its mirror for J near 180°)
     def fn(z):
-        x, g, X, G = an.poincare_from_andoyer(z[0], z[1], z[2], z[3], hemisphere)
+        x, g, X, G = pc.poincare_from_andoyer(z[0], z[1], z[2], z[3], hemisphere)
         return [float(x), float(g), float(X), float(G)]
 
     for z in ([0.3, 1.2, 2.0, 1.7 * hemisphere], [-2.0, -0.4, 1.0, 0.2], [1.0, 2.9, 3.0, -2.5 * hemisphere]):
@@ -194,19 +195,19 @@ def test_sam_action_angle_is_canonical_and_oscillator():
     mom = (0.6, 0.8, 1.0)
 
     def fn(z):
-        return [float(v) for v in an.sam_action_angle_from_andoyer(z[0], z[1], z[2], z[3], mom)]
+        return [float(v) for v in pc.sam_action_angle_from_andoyer(z[0], z[1], z[2], z[3], mom)]
 
     for z in ([0.3, 1.2, 2.0, 1.7], [-2.0, -0.4, 1.0, 0.2], [1.0, 2.9, 3.0, -2.5]):
         assert_symplectic(fn, np.array(z))
     # and it is the oscillator form of Lara 2018 eq. 17: x = √(2L/ω) sin ℓ, X = √(2ωL) cos ℓ
     R, L = random_states()
     _, mu, nu, _, M, N = an.andoyer_from_attitude(R, L)
-    ell, g, Lac, G = an.sam_action_angle_from_andoyer(mu, nu, M, N, mom)
-    x, _g2, X, _ = an.poincare_from_andoyer(mu, nu, M, N)
+    ell, g, Lac, G = pc.sam_action_angle_from_andoyer(mu, nu, M, N, mom)
+    x, _g2, X, _ = pc.poincare_from_andoyer(mu, nu, M, N)
     w = an.inertia_parameters(mom).omega
     assert np.allclose(np.sqrt(2 * Lac / w) * np.sin(ell), x, atol=1e-13)
     assert np.allclose(np.sqrt(2 * Lac * w) * np.cos(ell), X, atol=1e-13)
-    back = an.andoyer_from_sam_action_angle(ell, g, Lac, G, mom)
+    back = pc.andoyer_from_sam_action_angle(ell, g, Lac, G, mom)
     assert np.abs(an.wrap_angle(back[0] - mu)).max() < 1e-13 and np.abs(back[3] - N).max() < 1e-13
 
 
@@ -214,12 +215,12 @@ def test_complex_transformation_is_canonical():
     # {u, U} = 1 in (x, X) and dg ∧ dG = dv ∧ dV (Lara 2018 Proposition 2, with Ω = ω, κ of eq. 24)
     mom = (0.6, 0.8, 1.0)
     x, X, h = 0.3, -0.7, 1e-6
-    du_dx = (an.complex_from_poincare(x + h, 0, X, 1, mom)[0] - an.complex_from_poincare(x - h, 0, X, 1, mom)[0]) / (2 * h)
-    du_dX = (an.complex_from_poincare(x, 0, X + h, 1, mom)[0] - an.complex_from_poincare(x, 0, X - h, 1, mom)[0]) / (2 * h)
-    dU_dx = (an.complex_from_poincare(x + h, 0, X, 1, mom)[2] - an.complex_from_poincare(x - h, 0, X, 1, mom)[2]) / (2 * h)
-    dU_dX = (an.complex_from_poincare(x, 0, X + h, 1, mom)[2] - an.complex_from_poincare(x, 0, X - h, 1, mom)[2]) / (2 * h)
+    du_dx = (pc.complex_from_poincare(x + h, 0, X, 1, mom)[0] - pc.complex_from_poincare(x - h, 0, X, 1, mom)[0]) / (2 * h)
+    du_dX = (pc.complex_from_poincare(x, 0, X + h, 1, mom)[0] - pc.complex_from_poincare(x, 0, X - h, 1, mom)[0]) / (2 * h)
+    dU_dx = (pc.complex_from_poincare(x + h, 0, X, 1, mom)[2] - pc.complex_from_poincare(x - h, 0, X, 1, mom)[2]) / (2 * h)
+    dU_dX = (pc.complex_from_poincare(x, 0, X + h, 1, mom)[2] - pc.complex_from_poincare(x, 0, X - h, 1, mom)[2]) / (2 * h)
     assert abs(du_dx * dU_dX - du_dX * dU_dx - 1.0) < 1e-9
-    _, v, _, V = an.complex_from_poincare(x, 0.4, X, 2.0, mom)
+    _, v, _, V = pc.complex_from_poincare(x, 0.4, X, 2.0, mom)
     assert v * V == pytest.approx(0.4 * 2.0, rel=1e-15)
     p = an.inertia_parameters(mom)
     assert p.kappa == pytest.approx(p.alpha * math.sqrt(1 - p.beta**2), rel=1e-14)   # eq. 24, both forms
@@ -229,8 +230,8 @@ def test_complex_transformation_is_canonical():
 @given(angle, angle, st.floats(0.1, 10.0), st.floats(-1.0, 1.0), st.sampled_from([1, -1]))
 def test_poincare_andoyer_round_trip(mu, nu, M, c, s):
     N = c * M
-    x, g, X, G = an.poincare_from_andoyer(mu, nu, M, N, s)
-    mu2, nu2, M2, N2 = an.andoyer_from_poincare(x, g, X, G, s)
+    x, g, X, G = pc.poincare_from_andoyer(mu, nu, M, N, s)
+    mu2, nu2, M2, N2 = pc.andoyer_from_poincare(x, g, X, G, s)
     assert abs(N2 - N) <= 8 * EPS * M and M2 == M
     if abs(M - s * N) > 1e-6 * M:   # ν (and μ) are defined away from the hemisphere's pole
         assert abs(an.wrap_angle(nu2 - nu)) < 1e-7 and abs(an.wrap_angle(mu2 - mu)) < 1e-7
@@ -239,9 +240,9 @@ def test_poincare_andoyer_round_trip(mu, nu, M, c, s):
 @pytest.mark.parametrize("mom", [m for m in MOMENTS if m[1] < m[2]])
 def test_complex_round_trip(mom):
     R, L = random_states(moments=mom)
-    _, x, g, _, X, G = an.poincare_from_attitude(R, L)
-    u, v, U, V = an.complex_from_poincare(x, g, X, G, mom)
-    x2, g2, X2, G2 = an.poincare_from_complex(u, v, U, V, mom)
+    _, x, g, _, X, G = pc.poincare_from_attitude(R, L)
+    u, v, U, V = pc.complex_from_poincare(x, g, X, G, mom)
+    x2, g2, X2, G2 = pc.poincare_from_complex(u, v, U, V, mom)
     assert np.abs(x2 - x).max() < 1e-14 * np.abs(x).max() and np.abs(X2 - X).max() < 1e-14 * np.abs(X).max()
     assert np.allclose(g2, g, atol=1e-15) and np.allclose(G2, G, rtol=1e-15)
 
@@ -261,12 +262,12 @@ def test_andoyer_loses_small_j_poincare_does_not(J, s):
     nu_a, M_a, N_a = an.andoyer_from_body_momentum(L)
     via_andoyer = an.body_momentum_from_andoyer(nu_a, M_a, N_a)
     assert math.hypot(*(via_andoyer[:2] - L[:2])) > 0.5 * perp          # the singular chart fails
-    P = an.poincare_from_attitude(R, L, s)
-    R2, L2 = an.attitude_from_poincare(*P, hemisphere=s)
+    P = pc.poincare_from_attitude(R, L, s)
+    R2, L2 = pc.attitude_from_poincare(*P, hemisphere=s)
     assert math.hypot(*(L2[:2] - L[:2])) < 4 * EPS * perp               # the regular chart does not
     assert np.abs(R2 - R).max() < 8 * EPS
     # and the other hemisphere's chart is the singular one there
-    Pw = an.poincare_from_attitude(R, L, -s)
+    Pw = pc.poincare_from_attitude(R, L, -s)
     assert np.isfinite(Pw[1]) and np.isfinite(Pw[4])
 
 
@@ -275,8 +276,8 @@ def test_wrong_hemisphere_pole_is_finite():
     # (ν = 0 by convention), without warnings, but cannot carry the attitude
     R = an.euler_matrix(0.2, 0.9, -1.1)
     for L3, s in ((-2.0, 1), (2.0, -1)):
-        P = an.poincare_from_attitude(R, [0.0, 0.0, L3], s)
-        R2, L2 = an.attitude_from_poincare(*P, hemisphere=s)
+        P = pc.poincare_from_attitude(R, [0.0, 0.0, L3], s)
+        R2, L2 = pc.attitude_from_poincare(*P, hemisphere=s)
         assert all(np.all(np.isfinite(v)) for v in P) and np.all(np.isfinite(R2))
         # L comes back through a few roundings of values of size |L| = 2: 4 ulp of |L| (the atol=1e-15 this
         # replaces was 2.25 ulp of 2, and the trip measured 2 ulp)
@@ -292,7 +293,7 @@ def test_poincare_variables_are_smooth_through_the_pole():
     R = an.euler_matrix(np.zeros_like(eps) + 0.1, np.zeros_like(eps) + 0.5, np.zeros_like(eps) - 0.2)
     nu, _, _ = an.andoyer_from_body_momentum(L)
     assert abs(nu[-1] - nu[0]) == pytest.approx(math.pi, abs=1e-12)     # ν flips across the pole
-    _, x, g, _, X, _G = an.poincare_from_attitude(R, L)
+    _, x, g, _, X, _G = pc.poincare_from_attitude(R, L)
     for v in (x, X):
         second = np.diff(v, 2)
         assert np.abs(second).max() < 1e-20 + 1e-9 * np.abs(np.diff(v)).max()
@@ -327,7 +328,7 @@ def test_bad_moments():
     with pytest.raises(InvalidInputError, match="three principal moments"):
         an.check_moments((1.0, 1.0))
     with pytest.raises(InvalidInputError, match="infinite"):
-        an.complex_from_poincare(0.1, 0.0, 0.1, 1.0, (0.5, 1.0, 1.0))
+        pc.complex_from_poincare(0.1, 0.0, 0.1, 1.0, (0.5, 1.0, 1.0))
 
 
 def test_bad_states():
@@ -344,8 +345,8 @@ def test_bad_states():
     with pytest.raises(InvalidInputError, match="must not vanish"):
         an.andoyer_from_body_momentum([0.0, 0.0, 0.0])
     with pytest.raises(InvalidInputError, match="hemisphere"):
-        an.poincare_from_andoyer(0.0, 0.0, 1.0, 0.5, hemisphere=0)
+        pc.poincare_from_andoyer(0.0, 0.0, 1.0, 0.5, hemisphere=0)
     with pytest.raises(InvalidInputError, match="positive"):
-        an.andoyer_from_poincare(0.1, 0.0, 0.1, -1.0)
+        pc.andoyer_from_poincare(0.1, 0.0, 0.1, -1.0)
     # N within rounding of ±M is clipped, not rejected (M = |L| is itself rounded)
     assert np.all(np.isfinite(an.body_momentum_from_andoyer(0.3, 1.0, 1.0 + 2 * EPS)))

@@ -11,8 +11,9 @@ from scipy.special import ellipj, ellipk, ellipkm1
 from ephem.rotation import andoyer as an
 from ephem.bodies.catalogue import get_body, load_catalogue
 from ephem.base.errors import InvalidInputError
-from ephem.rotation.euler_poinsot import (ARCSEC, FreeRotation, _differences, free_motion_periods, jacobi_reduced,
-                                          sadov_action_angle)
+from ephem.base.constants import ARCSEC
+from ephem.rotation.euler_poinsot import FreeRotation, _differences, jacobi_reduced
+from ephem.rotation.free_periods import free_motion_periods, sadov_action_angle
 from ephem.forced.rigid_body import integrate_states
 from ephem.forced.rigid_numerics import quaternion_from_matrix, rotation_matrices
 

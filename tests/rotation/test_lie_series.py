@@ -16,7 +16,7 @@ from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
 from ephem.bodies.catalogue import get_body
-from ephem.rotation.lie_series import (Lara2014Series, SamParameters, SamSeriesSolution, body_to_action_angle,
+from ephem.rotation.sam_series import (Lara2014Series, SamParameters, SamSeriesSolution, body_to_action_angle,
                                        body_to_poincare, poincare_to_body)
 from ephem.rotation.polynomials import parse_polynomial
 
