@@ -16,7 +16,7 @@ import time
 
 import numpy as np
 
-from ephem.exports import pck
+from ephem.answers import kernels as pck
 from ephem.exports import pck_fit
 
 BODIES = ("vesta", "ceres", "eros", "itokawa", "steins", "mars", "earth")

@@ -25,13 +25,13 @@ from .batch.distributed import BatchFailed
 from .batch.distributed import run as run_batch
 from .batch.population import HistorySpec
 from .bodies.importer import import_catalogue
-from .exports.pck import write_pck, write_pck_file
-from .exports.plots import CONTENT_TYPES as PLOT_CONTENT_TYPES
-from .exports.plots import DPI_RANGE as PLOT_DPI_RANGE
-from .exports.plots import HISTORY_KIND as HISTORY_PLOT_KIND
-from .exports.plots import KINDS as PLOT_KINDS
-from .exports.plots import MAX_PLOT_POINTS
-from .exports.plots import render as render_plot
+from .answers.kernels import write_pck, write_pck_file
+from .answers.figures import CONTENT_TYPES as PLOT_CONTENT_TYPES
+from .answers.figures import DPI_RANGE as PLOT_DPI_RANGE
+from .answers.figures import HISTORY_KIND as HISTORY_PLOT_KIND
+from .answers.figures import KINDS as PLOT_KINDS
+from .answers.figures import MAX_PLOT_POINTS
+from .answers.figures import render as render_plot
 from .exports.tables import FORMATS, LAYOUTS, render_nutation, write_tables
 from .families import MODELS
 from .forced.precession_nutation import MAX_ORDER, model_for

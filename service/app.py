@@ -294,7 +294,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                     order=order, J_arcsec=J_arcsec)
             return Response(image, media_type=api.PLOT_CONTENT_TYPES[ext])
         plot.__name__ = f"track_{ext}"
-        plot.__doc__ = f"The track (or the free wobble) as a {ext.upper()} figure, axes in units (ephem.exports.plots)."
+        plot.__doc__ = f"The track (or the free wobble) as a {ext.upper()} figure, axes in units (ephem.answers.figures)."
         return plot
 
     for ext in ("png", "svg"):
@@ -326,7 +326,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         plot.__name__ = f"history_{ext}"
         plot.__doc__ = (f"The obliquity history (ephem.api.history) as a {ext.upper()} figure: obliquity with its "
                         "estimated error band, the orbit's inclination to the J2000 ecliptic, and the span where "
-                        "the history stops meaning anything hatched (ephem.exports.plots, kind obliquity-history).")
+                        "the history stops meaning anything hatched (ephem.answers.figures, kind obliquity-history).")
         return plot
 
     for ext in ("png", "svg"):

@@ -16,7 +16,8 @@ import numpy as np
 import typer
 
 from ephem import api
-from ephem.exports import pck, pck_kernel
+from ephem.answers import kernels as pck
+from ephem.exports import pck_kernel
 from ephem.base.errors import InvalidInputError
 
 MAS = math.pi / 648_000_000.0

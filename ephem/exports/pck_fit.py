@@ -1,4 +1,4 @@
-"""Fitting a NAIF text PCK to the spin-axis track (:mod:`ephem.exports.pck` describes the kernel and the fit):
+"""Fitting a NAIF text PCK to the spin-axis track (:mod:`ephem.answers.kernels` describes the kernel and the fit):
 the IAU orientation tables that place W0, the kernel's evaluation as SPICE does it, and the greedy
 orthogonal least-squares choice of the angles."""
 from __future__ import annotations
@@ -13,10 +13,8 @@ from ..base.constants import ARCSEC, J2000_JD, MAS
 from ..base.constants import JULIAN_CENTURY_DAYS as CENTURY_DAYS
 from ..base.errors import InvalidInputError
 from ..orbit.geometry import angle_between
-from ..families import theory_for
 from ..theory.interface import Spectrum
 # the track through its module, as tests patch it there (tests/theory/test_stable_choices.py)
-from ..answers import requests as answers
 from .pck_kernel import (FRAME_FROM_J2000, BodyFit, jd_text, kernel_radec, radec_of_units, rotation_x, rounding_bound,
                          theta_rad, unit_vectors)
 
@@ -312,12 +310,16 @@ def _candidates(spec: Spectrum, span: float, fit_step: float) -> list[tuple[int,
 
 
 def fit_body(b: Body, t0: float, t1: float, dataset: str, tolerance_mas, model, order, axis: str, perturbers,
-              fit_tolerance_mas: float | None, max_angles: int) -> BodyFit:
+             fit_tolerance_mas: float | None, max_angles: int, *, track, theory_for) -> BodyFit:
+    """The kernel's fit of ``b``'s pole over [t0, t1] (JD TDB). ``track``: the track answer's arrays for a grid
+    (:func:`ephem.answers.requests.track_arrays`'s arguments and result), ``theory_for``: the family serving a body
+    (:func:`ephem.families.theory_for`), for its spectrum; both given by the caller (:mod:`ephem.answers.kernels`),
+    as this module renders what the answers computed and asks them nothing itself."""
     span = t1 - t0
     # the model: chosen once (by tolerance, name or default) for the span's two ends, then named for both
     # grids, so that a tolerance cannot pick another one for other epochs
-    probe = answers.track_arrays(b, t0, t1, span, dataset, order=order, tolerance_mas=tolerance_mas, model=model,
-                             axis=axis, perturbers=perturbers)
+    probe = track(b, t0, t1, span, dataset, order=order, tolerance_mas=tolerance_mas, model=model, axis=axis,
+                  perturbers=perturbers)
     info = probe["model"]
     estimate = info.get("estimated_error_mas")
     if fit_tolerance_mas is not None:
@@ -337,11 +339,11 @@ def fit_body(b: Body, t0: float, t1: float, dataset: str, tolerance_mas, model, 
                                          math.ceil(SAMPLES_PER_PERIOD * fastest * span / (2.0 * math.pi)) + 1)))
     step = span / (count - 1)
     named = {"order": info["order"], "model": info["name"], "axis": axis, "perturbers": perturbers}
-    ans = answers.track_arrays(b, t0, t1, step, dataset, max_samples=count + 1, **named)
+    ans = track(b, t0, t1, step, dataset, max_samples=count + 1, **named)
     t = ans["jd_tdb"]
     check_count = CHECK_DENSITY * (t.size - 1)
     check_step = span / check_count
-    chk = answers.track_arrays(b, t0 + 0.5 * check_step, t1, check_step, dataset, max_samples=check_count + 1, **named)
+    chk = track(b, t0 + 0.5 * check_step, t1, check_step, dataset, max_samples=check_count + 1, **named)
     t_chk = chk["jd_tdb"]
     spec = theory.spectrum(aim, Tm, t, ans["psi_arcsec"] * ARCSEC)
 

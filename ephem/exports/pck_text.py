@@ -1,5 +1,5 @@
 """The text of a NAIF text PCK (``KPL/PCK``): the comment block that says what was fitted and how well,
-and each body's data block (:mod:`ephem.exports.pck` describes the kernel)."""
+and each body's data block (:mod:`ephem.answers.kernels` describes the kernel)."""
 from __future__ import annotations
 
 import math

@@ -1,8 +1,8 @@
-"""How each kind of plot of :mod:`ephem.exports.plots` is drawn on a matplotlib figure: the units and scales of
+"""How each kind of plot of :mod:`ephem.answers.figures` is drawn on a matplotlib figure: the units and scales of
 the axes (time, arcsec or mas, degrees), the panels of the five kinds, their titles and legends.
 
 Each ``draw_*`` function fills a figure from :func:`new_figure` with one answer's arrays;
-:mod:`ephem.exports.plots` checks the request, computes the answer and renders the bytes.
+:mod:`ephem.answers.figures` checks the request, computes the answer and renders the bytes.
 """
 from __future__ import annotations
 

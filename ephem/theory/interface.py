@@ -73,7 +73,7 @@ class Spectrum:
     """The base frequencies a theory's track is made of: each a phase linear in T (θ0 deg at J2000, θ1 deg
     per Julian century), with the largest pole displacement its term makes (radians; 0 where unknown); and
     the precession angle Ψ = ψ̇ (t - t_p), whose multiples j Ψ (|j| <= ``max_sideband``) the track also holds
-    about each base. The SPICE kernel writer (:mod:`ephem.exports.pck`) fits the track with these."""
+    about each base. The SPICE kernel writer (:mod:`ephem.answers.kernels`) fits the track with these."""
 
     labels: tuple                 # what identifies each base: k (a multiple of the mean anomaly), Delaunay multipliers
     theta0: np.ndarray
@@ -114,7 +114,7 @@ class Pricing(ABC):
 
 class SpectrumExport(ABC):
     """An optional capability of a family: the base frequencies of its track, for the SPICE kernel writer
-    (:mod:`ephem.exports.pck`)."""
+    (:mod:`ephem.answers.kernels`)."""
 
     @abstractmethod
     def spectrum(self, aim_mas: float, mid_centuries: float, jd_tdb=None, psi=None) -> Spectrum:

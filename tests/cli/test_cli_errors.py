@@ -169,7 +169,7 @@ def test_a_count_over_the_cap_is_the_integer_count():
 
 
 def test_a_plot_over_the_cap_of_epochs_says_how_many():
-    from ephem.exports import plots
+    from ephem.answers import figures as plots
 
     cap = plots.MAX_PLOT_POINTS
     err = refused(["plot", "ceres", "--kind", "obliquity-history", "--start", "-2000", "--stop", "0",

@@ -6,8 +6,8 @@ The matrix is read from the CLI itself, so that nothing new escapes it:
   is not in :data:`SPECS` fails :func:`test_every_command_has_a_spec` until someone gives it arguments and a
   check, and a spec without a command fails it too;
 * the formats are the choices of each command's ``--format`` option (a command without one runs once with its
-  default output; ``plot`` takes its format from ``--out``'s suffix, checked against ``ephem.exports.plots.CONTENT_TYPES``,
-  which is read here likewise, and its kinds from ``ephem.exports.plots.KINDS``);
+  default output; ``plot`` takes its format from ``--out``'s suffix, checked against ``ephem.answers.figures.CONTENT_TYPES``,
+  which is read here likewise, and its kinds from ``ephem.answers.figures.KINDS``);
 * the families are one body each of the theories of ``ephem.families.THEORIES`` (a Sun-only main-belt asteroid,
   a Sun-only planet-crosser, the Earth, the Moon, Mars with its free wobble) and a body of a user's dataset that
   ``ephem catalogue import`` made from the samples in tests/data/import; a new theory family fails
@@ -38,7 +38,7 @@ import typer
 from typer.testing import CliRunner
 
 from ephem import api
-from ephem.exports import plots
+from ephem.answers import figures as plots
 from ephem.exports import tables
 from ephem.bodies.catalogue import get_body, load_catalogue
 from ephem.cli import app, one_body

@@ -1,9 +1,9 @@
-"""Text PCK kernels (ephem.exports.pck) read back by SPICE itself (spiceypy's CSPICE), against our track.
+"""Text PCK kernels (ephem.answers.kernels) read back by SPICE itself (spiceypy's CSPICE), against our track.
 
 The authority is SPICE's own evaluation of the kernel (tipbod's third row, pxform to IAU_<BODY>): its
 pole is compared with the track served by ephem.api.track_arrays at epochs that are on neither the fit
 grid nor the check grid, and must lie within the fit error the kernel states, which must itself be
-small (<= 1 mas, and a tenth of the model's estimated error). The writer's refusals: tests/exports/test_pck.py.
+small (<= 1 mas, and a tenth of the model's estimated error). The writer's refusals: tests/answers/test_kernels.py.
 """
 import dataclasses
 import math
@@ -14,7 +14,8 @@ import pytest
 import spiceypy as spice
 
 from ephem import api
-from ephem.exports import pck, pck_kernel
+from ephem.answers import kernels as pck
+from ephem.exports import pck_kernel
 
 MAS = math.pi / 648_000_000.0
 J2000 = 2451545.0

@@ -9,7 +9,7 @@ import pytest
 from typer.testing import CliRunner
 
 from ephem import api
-from ephem.exports import pck
+from ephem.answers import kernels as pck
 from ephem.exports import tables
 from ephem.bodies.catalogue import Body, Orbit, Pole, get_body
 from ephem.cli import app as cli

@@ -158,7 +158,7 @@ def _terms(fit) -> tuple:
 
 
 def _fit(b):
-    from ephem.exports.pck import write_pck
+    from ephem.answers.kernels import write_pck
 
     return write_pck([b], *PCK_SPAN).bodies[0]
 

@@ -65,14 +65,22 @@ import math
 from datetime import UTC, datetime
 from pathlib import Path
 
-from ..bodies.catalogue import DEFAULT_DATASET, Body, resolve_body
 from ..base.errors import InvalidInputError
-from .pck_fit import DEFAULT_MAX_ANGLES, SPICE_MAX_ANGLES, fit_body
-from .pck_kernel import PckResult, angles_owner
-from .pck_text import ascii_text, comment_lines, data_block, time_text
 from ..base.times import to_jd_tdb
 from ..base.units import in_unit
+from ..bodies.catalogue import DEFAULT_DATASET, Body, resolve_body
+from ..exports.pck_fit import DEFAULT_MAX_ANGLES, SPICE_MAX_ANGLES, fit_body
+from ..exports.pck_kernel import PckResult, angles_owner
+from ..exports.pck_text import ascii_text, comment_lines, data_block, time_text
+from ..families import theory_for
+from . import requests
 
+
+
+def _track(*args, **kwargs) -> dict:
+    """The fit's track: :func:`ephem.answers.requests.track_arrays`, looked up at each call (the stability tests
+    perturb it there)."""
+    return requests.track_arrays(*args, **kwargs)
 
 def write_pck(bodies, start, stop, dataset: str = DEFAULT_DATASET, tolerance_mas: float | None = None,
               model: str | None = None, order: int | None = None, axis: str = "figure", perturbers=None,
@@ -130,7 +138,7 @@ def write_pck(bodies, start, stop, dataset: str = DEFAULT_DATASET, tolerance_mas
                                     "(one planetary system): write them to separate kernels")
         owners[own] = b.name
     fits = [fit_body(b, t0, t1, dataset, tolerance_mas, model, order, axis, perturbers, fit_tolerance_mas,
-                      max_angles) for b in resolved]
+                     max_angles, track=_track, theory_for=theory_for) for b in resolved]
     when = generated or datetime.now(UTC)
     stamp = (when.astimezone(UTC) if when.tzinfo else when).strftime("%Y-%m-%dT%H:%M:%S UTC")
     lines = ["KPL/PCK", "", "\\begintext", ""]

@@ -1,11 +1,12 @@
-"""Text PCK kernels (ephem.exports.pck): the owner of the nutation-precession angles, and what the writer refuses
+"""Text PCK kernels (ephem.answers.kernels): the owner of the nutation-precession angles, and what the writer refuses
 (bad requests, bodies it cannot write, a fit it cannot reach) before writing anything.
 
 The kernels it writes, read back by SPICE itself against our track: tests/exports/test_against_spice.py.
 """
 import pytest
 
-from ephem.exports import pck, pck_kernel
+from ephem.answers import kernels as pck
+from ephem.exports import pck_kernel
 from ephem.base.errors import InvalidInputError, NotApplicableError, UnknownBodyError
 
 

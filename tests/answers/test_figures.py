@@ -1,4 +1,4 @@
-"""ephem.exports.plots: the figures draw exactly the API's arrays, with units, titles and clear errors."""
+"""ephem.answers.figures: the figures draw exactly the API's arrays, with units, titles and clear errors."""
 from __future__ import annotations
 
 import io
@@ -13,7 +13,8 @@ import pytest
 
 from ephem import api
 from ephem.answers import requests as answers   # where the plots take their answers: patched there
-from ephem.exports import plot_drawing, plots
+from ephem.answers import figures as plots
+from ephem.exports import plot_drawing
 from ephem.base.errors import InvalidInputError, NotApplicableError, UnknownBodyError
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"

@@ -55,15 +55,15 @@ from pathlib import Path
 
 import numpy as np
 
-# the answers through their module, as tests patch them there (tests/exports/test_plots.py)
-from ..answers import requests as answers
+# the answers through their module, as tests patch them there (tests/answers/test_figures.py)
+from . import requests as answers
 from ..base.errors import InvalidInputError, count_text
 from ..base.times import to_jd_tdb
 from ..bodies.catalogue import DEFAULT_DATASET, resolve_body
 from ..longterm.history import MAX_SPAN_YEARS
 from ..orbit.kepler import mean_motion_rad_per_day
 from ..rotation.free_motion import free_motion
-from .plot_drawing import (draw_free_wobble, draw_nutation_loop, draw_obliquity, draw_obliquity_history,
+from ..exports.plot_drawing import (draw_free_wobble, draw_nutation_loop, draw_obliquity, draw_obliquity_history,
                            draw_precession, new_figure, period_text)
 
 #: The kinds of plot, as ``figure(kind, …)`` takes them.
@@ -405,7 +405,7 @@ def regenerate_doc_figures(out_dir: str | Path = "docs/figures", dpi: float = 11
     """Write the PNG and SVG of every :data:`DOC_FIGURES` entry into ``out_dir``; returns the paths.
 
     The files are reproducible byte for byte (fixed SVG ids, no dates). Run from the repository
-    root: ``python -c "from ephem.exports.plots import regenerate_doc_figures as r; r()"``.
+    root: ``python -c "from ephem.answers.figures import regenerate_doc_figures as r; r()"``.
     """
     import matplotlib
 
