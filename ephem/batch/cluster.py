@@ -6,6 +6,7 @@ A local cluster is one single-threaded worker process per core, every socket on 
 from __future__ import annotations
 
 import contextlib
+import logging
 import os
 
 from ..base.errors import InvalidInputError
@@ -23,8 +24,6 @@ def _bokeh() -> bool:
 def dask_client(scheduler: str | None, workers: int | None):
     """A dask.distributed Client: on an existing cluster at ``scheduler``, or on a LocalCluster of ``workers``
     single-threaded processes, all bound to 127.0.0.1 (closed on exit)."""
-    import logging
-
     import dask
     from distributed import Client, LocalCluster
 

@@ -39,6 +39,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import importlib
+import inspect
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -184,8 +185,6 @@ def run(input_path, out_path, *, scheduler: str | None = None, workers: int | No
 
 def _prediction(core, rows: int, partition: int, history, manifest: dict) -> str:
     """``core.batch_cost``'s prediction as a note: CPU seconds of the rows, memory of a partition."""
-    import inspect
-
     predict = getattr(core, "batch_cost", None)
     if predict is None:
         return ""

@@ -3,6 +3,7 @@ and each body's data block (:mod:`ephem.answers.kernels` describes the kernel)."
 from __future__ import annotations
 
 import math
+import textwrap
 import unicodedata
 import warnings
 
@@ -58,8 +59,6 @@ def ascii_text(text: str) -> str:
 
 
 def _wrap(text: str, width: int, indent: str) -> list[str]:
-    import textwrap
-
     return textwrap.wrap(ascii_text(text), width=width, initial_indent=indent, subsequent_indent=indent)
 
 

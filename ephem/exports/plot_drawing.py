@@ -7,6 +7,7 @@ Each ``draw_*`` function fills a figure from :func:`new_figure` with one answer'
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 
@@ -45,8 +46,6 @@ def _fmt_mas(mas) -> str:
 
 
 def _iso(jd: float) -> str:
-    import warnings
-
     from astropy.time import Time
     from erfa import ErfaWarning
 

@@ -27,6 +27,7 @@ returns the model's numbers, nominal and perturbed).
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -459,8 +460,6 @@ def summary(u: dict) -> dict:
 
 def _perturbed_body(b: Body, inputs: list[CatalogueInput], x: np.ndarray) -> Body:
     """``b`` with its inputs set to ``x`` (model units, in the order of ``inputs``)."""
-    import dataclasses
-
     v = {i.key: float(xi) for i, xi in zip(inputs, x)}
     if "pole.lon" in v:
         raise NotApplicableError(b.name, "the pole's uncertainty along a track is propagated for poles given in "

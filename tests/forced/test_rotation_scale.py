@@ -150,7 +150,7 @@ def test_the_issue_s_requests_are_served_within_their_tolerance_of_the_rigid_bod
         assert error.max() <= ans["model"]["estimated_error_mas"] * MAS, (axis, error.max() / MAS, ans["model"])
 
 
-#: Below this (radians) a truth is rounding, not error: the ladder's own rounding term (ephem.theory.tracks.ROUNDING); the
+#: Below this (radians) a truth is rounding, not error: the ladder's own rounding term (ephem.base.constants.ROUNDING); the
 #: rigid reference's integration error is ~1e-14 rad (rtol 1e-12 against 1e-13, measured).
 ROUNDING = 1e-12
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ast
 import re
+import sys
 from pathlib import Path
 
 import pytest
@@ -259,3 +260,19 @@ MAX_MODULE_LINES = 600
 def test_no_module_is_over_600_lines(path):
     lines = len(path.read_text(encoding="utf-8").splitlines())
     assert lines <= MAX_MODULE_LINES, f"{path.relative_to(ROOT)} has {lines} lines: split it by concern"
+
+
+#: Function-local imports of the standard library (they defer nothing slow), each with why it stays local.
+LOCAL_STDLIB = {("ephem.batch.manifest", "fcntl"): "POSIX only: the lock is skipped where it does not exist"}
+
+
+@pytest.mark.parametrize("module", sorted(MODULES))
+def test_the_standard_library_is_imported_at_the_top(module):
+    local = []
+    top = {id(n) for n in MODULES[module].body}
+    for node in ast.walk(MODULES[module]):
+        if isinstance(node, (ast.Import, ast.ImportFrom)) and id(node) not in top and not getattr(node, "level", 0):
+            name = (node.module if isinstance(node, ast.ImportFrom) else node.names[0].name).split(".")[0]
+            if name in sys.stdlib_module_names and (module, name) not in LOCAL_STDLIB:
+                local.append(f"{module}:{node.lineno} imports {name} inside a function")
+    assert not local, local
