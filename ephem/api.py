@@ -39,7 +39,7 @@ from .orbit.geometry import icrf_to_ecliptic_matrix
 from .orbit.hansen import LAPLACE_LIMIT
 from .orbit.lunar import DELAUNAY_NAMES
 from .rotation.free_motion import SERIES_MAX_DELTA
-from .sun.rungs import MAX_NUMERICAL_ORBITS
+from .theory.cost import MAX_NUMERICAL_ORBITS
 
 __all__ = [
     # answers (dicts, units in the keys)

@@ -440,7 +440,7 @@ SPAN_RUNGS = (("secular", None), ("series", SPAN_SERIES_ORDER), ("hansen", None)
 
 def _reference_track(ladder: Ladder, t: np.ndarray):
     """Rung 5 over any span: a benchmark may integrate past the serving cap of
-    :data:`ephem.sun.ladder.MAX_NUMERICAL_ORBITS` (the Earth's 1000 years are 1000 orbits)."""
+    :data:`ephem.theory.cost.MAX_NUMERICAL_ORBITS` (the Earth's 1000 years are 1000 orbits)."""
     from ephem.sun.rungs import NUMERICAL_RTOL
     from ephem.sun.rungs import track_from_vectors
     from ephem.forced.integration import integrate_spin_axis

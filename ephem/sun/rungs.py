@@ -35,9 +35,6 @@ from ..theory.results import Estimate
 
 #: Relative tolerance of the numerical rungs.
 NUMERICAL_RTOL = 1e-12
-#: The numerical rungs integrate through every orbit (~5 ms each); beyond this many orbits from the
-#: pole epoch a request would tie up a worker for seconds, so they are not offered.
-MAX_NUMERICAL_ORBITS = 1000
 
 
 # --- the numerical rungs' error and reach ----------------------------------------------------------
@@ -71,10 +68,10 @@ def epoch_span(model: PrecessionNutation, t: np.ndarray) -> float:
 
 def numerical_unavailable(model: PrecessionNutation, t: np.ndarray) -> str | None:
     orbits = orbits_in_span(model, t)
-    if orbits <= MAX_NUMERICAL_ORBITS:
+    if orbits <= cost.MAX_NUMERICAL_ORBITS:
         return None
     return (f"the numerical rungs integrate through every orbit from the pole epoch and are limited to "
-            f"{MAX_NUMERICAL_ORBITS} orbits per request; these epochs need {orbits:.0f}")
+            f"{cost.MAX_NUMERICAL_ORBITS} orbits per request; these epochs need {orbits:.0f}")
 
 
 # --- evaluating a rung ----------------------------------------------------------------------------

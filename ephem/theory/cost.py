@@ -24,6 +24,9 @@ from ..orbit.hansen import decay_rate, fft_length
 from ..orbit.kepler import mean_motion_rad_per_day
 
 MB = 1024.0 * 1024.0
+#: The numerical rungs integrate through every orbit (~5 ms each); beyond this many orbits from the pole epoch a
+#: request would tie up a worker for seconds, so they are not offered (the service states it in its OpenAPI text).
+MAX_NUMERICAL_ORBITS = 1000
 
 
 
