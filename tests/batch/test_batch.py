@@ -11,6 +11,7 @@ import csv
 import os
 import re
 import signal
+import time
 from pathlib import Path
 
 import numpy as np
@@ -144,7 +145,15 @@ def test_a_worker_killed_mid_run_costs_a_retry_not_the_job(tmp_path):
         if done < 1 or killed:
             return
         client = default_client()           # the run's client, in the calling thread
-        busy = [w for w, keys in client.processing().items() if keys]
+        # right after a task completes the scheduler may hold the next ones queued for a moment, with no worker
+        # processing (seen under a loaded -n 2 suite): wait for one to take a task, else try at the next partition
+        busy, deadline = [], time.monotonic() + 5.0
+        while not busy and time.monotonic() < deadline:
+            busy = [w for w, keys in client.processing().items() if keys]
+            if not busy:
+                time.sleep(0.01)
+        if not busy:
+            return
         pid = client.run(os.getpid, workers=busy[:1])[busy[0]]
         os.kill(pid, signal.SIGKILL)
         killed.append((pid, busy[0]))
