@@ -20,7 +20,7 @@ from ephem import api
 from ephem.api import (AXES, DEFAULT_DATASET, FORMATS, MODELS, Body, InvalidInputError, Orbit, Pole,
                        available_datasets, icrf_to_ecliptic_matrix, load_catalogue, memo, render_nutation)
 
-from . import guards, problems, schemas
+from . import guards, pages, problems, schemas
 from .limits import BodySizeLimit
 from .openapi_rules import document_rules
 from .settings import Settings
@@ -112,6 +112,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     problems.install(app)
     guards.install(app, settings)
     _install_docs(app)
+    pages.install(app)              # the web page for a person (service/pages.py)
 
     def health_response() -> JSONResponse:
         return JSONResponse({"status": "ok", "version": ephem.__version__, "datasets": available_datasets()})

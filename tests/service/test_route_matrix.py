@@ -203,6 +203,11 @@ SPECS: dict[tuple[str, str], Spec] = {
     ("GET", "/redoc"): Spec(media=("text/html",)),
     ("GET", "/docs/accuracy"): Spec(media=("text/markdown",)),
     ("MOUNT", "/static"): Spec(url="/static/swagger-ui/swagger-ui.css", media=("text/css",)),
+    # the web page (service/pages.py): every body's page and a track of it, each a whole HTML document
+    ("GET", "/"): Spec(media=("text/html",)),
+    ("GET", "/bodies/{body}"): Spec(CATALOGUE, media=("text/html",)),
+    ("GET", "/bodies/{body}/track"): Spec(CATALOGUE, lambda case: {"start": "2020-01-01", "stop": "2020-03-01",
+                                                                   "step_days": 30}, media=("text/html",)),
 }
 
 #: the media type of each value a ``format`` query parameter takes

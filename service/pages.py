@@ -1,0 +1,189 @@
+"""The web page: the service's answers for a person with a browser, server-rendered (Jinja2), no JavaScript needed.
+
+Every form is a GET whose parameters are the API's, so the page's URL is its permalink and each result shows
+the equivalent API URL, a ``curl`` line and a Python snippet. The page asks :mod:`ephem.api` exactly what the
+API routes ask, under the same request budget (the service's middleware); a refusal or an invalid input is the
+API's own problem (its ``detail`` and ``errors[].field``), shown inline next to the field it names, with the
+status the API would give. The numbers are the API's: the templates only lay them out (no science here).
+
+Routes (not in the OpenAPI document: they are pages, not the API):
+
+- ``GET /``: the catalogue, a dataset chooser, links to each body's page;
+- ``GET /bodies/{body}``: the body's key facts (value, 1σ or why there is none, unit, source), its precession
+  (the rate, obliquity, H_d, K with their 1σ and the model that answered), its nutation terms with the tables'
+  downloads, and the track form;
+- ``GET /bodies/{body}/track``: a track (start, stop, step, the time scale stated; tolerance or model; axis): the
+  model chosen with its estimate by term, the first rows with the count, the plot, the CSV download.
+"""
+from __future__ import annotations
+
+import contextvars
+import json
+import math
+import pathlib
+import shlex
+from urllib.parse import urlencode
+
+import anyio
+from fastapi import FastAPI, Request
+from fastapi.responses import HTMLResponse
+from jinja2 import Environment, FileSystemLoader, select_autoescape
+
+from ephem import api
+
+TEMPLATES = pathlib.Path(__file__).resolve().parent / "templates"
+#: rows of a track shown on the page (the CSV download holds them all)
+TRACK_ROWS_SHOWN = 20
+#: the form's default span: a year from 2025 at a 10-day step
+TRACK_DEFAULTS = {"start": "2025-01-01", "stop": "2026-01-01", "step_days": "10"}
+#: the track form's fields, in the API's names, and the nutation tables' formats offered for download
+TRACK_FIELDS = ("start", "stop", "step_days", "tolerance_mas", "model", "order", "axis", "dataset")
+TABLE_DOWNLOADS = (("csv", "CSV"), ("markdown", "Markdown"), ("latex", "LaTeX"))
+
+_env = Environment(loader=FileSystemLoader(str(TEMPLATES)), autoescape=select_autoescape(["html"]),
+                   trim_blocks=True, lstrip_blocks=True)
+
+
+def _number(value, digits: int = 10) -> str:
+    """A number as the page prints it: ``digits`` significant digits, '—' where there is none."""
+    if value is None:
+        return "—"
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return str(value)
+    if not math.isfinite(value):
+        return str(value)
+    return f"{value:.{digits}g}"
+
+
+_env.filters["num"] = _number
+
+
+def _api_url(request: Request, path: str, params: dict) -> str:
+    query = urlencode({k: v for k, v in params.items() if v not in (None, "")})
+    return f"{str(request.base_url).rstrip('/')}{path}" + (f"?{query}" if query else "")
+
+
+def _snippets(request: Request, path: str, params: dict, call: str) -> dict:
+    """The equivalent API URL, a curl line and a Python call for a result."""
+    url = _api_url(request, path, params)
+    return {"url": url, "curl": f"curl -s {shlex.quote(url)}", "python": f"from ephem import api\n{call}"}
+
+
+def _python_call(function: str, body: str, params: dict) -> str:
+    args = [repr(body)] + [f"{k}={v!r}" for k, v in params.items() if v not in (None, "")]
+    return f"{function}({', '.join(args)})"
+
+
+async def _answer(request: Request, compute):
+    """``compute()`` in the thread pool under the request's context (its budget), as a sync route runs; an
+    exception becomes the problem the API would send for it: (result, None) or (None, problem)."""
+    ctx = contextvars.copy_context()
+    try:
+        return await anyio.to_thread.run_sync(ctx.run, compute), None
+    except Exception as exc:              # the app's handlers decide what is a problem and say it
+        handler = next((request.app.exception_handlers[cls] for cls in type(exc).__mro__
+                        if cls in request.app.exception_handlers), None)
+        if handler is None:               # pragma: no cover - the app handles Exception itself
+            raise
+        response = await handler(request, exc)
+        problem = json.loads(response.body)
+        problem["fields"] = {e["field"]: e["reason"] for e in problem.get("errors", [])}
+        return None, problem
+
+
+def _page(template: str, status: int = 200, **context) -> HTMLResponse:
+    return HTMLResponse(_env.get_template(template).render(**context), status_code=status)
+
+
+def _status(problem: dict | None) -> int:
+    return 200 if problem is None else int(problem.get("status", 422))
+
+
+def install(app: FastAPI) -> None:
+    """The page's routes on ``app`` (outside the OpenAPI document)."""
+
+    @app.get("/", include_in_schema=False, response_class=HTMLResponse)
+    async def index(request: Request, dataset: str = api.DEFAULT_DATASET):
+        bodies, problem = await _answer(request, lambda: api.list_bodies(dataset))
+        return _page("index.html", _status(problem), bodies=bodies or [], dataset=dataset, problem=problem,
+                     datasets=api.available_datasets(), title="Spin axes of the catalogue's bodies")
+
+    @app.get("/bodies/{body}", include_in_schema=False, response_class=HTMLResponse)
+    async def body_page(request: Request, body: str, dataset: str = api.DEFAULT_DATASET):
+        def compute():
+            return {"record": api.body_record(body, dataset), "precession": api.precession(body, dataset),
+                    "nutation": api.nutation(body, dataset)}
+
+        result, problem = await _answer(request, compute)
+        name = result["record"]["name"] if result else body
+        params = {"dataset": dataset}
+        return _page("body.html", _status(problem), body=name, dataset=dataset, result=result, problem=problem,
+                     form={**TRACK_DEFAULTS, "dataset": dataset}, models=api.MODELS, axes=api.AXES,
+                     downloads=[(label, _api_url(request, f"/v1/bodies/{name}/nutation",
+                                                 {**params, "format": fmt})) for fmt, label in TABLE_DOWNLOADS],
+                     precession_code=_snippets(request, f"/v1/bodies/{name}/precession", params,
+                                               _python_call("api.precession", name, params)),
+                     title=f"{name}: precession and nutation")
+
+    @app.get("/bodies/{body}/track", include_in_schema=False, response_class=HTMLResponse)
+    async def track_page(request: Request, body: str, start: str = TRACK_DEFAULTS["start"],
+                         stop: str = TRACK_DEFAULTS["stop"], step_days: str = TRACK_DEFAULTS["step_days"],
+                         tolerance_mas: str = "", model: str = "", order: str = "", axis: str = "figure",
+                         dataset: str = api.DEFAULT_DATASET):
+        form = {"start": start, "stop": stop, "step_days": step_days, "tolerance_mas": tolerance_mas,
+                "model": model, "order": order, "axis": axis, "dataset": dataset}
+        params = {k: form[k] for k in TRACK_FIELDS}
+
+        def compute():
+            # the API's own parsing: the query's text as the route would get it
+            return api.track_arrays(body, start, stop, _float(step_days, "step_days"), dataset,
+                                    max_samples=request.app.state.settings.max_track_samples,
+                                    tolerance_mas=_float(tolerance_mas, "tolerance_mas") if tolerance_mas else None,
+                                    model=model or None, order=_int(order, "order") if order else None, axis=axis)
+
+        result, problem = await _answer(request, compute)
+        rows, count = [], 0
+        if result is not None:
+            count = len(result["jd_tdb"])
+            keys = api.TRACK_KEYS
+            rows = [[float(result[k][i]) for k in keys] for i in range(min(count, TRACK_ROWS_SHOWN))]
+        name = result["body"] if result else body
+        plot_params = {k: form[k] for k in ("start", "stop", "step_days", "tolerance_mas", "model", "order", "dataset")}
+        return _page("track.html", _status(problem), body=name, form=form, result=result, problem=problem,
+                     rows=rows, count=count, keys=api.TRACK_KEYS, models=api.MODELS, axes=api.AXES,
+                     csv_url=_api_url(request, f"/v1/bodies/{name}/track", {**params, "format": "csv"}),
+                     plot_url=_api_url(request, f"/v1/bodies/{name}/track.png", plot_params),
+                     snippets=_snippets(request, f"/v1/bodies/{name}/track", params,
+                                    _python_call("api.track", name, {**params, "step_days": _maybe_float(step_days),
+                                                                     "tolerance_mas": _maybe_float(tolerance_mas),
+                                                                     "order": _maybe_int(order)})),
+                     title=f"{name}: spin-axis track")
+
+
+def _float(text: str, field: str) -> float:
+    """A query's number as the API route parses it (a 422 naming the field otherwise)."""
+    try:
+        return float(text)
+    except ValueError:
+        raise api.InvalidInputError(field, f"must be a number, got {text!r}") from None
+
+
+def _maybe_float(text: str):
+    try:
+        return float(text) if text else None
+    except ValueError:
+        return text
+
+
+def _int(text: str, field: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise api.InvalidInputError(field, f"must be a whole number, got {text!r}") from None
+
+
+def _maybe_int(text: str):
+    try:
+        return int(text) if text else None
+    except ValueError:
+        return text

@@ -1,0 +1,206 @@
+"""The web page (service/pages.py): the numbers are the API's, the URL is the permalink, errors stand at their field,
+the controls are labelled and the tables captioned; every request stays on loopback (tests/base's guard).
+
+Parsed with the standard library's HTMLParser (no browser here: the pages need no JavaScript). Numbers on the page
+are printed to a stated number of significant digits (12 for the precession values, 10 for a track's), so each is
+compared with the API's within half a unit of its last digit.
+"""
+from __future__ import annotations
+
+import csv
+import io
+from html.parser import HTMLParser
+from urllib.parse import parse_qs, urlsplit
+
+import pytest
+from fastapi.testclient import TestClient
+
+from ephem import api
+from service.app import create_app
+from service.pages import TRACK_ROWS_SHOWN
+from service.settings import Settings
+
+
+class Page(HTMLParser):
+    """What the tests read of a page: elements by id with their text, labels, form controls, tables, links,
+    images and the inline errors."""
+
+    def __init__(self, html: str):
+        super().__init__()
+        self.by_id: dict[str, dict] = {}
+        self.labels: set[str] = set()
+        self.controls: list[dict] = []
+        self.tables: list[dict] = []
+        self.links: list[str] = []
+        self.images: list[dict] = []
+        self.errors: dict[str, str] = {}
+        self.alerts: list[str] = []
+        self._open: list[tuple[str, dict]] = []
+        self._text: dict[int, list[str]] = {}
+        self.feed(html)
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        self._open.append((tag, a))
+        self._text[len(self._open)] = []
+        if tag == "label":
+            self.labels.add(a.get("for"))
+        elif tag in ("input", "select") and a.get("type") != "hidden":
+            self.controls.append(a)
+        elif tag == "table":
+            self.tables.append({"caption": None, "header_scopes": [], "rows": []})
+        elif tag == "th" and self.tables:
+            self.tables[-1]["header_scopes"].append(a.get("scope"))
+        elif tag == "a" and "href" in a:
+            self.links.append(a["href"])
+        elif tag == "img":
+            self.images.append(a)
+        if tag in ("input", "img"):          # void elements
+            self._close(tag)
+
+    def handle_endtag(self, tag):
+        if self._open and self._open[-1][0] == tag:
+            self._close(tag)
+
+    def _close(self, tag):
+        depth = len(self._open)
+        text = " ".join("".join(self._text.pop(depth, [])).split())
+        _, a = self._open.pop()
+        if self._open:
+            self._text[len(self._open)].append(text + " ")
+        if "id" in a:
+            self.by_id[a["id"]] = {"tag": tag, "text": text, **a}
+        if tag == "caption" and self.tables:
+            self.tables[-1]["caption"] = text
+        if a.get("class") == "field-error":
+            self.errors[a["id"].removesuffix("-error")] = text
+        if a.get("role") == "alert" and a.get("class") == "problem":
+            self.alerts.append(text)
+
+    def handle_data(self, data):
+        if self._open:
+            self._text[len(self._open)].append(data)
+
+
+@pytest.fixture(scope="module")
+def client():
+    with TestClient(create_app(Settings(warm_up=False))) as c:
+        yield c
+
+
+def _page(client, url: str, status: int = 200) -> Page:
+    r = client.get(url)
+    assert r.status_code == status, (url, r.status_code, r.text[:500])
+    assert r.headers["content-type"].startswith("text/html")
+    return Page(r.text)
+
+
+def _accessible(p: Page) -> None:
+    """Every control labelled, every table captioned with its headers scoped, every image described."""
+    unlabelled = [c.get("id") or c.get("name") for c in p.controls if c.get("id") not in p.labels]
+    assert not unlabelled, unlabelled
+    for t in p.tables:
+        assert t["caption"], t
+        assert all(s in ("col", "row") for s in t["header_scopes"]), t
+    assert all(img.get("alt") for img in p.images), p.images
+
+
+def test_the_index_lists_every_body_of_the_catalogue(client):
+    p = _page(client, "/")
+    names = [b["name"] for b in client.get("/v1/bodies").json()]
+    for name in names:
+        assert f"/bodies/{name}?dataset=current" in p.links, name
+    _accessible(p)
+    other = _page(client, "/?dataset=petit2014")
+    assert "/bodies/Itokawa?dataset=petit2014" in other.links
+
+
+@pytest.mark.parametrize("body", ["vesta", "earth", "moon"])
+def test_a_body_page_shows_the_apis_precession(client, body):
+    p = _page(client, f"/bodies/{body}")
+    want = client.get(f"/v1/bodies/{body}/precession").json()
+    for key in ("precession_rate_arcsec_per_year", "obliquity_deg", "dynamical_ellipticity",
+                "scaling_factor_arcsec_per_year"):
+        shown = float(p.by_id[key]["text"])
+        assert shown == pytest.approx(want[key], rel=5e-12), key      # printed to 12 significant digits
+    _accessible(p)
+    # the nutation tables' downloads are the API's, and answer
+    downloads = [u for u in p.links if "/nutation?" in u]
+    assert {parse_qs(urlsplit(u).query)["format"][0] for u in downloads} == {"csv", "markdown", "latex"}
+    for u in downloads:
+        assert client.get(urlsplit(u).path + "?" + urlsplit(u).query).status_code == 200
+
+
+def test_the_body_page_shows_every_nutation_term_and_the_facts_with_their_sources(client):
+    p = _page(client, "/bodies/vesta")
+    nutation = client.get("/v1/bodies/vesta/nutation").json()
+    terms_table = next(t for t in p.tables if "nutation terms" in t["caption"])
+    assert f"({len(nutation['terms'])})" in terms_table["caption"]
+    facts = next(t for t in p.tables if "catalogue values" in t["caption"])
+    assert facts["caption"].startswith("vesta's") or facts["caption"].startswith("Vesta's")
+
+
+def test_a_track_page_shows_the_apis_track_and_its_model(client):
+    q = "start=2020-01-01&stop=2021-01-01&step_days=5&tolerance_mas=1000"
+    p = _page(client, f"/bodies/vesta/track?{q}")
+    want = client.get(f"/v1/bodies/vesta/track?{q}").json()
+    count = len(want["jd_tdb"])
+    rows_table = next(t for t in p.tables if "track, the first" in t["caption"])
+    assert f"the first {min(count, TRACK_ROWS_SHOWN)} of {count} epochs" in rows_table["caption"]
+    # the CSV download is the API's whole track
+    csv_url = next(u for u in p.links if "format=csv" in u)
+    parts = urlsplit(csv_url)
+    rows = list(csv.DictReader(io.StringIO(client.get(parts.path + "?" + parts.query).text)))
+    assert len(rows) == count
+    assert float(rows[0]["pole_ra_deg"]) == pytest.approx(want["pole_ra_deg"][0], rel=1e-12)
+    # the plot is the API's figure of the same track
+    (img,) = p.images
+    src = urlsplit(img["src"])
+    r = client.get(src.path + "?" + src.query)
+    assert r.status_code == 200 and r.headers["content-type"] == "image/png"
+    _accessible(p)
+
+
+def test_the_track_pages_first_rows_are_the_apis_numbers(client):
+    q = {"start": "2020-01-01", "stop": "2020-06-01", "step_days": "10"}
+    r = client.get("/bodies/ceres/track", params=q)
+    want = api.track_arrays("ceres", q["start"], q["stop"], 10.0)
+    text = r.text
+    # the first row's pole RA, printed to 10 significant digits
+    assert f"{float(want['pole_ra_deg'][0]):.10g}" in text
+    assert f"{float(want['jd_tdb'][0]):.13g}" in text
+
+
+def test_the_url_is_the_permalink(client):
+    """The form's values come back from the URL: reloading or sharing it shows the same request."""
+    q = "start=2030-01-01&stop=2030-06-01&step_days=7&model=series&order=4&axis=angular_momentum&dataset=petit2014"
+    p = _page(client, f"/bodies/itokawa/track?{q}")
+    assert p.by_id["start"]["value"] == "2030-01-01" and p.by_id["stop"]["value"] == "2030-06-01"
+    assert p.by_id["step_days"]["value"] == "7" and p.by_id["order"]["value"] == "4"
+    snippet_url = next(u for u in p.links if u.startswith("http") and "/v1/bodies/" in u)
+    got = parse_qs(urlsplit(snippet_url).query)
+    assert got["model"] == ["series"] and got["axis"] == ["angular_momentum"] and got["dataset"] == ["petit2014"]
+    assert got["order"] == ["4"]
+    assert client.get(urlsplit(snippet_url).path, params=got).status_code == 200     # the API answers it
+
+
+def test_an_error_stands_at_its_field_with_the_apis_words(client):
+    q = "start=2020-01-01&stop=2021-01-01&step_days=-1"
+    p = _page(client, f"/bodies/vesta/track?{q}", status=422)
+    problem = client.get(f"/v1/bodies/vesta/track?{q}").json()
+    (err,) = problem["errors"]
+    assert p.errors == {err["field"]: err["reason"]} and err["field"] == "step_days"
+    assert problem["detail"] in p.alerts[0]          # and the whole problem above the form
+    assert p.by_id["step_days"].get("aria-invalid") == "true"
+
+
+def test_a_refusal_shows_the_apis_problem(client):
+    p = _page(client, "/bodies/vulcan", status=404)
+    assert any("Vulcan" in a or "vulcan" in a for a in p.alerts), p.alerts
+    # over the budget: the same problem the API gives (here at the field it names), the estimate in its words
+    q = "start=1900-01-01&stop=2050-01-01&step_days=100&model=real_orbit"
+    api_problem = client.get(f"/v1/bodies/itokawa/track?{q}").json()
+    assert api_problem["type"].endswith("over-budget")
+    page = _page(client, f"/bodies/itokawa/track?{q}", status=api_problem["status"])
+    assert page.errors == {e["field"]: e["reason"] for e in api_problem["errors"]}
+    assert "estimated" in " ".join(page.errors.values())
