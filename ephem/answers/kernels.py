@@ -76,11 +76,11 @@ from ..families import theory_for
 from . import requests
 
 
-
 def _track(*args, **kwargs) -> dict:
     """The fit's track: :func:`ephem.answers.requests.track_arrays`, looked up at each call (the stability tests
     perturb it there)."""
     return requests.track_arrays(*args, **kwargs)
+
 
 def write_pck(bodies, start, stop, dataset: str = DEFAULT_DATASET, tolerance_mas: float | None = None,
               model: str | None = None, order: int | None = None, axis: str = "figure", perturbers=None,

@@ -14,7 +14,6 @@ from ..base.constants import JULIAN_CENTURY_DAYS as CENTURY_DAYS
 from ..base.errors import InvalidInputError
 from ..orbit.geometry import angle_between
 from ..theory.interface import Spectrum
-# the track through its module, as tests patch it there (tests/theory/test_stable_choices.py)
 from .pck_kernel import (FRAME_FROM_J2000, BodyFit, jd_text, kernel_radec, radec_of_units, rotation_x, rounding_bound,
                          theta_rad, unit_vectors)
 
