@@ -204,3 +204,18 @@ def test_a_refusal_shows_the_apis_problem(client):
     page = _page(client, f"/bodies/itokawa/track?{q}", status=api_problem["status"])
     assert page.errors == {e["field"]: e["reason"] for e in api_problem["errors"]}
     assert "estimated" in " ".join(page.errors.values())
+
+
+def test_the_moons_page_shows_its_cassini_state_and_the_earths_its_lunisolar_terms(client):
+    moon = _page(client, "/bodies/moon")
+    want = client.get("/v1/bodies/moon/precession").json()["cassini"]
+    for key, value in want.items():
+        assert float(moon.by_id[f"cassini.{key}"]["text"]) == pytest.approx(value, rel=5e-10), key
+    text = client.get("/bodies/earth").text
+    earth = Page(text)
+    nutation = client.get("/v1/bodies/earth/nutation").json()
+    terms = next(t for t in earth.tables if "nutation terms" in t["caption"])
+    assert f"({len(nutation['terms'])})" in terms["caption"]
+    # each lunisolar term is named by its Delaunay multipliers (l, l', F, D, Omega), as the API gives them
+    first = nutation["terms"][0]
+    assert f'<th scope="row">{" ".join(str(k) for k in first["delaunay_multipliers"])}</th>' in text
