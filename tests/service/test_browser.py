@@ -1,0 +1,223 @@
+"""The web page in a real browser: Debian's headless Chromium, driven by Selenium through chromedriver's path, against
+the service run by uvicorn on loopback.
+
+Each form is submitted as a person would (typing, clicking) and its result checked against the API's numbers; the
+permalink reloads to the same page; the CSV download is the whole track; an error stands at its field; no request
+leaves loopback (Chromium's own network log); axe-core (vendored: tests/service/vendor/axe-core) finds no
+accessibility violation on any page type; a screenshot of each page type is saved (``EPHEM_TEST_ARTIFACTS``, default
+a temporary directory).
+
+The browser is Debian's (``apt-get install chromium chromium-driver``; ``.ci/run`` installs it when missing): under
+CI (``CI`` set) a missing browser fails these tests, elsewhere they skip saying how to install it.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+from urllib.parse import parse_qs, urlsplit
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+AXE = Path(__file__).resolve().parent / "vendor" / "axe-core" / "axe.min.js"
+#: axe-core 4.14.1's axe.min.js (tests/service/vendor/axe-core/README.md)
+AXE_SHA256 = "29348999450cdf2849a8e70b7912fc2da85a849da39c0d0d5394f51d4a9ed95c"
+INSTALL = "apt-get install chromium chromium-driver (Debian's packages; a browser downloaded elsewhere is refused here)"
+
+
+def _executables() -> tuple[str, str] | None:
+    chromium = os.environ.get("EPHEM_CHROMIUM") or shutil.which("chromium")
+    driver = os.environ.get("EPHEM_CHROMEDRIVER") or shutil.which("chromedriver")
+    return (chromium, driver) if chromium and driver else None
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture(scope="module")
+def server():
+    port = _free_port()
+    env = {**os.environ, "EPHEM_WARM_UP": "0"}
+    proc = subprocess.Popen([sys.executable, "-m", "uvicorn", "service.app:app", "--host", "127.0.0.1",
+                             "--port", str(port), "--log-level", "warning"], cwd=ROOT, env=env)
+    base = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + 60
+        while True:
+            try:
+                with urllib.request.urlopen(base + "/healthz", timeout=1):
+                    break
+            except OSError:
+                if time.monotonic() > deadline or proc.poll() is not None:
+                    raise
+                time.sleep(0.2)
+        yield base
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+
+
+@pytest.fixture(scope="module")
+def browser():
+    found = _executables()
+    if found is None:
+        if os.environ.get("CI"):
+            pytest.fail(f"no Chromium or chromedriver for the browser tests under CI: {INSTALL}")
+        pytest.skip(f"no Chromium or chromedriver: {INSTALL}")
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    chromium, driver_path = found
+    opts = webdriver.ChromeOptions()
+    opts.binary_location = chromium
+    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--no-first-run",
+                "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                "--disable-default-apps", "--disable-extensions", "--window-size=1280,1000",
+                # every name but loopback resolves to nothing: the page cannot reach out even if it tried
+                "--host-resolver-rules=MAP * ~NOTFOUND , EXCLUDE 127.0.0.1"):
+        opts.add_argument(arg)
+    opts.set_capability("goog:loggingPrefs", {"performance": "ALL"})
+    driver = webdriver.Chrome(service=Service(executable_path=driver_path), options=opts)
+    driver.set_page_load_timeout(60)
+    try:
+        yield driver
+    finally:
+        driver.quit()
+
+
+@pytest.fixture(scope="module")
+def artifacts(tmp_path_factory) -> Path:
+    where = os.environ.get("EPHEM_TEST_ARTIFACTS")
+    path = Path(where) if where else tmp_path_factory.mktemp("browser")
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def _api(server: str, path: str):
+    with urllib.request.urlopen(server + path, timeout=60) as r:
+        body = r.read()
+        return json.loads(body) if r.headers.get_content_type() == "application/json" else body.decode()
+
+
+def _text(browser, element_id: str) -> str:
+    from selenium.webdriver.common.by import By
+    return browser.find_element(By.ID, element_id).text
+
+
+def _axe_violations(browser) -> list:
+    source = AXE.read_bytes()
+    assert hashlib.sha256(source).hexdigest() == AXE_SHA256, "the vendored axe-core is not the recorded one"
+    browser.execute_script(source.decode("utf-8"))
+    browser.set_script_timeout(60)
+    result = browser.execute_async_script("const done = arguments[arguments.length - 1];"
+                                          "axe.run(document).then(r => done(r.violations), e => done(String(e)));")
+    assert isinstance(result, list), result
+    return [{"id": v["id"], "help": v["help"], "nodes": [n["target"] for n in v["nodes"]][:3]} for v in result]
+
+
+def test_from_the_catalogue_to_a_body_by_clicking(server, browser, artifacts):
+    from selenium.webdriver.common.by import By
+
+    browser.get(server + "/")
+    assert not _axe_violations(browser)
+    browser.save_screenshot(str(artifacts / "index.png"))
+    browser.find_element(By.LINK_TEXT, "Vesta").click()
+    assert urlsplit(browser.current_url).path == "/bodies/Vesta"
+    want = _api(server, "/v1/bodies/vesta/precession")
+    for key in ("precession_rate_arcsec_per_year", "obliquity_deg", "scaling_factor_arcsec_per_year"):
+        assert float(_text(browser, key)) == pytest.approx(want[key], rel=5e-12), key
+    assert not _axe_violations(browser)
+    browser.save_screenshot(str(artifacts / "body.png"))
+
+
+def test_the_track_form_submitted_gives_the_apis_track_and_reloads_to_it(server, browser, artifacts):
+    from selenium.webdriver.common.by import By
+
+    browser.get(server + "/bodies/ceres")
+    for field, value in (("start", "2024-01-01"), ("stop", "2025-01-01"), ("step_days", "5"),
+                         ("tolerance_mas", "1000")):
+        box = browser.find_element(By.ID, field)
+        box.clear()
+        box.send_keys(value)
+    browser.find_element(By.CSS_SELECTOR, "form.track-form button[type=submit]").click()
+    query = parse_qs(urlsplit(browser.current_url).query)
+    assert {k: query[k] for k in ("start", "stop", "step_days", "tolerance_mas")} == {
+        "start": ["2024-01-01"], "stop": ["2025-01-01"], "step_days": ["5"], "tolerance_mas": ["1000"]}
+    want = _api(server, "/v1/bodies/ceres/track?start=2024-01-01&stop=2025-01-01&step_days=5&tolerance_mas=1000")
+    caption = browser.find_element(By.XPATH, "//table[contains(caption, 'track, the first')]/caption").text
+    assert f"of {len(want['jd_tdb'])} epochs" in caption
+    first_row = browser.find_elements(By.XPATH, "//table[contains(caption, 'track, the first')]/tbody/tr")[0]
+    cells = [c.text for c in first_row.find_elements(By.XPATH, "./th|./td")]
+    assert float(cells[-2]) == pytest.approx(want["pole_ra_deg"][0], rel=5e-10)     # 10 significant digits
+    assert f"<strong>{want['model']['name']}</strong>" in browser.page_source
+    assert not _axe_violations(browser)
+    browser.save_screenshot(str(artifacts / "track.png"))
+    # the permalink: the same URL, reloaded, is the same page
+    url, shown = browser.current_url, caption
+    browser.refresh()
+    assert browser.current_url == url
+    assert browser.find_element(By.XPATH, "//table[contains(caption, 'track, the first')]/caption").text == shown
+    # the CSV download is the whole track
+    href = browser.find_element(By.PARTIAL_LINK_TEXT, "Download the whole track").get_attribute("href")
+    rows = _api(server, href.removeprefix(server)).strip().splitlines()
+    assert len(rows) == len(want["jd_tdb"]) + 1                                     # the header and every epoch
+    # the figure loaded (the browser decoded the API's PNG)
+    img = browser.find_element(By.TAG_NAME, "img")
+    assert browser.execute_script("return arguments[0].complete && arguments[0].naturalWidth", img) > 0
+
+
+def test_an_error_stands_at_its_field(server, browser, artifacts):
+    from selenium.webdriver.common.by import By
+
+    browser.get(server + "/bodies/vesta/track?start=2020-01-01&stop=2021-01-01&step_days=-1")
+    problem = None
+    try:
+        _api(server, "/v1/bodies/vesta/track?start=2020-01-01&stop=2021-01-01&step_days=-1")
+    except urllib.error.HTTPError as exc:
+        problem = json.loads(exc.read())
+    (err,) = problem["errors"]
+    shown = browser.find_element(By.ID, f"{err['field']}-error")
+    assert shown.is_displayed() and shown.text == err["reason"]
+    assert browser.find_element(By.ID, err["field"]).get_attribute("aria-invalid") == "true"
+    assert not _axe_violations(browser)
+    browser.save_screenshot(str(artifacts / "error.png"))
+
+
+def test_the_moons_page_is_accessible(server, browser, artifacts):
+    browser.get(server + "/bodies/moon")
+    assert not _axe_violations(browser)
+    browser.save_screenshot(str(artifacts / "moon.png"))
+
+
+def test_no_request_leaves_loopback(server, browser):
+    """Everything the browser fetched for these pages (documents, the style sheet, the figures) came from the
+    service on 127.0.0.1: Chromium's own network log, since the start of the browser."""
+    browser.get(server + "/bodies/earth/track?start=2020-01-01&stop=2020-03-01&step_days=10")
+    urls = []
+    for entry in browser.get_log("performance"):
+        message = json.loads(entry["message"])["message"]
+        if message.get("method") == "Network.requestWillBeSent":
+            urls.append(message["params"]["request"]["url"])
+    assert urls, "no request logged"
+    outside = [u for u in urls if not (u.startswith(server + "/") or u.startswith("data:") or u == "about:blank")]
+    assert not outside, outside
+
+
+def test_the_accessibility_check_can_fail(server, browser):
+    """axe-core does run: an unlabelled input and an image without alt text added to a page are caught."""
+    browser.get(server + "/")
+    browser.execute_script("document.querySelector('main').insertAdjacentHTML('beforeend',"
+                           " '<input name=\"x\"><img src=\"/static/page/page.css\">');")
+    found = {v["id"] for v in _axe_violations(browser)}
+    assert {"image-alt", "label"} <= found, found
