@@ -12,7 +12,8 @@ from __future__ import annotations
 from .answers.batches import MAX_BATCH_ROWS, batch
 from .answers.requests import (FREE_MOTION_KEYS, MAX_TRACK_SAMPLES, REFUSE_ESTIMATE_MAS, TRACK_KEYS, WARN_ESTIMATE_MAS,
                                answer_cost, body_record, epoch_grid, free_motion_answer, free_motion_arrays, history,
-                               list_bodies, nutation, precession, precession_nutation, track, track_arrays, warm_up)
+                               list_bodies, nutation, precession, precession_nutation, track, track_arrays, track_models,
+                               warm_up)
 from .base import memo
 from .base.budget import Budget, BusyError, DeadlineExceededError, OverBudgetError, budget, charge
 from .base.constants import AXES, GM_CENTER
@@ -43,7 +44,7 @@ from .theory.cost import MAX_NUMERICAL_ORBITS
 
 __all__ = [
     # answers (dicts, units in the keys)
-    "list_bodies", "body_record", "precession", "nutation", "precession_nutation", "track", "track_arrays",
+    "list_bodies", "body_record", "precession", "nutation", "precession_nutation", "track", "track_arrays", "track_models",
     "history", "batch", "free_motion_answer", "free_motion_arrays", "answer_cost", "epoch_grid", "warm_up",
     "TRACK_KEYS", "FREE_MOTION_KEYS", "MAX_TRACK_SAMPLES", "MAX_BATCH_ROWS", "WARN_ESTIMATE_MAS", "REFUSE_ESTIMATE_MAS",
     # the numeric model of a body

@@ -136,10 +136,14 @@ def install(app: FastAPI) -> None:
 
         def compute():
             # the API's own parsing: the query's text as the route would get it
-            return api.track_arrays(body, start, stop, _float(step_days, "step_days"), dataset,
-                                    max_samples=request.app.state.settings.max_track_samples,
-                                    tolerance_mas=_float(tolerance_mas, "tolerance_mas") if tolerance_mas else None,
-                                    model=model or None, order=_int(order, "order") if order else None, axis=axis)
+            step, tol = _float(step_days, "step_days"), _float(tolerance_mas, "tolerance_mas") if tolerance_mas else None
+            track = api.track_arrays(body, start, stop, step, dataset,
+                                     max_samples=request.app.state.settings.max_track_samples, tolerance_mas=tol,
+                                     model=model or None, order=_int(order, "order") if order else None, axis=axis)
+            # speed against accuracy for this scene: every model's estimate and cost over these epochs
+            models = api.track_models(body, start, stop, step, dataset, tolerance_mas=tol, axis=axis,
+                                      max_samples=request.app.state.settings.max_track_samples)
+            return {**track, "models": models}
 
         result, problem = await _answer(request, compute)
         rows, count = [], 0

@@ -232,3 +232,27 @@ def free_motion(r: FreeMotion) -> dict:
         "mode": r.mode, "method": r.method, "J_arcsec": r.J_arcsec,
         "moments_over_C": list(r.moments_over_C), "cost_ms": r.cost_ms,
     }
+
+
+def track_models(b: Body, theory, estimates, costs, chosen, tolerance: float | None, epochs: tuple,
+                 perturbers: tuple[str, ...]) -> dict:
+    """The speed-against-accuracy answer: each model's estimate (mas, by term) and predicted cost (CPU ms, MB)
+    over the request's epochs, in the family's order; ``chosen`` the one the tolerance picks (None: none given, or
+    none within it)."""
+    t0, t1, count = epochs
+    models = []
+    for e, c in zip(estimates, costs):
+        models.append({
+            "name": e.rung, "order": e.order, "description": theory.descriptions.get(e.rung, ""),
+            "available": e.available, "why_not": e.why_not,
+            "estimated_error_mas": e.total / MAS if e.available else None,
+            "error_terms_mas": {k: v / MAS for k, v in e.terms.items()} if e.available else None,
+            "free_wobble": e.free_wobble, "rotation_scale": e.rotation_scale,
+            "estimated_cpu_ms": None if c is None else 1e3 * c.cpu_s,
+            "estimated_memory_mb": None if c is None else c.memory_mb,
+            "chosen": e is chosen,
+        })
+    return {"body": b.name, "dataset": b.dataset, "perturbers": list(perturbers), "theory": theory.summary,
+            "start_jd_tdb": t0, "stop_jd_tdb": t1, "epochs": count,
+            "tolerance_mas": None if tolerance is None else float(f"{tolerance / MAS:.12g}"),
+            "chosen": None if chosen is None else chosen.rung, "models": models}

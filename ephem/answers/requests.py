@@ -328,6 +328,35 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     return render.with_perturbers(ans, b, per)
 
 
+def track_models(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,
+                 tolerance_mas: float | None = None, axis: str = "figure", perturbers=None,
+                 max_samples: int = MAX_TRACK_SAMPLES) -> dict:
+    """Speed against accuracy for one request: every model of the family serving ``body`` with its estimated
+    error over these epochs (by term) and its predicted cost (:mod:`ephem.theory.cost`), in the family's order
+    (the order in which a tolerance tries them), and which one ``tolerance_mas`` picks: the first within it, as
+    :func:`track` chooses. Charges the estimates' cost first; computes no track. A model that cannot serve these
+    epochs says why."""
+    b = resolve_body(body, dataset)
+    t0, step, count = epoch_grid(start, stop, step_days, max_samples)
+    tol = _tolerance(tolerance_mas)
+    check_axis(axis, b.name)
+    per = _perturbers(b, perturbers)
+    theory = theory_for(b, per, axis)
+    t_end = t0 + step * (count - 1)
+    charge(theory.choice_cost(t0, t_end, count), b.name)
+    estimates = theory.estimates(t0 + step * np.arange(count))
+    chosen = None
+    if tol is not None:
+        try:
+            chosen = cheapest_within([e for e in estimates if e.available], tol, b.name, False)
+        except NotApplicableError:
+            chosen = None
+    costs = [None if not e.available else
+             theory.track_cost(e.rung, e.order, t0, t_end, count, e.free_wobble, e.rotation_scale is not None)
+             for e in estimates]
+    return render.track_models(b, theory, estimates, costs, chosen, tol, (t0, t_end, count), per)
+
+
 #: the warning an answer carries for each error term its estimate could not include
 UNESTIMATED_WARNINGS = {
     "orbit_motion": "the real orbit's departure from the fixed Keplerian one was never measured for this body: the "

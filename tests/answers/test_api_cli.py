@@ -121,3 +121,25 @@ def test_cli_track_with_tolerance_reports_the_model_on_stderr():
     res = runner.invoke(app, ["track", "vesta", "--start", "2000-01-01", "--stop", "2300-01-01", "--step-days", "365",
                               "--tolerance-mas", "1"])
     assert res.exit_code == 3 and "tolerance" in res.stderr
+
+
+@pytest.mark.parametrize("body, tolerance", [("vesta", 100.0), ("earth", None), ("moon", 10000.0)])
+def test_track_models_are_the_tracks_own_estimates(body, tolerance):
+    """Speed against accuracy (api.track_models): the model a tolerance picks is the one the track takes, with
+    the same estimate; a named model's listed estimate is its track's; every available model is priced."""
+    args = ("2020-01-01", "2025-01-01", 10.0)
+    table = api.track_models(body, *args, tolerance_mas=tolerance)
+    assert table["epochs"] == len(api.track(body, *args)["jd_tdb"])
+    available = [m for m in table["models"] if m["available"]]
+    assert available and all(m["estimated_cpu_ms"] > 0 and m["estimated_error_mas"] > 0 for m in available)
+    if tolerance is not None:
+        (chosen,) = [m for m in table["models"] if m["chosen"]]
+        got = api.track(body, *args, tolerance_mas=tolerance)["model"]
+        assert (chosen["name"], chosen["order"]) == (got["name"], got["order"]) == (table["chosen"], got["order"])
+        assert chosen["estimated_error_mas"] == pytest.approx(got["estimated_error_mas"], rel=1e-12)
+        assert chosen["estimated_error_mas"] <= tolerance
+        first_within = next(m for m in available if m["estimated_error_mas"] <= tolerance)
+        assert first_within is chosen
+    plain = next(m for m in available if not m["free_wobble"] and not m["rotation_scale"] and m["order"] is None)
+    named = api.track(body, *args, model=plain["name"])["model"]
+    assert plain["estimated_error_mas"] == pytest.approx(named["estimated_error_mas"], rel=1e-12)

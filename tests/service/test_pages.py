@@ -219,3 +219,17 @@ def test_the_moons_page_shows_its_cassini_state_and_the_earths_its_lunisolar_ter
     # each lunisolar term is named by its Delaunay multipliers (l, l', F, D, Omega), as the API gives them
     first = nutation["terms"][0]
     assert f'<th scope="row">{" ".join(str(k) for k in first["delaunay_multipliers"])}</th>' in text
+
+
+def test_the_track_page_charts_every_model_against_its_cost(client):
+    q = {"start": "2020-01-01", "stop": "2025-01-01", "step_days": "10", "tolerance_mas": "100"}
+    text = client.get("/bodies/vesta/track", params=q).text
+    p = Page(text)
+    table = next(t for t in p.tables if "Every model of" in t["caption"])
+    want = api.track_models("vesta", q["start"], q["stop"], 10.0, tolerance_mas=100.0)
+    assert f"over these {want['epochs']} epochs" in table["caption"]
+    assert text.count('<tr class="chosen">') == 1
+    (chosen,) = [m for m in want["models"] if m["chosen"]]
+    row = text.split('<tr class="chosen">', 1)[1].split("</tr>", 1)[0]
+    assert f">{chosen['name']}<" in row and f"{chosen['estimated_error_mas']:.4g}" in row
+    assert f"{chosen['estimated_cpu_ms']:.3g}" in row
