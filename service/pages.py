@@ -36,6 +36,12 @@ TEMPLATES = pathlib.Path(__file__).resolve().parent / "templates"
 TRACK_ROWS_SHOWN = 20
 #: the form's default span: a year from 2025 at a 10-day step
 TRACK_DEFAULTS = {"start": "2025-01-01", "stop": "2026-01-01", "step_days": "10"}
+#: the history form's default: the last ten thousand years at a century
+HISTORY_DEFAULTS = {"start_year": "-10000", "stop_year": "0", "step_years": "100"}
+HISTORY_FIELDS = ("start_year", "stop_year", "step_years", "tolerance_mas", "orbit_model", "dataset")
+HISTORY_KEYS = ("year", "obliquity_deg", "precession_angle_deg", "pole_ra_deg", "pole_dec_deg",
+                "orbit_inclination_deg", "estimated_error_deg")
+ORBIT_MODELS = ("secular", "nbody")
 #: the track form's fields, in the API's names, and the nutation tables' formats offered for download
 TRACK_FIELDS = ("start", "stop", "step_days", "tolerance_mas", "model", "order", "axis", "dataset")
 TABLE_DOWNLOADS = (("csv", "CSV"), ("markdown", "Markdown"), ("latex", "LaTeX"))
@@ -119,6 +125,8 @@ def install(app: FastAPI) -> None:
         params = {"dataset": dataset}
         return _page("body.html", _status(problem), body=name, dataset=dataset, result=result, problem=problem,
                      form={**TRACK_DEFAULTS, "dataset": dataset}, models=api.MODELS, axes=api.AXES,
+                     history_form={**HISTORY_DEFAULTS, "tolerance_mas": "", "orbit_model": "", "dataset": dataset},
+                     orbit_models=ORBIT_MODELS,
                      downloads=[(label, _api_url(request, f"/v1/bodies/{name}/nutation",
                                                  {**params, "format": fmt})) for fmt, label in TABLE_DOWNLOADS],
                      precession_code=_snippets(request, f"/v1/bodies/{name}/precession", params,
@@ -162,6 +170,41 @@ def install(app: FastAPI) -> None:
                                                                      "tolerance_mas": _maybe_float(tolerance_mas),
                                                                      "order": _maybe_int(order)})),
                      title=f"{name}: spin-axis track")
+
+
+    @app.get("/bodies/{body}/history", include_in_schema=False, response_class=HTMLResponse)
+    async def history_page(request: Request, body: str, start_year: str = HISTORY_DEFAULTS["start_year"],
+                           stop_year: str = HISTORY_DEFAULTS["stop_year"],
+                           step_years: str = HISTORY_DEFAULTS["step_years"], tolerance_mas: str = "",
+                           orbit_model: str = "", dataset: str = api.DEFAULT_DATASET):
+        form = {"start_year": start_year, "stop_year": stop_year, "step_years": step_years,
+                "tolerance_mas": tolerance_mas, "orbit_model": orbit_model, "dataset": dataset}
+        params = {k: form[k] for k in HISTORY_FIELDS}
+
+        def compute():
+            return api.history(body, _float(start_year, "start_year"), _float(stop_year, "stop_year"),
+                               _float(step_years, "step_years"), dataset,
+                               tolerance_mas=_float(tolerance_mas, "tolerance_mas") if tolerance_mas else None,
+                               orbit_model=orbit_model or None,
+                               max_samples=request.app.state.settings.max_track_samples)
+
+        result, problem = await _answer(request, compute)
+        rows, count = [], 0
+        if result is not None:
+            count = len(result["year"])
+            rows = [[float(result[k][i]) for k in HISTORY_KEYS] for i in range(min(count, TRACK_ROWS_SHOWN))]
+        name = result["body"] if result else body
+        plot_params = {k: form[k] for k in HISTORY_FIELDS}
+        return _page("history.html", _status(problem), body=name, form=form, result=result, problem=problem,
+                     rows=rows, count=count, keys=HISTORY_KEYS, orbit_models=ORBIT_MODELS,
+                     plot_url=_api_url(request, f"/v1/bodies/{name}/history.png", plot_params),
+                     snippets=_snippets(request, f"/v1/bodies/{name}/history", params,
+                                        _python_call("api.history", name, {
+                                            **params, "start_year": _maybe_float(start_year),
+                                            "stop_year": _maybe_float(stop_year),
+                                            "step_years": _maybe_float(step_years),
+                                            "tolerance_mas": _maybe_float(tolerance_mas)})),
+                     title=f"{name}: the spin axis over millennia")
 
 
 def _float(text: str, field: str) -> float:

@@ -221,3 +221,25 @@ def test_the_accessibility_check_can_fail(server, browser):
                            " '<input name=\"x\"><img src=\"/static/page/page.css\">');")
     found = {v["id"] for v in _axe_violations(browser)}
     assert {"image-alt", "label"} <= found, found
+
+
+def test_the_history_form_submitted_gives_the_apis_history(server, browser, artifacts):
+    from selenium.webdriver.common.by import By
+
+    browser.get(server + "/bodies/ceres")
+    for field, value in (("start_year", "-20000"), ("stop_year", "0"), ("step_years", "500")):
+        box = browser.find_element(By.ID, field)
+        box.clear()
+        box.send_keys(value)
+    browser.find_element(By.CSS_SELECTOR, "form.history-form button[type=submit]").click()
+    assert urlsplit(browser.current_url).path == "/bodies/Ceres/history"
+    want = _api(server, "/v1/bodies/ceres/history?start_year=-20000&stop_year=0&step_years=500")
+    caption = browser.find_element(By.XPATH, "//table[contains(caption, 'history, the first')]/caption").text
+    assert f"of {len(want['year'])} epochs" in caption
+    first_row = browser.find_elements(By.XPATH, "//table[contains(caption, 'history, the first')]/tbody/tr")[0]
+    cells = [c.text for c in first_row.find_elements(By.XPATH, "./th|./td")]
+    assert float(cells[1]) == pytest.approx(want["obliquity_deg"][0], rel=5e-8)      # 8 significant digits
+    img = browser.find_element(By.TAG_NAME, "img")
+    assert browser.execute_script("return arguments[0].complete && arguments[0].naturalWidth", img) > 0
+    assert not _axe_violations(browser)
+    browser.save_screenshot(str(artifacts / "history.png"))

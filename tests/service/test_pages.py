@@ -233,3 +233,28 @@ def test_the_track_page_charts_every_model_against_its_cost(client):
     row = text.split('<tr class="chosen">', 1)[1].split("</tr>", 1)[0]
     assert f">{chosen['name']}<" in row and f"{chosen['estimated_error_mas']:.4g}" in row
     assert f"{chosen['estimated_cpu_ms']:.3g}" in row
+
+
+def test_a_history_page_shows_the_apis_history(client):
+    q = {"start_year": "-20000", "stop_year": "0", "step_years": "500"}
+    text = client.get("/bodies/ceres/history", params=q).text
+    p = Page(text)
+    want = client.get("/v1/bodies/ceres/history", params=q).json()
+    table = next(t for t in p.tables if "history, the first" in t["caption"])
+    assert f"of {len(want['year'])} epochs" in table["caption"]
+    assert f"{want['obliquity_deg'][0]:.8g}" in text and f"{want['model']['estimated_error_mas']:.4g} mas" in text
+    (img,) = p.images
+    src = urlsplit(img["src"])
+    r = client.get(src.path + "?" + src.query)
+    assert r.status_code == 200 and r.headers["content-type"] == "image/png"
+    _accessible(p)
+    # the body page links here through its form
+    assert 'action="/bodies/Ceres/history"' in client.get("/bodies/ceres").text
+
+
+def test_a_history_refused_by_the_api_is_refused_at_its_field(client):
+    q = {"start_year": "0", "stop_year": "-100", "step_years": "10"}          # stop before start
+    api_problem = client.get("/v1/bodies/ceres/history", params=q).json()
+    p = _page(client, "/bodies/ceres/history?" + "&".join(f"{k}={v}" for k, v in q.items()),
+              status=api_problem["status"])
+    assert p.errors == {e["field"]: e["reason"] for e in api_problem["errors"]}

@@ -208,6 +208,8 @@ SPECS: dict[tuple[str, str], Spec] = {
     ("GET", "/bodies/{body}"): Spec(CATALOGUE, media=("text/html",)),
     ("GET", "/bodies/{body}/track"): Spec(CATALOGUE, lambda case: {"start": "2020-01-01", "stop": "2020-03-01",
                                                                    "step_days": 30}, media=("text/html",)),
+    ("GET", "/bodies/{body}/history"): Spec(CATALOGUE, lambda case: {**HISTORY, "step_years": 200},
+                                            media=("text/html",)),
 }
 
 #: the media type of each value a ``format`` query parameter takes
