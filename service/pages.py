@@ -43,8 +43,11 @@ HISTORY_KEYS = ("year", "obliquity_deg", "precession_angle_deg", "pole_ra_deg", 
                 "orbit_inclination_deg", "estimated_error_deg")
 ORBIT_MODELS = ("secular", "nbody")
 #: the track form's fields, in the API's names, and the nutation tables' formats offered for download
-TRACK_FIELDS = ("start", "stop", "step_days", "tolerance_mas", "model", "order", "axis", "dataset")
+TRACK_FIELDS = ("start", "stop", "step_days", "tolerance_mas", "model", "order", "axis", "free_wobble_phase_deg",
+                "free_wobble_J_arcsec", "dataset")
 TABLE_DOWNLOADS = (("csv", "CSV"), ("markdown", "Markdown"), ("latex", "LaTeX"))
+#: the nutation tables' layouts (Petit et al. Tables 5-8 and 9-10)
+TABLE_LAYOUTS = (("sin-cos", "Sin, Cos, Amp (arcsec), period in years"), ("amp-period", "Amp (mas), period in days"))
 
 _env = Environment(loader=FileSystemLoader(str(TEMPLATES)), autoescape=select_autoescape(["html"]),
                    trim_blocks=True, lstrip_blocks=True)
@@ -127,8 +130,10 @@ def install(app: FastAPI) -> None:
                      form={**TRACK_DEFAULTS, "dataset": dataset}, models=api.MODELS, axes=api.AXES,
                      history_form={**HISTORY_DEFAULTS, "tolerance_mas": "", "orbit_model": "", "dataset": dataset},
                      orbit_models=ORBIT_MODELS,
-                     downloads=[(label, _api_url(request, f"/v1/bodies/{name}/nutation",
-                                                 {**params, "format": fmt})) for fmt, label in TABLE_DOWNLOADS],
+                     downloads=[(layout_label, [(label, _api_url(request, f"/v1/bodies/{name}/nutation",
+                                                                 {**params, "format": fmt, "layout": layout}))
+                                                for fmt, label in TABLE_DOWNLOADS])
+                                for layout, layout_label in TABLE_LAYOUTS],
                      precession_code=_snippets(request, f"/v1/bodies/{name}/precession", params,
                                                _python_call("api.precession", name, params)),
                      title=f"{name}: precession and nutation")
@@ -137,9 +142,11 @@ def install(app: FastAPI) -> None:
     async def track_page(request: Request, body: str, start: str = TRACK_DEFAULTS["start"],
                          stop: str = TRACK_DEFAULTS["stop"], step_days: str = TRACK_DEFAULTS["step_days"],
                          tolerance_mas: str = "", model: str = "", order: str = "", axis: str = "figure",
+                         free_wobble_phase_deg: str = "", free_wobble_J_arcsec: str = "",
                          dataset: str = api.DEFAULT_DATASET):
         form = {"start": start, "stop": stop, "step_days": step_days, "tolerance_mas": tolerance_mas,
-                "model": model, "order": order, "axis": axis, "dataset": dataset}
+                "model": model, "order": order, "axis": axis, "free_wobble_phase_deg": free_wobble_phase_deg,
+                "free_wobble_J_arcsec": free_wobble_J_arcsec, "dataset": dataset}
         params = {k: form[k] for k in TRACK_FIELDS}
 
         def compute():
@@ -147,7 +154,10 @@ def install(app: FastAPI) -> None:
             step, tol = _float(step_days, "step_days"), _float(tolerance_mas, "tolerance_mas") if tolerance_mas else None
             track = api.track_arrays(body, start, stop, step, dataset,
                                      max_samples=request.app.state.settings.max_track_samples, tolerance_mas=tol,
-                                     model=model or None, order=_int(order, "order") if order else None, axis=axis)
+                                     model=model or None, order=_int(order, "order") if order else None, axis=axis,
+                                     free_wobble_phase_deg=_optional_float(free_wobble_phase_deg,
+                                                                           "free_wobble_phase_deg"),
+                                     free_wobble_J_arcsec=_optional_float(free_wobble_J_arcsec, "free_wobble_J_arcsec"))
             # speed against accuracy for this scene: every model's estimate and cost over these epochs
             models = api.track_models(body, start, stop, step, dataset, tolerance_mas=tol, axis=axis,
                                       max_samples=request.app.state.settings.max_track_samples)
@@ -168,7 +178,9 @@ def install(app: FastAPI) -> None:
                      snippets=_snippets(request, f"/v1/bodies/{name}/track", params,
                                     _python_call("api.track", name, {**params, "step_days": _maybe_float(step_days),
                                                                      "tolerance_mas": _maybe_float(tolerance_mas),
-                                                                     "order": _maybe_int(order)})),
+                                                                     "order": _maybe_int(order),
+                                                                     "free_wobble_phase_deg": _maybe_float(free_wobble_phase_deg),
+                                                                     "free_wobble_J_arcsec": _maybe_float(free_wobble_J_arcsec)})),
                      title=f"{name}: spin-axis track")
 
 
@@ -234,3 +246,7 @@ def _maybe_int(text: str):
         return int(text) if text else None
     except ValueError:
         return text
+
+
+def _optional_float(text: str, field: str) -> float | None:
+    return _float(text, field) if text else None

@@ -126,7 +126,8 @@ def test_a_body_page_shows_the_apis_precession(client, body):
     _accessible(p)
     # the nutation tables' downloads are the API's, and answer
     downloads = [u for u in p.links if "/nutation?" in u]
-    assert {parse_qs(urlsplit(u).query)["format"][0] for u in downloads} == {"csv", "markdown", "latex"}
+    assert {(parse_qs(urlsplit(u).query)["format"][0], parse_qs(urlsplit(u).query)["layout"][0]) for u in downloads} \
+        == {(f, layout) for f in ("csv", "markdown", "latex") for layout in ("sin-cos", "amp-period")}
     for u in downloads:
         assert client.get(urlsplit(u).path + "?" + urlsplit(u).query).status_code == 200
 
@@ -258,3 +259,16 @@ def test_a_history_refused_by_the_api_is_refused_at_its_field(client):
     p = _page(client, "/bodies/ceres/history?" + "&".join(f"{k}={v}" for k, v in q.items()),
               status=api_problem["status"])
     assert p.errors == {e["field"]: e["reason"] for e in api_problem["errors"]}
+
+
+def test_the_track_page_follows_the_free_wobble_it_is_given(client):
+    # a named model adds the wobble whenever its phase is given (the API's rule)
+    q = {"start": "2030-01-01", "stop": "2030-03-01", "step_days": "1", "model": "hansen",
+         "free_wobble_phase_deg": "30"}
+    p = _page(client, "/bodies/mars/track?" + "&".join(f"{k}={v}" for k, v in q.items()))
+    want = client.get("/v1/bodies/mars/track", params=q).json()["model"]
+    assert p.by_id["free_wobble_phase_deg"]["value"] == "30"
+    assert want["free_wobble"]["phase_deg"] == 30.0
+    assert f"J = {want['free_wobble']['J_arcsec']:.6g}″" in p.by_id["free-wobble"]["text"]
+    plain = _page(client, "/bodies/mars/track?start=2030-01-01&stop=2030-03-01&step_days=1&model=hansen")
+    assert "free-wobble" not in plain.by_id
