@@ -17,7 +17,7 @@ from starlette.concurrency import run_in_threadpool
 
 import ephem
 from ephem import api
-from ephem.api import (AXES, DEFAULT_DATASET, FORMATS, MODELS, Body, InvalidInputError, Orbit, Pole,
+from ephem.api import (AXES, DEFAULT_DATASET, FORMATS, MODELS, InvalidInputError,
                        available_datasets, icrf_to_ecliptic_matrix, load_catalogue, memo, render_nutation)
 
 from . import guards, pages, problems, schemas
@@ -396,11 +396,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
               response_model_exclude_unset=True,
               responses={422: ERRORS[422]})        # no {body} to be unknown: no 404
     def precession_nutation(user: Annotated[schemas.UserBody, BodyParam()]):
-        b = Body(name=user.name, orbit=Orbit(**user.orbit.model_dump(), body=user.name),
-                 pole=Pole(**user.pole.model_dump(), body=user.name),
-                 rotation_period_hours=user.rotation_period_hours,
-                 moments=None if user.moments is None else (user.moments.A, user.moments.B, user.moments.C),
-                 dynamical_ellipticity=user.dynamical_ellipticity)
+        b = user.to_body()
         track = None if user.track is None else user.track.model_dump()
         history = None if user.history is None else user.history.model_dump()
         return finite_json(api.precession_nutation(b, user.order, track, settings.max_track_samples, history))

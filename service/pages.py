@@ -12,6 +12,9 @@ Routes (not in the OpenAPI document: they are pages, not the API):
 - ``GET /bodies/{body}``: the body's key facts (value, 1σ or why there is none, unit, source), its precession
   (the rate, obliquity, H_d, K with their 1σ and the model that answered), its nutation terms with the tables'
   downloads, and the track form;
+- ``GET /my-body``: a body of one's own, the fields of ``POST /v1/precession-nutation`` as a GET form validated by
+  the same model: its precession and nutation;
+- ``GET /bodies/{body}/history``: the spin axis over millennia, with the API's figure;
 - ``GET /bodies/{body}/track``: a track (start, stop, step, the time scale stated; tolerance or model; axis): the
   model chosen with its estimate by term, the first rows with the count, the plot, the CSV download.
 """
@@ -29,7 +32,12 @@ from fastapi import FastAPI, Request
 from fastapi.responses import HTMLResponse
 from jinja2 import Environment, FileSystemLoader, select_autoescape
 
+from fastapi.exceptions import RequestValidationError
+from pydantic import ValidationError
+
 from ephem import api
+
+from .schemas import UserBody
 
 TEMPLATES = pathlib.Path(__file__).resolve().parent / "templates"
 #: rows of a track shown on the page (the CSV download holds them all)
@@ -42,6 +50,23 @@ HISTORY_FIELDS = ("start_year", "stop_year", "step_years", "tolerance_mas", "orb
 HISTORY_KEYS = ("year", "obliquity_deg", "precession_angle_deg", "pole_ra_deg", "pole_dec_deg",
                 "orbit_inclination_deg", "estimated_error_deg")
 ORBIT_MODELS = ("secular", "nbody")
+#: a body of the user's own: the POST /v1/precession-nutation fields by their paths, with a label each; the
+#: form starts from the POST's own example (an asteroid like Vesta)
+MY_BODY_FIELDS = (
+    ("name", "Name"), ("rotation_period_hours", "Rotation period (hours)"),
+    ("dynamical_ellipticity", "Dynamical ellipticity H_d (or the moments below)"),
+    ("order", "e-order of the Hansen coefficients (empty: exact)"),
+    ("orbit.a_au", "a (AU)"), ("orbit.e", "e"), ("orbit.i_deg", "i (deg, to the ecliptic J2000)"),
+    ("orbit.node_deg", "Ω, the ascending node (deg)"), ("orbit.peri_deg", "ω, the argument of perihelion (deg)"),
+    ("orbit.mean_anomaly_deg", "M, the mean anomaly (deg)"), ("orbit.epoch_jd_tdb", "Epoch of the elements (JD TDB)"),
+    ("orbit.center", "The body orbited"),
+    ("pole.ra_deg", "Pole right ascension (deg, ICRF)"), ("pole.dec_deg", "Pole declination (deg, ICRF)"),
+    ("pole.epoch_jd_tdb", "Epoch of the pole (JD TDB)"),
+    ("moments.A", "Moment A (the smallest)"), ("moments.B", "Moment B"), ("moments.C", "Moment C (the largest)"))
+MY_BODY_GROUPS = (("body", "The body"), ("orbit", "Its orbit (osculating, ecliptic and equinox J2000)"),
+                  ("pole", "Its spin pole"), ("moments", "Its principal moments of inertia (any common unit)"))
+#: the text fields of a body of one's own (the rest are numbers)
+_TEXT_FIELDS = ("name", "orbit.center")
 #: the track form's fields, in the API's names, and the nutation tables' formats offered for download
 TRACK_FIELDS = ("start", "stop", "step_days", "tolerance_mas", "model", "order", "axis", "free_wobble_phase_deg",
                 "free_wobble_J_arcsec", "dataset")
@@ -219,6 +244,29 @@ def install(app: FastAPI) -> None:
                      title=f"{name}: the spin axis over millennia")
 
 
+    @app.get("/my-body", include_in_schema=False, response_class=HTMLResponse)
+    async def my_body_page(request: Request):
+        query = dict(request.query_params)
+        example = UserBody.model_config["json_schema_extra"]["examples"][0]
+        form = {name: query.get(name, "" if query else _example_value(example, name)) for name, _ in MY_BODY_FIELDS}
+        result, problem = None, None
+        if query:
+            def compute():
+                user = _user_body(form)
+                return api.precession_nutation(user.to_body(), user.order)
+
+            result, problem = await _answer(request, compute)
+        doc = _user_document(form)
+        return _page("my_body.html", _status(problem), body=form["name"] or "your body", form=form, result=result,
+                     problem=problem, fields=MY_BODY_FIELDS, groups=MY_BODY_GROUPS, centers=tuple(api.GM_CENTER),
+                     precession_code={
+                         "url": _api_url(request, "/v1/precession-nutation", {}),
+                         "curl": f"curl -s -X POST {shlex.quote(_api_url(request, '/v1/precession-nutation', {}))} "
+                                 f"-H 'content-type: application/json' -d {shlex.quote(json.dumps(doc))}",
+                         "python": "from ephem import api\n" + _python_body(doc)},
+                     title="A body of your own")
+
+
 def _float(text: str, field: str) -> float:
     """A query's number as the API route parses it (a 422 naming the field otherwise)."""
     try:
@@ -250,3 +298,60 @@ def _maybe_int(text: str):
 
 def _optional_float(text: str, field: str) -> float | None:
     return _float(text, field) if text else None
+
+
+def _example_value(example: dict, path: str) -> str:
+    head, _, tail = path.partition(".")
+    value = example.get(head)
+    if tail:
+        value = (value or {}).get(tail)
+    return "" if value is None else str(value)
+
+
+def _user_document(form: dict) -> dict:
+    """The POST's JSON body of the form's fields: numbers where they parse, text kept (refused by the model)."""
+    doc: dict = {}
+    for name, text in form.items():
+        if text == "":
+            continue
+        value = text if name in _TEXT_FIELDS else _number_or_text(text)
+        head, _, tail = name.partition(".")
+        if tail:
+            doc.setdefault(head, {})[tail] = value
+        else:
+            doc[head] = value
+    return doc
+
+
+def _number_or_text(text: str):
+    try:
+        value = float(text)
+    except ValueError:
+        return text
+    return int(value) if value.is_integer() and "." not in text and "e" not in text.lower() else value
+
+
+def _user_body(form: dict) -> UserBody:
+    """The form validated as the POST validates its body (the same model): an error names the field's path."""
+    doc = _user_document(form)
+    for name in ("rotation_period_hours", "dynamical_ellipticity"):       # JSON integers are numbers too
+        if isinstance(doc.get(name), int):
+            doc[name] = float(doc[name])
+    for group in ("orbit", "pole", "moments"):
+        for k, v in doc.get(group, {}).items():
+            if isinstance(v, int) and k != "center":
+                doc[group][k] = float(v)
+    try:
+        return UserBody.model_validate(doc)
+    except ValidationError as exc:
+        raise RequestValidationError([{**e, "loc": ("body",) + tuple(e["loc"])} for e in exc.errors()]) from None
+
+
+def _python_body(doc: dict) -> str:
+    orbit = ", ".join(f"{k}={v!r}" for k, v in doc.get("orbit", {}).items())
+    pole = ", ".join(f"{k}={v!r}" for k, v in doc.get("pole", {}).items())
+    inertia = (f"moments=({doc['moments'].get('A')!r}, {doc['moments'].get('B')!r}, {doc['moments'].get('C')!r})"
+               if "moments" in doc else f"dynamical_ellipticity={doc.get('dynamical_ellipticity')!r}")
+    return (f"b = api.Body(name={doc.get('name', 'user body')!r}, orbit=api.Orbit({orbit}), pole=api.Pole({pole}),\n"
+            f"             rotation_period_hours={doc.get('rotation_period_hours')!r}, {inertia})\n"
+            f"api.precession_nutation(b, {doc.get('order')!r})")

@@ -6,7 +6,7 @@ from typing import Annotated, Literal, Optional, Union
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 
-from ephem.api import AXES, GM_CENTER, MAX_ANGLE_DEG, MAX_ORDER, MODELS
+from ephem.api import AXES, GM_CENTER, MAX_ANGLE_DEG, MAX_ORDER, MODELS, Body, Orbit, Pole
 
 # strict: JSON true is not a number, nor "2.36" (a string) one; JSON integers are still numbers
 Finite = ConfigDict(allow_inf_nan=False, extra="forbid", strict=True)
@@ -390,6 +390,14 @@ class UserBody(BaseModel):
         None, description=f"e-power order of the Hansen coefficients (0 to {MAX_ORDER}); omit for exact")
     track: Optional[TrackIn] = None
     history: Optional[HistoryIn] = None
+
+    def to_body(self) -> Body:
+        """The library's :class:`ephem.api.Body` of these fields (its own checks run there)."""
+        return Body(name=self.name, orbit=Orbit(**self.orbit.model_dump(), body=self.name),
+                    pole=Pole(**self.pole.model_dump(), body=self.name),
+                    rotation_period_hours=self.rotation_period_hours,
+                    moments=None if self.moments is None else (self.moments.A, self.moments.B, self.moments.C),
+                    dynamical_ellipticity=self.dynamical_ellipticity)
 
 
 class FreeMotion(BaseModel):

@@ -243,3 +243,26 @@ def test_the_history_form_submitted_gives_the_apis_history(server, browser, arti
     assert browser.execute_script("return arguments[0].complete && arguments[0].naturalWidth", img) > 0
     assert not _axe_violations(browser)
     browser.save_screenshot(str(artifacts / "history.png"))
+
+
+def test_a_body_of_ones_own_submitted_in_the_browser(server, browser, artifacts):
+    from selenium.webdriver.common.by import By
+
+    from service.schemas import UserBody
+
+    browser.get(server + "/")
+    browser.find_element(By.LINK_TEXT, "A body of your own").click()
+    box = browser.find_element(By.ID, "rotation_period_hours")
+    box.clear()
+    box.send_keys("6.5")
+    browser.find_element(By.CSS_SELECTOR, "form.my-body-form button[type=submit]").click()
+    user = {k: v for k, v in UserBody.model_config["json_schema_extra"]["examples"][0].items() if k != "track"}
+    user["rotation_period_hours"] = 6.5
+    request = urllib.request.Request(server + "/v1/precession-nutation", data=json.dumps(user).encode(),
+                                     headers={"content-type": "application/json"})
+    with urllib.request.urlopen(request, timeout=60) as r:
+        want = json.load(r)["precession"]
+    assert float(_text(browser, "precession_rate_arcsec_per_year")) == pytest.approx(
+        want["precession_rate_arcsec_per_year"], rel=5e-12)
+    assert not _axe_violations(browser)
+    browser.save_screenshot(str(artifacts / "my_body.png"))

@@ -272,3 +272,33 @@ def test_the_track_page_follows_the_free_wobble_it_is_given(client):
     assert f"J = {want['free_wobble']['J_arcsec']:.6g}″" in p.by_id["free-wobble"]["text"]
     plain = _page(client, "/bodies/mars/track?start=2030-01-01&stop=2030-03-01&step_days=1&model=hansen")
     assert "free-wobble" not in plain.by_id
+
+
+def _my_body_query(user: dict) -> dict:
+    q = {"name": user["name"], "rotation_period_hours": str(user["rotation_period_hours"])}
+    for group in ("orbit", "pole", "moments"):
+        q.update({f"{group}.{k}": str(v) for k, v in user.get(group, {}).items()})
+    return q
+
+
+def test_a_body_of_ones_own_is_the_posts(client):
+    """The form's fields are the POST's, validated by the same model; the numbers are the POST's answer."""
+    from service.schemas import UserBody
+
+    user = {k: v for k, v in UserBody.model_config["json_schema_extra"]["examples"][0].items() if k != "track"}
+    empty = _page(client, "/my-body")                       # the form starts from the POST's example
+    assert empty.by_id["orbit.a_au"]["value"] == str(user["orbit"]["a_au"])
+    _accessible(empty)
+    r = client.get("/my-body", params=_my_body_query(user))
+    assert r.status_code == 200, r.text[:500]
+    p = Page(r.text)
+    want = client.post("/v1/precession-nutation", json=user).json()["precession"]
+    for key in ("precession_rate_arcsec_per_year", "obliquity_deg", "dynamical_ellipticity"):
+        assert float(p.by_id[key]["text"]) == pytest.approx(want[key], rel=5e-12), key
+    _accessible(p)
+    # refused as the POST refuses it, at the same field path
+    bad = {**user, "orbit": {**user["orbit"], "e": 1.5}}
+    problem = client.post("/v1/precession-nutation", json=bad).json()
+    r = client.get("/my-body", params=_my_body_query(bad))
+    assert r.status_code == problem["status"] == 422
+    assert Page(r.text).errors == {e["field"]: e["reason"] for e in problem["errors"]} and "orbit.e" in Page(r.text).errors

@@ -210,6 +210,7 @@ SPECS: dict[tuple[str, str], Spec] = {
                                                                    "step_days": 30}, media=("text/html",)),
     ("GET", "/bodies/{body}/history"): Spec(CATALOGUE, lambda case: {**HISTORY, "step_years": 200},
                                             media=("text/html",)),
+    ("GET", "/my-body"): Spec(media=("text/html",)),
 }
 
 #: the media type of each value a ``format`` query parameter takes
