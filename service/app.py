@@ -17,10 +17,11 @@ from starlette.concurrency import run_in_threadpool
 
 import ephem
 from ephem import api
-from ephem.api import (AXES, DEFAULT_DATASET, FORMATS, MODELS, InvalidInputError,
+from ephem.api import (AXES, DEFAULT_DATASET, FORMATS, MODELS,
                        available_datasets, icrf_to_ecliptic_matrix, load_catalogue, memo, render_nutation)
 
 from . import guards, pages, problems, schemas
+from .batch_input import batch_rows
 from .limits import BodySizeLimit
 from .openapi_rules import document_rules
 from .settings import Settings
@@ -384,7 +385,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                     step_years: Annotated[Optional[float], Query()] = None):
         """Precession and nutation of up to EPHEM_MAX_BATCH_ROWS bodies at once: a JSON array of row objects (or
         {rows, history}) or CSV with the columns of docs/batch_input.md. Beyond, run `ephem batch` (Dask)."""
-        rows, history = _batch_rows(await request.body(), request.headers.get("content-type", ""))
+        rows, history = batch_rows(await request.body(), request.headers.get("content-type", ""))
         path = "history."
         if start_year is not None or stop_year is not None or step_years is not None:
             history = {"start_year": start_year, "stop_year": stop_year, "step_years": step_years}
@@ -444,67 +445,6 @@ def _install_docs(app: FastAPI) -> None:
                 return Response(path.read_bytes(), media_type="text/markdown; charset=utf-8")
         return problems.problem(404, "http", "Not found", "the accuracy documentation is not installed "
                                                           "(docs/accuracy.md)")
-
-
-def _batch_rows(raw: bytes, content_type: str) -> tuple[list, dict | None]:
-    """The rows (and history) of a POST /v1/batch body: a JSON array of row objects, a JSON object {rows, history},
-    or CSV (text/csv) with a header of column names. What is not one of these is refused naming where (``body``,
-    a key, ``rows[j]`` for a CSV line); the rows' values are ephem.api.batch's to judge."""
-    if content_type.split(";")[0].strip().lower() == "text/csv":
-        return _csv_batch_rows(raw), None
-    try:
-        doc = orjson.loads(raw)
-    except orjson.JSONDecodeError as exc:
-        raise InvalidInputError("body", f"not JSON: {exc}") from None
-    if isinstance(doc, dict):
-        extra = sorted(set(doc) - {"rows", "history"})
-        if extra:     # a misspelt "history" would otherwise be dropped without a word
-            raise InvalidInputError(extra[0], f"not JSON of a batch: unknown key {extra[0]!r}; the body is an array "
-                                    "of rows or {rows, history}")
-        return doc.get("rows"), doc.get("history")
-    return doc, None
-
-
-def _csv_batch_rows(raw: bytes) -> list[dict]:
-    """CSV rows as {column: text}: every line with as many cells as the header (a surplus or a missing cell
-    cannot be matched to its column: the request is refused naming the row and its line, as ephem batch refuses
-    the file). A cell that is not UTF-8 is its raw bytes, which ephem.api.batch makes its row's error; a UTF-8
-    byte-order mark is dropped."""
-    import csv
-    import io
-
-    why = "not CSV with a header of column names"
-    reader = csv.reader(io.StringIO(raw.decode("utf-8-sig", errors="surrogateescape"), newline=""))
-    rows: list[dict] = []
-    try:
-        header = next(reader, None)
-        if header is None:
-            return rows
-        if not all(_utf8(h) for h in header):
-            raise InvalidInputError("body", f"{why}: the header line is not UTF-8 text")
-        twice = sorted({h for h in header if header.count(h) > 1})
-        if twice:
-            raise InvalidInputError(twice[0], f"{why}: the header has the column {twice[0]!r} more than once")
-        for cells in reader:
-            if not cells:       # a blank line
-                continue
-            if len(cells) != len(header):
-                raise InvalidInputError(f"rows[{len(rows)}]", f"{why}: line {reader.line_num} has {len(cells)} "
-                                        f"cell{'s' if len(cells) != 1 else ''} for the header's {len(header)} "
-                                        "columns")
-            rows.append({h: c if _utf8(c) else c.encode("utf-8", "surrogateescape") for h, c in zip(header, cells)})
-    except csv.Error as exc:
-        raise InvalidInputError(f"rows[{len(rows)}]", f"{why}: line {reader.line_num}: {exc}") from None
-    return rows
-
-
-def _utf8(text: str) -> bool:
-    """Whether a cell decoded with surrogateescape was UTF-8 (no escaped byte in it)."""
-    try:
-        text.encode("utf-8")
-    except UnicodeEncodeError:
-        return False
-    return True
 
 
 def finite_json(content) -> Response:

@@ -15,20 +15,25 @@ Routes (not in the OpenAPI document: they are pages, not the API):
 - ``GET /my-body``: a body of one's own, the fields of ``POST /v1/precession-nutation`` as a GET form validated by
   the same model: its precession and nutation;
 - ``GET /bodies/{body}/history``: the spin axis over millennia, with the API's figure;
+- ``GET /batch`` and ``POST /batch``: a CSV of bodies uploaded (up to the service's row limit; the form posts the
+  file, the one form that cannot be a GET) and the answers as a table and a CSV download (a ``data:`` link: the
+  service keeps nothing);
 - ``GET /bodies/{body}/track``: a track (start, stop, step, the time scale stated; tolerance or model; axis): the
   model chosen with its estimate by term, the first rows with the count, the plot, the CSV download.
 """
 from __future__ import annotations
 
 import contextvars
+import csv
+import io
 import json
 import math
 import pathlib
 import shlex
-from urllib.parse import urlencode
+from urllib.parse import quote, urlencode
 
 import anyio
-from fastapi import FastAPI, Request
+from fastapi import FastAPI, File, Form, Request, UploadFile
 from fastapi.responses import HTMLResponse
 from jinja2 import Environment, FileSystemLoader, select_autoescape
 
@@ -37,6 +42,7 @@ from pydantic import ValidationError
 
 from ephem import api
 
+from .batch_input import csv_batch_rows
 from .schemas import UserBody
 
 TEMPLATES = pathlib.Path(__file__).resolve().parent / "templates"
@@ -267,6 +273,38 @@ def install(app: FastAPI) -> None:
                      title="A body of your own")
 
 
+    @app.get("/batch", include_in_schema=False, response_class=HTMLResponse)
+    async def batch_form(request: Request):
+        return _page("batch.html", result=None, problem=None, form={}, max_rows=_max_rows(request),
+                     title="A batch of bodies")
+
+    @app.post("/batch", include_in_schema=False, response_class=HTMLResponse)
+    async def batch_page(request: Request, file: UploadFile = File(...), start_year: str = Form(""),
+                         stop_year: str = Form(""), step_years: str = Form("")):
+        raw = await file.read()
+        form = {"start_year": start_year, "stop_year": stop_year, "step_years": step_years}
+
+        def compute():
+            rows = csv_batch_rows(raw)
+            history = None
+            if start_year or stop_year or step_years:
+                history = {"start_year": _float(start_year, "start_year"), "stop_year": _float(stop_year, "stop_year"),
+                           "step_years": _float(step_years, "step_years")}
+            return api.batch(rows, history, _max_rows(request), "")
+
+        result, problem = await _answer(request, compute)
+        download = None
+        if result is not None:
+            out = io.StringIO()
+            writer = csv.writer(out, lineterminator="\n")
+            writer.writerow(result["columns"])
+            writer.writerows([["" if r.get(c) is None else r.get(c) for c in result["columns"]] for r in result["rows"]])
+            download = "data:text/csv;charset=utf-8," + quote(out.getvalue())
+        return _page("batch.html", _status(problem), result=result, problem=problem, form=form,
+                     max_rows=_max_rows(request), download=download, shown=TRACK_ROWS_SHOWN,
+                     filename=file.filename or "bodies.csv", title="A batch of bodies")
+
+
 def _float(text: str, field: str) -> float:
     """A query's number as the API route parses it (a 422 naming the field otherwise)."""
     try:
@@ -355,3 +393,7 @@ def _python_body(doc: dict) -> str:
     return (f"b = api.Body(name={doc.get('name', 'user body')!r}, orbit=api.Orbit({orbit}), pole=api.Pole({pole}),\n"
             f"             rotation_period_hours={doc.get('rotation_period_hours')!r}, {inertia})\n"
             f"api.precession_nutation(b, {doc.get('order')!r})")
+
+
+def _max_rows(request: Request) -> int:
+    return request.app.state.settings.max_batch_rows

@@ -266,3 +266,22 @@ def test_a_body_of_ones_own_submitted_in_the_browser(server, browser, artifacts)
         want["precession_rate_arcsec_per_year"], rel=5e-12)
     assert not _axe_violations(browser)
     browser.save_screenshot(str(artifacts / "my_body.png"))
+
+
+def test_a_batch_uploaded_in_the_browser(server, browser, artifacts, tmp_path):
+    from selenium.webdriver.common.by import By
+
+    from tests.service.test_pages import BATCH_CSV
+
+    source = tmp_path / "bodies.csv"
+    source.write_text(BATCH_CSV, encoding="utf-8")
+    browser.get(server + "/")
+    browser.find_element(By.LINK_TEXT, "A batch").click()
+    browser.find_element(By.ID, "file").send_keys(str(source))
+    browser.find_element(By.CSS_SELECTOR, "form.batch-form button[type=submit]").click()
+    caption = browser.find_element(By.XPATH, "//table/caption").text
+    assert "of 3 answers" in caption
+    href = browser.find_element(By.PARTIAL_LINK_TEXT, "Download the answers").get_attribute("href")
+    assert href.startswith("data:text/csv") and "testb" in href
+    assert not _axe_violations(browser)
+    browser.save_screenshot(str(artifacts / "batch.png"))

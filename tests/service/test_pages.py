@@ -302,3 +302,42 @@ def test_a_body_of_ones_own_is_the_posts(client):
     r = client.get("/my-body", params=_my_body_query(bad))
     assert r.status_code == problem["status"] == 422
     assert Page(r.text).errors == {e["field"]: e["reason"] for e in problem["errors"]} and "orbit.e" in Page(r.text).errors
+
+
+BATCH_CSV = ("name,a_au,e,i_deg,node_deg,peri_deg,mean_anomaly_deg,epoch_jd_tdb,pole_ra_deg,pole_dec_deg,"
+             "rotation_period_hours,dynamical_ellipticity\n"
+             "testa,2.36,0.09,7.1,103.7,151.7,169.2,2460200.5,309.03,42.23,5.342,0.1689\n"
+             "testb,2.77,0.08,10.6,80.3,73.6,77.4,2460200.5,291.4,66.8,9.07,0.07\n"
+             "broken,2.5,0.1,5,10,20,30,2460200.5,100,20,oops,0.1\n")
+
+
+def test_a_batch_uploaded_is_the_batch_routes(client):
+    """The uploaded CSV answered as POST /v1/batch answers the same CSV; the download holds every row."""
+    from urllib.parse import unquote
+
+    form = _page(client, "/batch")
+    _accessible(form)
+    r = client.post("/batch", files={"file": ("bodies.csv", BATCH_CSV, "text/csv")})
+    assert r.status_code == 200, r.text[:500]
+    want = client.post("/v1/batch", content=BATCH_CSV.encode(), headers={"content-type": "text/csv"}).json()
+    p = Page(r.text)
+    _accessible(p)
+    href = next(u for u in p.links if u.startswith("data:text/csv"))
+    got = list(csv.DictReader(io.StringIO(unquote(href.split(",", 1)[1]))))
+    assert [g["name"] for g in got] == [w["name"] for w in want["rows"]] == ["testa", "testb", "broken"]
+    for g, w in zip(got, want["rows"]):
+        for column in want["columns"]:
+            if isinstance(w[column], float):
+                assert float(g[column]) == pytest.approx(w[column], rel=1e-15), column
+            else:
+                assert g[column] == ("" if w[column] is None else str(w[column])), column
+    assert "1 with an error" in r.text and want["rows"][2]["error"]
+
+
+def test_a_malformed_batch_is_refused_at_the_file_with_the_routes_words(client):
+    bad = "name,a_au\nr,1,2\n"
+    problem = client.post("/v1/batch", content=bad.encode(), headers={"content-type": "text/csv"}).json()
+    r = client.post("/batch", files={"file": ("bad.csv", bad, "text/csv")})
+    assert r.status_code == problem["status"] == 422
+    (err,) = problem["errors"]
+    assert Page(r.text).errors == {err["field"]: f"{err['field']}: {err['reason']}"}

@@ -155,15 +155,23 @@ def _batch_row() -> dict:
             "e_sigma": 0.001}
 
 
+def _batch_rows() -> list[dict]:
+    return [_batch_row(), dict(_batch_row(), name="second", pole_dec_deg=-10.0)]
+
+
+def _batch_csv() -> str:
+    rows = _batch_rows()
+    out = io.StringIO()
+    writer = csv.DictWriter(out, fieldnames=list(rows[0]))
+    writer.writeheader()
+    writer.writerows(rows)
+    return out.getvalue()
+
+
 def _batch_body(case: Case):
-    rows = [_batch_row(), dict(_batch_row(), name="second", pole_dec_deg=-10.0)]
     if case.get("content-type") == "text/csv":
-        out = io.StringIO()
-        writer = csv.DictWriter(out, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-        return out.getvalue()
-    return {"rows": rows, "history": {**HISTORY, "step_years": 200}}
+        return _batch_csv()
+    return {"rows": _batch_rows(), "history": {**HISTORY, "step_years": 200}}
 
 
 def _user_body(case: Case) -> dict:
@@ -178,6 +186,7 @@ class Spec:
     body: Callable[[Case], object] | None = None        # the request body (JSON, or text for a text/* type)
     url: str | None = None                              # a concrete path (a mount's file)
     media: tuple[str, ...] = ()                         # a route outside the OpenAPI document: its media types
+    files: Callable[[Case], dict] | None = None          # a multipart upload (the web page's batch form)
 
 
 SPECS: dict[tuple[str, str], Spec] = {
@@ -211,6 +220,9 @@ SPECS: dict[tuple[str, str], Spec] = {
     ("GET", "/bodies/{body}/history"): Spec(CATALOGUE, lambda case: {**HISTORY, "step_years": 200},
                                             media=("text/html",)),
     ("GET", "/my-body"): Spec(media=("text/html",)),
+    ("GET", "/batch"): Spec(media=("text/html",)),
+    ("POST", "/batch"): Spec(("user_asteroid",), files=lambda case: {"file": ("bodies.csv", _batch_csv(), "text/csv")},
+                             media=("text/html",)),
 }
 
 #: the media type of each value a ``format`` query parameter takes
@@ -452,6 +464,8 @@ def call(client, case: Case):
     if case.get("accept"):
         headers["accept"] = case.get("accept")
     kwargs = {"params": {**spec.query(case), **case.params}, "headers": headers}
+    if spec.files is not None:
+        kwargs["files"] = spec.files(case)
     if spec.body is not None:
         body = spec.body(case)
         if isinstance(body, str):
