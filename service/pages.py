@@ -167,6 +167,8 @@ def install(app: FastAPI) -> None:
                                 for layout, layout_label in TABLE_LAYOUTS],
                      precession_code=_snippets(request, f"/v1/bodies/{name}/precession", params,
                                                _python_call("api.precession", name, params)),
+                     nutation_code=_snippets(request, f"/v1/bodies/{name}/nutation", params,
+                                             _python_call("api.nutation", name, params)),
                      title=f"{name}: precession and nutation")
 
     @app.get("/bodies/{body}/track", include_in_schema=False, response_class=HTMLResponse)
@@ -300,9 +302,17 @@ def install(app: FastAPI) -> None:
             writer.writerow(result["columns"])
             writer.writerows([["" if r.get(c) is None else r.get(c) for c in result["columns"]] for r in result["rows"]])
             download = "data:text/csv;charset=utf-8," + quote(out.getvalue())
+        history = {k: v for k, v in form.items() if v}
+        url = _api_url(request, "/v1/batch", history)
+        name = file.filename or "bodies.csv"
+        snippets = {"url": url,
+                    "curl": f"curl -s -X POST {shlex.quote(url)} -H 'content-type: text/csv' --data-binary @{shlex.quote(name)}",
+                    "python": "import csv\nfrom ephem import api\n"
+                              f"rows = list(csv.DictReader(open({name!r}, newline='')))\n"
+                              f"api.batch(rows{', ' + repr({k: float(v) for k, v in history.items()}) if history else ''})"}
         return _page("batch.html", _status(problem), result=result, problem=problem, form=form,
                      max_rows=_max_rows(request), download=download, shown=TRACK_ROWS_SHOWN,
-                     filename=file.filename or "bodies.csv", title="A batch of bodies")
+                     filename=name, snippets=snippets, title="A batch of bodies")
 
 
 def _float(text: str, field: str) -> float:
