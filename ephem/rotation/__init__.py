@@ -3,6 +3,7 @@
 - :mod:`ephem.rotation.andoyer`: Andoyer variables of a free rigid body: the conventions, rotations, Hamiltonians, attitude <-> Andoyer.
 - :mod:`ephem.rotation.deprit`: Deprit's triangle: the Lie transform that normalises a Hamiltonian and carries functions through it.
 - :mod:`ephem.rotation.euler_poinsot`: The exact torque-free motion of a rigid body (the Euler-Poinsot problem) in Jacobi elliptic functions.
+- :mod:`ephem.rotation.elliptic_solution`: The elliptic-function solution of the Euler-Poinsot problem in its core frame: the Jacobi functions, the integrals, the constants, the separatrix.
 - :mod:`ephem.rotation.free_periods`: The free rigid body's periods and Sadov's action-angle variables, from the exact solution.
 - :mod:`ephem.rotation.free_motion`: The free wobble of a catalogue body: its figure axis about the angular momentum, three ways.
 - :mod:`ephem.rotation.lie_series`: Lara's perturbation series for short-axis-mode (SAM) free rotation, by a Lie-transform engine in exact arithmetic.

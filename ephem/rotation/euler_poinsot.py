@@ -53,6 +53,10 @@ and tends to M/A for A = B (uniform precession), to (M/C)(1 + κ) as J -> 0 and
 to M/B at the separatrix. On the separatrix itself
 ∫du/(1 + f tanh²u) = [u + √f arctan(√f tanh u)]/(1 + f).
 
+The constants of these forms and the special functions they need (sn, cn, dn reduced to a quarter period,
+the integrals without cancellation, ρ and P(u), the separatrix's) are in :mod:`ephem.rotation.elliptic_solution`;
+:class:`FreeRotation` here builds them from an initial state and evaluates the motion.
+
 A spherical body (A = B = C) is rejected (InvalidInputError): L is then fixed
 in the body and the body turns uniformly about it at M/A, so there is no
 wobble and no precession to compute, and the mode, the elliptic parameter and
@@ -73,152 +77,20 @@ variables 1.0 µs; constructing a :class:`FreeRotation` ~0.2 ms.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import ellipj, elliprf, elliprj
 
 from .andoyer import (andoyer_from_attitude, body_momentum_from_j, check_finite, check_moments, invariable_frame, rot1,
                       rot1_cs, rot3, rot3_cs, wrap_angle)
+from .elliptic_solution import (CoreConstants, core_constants, differences, is_stationary, jacobi_reduced,
+                                periodic_part, separatrix_constants, separatrix_integral)
 from ..base.constants import ARCSEC
 from ..base.errors import InvalidInputError
 
 
 #: the long-axis-mode frame map b' = P b (moments (A, B, C) -> (C, B, A)); P = Pᵀ = P⁻¹, det P = +1
 P_LAM = np.array([[0.0, 0.0, 1.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0]])
-
-# --------------------------------------------------------------------------- elliptic helpers
-
-
-#: below this 1 − m the Jacobi functions come from the m -> 1 expansion with the exact 1 − m (see below)
-NEAR_SEPARATRIX_M1 = 1e-9
-
-
-def _ellipj_near_one(v, m1: float):
-    """sn, cn, dn for 1 − m = m1 small, |v| <= K/2 (Abramowitz & Stegun 16.15.1-3, first order in m1):
-
-    sn = tanh v + ¼ m1 (sinh v cosh v − v) sech²v, cn = sech v − ¼ m1 (sinh v cosh v − v) tanh v sech v,
-    dn = sech v + ¼ m1 (sinh v cosh v + v) tanh v sech v.
-    scipy's ellipj switches to the same expansion only for 1 − m < 1e-10 and then rebuilds 1 − m from the
-    rounded m (1 % error at 1 − m = 1e-14); with the exact m1 the expansion is good to ~3e-16 for
-    m1 <= 3e-10 and 1e-14 at 1e-9 on |v| <= K/2 (checked against mpmath at 40 digits).
-    """
-    ch, sh, th = np.cosh(v), np.sinh(v), np.tanh(v)
-    se = 1.0 / ch
-    q = 0.25 * m1 * (sh * ch - v)
-    return th + q * se * se, se - q * th * se, se + 0.25 * m1 * (sh * ch + v) * th * se
-
-
-def jacobi_reduced(u, m: float, m1: float, K: float):
-    """sn, cn, dn of u and of its reduction r = u − 2Kj in [−K, K), plus r.
-
-    Returns (sn, cn, dn, sn_r, cn_r, dn_r, r). ``m1`` = 1 − m is passed
-    separately because near the separatrix it is known far better than
-    1 − m. Arguments are first reduced modulo 2K (sn, cn change sign, dn does
-    not), then |r| > K/2 is mapped to v = K − |r| <= K/2 with sn = cd(v),
-    cn = k' sd(v), dn = k' nd(v) (DLMF 22.4.3), so that the functions are
-    only evaluated on |v| <= K/2: by scipy's ellipj (Cephes), or for
-    m1 < NEAR_SEPARATRIX_M1 by :func:`_ellipj_near_one`. Accuracy: ~1e-15 for
-    1 − m > 1e-5; Cephes' AGM loses up to ~2e-13 (relative) for 5e-9 < 1 − m < 1e-6,
-    far below the motion's own sensitivity ε/(1 − m) there.
-
-    K must be K(m) computed from m1 (e.g. R_F(0, m1, 1)): from the rounded m it
-    would be off by ~ε/(2 m1), a visible phase error near the separatrix.
-    """
-    u = np.asarray(u, dtype=float)
-    j = np.floor((u + K) / (2.0 * K))
-    r = u - 2.0 * K * j
-    sign_j = 1.0 - 2.0 * np.mod(j, 2.0)        # (−1)^j
-    ar = np.abs(r)
-    far = ar > 0.5 * K
-    v = np.where(far, K - ar, ar)
-    if m1 < NEAR_SEPARATRIX_M1:
-        sn_v, cn_v, dn_v = _ellipj_near_one(v, m1)
-    else:
-        sn_v, cn_v, dn_v, _ = ellipj(v, m)
-    k1 = math.sqrt(m1)
-    sn_a = np.where(far, cn_v / dn_v, sn_v)
-    cn_r = np.where(far, k1 * sn_v / dn_v, cn_v)
-    dn_r = np.where(far, k1 / dn_v, dn_v)
-    sn_r = np.where(r < 0.0, -sn_a, sn_a)
-    return sign_j * sn_r, sign_j * cn_r, dn_r, sn_r, cn_r, dn_r, r
-
-
-def _incomplete_first_kind(sn, cn, dn, K: float):
-    """F(φ|m) from sin φ, cos φ and Δ = √(1 − m sin²φ), for φ in (−π, π] (Carlson: F = s R_F(c², Δ², 1))."""
-    core = sn * elliprf(cn * cn, dn * dn, 1.0)
-    return np.where(cn >= 0.0, core, np.copysign(2.0 * K, sn) - core)
-
-
-# --------------------------------------------------------------------------- the integrals
-
-
-def _differences(L, I1: float, I2: float, I3: float):
-    """(M², d_up, d_lo, D) = (|L|², 2E I3 − M², M² − 2E I1, M² − 2E I2) as sums with no cancellation."""
-    l1, l2, l3 = (float(x) for x in L)
-    q1, q2, q3 = l1 * l1, l2 * l2, l3 * l3
-    d_up = q1 * (I3 - I1) / I1 + q2 * (I3 - I2) / I2
-    d_lo = q2 * (I2 - I1) / I2 + q3 * (I3 - I1) / I3
-    D = q3 * (I3 - I2) / I3 - q1 * (I2 - I1) / I1
-    return q1 + q2 + q3, d_up, d_lo, D
-
-
-def _is_stationary(L, A: float, B: float, C: float) -> bool:
-    """True when ω = I⁻¹L is parallel to L (ω × L = 0 exactly): rotation about a principal axis."""
-    l1, l2, l3 = (float(x) for x in L)
-    return l2 * l3 * (1.0 / B - 1.0 / C) == 0.0 and l3 * l1 * (1.0 / A - 1.0 / C) == 0.0 \
-        and l1 * l2 * (1.0 / A - 1.0 / B) == 0.0
-
-
-@dataclass(frozen=True)
-class _Core:
-    """Constants of the short-axis-mode form in the core frame (moments I1, I2, I3; I3 the circulation axis)."""
-
-    I1: float
-    I2: float
-    I3: float
-    a: float
-    b: float
-    c: float
-    s3: float
-    p: float
-    m: float
-    m1: float
-    K: float
-    f: float
-    rho: float
-    u0: float
-    P0: float        # the periodic part P(u0)
-
-
-def _core(L, I1: float, I2: float, I3: float, M2: float, d_up: float, d_lo: float, D: float) -> _Core:
-    """The elliptic-function solution L1 = a cn u, L2 = s b sn u, L3 = s c dn u (see the module docstring)."""
-    a = math.sqrt(I1 * d_up / (I3 - I1))
-    b = math.sqrt(I2 * d_up / (I3 - I2))
-    c = math.sqrt(I3 * d_lo / (I3 - I1))
-    # du/dt: + in the short-axis frame; − in the long-axis one, where (C, B, A) reverses every sign of
-    # Euler's equations that the amplitudes' square roots cannot carry (a p = b c (I3 − I2)/(I2 I3))
-    p = math.copysign(math.sqrt((I3 - I2) * d_lo / (I1 * I2 * I3)), I3 - I2)
-    m = (I2 - I1) * d_up / ((I3 - I2) * d_lo) + 0.0   # + 0.0: no −0.0 when I1 = I2
-    m1 = (I3 - I1) * D / ((I3 - I2) * d_lo)
-    K = float(elliprf(0.0, m1, 1.0))
-    f = I3 * (I2 - I1) / (I1 * (I3 - I2))
-    rho = f / 3.0 * float(elliprj(0.0, m1, 1.0, 1.0 + f)) / K
-    s3 = math.copysign(1.0, float(L[2]))
-    cn0 = min(max(float(L[0]) / a, -1.0), 1.0)
-    sn0 = min(max(s3 * float(L[1]) / b, -1.0), 1.0)
-    dn0 = abs(float(L[2])) / c
-    u0 = float(_incomplete_first_kind(np.float64(sn0), np.float64(cn0), np.float64(dn0), K))
-    core = _Core(I1, I2, I3, a, b, c, s3, p, m, m1, K, f, rho, u0, 0.0)
-    reduced = jacobi_reduced(np.array([u0]), m, m1, K)[3:]
-    return replace(core, P0=float(_periodic_part(core, *reduced)[0]))
-
-
-def _periodic_part(core: _Core, sn_r, cn_r, dn_r, r):
-    """P(u) = ρ u_r − (f/3) sn³ R_J(cn², dn², 1, 1 + f sn²), the 2K-periodic part of ∫du/(1 + f sn²u)."""
-    s2 = sn_r * sn_r
-    return core.rho * r - core.f / 3.0 * sn_r * s2 * elliprj(cn_r * cn_r, dn_r * dn_r, 1.0, 1.0 + core.f * s2)
-
 
 # --------------------------------------------------------------------------- the solution
 
@@ -265,7 +137,7 @@ class FreeRotation:
     energy: float
     _s: float                    # the power-of-two scale of L
     _Ln: np.ndarray              # L0 / s, in the core frame, tiny components flushed
-    _core: _Core | None          # elliptic constants for L0/s (None: separatrix or stationary)
+    _core: CoreConstants | None          # elliptic constants for L0/s (None: separatrix or stationary)
     _perm: bool                  # core frame is P b (long-axis mode)
     _mu0: float                  # precession angle of the core frame at t0
     _R_inv: np.ndarray           # inertial -> invariable frame
@@ -318,9 +190,9 @@ class FreeRotation:
         scale = 2.0 ** math.frexp(float(np.abs(L).max()))[1]       # exact: a power of two
         Ln = L / scale
         Ln = np.where(np.abs(Ln) < 1e-150, 0.0, Ln)
-        M2, d_up, d_lo, D = _differences(Ln, A, B, C)
+        M2, d_up, d_lo, D = differences(Ln, A, B, C)
         mode = "short-axis" if D > 0.0 else "long-axis" if D < 0.0 else "separatrix"
-        stationary = _is_stationary(Ln, A, B, C)
+        stationary = is_stationary(Ln, A, B, C)
         perm = mode == "long-axis"
         Lc = P_LAM @ Ln if perm else Ln
         Ic = (C, B, A) if perm else (A, B, C)
@@ -334,10 +206,10 @@ class FreeRotation:
             rate = math.sqrt(M2) * (Lc[0] ** 2 / Ic[0] + Lc[1] ** 2 / Ic[1]) / h2 if h2 > 0.0 \
                 else math.sqrt(M2) / Ic[2]
         elif mode == "separatrix":
-            sep = _separatrix(Ln, A, B, C, math.sqrt(M2), d_up, d_lo)
+            sep = separatrix_constants(Ln, A, B, C, math.sqrt(M2), d_up, d_lo)
         else:
-            _, du, dl, Dc = _differences(Lc, *Ic)
-            core = _core(Lc, *Ic, M2, du, dl, Dc)
+            _, du, dl, Dc = differences(Lc, *Ic)
+            core = core_constants(Lc, *Ic, M2, du, dl, Dc)
         energy = 0.5 * (Ln[0] ** 2 / A + Ln[1] ** 2 / B + Ln[2] ** 2 / C) * scale * scale
         return cls((A, B, C), L.copy(), R0.copy(), t0, mode, stationary, math.sqrt(M2) * scale, energy, scale,
                    Lc, core, perm, mu0, R_inv, sep, rate)
@@ -389,11 +261,11 @@ class FreeRotation:
             _a, _c, p, _s1, _s3, f, u0 = self._sep
             A, _, C = self.moments
             coef = Mn * (C - A) / (A * C * p)
-            return self._mu0 + Mn / C * tau + coef * (_sep_integral(aux[0], f) - _sep_integral(u0, f))
+            return self._mu0 + Mn / C * tau + coef * (separatrix_integral(aux[0], f) - separatrix_integral(u0, f))
         k = self._core
         coef = Mn * (k.I3 - k.I1) / (k.I1 * k.I3 * k.p)
         n_mu = self.precession_frequency / self._s
-        return self._mu0 + n_mu * tau + coef * (_periodic_part(k, *aux) - k.P0)
+        return self._mu0 + n_mu * tau + coef * (periodic_part(k, *aux) - k.P0)
 
     @property
     def wobble_frequency(self) -> float:
@@ -534,25 +406,6 @@ def _mu_from_q(Q, L) -> float:
     if math.atan2(h, L[2]) <= 0.5 * math.pi:
         return math.atan2(Q[0, 1] - Q[1, 0], Q[0, 0] + Q[1, 1]) - nu
     return math.atan2(Q[0, 1] + Q[1, 0], Q[0, 0] - Q[1, 1]) + nu
-
-
-def _separatrix(L, A, B, C, M, d_up, d_lo) -> tuple:
-    """(a, c, p, s1, s3, f, u0) of L1 = s1 a sech u, L2 = s1 s3 M tanh u, L3 = s3 c sech u (D = 0, A < B < C).
-
-    sinh u0 = tanh u0 / sech u0 = s1 s3 L2 / √(L1² + L3²) since a² + c² = M² there.
-    """
-    a = math.sqrt(A * d_up / (C - A))
-    c = math.sqrt(C * d_lo / (C - A))
-    p = math.sqrt((C - B) * d_lo / (A * B * C))
-    s1, s3 = math.copysign(1.0, L[0]), math.copysign(1.0, L[2])
-    u0 = math.asinh(s1 * s3 * L[1] / math.hypot(L[0], L[2]))
-    return a, c, p, s1, s3, C * (B - A) / (A * (C - B)), u0
-
-
-def _sep_integral(u, f: float):
-    """∫0^u du/(1 + f tanh²u) = [u + √f arctan(√f tanh u)]/(1 + f) (the m = 1 limit of Π(−f; am u|m))."""
-    sf = math.sqrt(f)
-    return (u + sf * np.arctan(sf * np.tanh(u))) / (1.0 + f)
 
 
 def _linear_wobble(Lc, perm: bool, moments, M: float) -> float:

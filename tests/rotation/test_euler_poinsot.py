@@ -12,7 +12,8 @@ from ephem.rotation import andoyer as an
 from ephem.bodies.catalogue import get_body, load_catalogue
 from ephem.base.errors import InvalidInputError
 from ephem.base.constants import ARCSEC
-from ephem.rotation.euler_poinsot import FreeRotation, _differences, jacobi_reduced
+from ephem.rotation.elliptic_solution import differences, jacobi_reduced
+from ephem.rotation.euler_poinsot import FreeRotation
 from ephem.rotation.free_periods import free_motion_periods, sadov_action_angle
 from ephem.forced.rigid_body import integrate_states
 from ephem.forced.rigid_numerics import quaternion_from_matrix, rotation_matrices
@@ -38,7 +39,7 @@ def separatrix_state(L1=0.3, L2=0.1, moments=BINARY):
     for _ in range(2000):
         L3 = math.sqrt(L1 * L1 * (B - A) / A * C / (C - B))
         for cand in (L3, np.nextafter(L3, 0.0), np.nextafter(L3, 9.0)):
-            if _differences((L1, L2, cand), A, B, C)[3] == 0.0:
+            if differences((L1, L2, cand), A, B, C)[3] == 0.0:
                 return np.array([L1, L2, cand])
         L1 = float(np.nextafter(L1, 1.0))
     raise AssertionError("no exact separatrix state found")
