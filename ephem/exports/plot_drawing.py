@@ -298,11 +298,13 @@ def draw_obliquity_history(fig, ans: dict) -> None:
     eps = np.asarray(ans["obliquity_deg"], dtype=float)
     err = np.asarray(ans["obliquity_error_deg"], dtype=float)
     inc = np.asarray(ans["orbit_inclination_deg"], dtype=float)
+    psi = np.asarray(ans["precession_angle_deg"], dtype=float)
     mark = "." if years.size < _HISTORY_MARK_BELOW else ""
-    top, bottom = fig.subplots(2, 1, sharex=True, height_ratios=(3, 1.3))
+    top, middle, bottom = fig.subplots(3, 1, sharex=True, height_ratios=(3, 1.3, 1.3))
     lo, hi = np.clip(eps - err, 0.0, 180.0), np.clip(eps + err, 0.0, 180.0)
     top.fill_between(x, lo, hi, color="C2", alpha=0.25, lw=0, label="ε ± estimated error (obliquity_error_deg)")
     top.plot(x, eps, color="C2", lw=1.3, marker=mark, ms=3, label="obliquity ε")
+    middle.plot(x, psi, color="C1", lw=1.1, marker=mark, ms=3)
     bottom.plot(x, inc, color="C0", lw=1.1, marker=mark, ms=3)
     # the limits: the curve everywhere, its band only where the history means something (outside, the band
     # may reach 180° and would flatten the curve; that part is hatched anyway)
@@ -315,16 +317,17 @@ def draw_obliquity_history(fig, ans: dict) -> None:
     pad = 0.06 * (ymax - ymin) if ymax > ymin else max(0.05, 1e-3 * abs(ymax))
     top.set_ylim(ymin - pad, ymax + pad)
     for i, (a, b) in enumerate(spans):
-        for ax in (top, bottom):
+        for ax in (top, middle, bottom):
             ax.axvspan(a / factor, b / factor, facecolor="0.88", edgecolor="0.55", hatch="///", lw=0.0, zorder=0,
                        label=(f"history not meaningful: neighbouring solutions or orbits part by > "
                               f"{math.degrees(MEANINGFUL_LIMIT):g}°") if i == 0 and ax is top else None)
     top.set_ylabel("obliquity ε [deg]")
     top.legend(loc="best", fontsize="small", framealpha=0.85)
+    middle.set_ylabel("precession angle ψ\n[deg]")
     bottom.set_ylabel("orbit inclination to\nJ2000 ecliptic [deg]")
     bottom.set_xlabel(xlabel)
     bottom.set_xlim(x[0], x[-1])
-    for ax in (top, bottom):
+    for ax in (top, middle, bottom):
         _plain_ticks(ax)
         ax.grid(True, lw=0.4, alpha=0.5)
     unit = xlabel[xlabel.rindex("[") + 1:-1]

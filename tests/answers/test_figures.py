@@ -347,9 +347,11 @@ def ceres_history_figure():
 
 
 def test_history_figure_draws_the_history_answer(ceres_history, ceres_history_figure):
-    top, bottom = ceres_history_figure.axes
+    top, middle, bottom = ceres_history_figure.axes
     close(top.lines[0].get_xdata(), ceres_history["year"] / 1e3)                 # kyr over a 300-kyr span
     close(top.lines[0].get_ydata(), ceres_history["obliquity_deg"])
+    close(middle.lines[0].get_ydata(), ceres_history["precession_angle_deg"])
+    assert middle.get_ylabel() == "precession angle ψ\n[deg]"
     close(bottom.lines[0].get_ydata(), ceres_history["orbit_inclination_deg"])
     assert bottom.get_xlabel() == "years from J2000.0 (TDB) [kyr]"
     assert top.get_ylabel() == "obliquity ε [deg]"
@@ -378,15 +380,15 @@ def test_history_hatches_where_it_stops_meaning_anything(monkeypatch):
     years = np.arange(-10_000.0, 5_001.0, 500.0)
     fake = {"body": "Mars", "dataset": "current", "perturbers": ["Sun"], "year": years,
             "obliquity_deg": 25.0 + np.sin(years / 1e3), "obliquity_error_deg": np.full(years.size, 0.1),
-            "orbit_inclination_deg": 1.8 + 0.1 * np.cos(years / 3e3),
+            "orbit_inclination_deg": 1.8 + 0.1 * np.cos(years / 3e3), "precession_angle_deg": -0.002 * years,
             "meaningful_from_year": -4000.0, "meaningful_to_year": 2000.0,
             "model": {"name": "secular", "estimated_error_mas": 4.0e6, "warnings": ["..."]}}
     monkeypatch.setattr(answers, "history", lambda *a, **k: fake)
     assert plot_drawing.meaningless_spans(fake) == [pytest.approx((-10_000.0, -4000.0), abs=1e-9),
                                              pytest.approx((2000.0, 5000.0), abs=1e-9)]
     fig = plots.figure(HISTORY, "Mars", -10_000, 5_000, step_years=500)
-    top, bottom = fig.axes
-    for ax in (top, bottom):                                      # both hatched spans on both panels
+    top, middle, bottom = fig.axes
+    for ax in (top, middle, bottom):                              # both hatched spans on every panel
         spans = sorted(tuple(np.round(p.get_extents().transformed(ax.transData.inverted()).intervalx, 6))
                        for p in ax.patches if p.get_hatch())
         assert spans == [(-10.0, -4.0), (2.0, 5.0)]
