@@ -327,7 +327,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             return Response(image, media_type=api.PLOT_CONTENT_TYPES[ext])
         plot.__name__ = f"history_{ext}"
         plot.__doc__ = (f"The obliquity history (ephem.api.history) as a {ext.upper()} figure: obliquity with its "
-                        "estimated error band, the orbit's inclination to the J2000 ecliptic, and the span where "
+                        "estimated error band, the precession angle, the orbit's inclination to the J2000 ecliptic, "
+                        "and the span where "
                         "the history stops meaning anything hatched (ephem.answers.figures, kind obliquity-history).")
         return plot
 
