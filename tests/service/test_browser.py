@@ -285,3 +285,16 @@ def test_a_batch_uploaded_in_the_browser(server, browser, artifacts, tmp_path):
     assert href.startswith("data:text/csv") and "testb" in href
     assert not _axe_violations(browser)
     browser.save_screenshot(str(artifacts / "batch.png"))
+
+
+def test_the_dataset_chooser_submitted(server, browser):
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.support.ui import Select
+
+    browser.get(server + "/")
+    Select(browser.find_element(By.ID, "dataset")).select_by_value("petit2014")
+    browser.find_element(By.CSS_SELECTOR, "main form button[type=submit]").click()
+    assert parse_qs(urlsplit(browser.current_url).query) == {"dataset": ["petit2014"]}
+    names = {b["name"] for b in _api(server, "/v1/bodies?dataset=petit2014")}
+    links = {a.text for a in browser.find_elements(By.XPATH, "//table//th[@scope='row']/a")}
+    assert links == names
