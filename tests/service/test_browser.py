@@ -115,6 +115,19 @@ def _text(browser, element_id: str) -> str:
     return browser.find_element(By.ID, element_id).text
 
 
+def _click_and_wait(browser, element) -> None:
+    """Click a link or a submit button and wait for the next page: WebDriver does not wait for a navigation a
+    click starts, and a loaded machine answers a form (a batch, a track) in a second or more."""
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.support import expected_conditions
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    old = browser.find_element(By.TAG_NAME, "html")
+    element.click()
+    WebDriverWait(browser, 120).until(expected_conditions.staleness_of(old))
+    WebDriverWait(browser, 120).until(lambda b: b.execute_script("return document.readyState") == "complete")
+
+
 def _axe_violations(browser) -> list:
     source = AXE.read_bytes()
     assert hashlib.sha256(source).hexdigest() == AXE_SHA256, "the vendored axe-core is not the recorded one"
@@ -132,7 +145,7 @@ def test_from_the_catalogue_to_a_body_by_clicking(server, browser, artifacts):
     browser.get(server + "/")
     assert not _axe_violations(browser)
     browser.save_screenshot(str(artifacts / "index.png"))
-    browser.find_element(By.LINK_TEXT, "Vesta").click()
+    _click_and_wait(browser, browser.find_element(By.LINK_TEXT, "Vesta"))
     assert urlsplit(browser.current_url).path == "/bodies/Vesta"
     want = _api(server, "/v1/bodies/vesta/precession")
     for key in ("precession_rate_arcsec_per_year", "obliquity_deg", "scaling_factor_arcsec_per_year"):
@@ -150,7 +163,7 @@ def test_the_track_form_submitted_gives_the_apis_track_and_reloads_to_it(server,
         box = browser.find_element(By.ID, field)
         box.clear()
         box.send_keys(value)
-    browser.find_element(By.CSS_SELECTOR, "form.track-form button[type=submit]").click()
+    _click_and_wait(browser, browser.find_element(By.CSS_SELECTOR, "form.track-form button[type=submit]"))
     query = parse_qs(urlsplit(browser.current_url).query)
     assert {k: query[k] for k in ("start", "stop", "step_days", "tolerance_mas")} == {
         "start": ["2024-01-01"], "stop": ["2025-01-01"], "step_days": ["5"], "tolerance_mas": ["1000"]}
@@ -231,7 +244,7 @@ def test_the_history_form_submitted_gives_the_apis_history(server, browser, arti
         box = browser.find_element(By.ID, field)
         box.clear()
         box.send_keys(value)
-    browser.find_element(By.CSS_SELECTOR, "form.history-form button[type=submit]").click()
+    _click_and_wait(browser, browser.find_element(By.CSS_SELECTOR, "form.history-form button[type=submit]"))
     assert urlsplit(browser.current_url).path == "/bodies/Ceres/history"
     want = _api(server, "/v1/bodies/ceres/history?start_year=-20000&stop_year=0&step_years=500")
     caption = browser.find_element(By.XPATH, "//table[contains(caption, 'history, the first')]/caption").text
@@ -251,11 +264,11 @@ def test_a_body_of_ones_own_submitted_in_the_browser(server, browser, artifacts)
     from service.schemas import UserBody
 
     browser.get(server + "/")
-    browser.find_element(By.LINK_TEXT, "A body of your own").click()
+    _click_and_wait(browser, browser.find_element(By.LINK_TEXT, "A body of your own"))
     box = browser.find_element(By.ID, "rotation_period_hours")
     box.clear()
     box.send_keys("6.5")
-    browser.find_element(By.CSS_SELECTOR, "form.my-body-form button[type=submit]").click()
+    _click_and_wait(browser, browser.find_element(By.CSS_SELECTOR, "form.my-body-form button[type=submit]"))
     user = {k: v for k, v in UserBody.model_config["json_schema_extra"]["examples"][0].items() if k != "track"}
     user["rotation_period_hours"] = 6.5
     request = urllib.request.Request(server + "/v1/precession-nutation", data=json.dumps(user).encode(),
@@ -276,9 +289,11 @@ def test_a_batch_uploaded_in_the_browser(server, browser, artifacts, tmp_path):
     source = tmp_path / "bodies.csv"
     source.write_text(BATCH_CSV, encoding="utf-8")
     browser.get(server + "/")
-    browser.find_element(By.LINK_TEXT, "A batch").click()
+    _click_and_wait(browser, browser.find_element(By.LINK_TEXT, "A batch"))
     browser.find_element(By.ID, "file").send_keys(str(source))
-    browser.find_element(By.CSS_SELECTOR, "form.batch-form button[type=submit]").click()
+    _click_and_wait(browser, browser.find_element(By.CSS_SELECTOR, "form.batch-form button[type=submit]"))
+    problems = [e.text for e in browser.find_elements(By.CSS_SELECTOR, ".problem")]
+    assert not problems, problems
     caption = browser.find_element(By.XPATH, "//table/caption").text
     assert "of 3 answers" in caption
     href = browser.find_element(By.PARTIAL_LINK_TEXT, "Download the answers").get_attribute("href")
@@ -293,7 +308,7 @@ def test_the_dataset_chooser_submitted(server, browser):
 
     browser.get(server + "/")
     Select(browser.find_element(By.ID, "dataset")).select_by_value("petit2014")
-    browser.find_element(By.CSS_SELECTOR, "main form button[type=submit]").click()
+    _click_and_wait(browser, browser.find_element(By.CSS_SELECTOR, "main form button[type=submit]"))
     assert parse_qs(urlsplit(browser.current_url).query) == {"dataset": ["petit2014"]}
     names = {b["name"] for b in _api(server, "/v1/bodies?dataset=petit2014")}
     links = {a.text for a in browser.find_elements(By.XPATH, "//table//th[@scope='row']/a")}
