@@ -181,6 +181,13 @@ class Precession(BaseModel):
     dynamical_ellipticity_uncertainty: Optional[float] = Sigma
     scaling_factor_arcsec_per_year_uncertainty: Optional[float] = Sigma
     precession_rate_arcsec_per_year_uncertainty: Optional[float] = Sigma
+    geodesic_precession_rate_arcsec_per_year: Optional[float] = Field(
+        None, description="the geodesic (de Sitter) precession, which turns the axis about the orbit normal the other "
+                          "way from the torque's rate (null where the served rate is an observed one: the Moon's node)")
+    observable_precession_rate_arcsec_per_year: Optional[float] = Field(
+        None, description="what radio tracking measures: precession_rate_arcsec_per_year (the torque's alone) less "
+                          "the geodesic precession")
+    observable_precession_rate_arcsec_per_year_uncertainty: Optional[float] = Sigma
     cassini: Optional[CassiniInfo] = Field(None, description="a synchronous rotator (the Moon): its Cassini state")
     uncertainty: UncertaintyInfo
     perturbers: Optional[list[str]] = Perturbers

@@ -76,6 +76,13 @@ def precession(r: PrecessionResult) -> dict:
         None if s.precession_rate is None else s.precession_rate * _PER_YEAR)
     for key, sigma in zip(RATE_KEYS, sigmas):
         ans[f"{key}_uncertainty"] = sigma
+    # what radio tracking measures: the torque's rate less the geodesic precession (the same ψ sense as the track)
+    geodesic = None if r.geodesic_rate is None else r.geodesic_rate * _PER_YEAR
+    ans["geodesic_precession_rate_arcsec_per_year"] = geodesic
+    ans["observable_precession_rate_arcsec_per_year"] = None if geodesic is None else \
+        ans["precession_rate_arcsec_per_year"] - geodesic
+    ans["observable_precession_rate_arcsec_per_year_uncertainty"] = None if geodesic is None else \
+        ans["precession_rate_arcsec_per_year_uncertainty"]
     if r.cassini is not None:
         ans["cassini"] = _cassini(r.cassini)
     ans["uncertainty"] = r.uncertainty

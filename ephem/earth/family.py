@@ -29,7 +29,7 @@ from ..forced.precession_nutation import Track, cached_model, model_for
 from ..longterm.averaged_spin import SpinConstants, spin_constants
 from ..theory.interface import SpectrumExport, SpinAxisTheory, Spectrum
 from ..theory.results import (COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate, NutationResult, NutationTerm,
-                              PrecessionResult, RateSigmas, selection)
+                              OBSERVABLE_RATE, PrecessionResult, RateSigmas, selection)
 from ..forced.catalogue_sigmas import dynamical_ellipticity_sigma, no_uncertainty_reasons
 from ..forced.uncertainty import SCALAR_KEYS
 from ..base.units import in_unit
@@ -209,10 +209,11 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
         info["assumptions"].append("scaling_factor_arcsec_per_year: with several perturbers, 2ψ̇/cos ε̄ (the K of one "
                                    "perturber on a circular orbit in the ecliptic giving the same rate)")
         # the rate does not depend on the nutation's amplitude cut: nothing truncated
+        info["assumptions"].append(OBSERVABLE_RATE)
         return PrecessionResult(b, lm.obliquity, lm.hd, lm.scaling_factor, lm.precession_rate,
                                 rate_sigmas(b, lm), uncertainty_summary(b), info,
                                 selection(self, "lunisolar", None, None, 1e3 * (time.perf_counter() - start),
-                                          tolerance, covers=COVERS_NOTHING_TRUNCATED))
+                                          tolerance, covers=COVERS_NOTHING_TRUNCATED), geodesic_rate=lm.geodesic_rate)
 
     def nutation(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> NutationResult:
         b, per = self.body, self.perturbers

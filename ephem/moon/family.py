@@ -290,7 +290,8 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         info["assumptions"].append(
             "precession_rate_arcsec_per_year: the node's inertial regression (the pole turns with it about the "
             "Laplace pole); obliquity_deg: the mean pole's θ = i + I to the orbit; scaling_factor_arcsec_per_year: "
-            "2 P(0), twice the synchronous torque's precession constant (ephem.moon.cassini)")
+            "2 P(0), twice the synchronous torque's precession constant (ephem.moon.cassini); the node's regression is "
+            "an observed rate already, so no separate observable rate is given (null)")
         # the rate and the mean obliquity are the bare Cassini state's: nothing truncated
         return PrecessionResult(b, m.obliquity, m.hd, m.scaling_factor, m.precession_rate, rate_sigmas(b, m),
                                 uncertainty_summary(b), info,

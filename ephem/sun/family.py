@@ -19,11 +19,12 @@ from ..forced.catalogue_sigmas import input_sigmas
 from ..forced.uncertainty import propagated, summary
 from ..longterm.averaged_spin import SpinConstants, spin_constants
 from ..orbit.hansen import LAPLACE_LIMIT
+from ..orbit.relativity import geodesic_precession_rate
 from ..theory import cost
 from ..base.budget import Cost
 from ..theory.interface import Spectrum, SpectrumExport, SpinAxisTheory
-from ..theory.results import (COVERS_TRUNCATION, Estimate, NutationResult, NutationTerm, PrecessionResult, RateSigmas,
-                              Selection, selection)
+from ..theory.results import (COVERS_TRUNCATION, Estimate, NutationResult, NutationTerm, OBSERVABLE_RATE,
+                              PrecessionResult, RateSigmas, Selection, selection)
 from .bounds import truncation_bound
 from .ladder import Ladder
 from .rungs import RUNG_NAMES, RUNGS, rung_named
@@ -195,8 +196,12 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
         order = self.order_for_tolerance(tolerance, order)
         m = model_for(b, b.dataset, order)
         unc = propagated(b, order)
+        info = forced_model_info(m, b)
+        info["assumptions"].append(OBSERVABLE_RATE)
+        o = b.orbit
         return PrecessionResult(b, m.obliquity, m.hd, m.scaling_factor, m.precession_rate, rate_sigmas(unc),
-                                summary(unc), forced_model_info(m, b), self._selection(order, tolerance, start))
+                                summary(unc), info, self._selection(order, tolerance, start),
+                                geodesic_rate=geodesic_precession_rate(o.a_au, o.e, o.center))
 
     def nutation(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> NutationResult:
         b = self.body

@@ -41,6 +41,13 @@ COVERS_TRUNCATION = ("the truncation alone: the series served against the same f
 #: rotation, the free wobble): what :attr:`Estimate.theory_total` leaves out
 PHYSICS_TERMS = ("orbit_motion", "rotation_averaging", "free_wobble", "free_wobble_model")
 
+#: what the precession answer's observable rate is (its ``model.assumptions``)
+OBSERVABLE_RATE = ("observable_precession_rate_arcsec_per_year: the torque's rate less the geodesic (de Sitter) "
+                   "precession (geodesic_precession_rate_arcsec_per_year, ephem.orbit.relativity), which turns the "
+                   "axis about the orbit normal the other way: the rate radio tracking measures; "
+                   "precession_rate_arcsec_per_year is the torque's alone; the geodesic rate's own uncertainty (from "
+                   "a and e) is negligible beside the torque rate's")
+
 
 @dataclass(frozen=True)
 class Estimate:
@@ -141,6 +148,10 @@ class PrecessionResult:
     description: dict
     selection: Selection
     cassini: CassiniSummary | None = None
+    #: the geodesic (de Sitter) precession Ω_gp (rad/day, :mod:`ephem.orbit.relativity`), which turns the axis
+    #: about the orbit normal the other way from the torque's ψ̇: the observable rate is ψ̇ − Ω_gp. None where the
+    #: served rate is already an observed one (the Moon's: its node's regression)
+    geodesic_rate: float | None = None
 
 
 @dataclass(frozen=True)

@@ -341,3 +341,11 @@ def test_a_malformed_batch_is_refused_at_the_file_with_the_routes_words(client):
     assert r.status_code == problem["status"] == 422
     (err,) = problem["errors"]
     assert Page(r.text).errors == {err["field"]: f"{err['field']}: {err['reason']}"}
+
+
+def test_the_body_page_shows_the_observable_rate_beside_the_torques(client):
+    p = _page(client, "/bodies/mars")
+    want = client.get("/v1/bodies/mars/precession").json()
+    assert float(p.by_id["observable_precession_rate_arcsec_per_year"]["text"]) == pytest.approx(
+        want["observable_precession_rate_arcsec_per_year"], rel=5e-12)
+    assert "observable_precession_rate_arcsec_per_year" not in _page(client, "/bodies/moon").by_id
