@@ -381,16 +381,8 @@ def _number_or_text(text: str):
 
 def _user_body(form: dict) -> UserBody:
     """The form validated as the POST validates its body (the same model): an error names the field's path."""
-    doc = _user_document(form)
-    for name in ("rotation_period_hours", "dynamical_ellipticity"):       # JSON integers are numbers too
-        if isinstance(doc.get(name), int):
-            doc[name] = float(doc[name])
-    for group in ("orbit", "pole", "moments"):
-        for k, v in doc.get(group, {}).items():
-            if isinstance(v, int) and k != "center":
-                doc[group][k] = float(v)
     try:
-        return UserBody.model_validate(doc)
+        return UserBody.model_validate(_user_document(form))      # an integer is a number there, as in JSON
     except ValidationError as exc:
         raise RequestValidationError([{**e, "loc": ("body",) + tuple(e["loc"])} for e in exc.errors()]) from None
 
