@@ -15,6 +15,9 @@ ASSUMPTIONS = [
     "rigid body; figure, rotation and angular-momentum axes coincide (free wobble J = 0)",
     "torque averaged over the rotation; triaxial P22 term of the potential dropped",
     "single perturber: the orbit's centre",
+    "the track includes the geodesic (de Sitter) precession about the orbit normal (ephem.orbit.relativity; the "
+    "second_order and numerical rungs its instantaneous rate, the others its orbit average, the rest in the "
+    "estimate's geodesic term); the precession answer's precession_rate_arcsec_per_year is the torque's alone",
 ]
 
 

@@ -5,7 +5,10 @@
 with s the spin (angular-momentum) axis and r̂ the direction of the Sun
 (the sign of r̂ drops out). It carries no expansion in e, no constant
 obliquity or node in the coefficients and no first-order truncation, so it is
-the arbiter of the analytic theory's signs and phases. Integrated with scipy's
+the arbiter of the analytic theory's signs and phases. With the model's geodesic rate Ω_gp
+(:mod:`ephem.orbit.relativity`) the axis also turns about the orbit normal at the instantaneous de Sitter
+rate (3/2)(GM/c²) h/r³ = Ω_gp (a/r)³ (1 − e²)^(3/2), whose orbit average the analytic rungs apply
+(:mod:`ephem.sun.geodesic` bounds what that leaves). Integrated with scipy's
 DOP853 in the frame of the orbit and the mean equinox at the pole epoch. ``model`` is a
 :class:`ephem.forced.precession_nutation.PrecessionNutation`, read by its attributes: the error estimates
 (:mod:`ephem.forced.physics_errors`) measure with this integration without the import chain of the model.
@@ -48,6 +51,9 @@ def integrate_spin_axis(model, jd_tdb, rtol: float = 1e-12,
     # ICRF -> orbit frame: the transpose of the model's orbit -> ICRF matrix
     (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = model.icrf_from_orbit.T.tolist()
     coef = 3.0 * GM_SUN_AU3_PER_DAY2 * model.hd / model.spin_rate
+    # the geodesic precession about the orbit normal (z here), instantaneous: Ω_gp (a/r)³ (1 − e²)^(3/2)
+    geodesic = model.geodesic_rate * (1.0 - e * e) ** 1.5
+    a_au = (GM_SUN_AU3_PER_DAY2 / (n * n)) ** (1.0 / 3.0)
 
     def rhs_real(tt, s):
         checkpoint()    # the service's backstop: ~0.1 us against ~10 us a call
@@ -55,8 +61,11 @@ def integrate_spin_axis(model, jd_tdb, rtol: float = 1e-12,
         rx, ry, rz = r00 * x + r01 * y + r02 * z, r10 * x + r11 * y + r12 * z, r20 * x + r21 * y + r22 * z
         r2 = rx * rx + ry * ry + rz * rz
         sr = s[0] * rx + s[1] * ry + s[2] * rz
-        f = coef * sr / (r2 * r2 * math.sqrt(r2))   # (3 GM H_d / ω r^3) (s·r̂) / r
-        return [f * (ry * s[2] - rz * s[1]), f * (rz * s[0] - rx * s[2]), f * (rx * s[1] - ry * s[0])]
+        r = math.sqrt(r2)
+        f = coef * sr / (r2 * r2 * r)   # (3 GM H_d / ω r^3) (s·r̂) / r
+        g = geodesic * (a_au / r) ** 3  # about the Keplerian orbit's normal: the real one's tilt is ~1e-4 rad
+        return [f * (ry * s[2] - rz * s[1]) - g * s[1], f * (rz * s[0] - rx * s[2]) + g * s[0],
+                f * (rx * s[1] - ry * s[0])]
 
     def rhs_kepler(tt, s):
         checkpoint()
@@ -67,9 +76,11 @@ def integrate_spin_axis(model, jd_tdb, rtol: float = 1e-12,
         lam = theta + nu
         rx, ry = math.cos(lam), math.sin(lam)
         sr = s[0] * rx + s[1] * ry
-        f = K * a_over_r**3 * sr
+        cube = a_over_r**3
+        f = K * cube * sr
+        g = geodesic * cube             # ẑ × s = (−s_y, s_x, 0): the orbital sense
         # r̂ × s with r̂ = (rx, ry, 0)
-        return [f * (ry * s[2]), f * (-rx * s[2]), f * (rx * s[1] - ry * s[0])]
+        return [f * (ry * s[2]) - g * s[1], f * (-rx * s[2]) + g * s[0], f * (rx * s[1] - ry * s[0])]
 
     s0 = model.catalogue_pole_orbit
     out = np.empty((t.size, 3))

@@ -8,10 +8,15 @@ second order).
 The track follows the issue's definition, in the frame of the orbit and the
 mean equinox at t0:
 
-    ψ(t) = ψ̇ (t - t0) + Δψ(t),    ε(t) = ε̄0 + Δε(t)
+    ψ(t) = (ψ̇ − Ω_gp) (t - t0) + Δψ(t),    ε(t) = ε̄0 + Δε(t)
 
 and the spin axis s(t) = (sin ε sin ψ, sin ε cos ψ, cos ε): s turns about
-the orbit normal by -ψ (ψ̇ > 0 is retrograde, as the Earth's precession).
+the orbit normal by -ψ (ψ̇ > 0 is retrograde, as the Earth's precession). ψ̇ is the torque's rate
+(Kinoshita); Ω_gp the geodesic (de Sitter) precession, a rotation about the orbit normal in the orbital
+sense (:mod:`ephem.orbit.relativity`), which every track carries as what the stars see (``track_rate``). It
+is applied as that rotation of the torque's solution: what it leaves (the equinox's extra drift re-phasing
+the nutation, and the periodic part of the instantaneous geodesic rate) is an error term of the ladder
+(:func:`ephem.sun.bounds.geodesic_bounds`).
 """
 from __future__ import annotations
 
@@ -26,6 +31,7 @@ from ..orbit.geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from ..orbit.hansen import LAPLACE_LIMIT, exact_unavailable
 from ..orbit.harmonics import MAX_SHIFT, cos_sin_shifted, uniform_cos_sin
 from ..orbit.kepler import mean_motion_rad_per_day
+from ..orbit.relativity import geodesic_precession_rate
 from ..base.memo import bytes_bounded
 from .kinoshita import NutationSeries, eccentricity_factor, mean_pole, nutation_series, precession_rate, scaling_factor
 
@@ -75,6 +81,14 @@ class PrecessionNutation:
     nutation_at_pole_epoch: tuple[float, float]  # (Δψ(t0), Δε(t0))
     icrf_from_orbit: np.ndarray  # columns: mean equinox, W × equinox, W in ICRF
     order: int | None
+    #: Ω_gp (rad/day), the geodesic precession about the orbit normal (:mod:`ephem.orbit.relativity`); 0 for a
+    #: model of the torque alone (the full rigid body's reference, which measures rotation averaging)
+    geodesic_rate: float = 0.0
+
+    @property
+    def track_rate(self) -> float:
+        """The track's mean ψ̇ (rad/day): the torque's rate less the geodesic precession (module docstring)."""
+        return self.precession_rate - self.geodesic_rate
 
     @property
     def spin_orbit_ratio(self) -> float:
@@ -91,7 +105,7 @@ class PrecessionNutation:
         """ψ, Δψ, Δε and ε (radians) at epochs: the cheap part of a track."""
         t = np.asarray(jd_tdb, dtype=float)
         dpsi, deps = self.nutation_at(t)
-        psi = self.precession_rate * (t - self.pole_epoch) + dpsi
+        psi = self.track_rate * (t - self.pole_epoch) + dpsi
         return psi, dpsi, deps, self.obliquity + deps
 
     def angles_grid(self, jd_start: float, step_days: float, count: int):
@@ -99,7 +113,7 @@ class PrecessionNutation:
         t = jd_start + step_days * np.arange(count)
         m_start = float(self.mean_anomaly(jd_start))
         dpsi, deps = self.nutation.evaluate_uniform(m_start, self.mean_motion * step_days, count)
-        psi = self.precession_rate * (t - self.pole_epoch) + dpsi
+        psi = self.track_rate * (t - self.pole_epoch) + dpsi
         return t, psi, dpsi, deps, self.obliquity + deps
 
     def first_order_error_bound(self, span_days: float) -> float:
@@ -148,9 +162,9 @@ class PrecessionNutation:
             return self.track_from_angles(t, psi, dpsi, deps, eps)
         ra = np.empty(count)
         dec = np.empty(count)
-        psi_start = self.precession_rate * (jd_start - self.pole_epoch)
+        psi_start = self.track_rate * (jd_start - self.pole_epoch)
         ce0, se0 = math.cos(self.obliquity), math.sin(self.obliquity)
-        for start, c, s in uniform_cos_sin(psi_start, self.precession_rate * step_days, count):
+        for start, c, s in uniform_cos_sin(psi_start, self.track_rate * step_days, count):
             sl = slice(start, start + c.size)
             cos_psi, sin_psi = cos_sin_shifted(c, s, dpsi[sl])
             cos_eps, sin_eps = cos_sin_shifted(ce0, se0, deps[sl])
@@ -246,7 +260,8 @@ def build_model(body: Body, order: int | None = None) -> PrecessionNutation:
         eccentricity=orb.e, scaling_factor=K, obliquity=eps_mean, equinox_to_pericentre=theta_mean,
         precession_rate=precession_rate(K, eps_mean, orb.e, order), nutation=series,
         pole_epoch=t0, orbit_epoch=orb.epoch_jd_tdb, mean_anomaly_at_epoch=m0,
-        nutation_at_pole_epoch=(dpsi0, deps0), icrf_from_orbit=icrf_from_orbit, order=order)
+        nutation_at_pole_epoch=(dpsi0, deps0), icrf_from_orbit=icrf_from_orbit, order=order,
+        geodesic_rate=geodesic_precession_rate(orb.a_au, orb.e, orb.center))
 
 
 def check_order(order: int | None) -> int | None:

@@ -268,6 +268,7 @@ def compare_with_averaged(model: PrecessionNutation, jd_tdb, moments=None, initi
     compared in :mod:`studies.rotation_scale` and tests/forced/test_rotation_scale.py."""
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     rig = integrate_rigid_body(model, t, moments, initial_angle, rtol=rtol, start="aligned")
+    model = replace(model, geodesic_rate=0.0)     # the torque alone, as rung 7 integrates it
     avg = integrate_spin_axis(model, t, rtol=rtol)
     s0 = integrate_spin_axis(model, [model.pole_epoch])[0]
     return AveragingComparison(t, angular_separation(rig.angular_momentum, avg),

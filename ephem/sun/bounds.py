@@ -27,6 +27,7 @@ from ..forced.second_order import (PhasedSeries, Remainder, SecondOrderTheory, e
                                    second_order_theory)
 from ..orbit.hansen import LAPLACE_LIMIT, hansen_exact, hansen_series
 from ..orbit.harmonics import FRESH_STEPS, PeriodicTable, harmonic_sum, refined_count
+from .geodesic import geodesic_bounds
 
 
 #: Highest e-power order the ladder tries for rung 2 (a truncated series is cheaper than the
@@ -386,7 +387,7 @@ def truncation_bounds(model: PrecessionNutation, tables: TheoryTables, window: W
     return periodic + 2.0 * reach * shift + tables.weight * rest * window.span
 
 
-def _mean_rates(theory: SecondOrderTheory) -> np.ndarray:
+def mean_rate_harmonics(theory: SecondOrderTheory) -> np.ndarray:
     """φ-harmonics (2, 5) of the second-order mean rates (G_ψ, G_ε) at ε̄0 (rad/day)."""
     ce, se = math.cos(theory.obliquity), math.sin(theory.obliquity)
     g = theory.coefficients
@@ -407,7 +408,7 @@ class _Drifts:
     @classmethod
     def of(cls, theory: SecondOrderTheory, tables: TheoryTables, window: Window) -> _Drifts:
         T = window.span
-        rates, drift = _mean_rates(theory), tables.remainder.drift_harmonics()
+        rates, drift = mean_rate_harmonics(theory), tables.remainder.drift_harmonics()
         g_psi, g_eps, d_psi, d_eps = _sup_abs(rates[0]), _sup_abs(rates[1]), _sup_abs(drift[0]), _sup_abs(drift[1])
         # ψ̄ - ψ̇ T = ∫ G_ψ + (K/2) f (cos ε̄ - cos ε̄0), |ε̄ - ε̄0| <= sup|G_ε + d_ε| T
         se = abs(math.sin(theory.obliquity))
@@ -449,7 +450,7 @@ def second_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, tab
       in ε is at most |(w_ψ, w_ε)| <= |a| + |(b, c)|), their largest over the mean anomalies of the epochs.
     """
     dr = drifts or _Drifts.of(theory, tables, window)
-    mean = _mean_pole_bound(theory, tables, window, dr, _mean_rates(theory), dr.g_eps)
+    mean = _mean_pole_bound(theory, tables, window, dr, mean_rate_harmonics(theory), dr.g_eps)
     lo, hi = window.phases(model.precession_rate, dr.slack, from_t0=False)
     turn = min(1.0, max(abs(lo), abs(hi)))
     a, bc = tables.abc.interval_max(*window.mean_anomalies)
@@ -539,7 +540,7 @@ def first_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, tabl
     wv = np.array([tables.weight, 1.0])
     m_lo, m_hi = window.mean_anomalies
     p_table, v_table = p2.table(phi0), v.table(phi0)
-    rates, drift = _mean_rates(theory), tables.remainder.drift_harmonics()
+    rates, drift = mean_rate_harmonics(theory), tables.remainder.drift_harmonics()
     mean_rate = (eval_phi(rates, phi0) + eval_phi(drift, phi0)) * wv
     scale = model.precession_rate / model.mean_motion
     reach_m = max(abs(m_lo - window.m0), abs(m_hi - window.m0))
@@ -583,6 +584,9 @@ def theory_terms(model: PrecessionNutation, theory: SecondOrderTheory, tables: T
     higher = higher_order_bound(model, theory, tables, window, dr)
     first = first_order_bound(model, theory, tables, window, dr,
                               second_order_bound(model, theory, tables, window, dr) + higher)
+    _, bc = tables.abc.interval_max(*window.mean_anomalies)
+    geodesic, rephasing = geodesic_bounds(model, mean_rate_harmonics(theory), tables.weight, bc,
+                                          tables.periodic.slope_phi, window.mean_anomalies, window.m0, window.span)
     return {"nutation_omitted": nutation_omitted_bound(tables, window),
             "truncation": truncation_bounds(model, tables, window), "second_order": float(first),
-            "higher_order": float(higher)}
+            "higher_order": float(higher), "geodesic": geodesic, "geodesic_rephasing": rephasing}

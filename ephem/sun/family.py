@@ -128,7 +128,7 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
     def spectrum(self, aim_mas: float, mid_centuries: float, jd_tdb=None, psi=None) -> Spectrum:
         m = cached_model(self.body)
         if jd_tdb is None:
-            return mean_anomaly_spectrum(m, aim_mas, m.precession_rate)
+            return mean_anomaly_spectrum(m, aim_mas, m.track_rate)
         # ψ̇ as the track has it (the rungs above 'hansen' change the mean rates): ψ = a + ψ̇ t + nutation
         t = np.asarray(jd_tdb, dtype=float)
         mt = m.mean_anomaly(t)

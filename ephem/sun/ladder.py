@@ -23,6 +23,8 @@ each is the largest excursion since the pole epoch of a periodic function of the
 over the orbit's part the epochs cover (a table over one orbit per body, no sum over the
 epochs, :mod:`ephem.sun.bounds`), plus drifts growing with the time from the pole epoch
 (:mod:`ephem.sun.bounds`).
+* ``geodesic`` (rungs 1-4): what turning the torque's solution by the mean geodesic precession (rungs 1-3) or by
+  the instantaneous one (rung 4) leaves against the numerical rungs, which integrate it (:mod:`ephem.sun.geodesic`);
 * ``integration`` (rungs 5-6): the ODE tolerance;
 * ``orbit_motion`` (rungs 1-5): the fixed Keplerian orbit against the real one: for a catalogue
   body the gap measured between rungs 5 and 6 inside DE421 (``data/orbit_motion/``), beyond it

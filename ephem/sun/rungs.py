@@ -8,7 +8,8 @@ Rungs, cheapest first (names as reported in a track's ``model.name``):
 1. ``secular``       ψ = ψ̇ (t - t0), ε = ε̄0: precession only.
 2. ``series``        Kinoshita-Cayley nutation with the Hansen coefficients as e-power series truncated at e^N.
 3. ``hansen``        the same with exact Hansen coefficients (the science core's default).
-4. ``second_order``  rung 3 with the equinox drift fed back into the phases and the second-order mean rates.
+4. ``second_order``  rung 3 with the equinox drift fed back into the phases and the second-order mean rates, and
+                     the geodesic precession's periodic part.
 5. ``numerical``     the rotation-averaged torque integrated along the Keplerian orbit.
 6. ``real_orbit``    the same along the real, perturbed orbit from DE421, inside DE421's span (1899-2053).
 """
@@ -29,6 +30,7 @@ from ..forced.precession_nutation import PrecessionNutation, Track, cached_model
 from ..forced.second_order import SecondOrderTheory
 from ..orbit.de421 import DE421_BODIES, de421_span, sun_path, tdb_date
 from ..orbit.hansen import LAPLACE_LIMIT
+from ..orbit.relativity import geodesic_angle
 from ..theory import cost
 from ..theory.results import Estimate
 
@@ -80,26 +82,33 @@ def secular_track(model: PrecessionNutation, jd_tdb) -> Track:
     """Rung 1: the mean pole precessing uniformly, no nutation."""
     t = np.asarray(jd_tdb, dtype=float)
     zero = np.zeros(t.shape)
-    psi = model.precession_rate * (t - model.pole_epoch)
+    psi = model.track_rate * (t - model.pole_epoch)
     return model.track_from_angles(t, psi, zero, zero, np.full(t.shape, model.obliquity))
 
 
 def second_order_track(model: PrecessionNutation, theory: SecondOrderTheory, jd_tdb) -> Track:
     """Rung 4: ψ, ε from the second-order theory, in the frame of the orbit and mean equinox at t0."""
     t = np.asarray(jd_tdb, dtype=float)
-    psi, dpsi, deps, eps = theory.angles(model.mean_anomaly(t), t)
-    return model.track_from_angles(t, psi, dpsi, deps, eps)
+    m = model.mean_anomaly(t)
+    psi, dpsi, deps, eps = theory.angles(m, t)
+    # the torque's solution turned about the orbit normal by the instantaneous geodesic precession (the mean rate
+    # and its periodic part, ephem.sun.geodesic)
+    turned = geodesic_angle(model.geodesic_rate, model.mean_motion, model.eccentricity, m,
+                            float(model.mean_anomaly(model.pole_epoch)))
+    return model.track_from_angles(t, psi - turned, dpsi, deps, eps)
 
 
 def track_from_vectors(model: PrecessionNutation, theory: SecondOrderTheory, jd_tdb, pole_icrf) -> Track:
     """A :class:`Track` from ICRF pole vectors (the numerical rungs).
 
     ψ and ε are read off the pole in the frame of the orbit and mean equinox at t0; the
-    nutation Δψ, Δε is what remains after the second-order theory's mean ψ̄, ε̄.
+    nutation Δψ, Δε is what remains after the second-order theory's mean ψ̄, ε̄ (with the geodesic precession
+    the integration carries).
     """
     t = np.asarray(jd_tdb, dtype=float)
     s = pole_icrf @ model.icrf_from_orbit   # rows: orbit-frame vectors
     psi_bar, eps_bar = theory.mean_track(t)(t)
+    psi_bar = psi_bar - model.geodesic_rate * (t - model.pole_epoch)
     raw = np.arctan2(s[:, 0], s[:, 1])
     psi = psi_bar + np.remainder(raw - psi_bar + math.pi, 2.0 * math.pi) - math.pi  # unwrap about ψ̄
     eps = np.arctan2(np.hypot(s[:, 0], s[:, 1]), s[:, 2])
@@ -195,7 +204,8 @@ def _series_estimates(ladder, x: EstimateInputs) -> list:
     m = ladder.model
     if m.eccentricity < LAPLACE_LIMIT:
         return [rung_estimate("series", order, {"truncation": float(truncation),
-                                                "second_order": x.theory["second_order"]}, x.physics)
+                                                "second_order": x.theory["second_order"],
+                                                "geodesic": x.theory["geodesic"]}, x.physics)
                 for order, truncation in enumerate(x.theory["truncation"])]
     return [Estimate("series", None, {}, available=False, why_not=(
         f"e = {m.eccentricity:.4g} exceeds the Laplace limit {LAPLACE_LIMIT:.4f}: the e-power series "
@@ -233,7 +243,8 @@ RUNGS: tuple[Rung, ...] = (
          lambda p: [cost.harmonic_sum(p.count, 0, "step_days", "the secular track")],
          lambda ladder, m, t, order: secular_track(m, t),
          lambda ladder, x: [rung_estimate("secular", None, {"nutation_omitted": x.theory["nutation_omitted"],
-                                                            "second_order": x.theory["second_order"]}, x.physics)]),
+                                                            "second_order": x.theory["second_order"],
+                                                            "geodesic": x.theory["geodesic"]}, x.physics)]),
     Rung("series", "Kinoshita-Cayley nutation, Hansen coefficients as e-power series truncated at e^order",
          ("first order in the torque", "Hansen coefficients truncated at a power of e", FIXED_ORBIT),
          lambda p: [cost.hansen_build(p.e, p.order), cost.harmonic_sum(p.count, p.order + 2, "step_days", "the track")],
@@ -243,13 +254,15 @@ RUNGS: tuple[Rung, ...] = (
          ("first order in the torque: the equinox drift is not fed back into the nutation phases", FIXED_ORBIT),
          lambda p: [cost.harmonic_sum(p.count, p.harmonics, "step_days", "the track")],
          lambda ladder, m, t, order: m.track(t),
-         lambda ladder, x: [rung_estimate("hansen", None, {"second_order": x.theory["second_order"]}, x.physics)]),
+         lambda ladder, x: [rung_estimate("hansen", None, {"second_order": x.theory["second_order"],
+                                                           "geodesic": x.theory["geodesic"]}, x.physics)]),
     Rung("second_order", "second order in the torque: the equinox drift re-phases the nutation, plus the "
                          "second-order mean rates",
          ("second order in the torque", FIXED_ORBIT),
          lambda p: [cost.second_order(p.count, p.harmonics)],
          lambda ladder, m, t, order: second_order_track(m, ladder.theory, t),
-         lambda ladder, x: [rung_estimate("second_order", None, {"higher_order": x.theory["higher_order"]},
+         lambda ladder, x: [rung_estimate("second_order", None, {"higher_order": x.theory["higher_order"],
+                                                                 "geodesic": x.theory["geodesic_rephasing"]},
                                           x.physics)]),
     # the numerical rungs: the second-order mean track is subtracted from the integrated pole
     Rung("numerical", "rotation-averaged torque integrated numerically along the fixed Keplerian orbit",

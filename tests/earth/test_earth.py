@@ -22,6 +22,9 @@ from ephem.cli import app as cli
 from ephem.base.errors import InvalidInputError, NotApplicableError
 from ephem.earth.lunisolar import earth_lunisolar
 from ephem.orbit.lunar import DELAUNAY_NAMES
+from ephem.base.constants import ARCSEC
+from ephem.forced.precession_nutation import cached_model
+from ephem.orbit.geometry import unit_vector
 from service.app import app as web
 from tests.bodies.test_catalogue import GOOD
 
@@ -121,17 +124,25 @@ def test_sun_only_reproduces_the_answers_before_the_moon():
     # UTC -> TDB: a few additions on a JD of 2.46e6 days, whose ulp is 4.7e-10 d; 1e-9 d (86 µs) is two
     # ulp, far below the 1.7 ms of TDB − TT or a leap second
     assert tr["jd_tdb"][1] == pytest.approx(2458859.5008007395, abs=1e-9)
-    # ψ moves 0.044"/day, so the JD's 1e-9 d adds 4e-11" (1e-13 relative): within SAME
-    assert tr["psi_arcsec"][1] == same(320.73920856302135)
+    # ψ moves 0.044"/day, so the JD's 1e-9 d adds 4e-11" (1e-13 relative): within SAME. Issue 32 added the
+    # geodesic precession to every track: the torque's ψ of before less Ω_gp (t − t0) (ephem.orbit.relativity), and
+    # the pole of before turned by that angle about the orbit normal
+    model = cached_model(lara)
+    turned = model.geodesic_rate * (tr["jd_tdb"][1] - model.pole_epoch)
+    assert tr["psi_arcsec"][1] == same(320.73920856302135 - turned / ARCSEC)
     # the pole is 0.034° from the ICRF pole: its RA is 1/cos(dec) = 1700 times worse conditioned than the
-    # direction, so compare the direction: RA scaled by cos dec, to SAME radians
-    dec = math.radians(89.96611899848224)
-    assert (tr["pole_ra_deg"][1] - 357.2904923584953) * math.cos(dec) == pytest.approx(0.0, abs=math.degrees(SAME))
-    assert tr["pole_dec_deg"][1] == same(89.96611899848224)
+    # direction, so compare the direction to SAME radians
+    before = unit_vector(math.radians(357.2904923584953), math.radians(89.96611899848224))
+    normal = model.icrf_from_orbit[:, 2]
+    expected = before * math.cos(turned) + np.cross(normal, before) * math.sin(turned) + \
+        normal * (normal @ before) * (1.0 - math.cos(turned))
+    served = unit_vector(math.radians(tr["pole_ra_deg"][1]), math.radians(tr["pole_dec_deg"][1]))
+    assert float(np.linalg.norm(served - expected)) < SAME
     # issue 15 moved two terms: rotation_averaging is ephem.forced.rotation_scale's (11.678 mas, the drift at its measured
     # factor; 11.871 from ephem.forced.rigid_body's older bound) and second_order the ladder's span-aware bound (2.244 mas over
-    # these two months; 7.753 before). The estimate was 1069.9952992958686; the rest is unchanged
-    assert tr["model"]["name"] == "hansen" and tr["model"]["estimated_error_mas"] == same(1064.2934460185702)
+    # these two months; 7.753 before). The estimate was 1069.9952992958686; issue 32 added the geodesic term
+    geodesic = tr["model"]["error_terms_mas"]["geodesic"]
+    assert tr["model"]["name"] == "hansen" and tr["model"]["estimated_error_mas"] == same(1064.2934460185702 + geodesic)
     assert tr["model"]["error_terms_mas"]["orbit_motion"] == same(50.371370081093275, 1069.8)
     # petit2014's Earth was not given an explicit H_d: its Sun-only answer is unchanged as it stands
     p = api.precession("earth", "petit2014", perturbers="sun")

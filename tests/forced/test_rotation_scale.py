@@ -19,6 +19,7 @@ from ephem.base.constants import MAS
 from ephem.forced.precession_nutation import cached_model
 from ephem.forced.integration import angular_separation, integrate_spin_axis
 from ephem.forced.rigid_body import integrate_rigid_body
+from ephem.orbit.relativity import geodesic_angle
 from ephem.forced.rigid_numerics import normalised_moments, rotation_matrices
 from studies.rotation_scale import compare, generated_population, true_error
 from studies.rung_choice import issue_bodies
@@ -128,6 +129,12 @@ ISSUE_REQUESTS = {"itokawa-like": ("2000-01-01", "2020-01-01", 365.25), "eros-li
                   "4h-e0.75": ("2000-01-01", "2002-01-01", 5.0)}
 
 
+def turn_about(v: np.ndarray, axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
+    """Unit vectors ``v`` (N, 3) turned by ``angle`` (N,) about the unit ``axis`` (Rodrigues' formula)."""
+    c, s = np.cos(angle)[:, None], np.sin(angle)[:, None]
+    return v * c + np.cross(axis, v) * s + axis * (v @ axis)[:, None] * (1.0 - c)
+
+
 @pytest.mark.parametrize("name", ISSUE_REQUESTS)
 def test_the_issue_s_requests_are_served_within_their_tolerance_of_the_rigid_body(name):
     from ephem import api
@@ -141,11 +148,18 @@ def test_the_issue_s_requests_are_served_within_their_tolerance_of_the_rigid_bod
     # the independent reference: the full rigid body from the forced start (DOP853 at 1e-10: at 1e-12 the
     # Itokawa-like figure axis moves by 0.0006 mas, measured), with the shape the estimate assumes
     rig = integrate_rigid_body(m, t, moments=body_moments(b, m), rtol=1e-10, atol=1e-12)
+    # the rigid body integrates the torque alone; the served track carries the geodesic precession too, a rotation
+    # about the orbit normal by ephem.orbit.relativity's instantaneous angle (what is left, the equinox's re-phasing,
+    # is in the estimate's geodesic term)
+    turned = geodesic_angle(m.geodesic_rate, m.mean_motion, m.eccentricity, m.mean_anomaly(t),
+                            float(m.mean_anomaly(m.pole_epoch)))
+    normal = m.icrf_from_orbit[:, 2]
     for axis, ans in answers.items():
         assert ans["model"]["estimated_error_mas"] <= 20.0
         ra, dec = np.radians(ans["pole_ra_deg"]), np.radians(ans["pole_dec_deg"])
         served = np.stack([np.cos(dec) * np.cos(ra), np.cos(dec) * np.sin(ra), np.sin(dec)], axis=-1)
-        error = angular_separation(served, rig.figure_axis if axis == "figure" else rig.angular_momentum)
+        truth = turn_about(rig.figure_axis if axis == "figure" else rig.angular_momentum, normal, turned)
+        error = angular_separation(served, truth)
         # the estimate is a bound: the served pole within it of the rigid body (and so within the tolerance)
         assert error.max() <= ans["model"]["estimated_error_mas"] * MAS, (axis, error.max() / MAS, ans["model"])
 
