@@ -22,7 +22,9 @@ Earth's, taking IAU 2006/2000A (ERFA) as the real Earth to within its published 
   Oppolzer offsets are in the figure series or in ``axis_relation``);
 * ``free_wobble`` / ``free_wobble_model`` (figure axis) as the ladder's; ``rounding``.
 
-Outside 1900–2100 (where the residual was measured) the track is refused as not applicable.
+Outside 1900–2100 (where the residual was measured) the track is refused as not applicable. The non-rigid rung's
+terms (:func:`nonrigid_terms`) are fewer: it serves IAU 2006's precession on the ecliptic of date, so it has no
+``precession`` or ``ecliptic_motion`` term, and its ``nutation_residual`` is its own measured envelope.
 """
 from __future__ import annotations
 
@@ -44,7 +46,10 @@ from ..forced.physics_errors import rotation_averaging_bound
 from ..theory.interface import cheapest_within
 from ..theory.results import Estimate
 from ..orbit.lunar import MIN_CUT_MAS
-from .model import LunisolarEarth, TRACK_CUT_MAS, lunisolar_earth
+from .model import LunisolarEarth, NonRigidEarth, TRACK_CUT_MAS, lunisolar_earth, residual_envelope
+from .nonrigid import non_rigid_series
+from ..orbit.geometry import unit_vector
+from ..forced.integration import angular_separation
 
 
 # ----------------------------------------------------------------------------- the error estimate
@@ -147,21 +152,82 @@ def estimate_terms(model: LunisolarEarth, jd_tdb) -> dict:
     return terms
 
 
-def estimates(model: LunisolarEarth, jd_tdb, wobble=None) -> list:
-    """The lunisolar rung's estimates (:class:`ephem.sun.ladder.Estimate`): without the free wobble and, for the
-    figure axis with a wobble phase, with it."""
+@lru_cache(maxsize=16)
+def nonrigid_earth(body: Body, axis: str = "figure", perturbers: tuple[str, ...] = ("Moon", "Sun")) -> NonRigidEarth:
+    """The non-rigid rung's model of the Earth ``body`` for ``axis`` (:class:`ephem.earth.model.NonRigidEarth`): the
+    lunisolar model at the served cut and its series times the IERS 1996 transfer function."""
+    rigid = lunisolar_earth(body, axis, TRACK_CUT_MAS, perturbers)
+    return NonRigidEarth(rigid, non_rigid_series(rigid.series))
+
+
+#: The non-rigid rung follows IAU 2006's pole, not the body's: a pole further than this from it at its epoch is not
+#: the Earth's (the catalogue's is 2.4 mas from it; a user's Earth with another pole gets the rigid rung only)
+NONRIGID_POLE_MISMATCH = ARCSEC
+
+
+def nonrigid_unavailable(model: NonRigidEarth, jd_tdb: np.ndarray) -> str | None:
+    """Why the non-rigid rung cannot serve these epochs, or None."""
+    why = unavailable(model.rigid, jd_tdb)
+    if why is not None:
+        return why
+    b = model.body
+    given = unit_vector(math.radians(b.pole.ra_deg), math.radians(b.pole.dec_deg))
+    offset = float(angular_separation(model.pole(np.array([b.pole.epoch_jd_tdb]))[0][0], given))
+    if offset > NONRIGID_POLE_MISMATCH:
+        return (f"the non-rigid rung serves IAU 2006's pole, {offset / ARCSEC:.3g} arcsec from this body's at its "
+                f"epoch (accepted within {NONRIGID_POLE_MISMATCH / ARCSEC:g} arcsec): the rigid rung follows the "
+                "body's own pole")
+    return None
+
+
+def nonrigid_terms(model: NonRigidEarth, jd_tdb) -> dict:
+    """The non-rigid rung's named error terms (radians) at the epochs, against the real Earth as IAU 2006/2000A
+    gives it (:class:`ephem.earth.model.NonRigidEarth`):
+
+    * ``nutation_residual``: the non-rigid series minus ``erfa.nut00a`` moves the pole by at most the measured
+      envelope (``data/lunisolar.toml [nonrigid_track]``): MHB2000's anelastic and ocean corrections, the
+      planetary nutation, the terms under the cut; the precession is IAU 2006's own, applied as ERFA does;
+    * ``hd_scaling``: an H_d other than the measured one scales the nutation, and the precession it implies departs
+      from IAU 2006's (which the rung serves) by ψ̇'s relative change over the span;
+    * ``iau_reference``, ``axis_relation``, ``rotation_averaging``, ``rounding``: as the rigid rung's."""
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
-    terms = estimate_terms(model, t)
+    rigid = model.rigid
+    rigid_terms = estimate_terms(rigid, t)            # refuses outside the window, as the rigid rung does
+    d = lunisolar_data()["served_track"]
+    se = abs(math.sin(model.obliquity))
+    span = float(np.max(np.abs(t - rigid.pole_epoch)))
+    terms = {"nutation_residual": residual_envelope() * MAS,
+             "hd_scaling": abs(model.hd / d["hd"] - 1.0) * (displacement_sum(model.series, model.obliquity)
+                                                          + se * abs(rigid.precession_rate) * span)}
+    for key in ("iau_reference", "axis_relation", "rotation_averaging", "rounding"):
+        if key in rigid_terms:
+            terms[key] = rigid_terms[key]
+    return terms
+
+
+def estimates(model: LunisolarEarth | NonRigidEarth, jd_tdb, wobble=None) -> list:
+    """A rung's estimates (:class:`ephem.theory.results.Estimate`), ``lunisolar`` for the rigid model and
+    ``nonrigid`` for the non-rigid one: without the free wobble and, for the figure axis with a wobble phase, with
+    it. The non-rigid rung outside its domain is one unavailable estimate saying why."""
+    t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+    rung = "nonrigid" if isinstance(model, NonRigidEarth) else "lunisolar"
+    if rung == "nonrigid":
+        why = nonrigid_unavailable(model, t)
+        if why is not None:
+            return [Estimate(rung, None, {}, available=False, why_not=why)]
+        terms = nonrigid_terms(model, t)
+    else:
+        terms = estimate_terms(model, t)
     unestimated = () if model.body.moments is not None else ("rotation_averaging",)
     if model.axis != "figure":
-        return [Estimate("lunisolar", None, terms, unestimated=unestimated)]
+        return [Estimate(rung, None, terms, unestimated=unestimated)]
     left_out = free_wobble_bound(model.body) if wobble is None else wobble.J_arcsec * ARCSEC
-    out = [Estimate("lunisolar", None, terms if left_out is None else {**terms, "free_wobble": left_out},
+    out = [Estimate(rung, None, terms if left_out is None else {**terms, "free_wobble": left_out},
                     unestimated=unestimated + (("free_wobble",) if left_out is None else ()))]
     if wobble is not None:
         modelled = wobble_model_bound(model.body, wobble, t, pole_vectors(model.track(t)),
                                       pole_at(model, wobble.epoch_jd_tdb)) + ROUNDING
-        out.append(Estimate("lunisolar", None, {**terms, "free_wobble_model": modelled}, unestimated=unestimated,
+        out.append(Estimate(rung, None, {**terms, "free_wobble_model": modelled}, unestimated=unestimated,
                             free_wobble=True))
     return out
 

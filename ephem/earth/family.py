@@ -35,7 +35,8 @@ from ..forced.uncertainty import SCALAR_KEYS
 from ..base.units import in_unit
 from ..orbit.lunar import check_cut
 from .model import LunisolarEarth, TRACK_CUT_MAS, TRACK_SIDEBANDS, lunisolar_earth, tidal_constant_drift
-from .estimates import add_wobble, cut_for_tolerance, estimates, omitted_bound, window
+from .estimates import add_wobble, cut_for_tolerance, estimates, nonrigid_earth, omitted_bound, window
+from .model import NonRigidEarth
 
 
 ARGUMENT = "Delaunay arguments l, l′, F, D, Ω (IERS 2010 eq. 5.43)"
@@ -58,6 +59,24 @@ ASSUMPTIONS = [
     "mean Kepler ellipse (Simon et al. 1994); GM of both from DE421",
     "the track turns about the catalogue orbit's normal at fixed mean obliquity (the ecliptic's own motion "
     "is in the error estimate, not in the track)",
+]
+NONRIGID_THEORY = ("IAU 2006 precession (P03, erfa.pfw06) with our lunisolar nutation times the IERS 1996 transfer "
+                   "function of the non-rigid Earth (ephem.earth.model.NonRigidEarth)")
+#: the non-rigid rung's ``model.description``
+NONRIGID_DESCRIPTION = ("the non-rigid Earth: Kinoshita's lunisolar nutation (amplitude cut 0.1 mas) with the "
+                        "precession-nutation coupling, every circular component times the IERS 1996 transfer function "
+                        "(elastic mantle, fluid core, oceans), on the IAU 2006 precession and the ecliptic of date "
+                        "(ephem.earth.model.NonRigidEarth)")
+NONRIGID_ASSUMPTIONS = [
+    "non-rigid Earth: the IERS 1996 transfer function (Mathews et al. 1991's resonance form, KSV_1996_3's "
+    "coefficients) multiplies every circular nutation component (ephem.earth.nonrigid)",
+    "left out and in the estimate's nutation_residual (measured against erfa.nut00a over 1900-2100): MHB2000's "
+    "anelastic and ocean corrections beyond the 1996 transfer function, the planetary nutation, the terms under "
+    "0.1 mas; the free core nutation's free mode, which IAU 2000A leaves out too, is in iau_reference",
+    "precession: IAU 2006 (P03, Capitaine et al. 2003) through ERFA's Fukushima-Williams angles, frame bias "
+    "included, the geodesic precession in it; the nutation applied on the ecliptic and equinox of date as IAU "
+    "2000A's is; the rung serves IAU 2006's pole, not the body's (refused for a pole 1 arcsec or more from it)",
+    "TT taken for TDB in ERFA's arguments (they differ by under 2 ms)",
 ]
 AXIS_ASSUMPTIONS = {
     "figure": "the pole served is the figure axis's forced motion (Oppolzer terms included: the analogue of "
@@ -100,8 +119,8 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
     model, ``lunisolar``, whose track is the series at the served amplitude cut."""
 
     summary = "the Earth's lunisolar theory (the Earth under the Moon and the Sun)"
-    models = ("lunisolar",)
-    descriptions = {"lunisolar": SELECTION_DESCRIPTION}
+    models = ("lunisolar", "nonrigid")
+    descriptions = {"lunisolar": SELECTION_DESCRIPTION, "nonrigid": NONRIGID_DESCRIPTION}
     track_cut_mas = TRACK_CUT_MAS
 
     @classmethod
@@ -111,6 +130,13 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
     @property
     def model(self) -> LunisolarEarth:
         return lunisolar_earth(self.body, self.axis, TRACK_CUT_MAS, self.perturbers)
+
+    @property
+    def nonrigid(self) -> NonRigidEarth:
+        return nonrigid_earth(self.body, self.axis, self.perturbers)
+
+    def _model_named(self, model: str | None):
+        return self.nonrigid if model == "nonrigid" else self.model
 
     @classmethod
     def how_to_reach(cls, body: Body) -> str:
@@ -127,25 +153,35 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
         return Cost((cost.lunisolar_answer(),))
 
     def track_cost(self, model, order, start, stop, count, free_wobble, rotation_scale=False) -> Cost:
-        return Cost((cost.lunisolar_sum(count),) + ((cost.free_rotation("exact", count, 0.0),) if free_wobble else ()))
+        parts = (cost.lunisolar_sum(count),) + ((cost.nonrigid_sum(count),) if model == "nonrigid" else ())
+        return Cost(parts + ((cost.free_rotation("exact", count, 0.0),) if free_wobble else ()))
 
     def estimates(self, jd_tdb) -> list[Estimate]:
-        return estimates(self.model, jd_tdb, self.wobble)
+        # cheapest first: the rigid rung, then the non-rigid one (the same series, times T(σ), on ERFA's precession)
+        return estimates(self.model, jd_tdb, self.wobble) + estimates(self.nonrigid, jd_tdb, self.wobble)
 
     def named(self, jd_tdb, model, order):
         # the model follows the wobble whenever its phase is given
-        candidates = self.estimates(jd_tdb)
+        candidates = estimates(self._model_named(model), jd_tdb, self.wobble)
+        if not candidates[0].available:
+            raise NotApplicableError(self.body.name, candidates[0].why_not)
         return candidates[-1] if self.wobble is not None else candidates[0]
 
     def track(self, est, model, order, t0, step, count) -> Track:
         return self.track_at(model, order, self.grid(t0, step, count), est is not None and est.free_wobble)
 
     def track_at(self, model, order, jd_tdb, free_wobble=False) -> Track:
-        tr = self.model.track(np.asarray(jd_tdb, dtype=float))
-        return add_wobble(self.model, tr, self.wobble) if free_wobble else tr
+        m = self._model_named(model)
+        tr = m.track(np.asarray(jd_tdb, dtype=float))
+        return add_wobble(m, tr, self.wobble) if free_wobble else tr
 
     def describe(self, est, model, order, with_wobble) -> dict:
         info = describe_model(self.body, self.perturbers, self.model)
+        if model == "nonrigid":
+            info["theory"] = NONRIGID_THEORY
+            rigid_only = ("rigid Earth", "first order in the torque", "the track turns about", "precession rate")
+            info["assumptions"] = NONRIGID_ASSUMPTIONS + [a for a in info["assumptions"]
+                                                          if not a.startswith(rigid_only)]
         info["assumptions"] = [AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else self.axis]] + info["assumptions"]
         return info
 

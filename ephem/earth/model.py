@@ -1,5 +1,6 @@
 """The Earth's lunisolar model from the catalogue: :func:`ephem.earth.lunisolar.earth_lunisolar`'s series wired to
-the catalogue's pole and orbit (:class:`LunisolarEarth`, :func:`lunisolar_earth`).
+the catalogue's pole and orbit (:class:`LunisolarEarth`, :func:`lunisolar_earth`); and the non-rigid rung's model on
+IAU 2006's precession (:class:`NonRigidEarth`).
 
 The track follows :mod:`ephem.forced.precession_nutation`'s definition in the frame of the catalogue's orbit and
 the mean equinox at the pole epoch t0:
@@ -23,7 +24,7 @@ from ..base.constants import JULIAN_CENTURY_DAYS as DAYS_PER_CENTURY
 from ..base.errors import NotApplicableError
 from ..orbit.geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from ..forced.kinoshita import mean_pole
-from ..orbit.lunar import obliquity_arcsec
+from ..orbit.lunar import lunisolar_data, obliquity_arcsec
 from .lunisolar import earth_lunisolar
 from ..forced.precession_nutation import Track
 from ..orbit.relativity import geodesic_precession_rate
@@ -146,3 +147,96 @@ def lunisolar_earth(body: Body, axis: str = "figure", cut_mas: float = TRACK_CUT
     tilt = math.atan2(float(np.linalg.norm(w[:2])), float(w[2]))
     return LunisolarEarth(body, series, axis, tuple(perturbers), eps_mean, t0, (dpsi0, deps0), icrf_from_orbit, tilt,
                           geodesic_precession_rate(o.a_au, o.e, o.center))
+
+
+@dataclass(frozen=True, eq=False)
+class NonRigidEarth:
+    """The non-rigid Earth rung (``nonrigid``): our lunisolar nutation times the IERS 1996 transfer function on the IAU 2006
+    precession, the Earth's model for tolerances the rigid theory cannot meet.
+    
+    The rigid rung (``lunisolar``, :mod:`ephem.earth.model`) is Kinoshita's first-order theory for a rigid Earth: 63 mas
+    rms from IAU 2000A in Δψ over 1900–2100, and its linear precession misses IAU 2006's quadratic ψ_A by 39 mas in 30
+    years. This rung serves, at each epoch,
+    
+    * the precession of IAU 2006 (P03, Capitaine et al. 2003, A&A 412, 567), the observed one, through ERFA's
+      Fukushima–Williams angles (``erfa.pfw06``, frame bias included): a first-order theory has neither P03's
+      second-order and planetary contributions nor the ecliptic's motion;
+    * our nutation (:func:`ephem.earth.lunisolar.earth_lunisolar`, amplitude cut 0.1 mas, the request's axis) with
+      the precession–nutation coupling added and every circular component times the IERS 1996 transfer function
+      T(σ) of the elastic mantle, the fluid core and the oceans (:func:`ephem.earth.nonrigid.non_rigid_series`),
+      applied on the ecliptic and equinox of date as IAU 2000A's is (``erfa.fw2m``).
+    
+    What it leaves out, against ERFA's IAU 2006/2000A, is measured (``data/lunisolar.toml [nonrigid_track]``) and is
+    the ``nutation_residual`` term: MHB2000's anelastic and ocean corrections beyond the 1996 transfer function, the
+    planetary nutation (IAU 2000A's 687 planetary terms; ``erfa.nut00b`` replaces them by a constant), the terms under
+    the cut and second-order terms. The free core nutation's free mode, which IAU 2000A leaves out too, and IAU 2006's
+    own error are ``iau_reference``. The pole is the CIP's analogue (the figure axis), or the angular momentum with
+    ``axis_relation`` as the rigid rung's.
+    
+    TT and TDB differ by under 2 ms, 1e-10 of a precession day: ERFA's TT argument takes the TDB Julian date. The
+    track's ψ and ε are read off the pole in the rigid model's frame (the catalogue orbit, the mean equinox at its pole
+    epoch), as every Earth track's; Δψ and Δε are the non-rigid series' nutation. Radians and days.
+
+    ``rigid``: the lunisolar model of the same body, axis and cut (its frame, obliquity and pole epoch); ``series``
+    its non-rigid series (:func:`ephem.earth.estimates.nonrigid_earth` builds both).
+    """
+
+    rigid: LunisolarEarth
+    series: object = field(repr=False)       # ephem.earth.lunisolar.LunisolarSeries, every term times T(σ)
+
+    # the attributes the wobble, the estimates and the answers read, as the rigid model's
+    @property
+    def body(self) -> Body:
+        return self.rigid.body
+
+    @property
+    def axis(self) -> str:
+        return self.rigid.axis
+
+    @property
+    def perturbers(self) -> tuple[str, ...]:
+        return self.rigid.perturbers
+
+    @property
+    def obliquity(self) -> float:
+        return self.rigid.obliquity
+
+    @property
+    def pole_epoch(self) -> float:
+        return self.rigid.pole_epoch
+
+    @property
+    def icrf_from_orbit(self) -> np.ndarray:
+        return self.rigid.icrf_from_orbit
+
+    @property
+    def hd(self) -> float:
+        return self.rigid.hd
+
+    def pole(self, jd_tdb) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The pole's unit vectors (..., 3) in the GCRS (the ICRF's axes) and the nutation Δψ, Δε (radians)."""
+        import erfa    # astropy's ERFA: imported on first use, as the estimates' comparison does
+
+        t = np.asarray(jd_tdb, dtype=float)
+        gamb, phib, psib, epsa = erfa.pfw06(t, 0.0)
+        dpsi, deps = self.series.nutation_at(t)
+        matrix = erfa.fw2m(gamb, phib, psib + dpsi, epsa + deps)       # GCRS -> true equator and equinox of date
+        return matrix[..., 2, :], dpsi, deps
+
+    def track(self, jd_tdb) -> Track:
+        t = np.asarray(jd_tdb, dtype=float)
+        v, dpsi, deps = self.pole(t)
+        s = v @ self.icrf_from_orbit
+        mean_psi = self.rigid.track_rate * (t - self.pole_epoch)
+        raw = np.arctan2(s[..., 0], s[..., 1])
+        psi = mean_psi + np.remainder(raw - mean_psi + math.pi, 2.0 * math.pi) - math.pi
+        eps = np.arctan2(np.hypot(s[..., 0], s[..., 1]), s[..., 2])
+        ra = np.remainder(np.arctan2(v[..., 1], v[..., 0]), 2.0 * math.pi)
+        dec = np.arctan2(v[..., 2], np.hypot(v[..., 0], v[..., 1]))
+        return Track(t, psi, dpsi, deps, eps, ra, dec)
+
+
+def residual_envelope() -> float:
+    """The measured envelope (mas) of sin ε|Δψ| + |Δε| of the non-rigid series against ``erfa.nut00a`` over
+    1900–2100 (``data/lunisolar.toml [nonrigid_track]``)."""
+    return float(lunisolar_data()["nonrigid_track"]["residual_envelope_mas"])

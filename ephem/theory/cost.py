@@ -163,6 +163,13 @@ def lunisolar_sum(epochs: int) -> Part:
                 epochs * _u("track_bytes_per_epoch") / MB)
 
 
+def nonrigid_sum(epochs: int) -> Part:
+    """The non-rigid Earth's track beyond the lunisolar series' sum: the transfer function's series (built once per
+    process, as the rigid one) and ERFA's IAU 2006 precession and rotation matrix at every epoch."""
+    return Part("step_days", f"the IAU 2006 precession (ERFA) at {epochs} epochs", epochs * _u("nonrigid_epoch_s"),
+                epochs * _u("track_bytes_per_epoch") / MB)
+
+
 def synchronous_estimates() -> Part:
     """A synchronous rotator's Cassini state, its free modes and its libration series' bounds: a root, a few
     closed forms and a small table, once per body (:mod:`ephem.moon.family`)."""
