@@ -24,8 +24,8 @@ and ocean corrections) to 0.06 mas for every leading term shorter than a year
 (tests/earth/test_nonrigid.py, tests/earth/test_against_iau2006.py). Its imaginary part gives the out-of-phase terms, with the routine's
 sign convention ("amplitudes defined as ar - ai"): T* multiplies our e^{+iφ} components.
 
-This is the explanation of our differences from IAU 2000A, not part of our model: the series
-served for the Earth stays rigid.
+The Earth's non-rigid track rung (``nonrigid``, :class:`ephem.earth.model.NonRigidEarth`) applies it
+(:func:`non_rigid_series`); the nutation answer's terms stay the rigid series'.
 
 Units: coefficients in mas, frequencies in cycles per sidereal day, periods in days.
 """
@@ -40,6 +40,7 @@ import numpy as np
 
 from ..base.paths import data_dir
 from ..base.errors import InvalidInputError
+from ..bodies.interior import circular_parts, from_circular_parts
 from .lunisolar import precession_nutation_coupling, term_dicts
 
 
@@ -83,21 +84,20 @@ def sigma_cpsd(period_days: float) -> float:
 
 
 def circular_components(longitude_sin, longitude_cos, obliquity_cos, obliquity_sin, sin_eps):
-    """(c₊, c₋): Δψ sin ε + iΔε = c₊ e^{iφ} + c₋ e^{-iφ} for Δψ = S sin φ + C cos φ, Δε = E cos φ + F sin φ.
+    """(c₊, c₋): Δψ sin ε + iΔε = c₊ e^{iφ} + c₋ e^{-iφ} for Δψ = S sin φ + C cos φ, Δε = E cos φ + F sin φ, as
+    complex numbers (:func:`ephem.bodies.interior.circular_parts`, the one home of the decomposition).
 
     c₊ turns with the term's argument φ: prograde in space when φ increases, retrograde when it
     decreases (the 18.6-yr term, φ = Ω).
     """
-    s, c, e, f = (float(v) for v in (longitude_sin, longitude_cos, obliquity_cos, obliquity_sin))
-    plus = complex(sin_eps * c + f, e - sin_eps * s) / 2.0
-    minus = complex(sin_eps * c - f, sin_eps * s + e) / 2.0
-    return plus, minus
+    plus, minus = circular_parts(longitude_sin, longitude_cos, obliquity_sin, obliquity_cos, sin_eps)
+    return complex(plus), complex(minus)
 
 
 def from_circular(plus: complex, minus: complex, sin_eps: float):
     """Inverse of :func:`circular_components`: (S, C, E, F) of Δψ and Δε."""
-    a, b, c, d = plus.real, plus.imag, minus.real, minus.imag
-    return (d - b) / sin_eps, (a + c) / sin_eps, b + d, a - c
+    s, c, f, e = from_circular_parts(np.asarray(plus), np.asarray(minus), sin_eps)
+    return float(s), float(c), float(e), float(f)
 
 
 def non_rigid_term(term: dict, obliquity_rad: float) -> dict:

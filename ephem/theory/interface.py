@@ -39,8 +39,9 @@ from .results import Estimate, NutationResult, PrecessionResult
 
 #: what to suggest when the largest term of the best estimate is a theory's own limit
 THEORY_LIMIT_HINTS = {
-    "nutation_residual": "the first-order rigid-Earth theory is this far from the real (non-rigid) Earth: no "
-                         "lunisolar model here does better (IAU 2006/2000A, e.g. ERFA, does)",
+    "nutation_residual": "the Earth's rungs are this far from the real Earth as IAU 2006/2000A gives it (the "
+                         "non-rigid rung: by IAU 2000A's planetary terms and MHB2000's corrections beyond the 1996 "
+                         "transfer function); no lunisolar model here does better (IAU 2006/2000A, e.g. ERFA, does)",
 }
 THEORY_LIMIT_HINTS["precession"] = THEORY_LIMIT_HINTS["axis_relation"] = THEORY_LIMIT_HINTS["nutation_residual"]
 
