@@ -140,8 +140,17 @@ def estimate_terms(model: LunisolarEarth, jd_tdb) -> dict:
     terms["precession"] = float(np.max(se * np.abs(dpsi) + np.abs(domega) + model.orbit_tilt * np.abs(precessed)))
     pi_t, pi_0 = np.abs(_poly(prec["pi_a"], T)), abs(float(_poly(prec["pi_a"], T0)))
     terms["ecliptic_motion"] = float(disp * np.max(2.0 * model.orbit_tilt + pi_t + pi_0) / se)
-    terms["iau_reference"] = (d["reference_nutation_mas"]
-                              + d["reference_precession_mas_per_century2"] * float(np.max(T * T))) * MAS
+    return {**terms, **reference_terms(model, t)}
+
+
+def reference_terms(model: LunisolarEarth, t: np.ndarray) -> dict:
+    """The terms both Earth rungs share (radians): ``iau_reference`` (IAU 2006/2000A against the observed pole, its
+    precession part growing as T² from J2000, largest at an end of the epochs or at t0), ``axis_relation`` (the
+    angular momentum only), ``rotation_averaging`` and ``rounding``."""
+    d = lunisolar_data()["served_track"]
+    T = (np.array([float(t.min()), float(t.max()), model.pole_epoch]) - J2000_JD) / DAYS_PER_CENTURY
+    terms = {"iau_reference": (d["reference_nutation_mas"]
+                               + d["reference_precession_mas_per_century2"] * float(np.max(T * T))) * MAS}
     if model.axis == "angular_momentum":
         terms["axis_relation"] = 2.5 * _oppolzer_sum(model)
     sun = cached_model(model.body)
@@ -192,17 +201,16 @@ def nonrigid_terms(model: NonRigidEarth, jd_tdb) -> dict:
     * ``iau_reference``, ``axis_relation``, ``rotation_averaging``, ``rounding``: as the rigid rung's."""
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     rigid = model.rigid
-    rigid_terms = estimate_terms(rigid, t)            # refuses outside the window, as the rigid rung does
+    why = unavailable(rigid, t)
+    if why is not None:
+        raise NotApplicableError(model.body.name, why)
     d = lunisolar_data()["served_track"]
     se = abs(math.sin(model.obliquity))
     span = float(np.max(np.abs(t - rigid.pole_epoch)))
     terms = {"nutation_residual": residual_envelope() * MAS,
              "hd_scaling": abs(model.hd / d["hd"] - 1.0) * (displacement_sum(model.series, model.obliquity)
                                                           + se * abs(rigid.precession_rate) * span)}
-    for key in ("iau_reference", "axis_relation", "rotation_averaging", "rounding"):
-        if key in rigid_terms:
-            terms[key] = rigid_terms[key]
-    return terms
+    return {**terms, **reference_terms(rigid, t)}
 
 
 def estimates(model: LunisolarEarth | NonRigidEarth, jd_tdb, wobble=None) -> list:
