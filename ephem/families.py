@@ -18,7 +18,9 @@ from .theory.interface import SpinAxisTheory
 #: the families, most specific first
 THEORIES: tuple[type[SpinAxisTheory], ...] = (SynchronousTheory, LunisolarTheory, SunLadder)
 #: every model name any family answers to, the most general family's first
-MODELS: tuple[str, ...] = tuple(name for family in reversed(THEORIES) for name in family.models) + (LONG_TERM,)
+#: (a name two families share, "nonrigid", once: the family that serves the body gives its meaning)
+MODELS: tuple[str, ...] = tuple(dict.fromkeys(name for family in reversed(THEORIES) for name in family.models)) \
+    + (LONG_TERM,)
 
 
 def theory_for(body: Body, perturbers: tuple[str, ...], axis: str = "figure") -> SpinAxisTheory:

@@ -2,7 +2,7 @@
 the evaluation of a rung's track, with the free wobble and the rotation-scale terms.
 
 The rungs, cheapest first, are the records of :mod:`ephem.sun.rungs` (secular, series, hansen, second_order,
-numerical, real_orbit); the full rigid body (:mod:`ephem.forced.rigid_body`) is a reference for what rotation
+nonrigid, numerical, real_orbit); the full rigid body (:mod:`ephem.forced.rigid_body`) is a reference for what rotation
 averaging leaves out, too costly to serve (thousands of rotations per orbit).
 
 Every rung carries an error *estimate*: an upper bound, in radians, on the angle
@@ -25,7 +25,10 @@ epochs, :mod:`ephem.sun.bounds`), plus drifts growing with the time from the pol
 (:mod:`ephem.sun.bounds`).
 * ``geodesic`` (rungs 1-4): what turning the torque's solution by the mean geodesic precession (rungs 1-3) or by
   the instantaneous one (rung 4) leaves against the numerical rungs, which integrate it (:mod:`ephem.sun.geodesic`);
-* ``integration`` (rungs 5-6): the ODE tolerance;
+* ``interior_rigid`` (every rung but ``nonrigid``, for a body with a liquid core): what the core changes, which a
+  rigid answer leaves out; ``interior_parameters`` and ``interior_mantle`` (``nonrigid``): its parameters' 2σ and
+  the mantle's elasticity (:mod:`ephem.forced.interior_response`);
+* ``integration`` (numerical rungs): the ODE tolerance;
 * ``orbit_motion`` (rungs 1-5): the fixed Keplerian orbit against the real one: for a catalogue
   body the gap measured between rungs 5 and 6 inside DE421 (``data/orbit_motion/``), beyond it
   extrapolated with the envelopes of ``data/orbit_motion.toml`` (:mod:`ephem.forced.physics_errors`);
@@ -54,6 +57,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -62,6 +66,7 @@ from ..base.constants import ARCSEC, ROUNDING
 from ..base.errors import InvalidInputError
 from ..bodies.catalogue import Body
 from ..forced import rotation_scale
+from ..forced.interior_response import interior_terms
 from ..forced.physics_errors import orbit_motion_bound, rotation_averaging_bound
 from ..forced.precession_nutation import PrecessionNutation, Track, cached_model, check_domain
 from ..forced.rigid_numerics import body_moments
@@ -117,7 +122,16 @@ class Ladder:
         orbit = orbit_motion_bound(self.body, self.model, jd_tdb)
         if orbit is not None:
             terms["orbit_motion"] = orbit
+        if "interior_rigid" in self._interior:
+            terms["interior_rigid"] = self._interior["interior_rigid"]
         return terms
+
+    @cached_property
+    def _interior(self) -> dict:
+        """The interior's estimate terms (:func:`ephem.forced.interior_response.interior_terms`): empty for a body
+        the Sun-only answers treat as rigid."""
+        m = self.model
+        return interior_terms(m.nutation, m.obliquity, m.spin_rate, self.body)
 
     def _with_rotation_scale(self, estimates: list[Estimate], t: np.ndarray) -> list[Estimate]:
         """Each available rung followed by the same rung with the rotation-scale terms added (a little dearer,
@@ -139,7 +153,8 @@ class Ladder:
         t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
         m, th = self.model, self.theory
         inputs = EstimateInputs(t, epoch_span(m, t), physics=self.physics_terms(t),
-                                theory=theory_terms(m, th, cached_tables(self.body), Window.of(m, t)))
+                                theory={**theory_terms(m, th, cached_tables(self.body), Window.of(m, t)),
+                                        **self._interior})
         out = [e for rung in RUNGS for e in rung.estimates(self, inputs)]
         out = self._with_rotation_scale(out, t)
         return self._wobble_estimates(out, t) if self.axis == "figure" else out

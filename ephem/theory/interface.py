@@ -44,6 +44,11 @@ THEORY_LIMIT_HINTS = {
                          "transfer function); no lunisolar model here does better (IAU 2006/2000A, e.g. ERFA, does)",
 }
 THEORY_LIMIT_HINTS["precession"] = THEORY_LIMIT_HINTS["axis_relation"] = THEORY_LIMIT_HINTS["nutation_residual"]
+THEORY_LIMIT_HINTS["interior_rigid"] = ("the body has a liquid core, which changes its nutation by this much: ask for "
+                                        "model 'nonrigid', which applies it (data/interiors.toml)")
+THEORY_LIMIT_HINTS["interior_parameters"] = (
+    "the liquid core's transfer function is known only as well as its parameters (F and P_FCN at 2 sigma, "
+    "data/interiors.toml): near the free core nutation's resonance no model here does better")
 
 
 def cheapest_within(candidates: list, tolerance: float, body: str, wobble_given: bool) -> Estimate:
@@ -218,9 +223,11 @@ class SpinAxisTheory(Pricing):
         ``start``: the request's ``time.perf_counter()`` at its start (for the selection's ``cost_ms``)."""
 
     @abstractmethod
-    def nutation(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> NutationResult:
+    def nutation(self, order: int | None, tolerance: float | None, cut_mas, start: float,
+                 nonrigid: bool = False) -> NutationResult:
         """The nutation terms with their 1σ, the half peak-to-peak amplitudes and the selection, charged
-        first."""
+        first; with ``nonrigid``, the terms with the body's interior model applied (data/interiors.toml), or
+        "not applicable" for a rigid body, with the catalogue's reason."""
 
     def secular_spin(self):
         """The body's spin averaged over the rotation and the orbit, for spans of millennia and more

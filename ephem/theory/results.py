@@ -37,9 +37,15 @@ COVERS_TRUNCATION = ("the truncation alone: the series served against the same f
                      "gives")
 
 
+#: what a non-rigid series' estimate bounds (the nutation answer with the body's interior applied)
+COVERS_INTERIOR = ("the truncation and the interior model: the series served against the same first-order theory "
+                   "untruncated, plus how far the interior's parameters (2 sigma) and what it leaves out (the "
+                   "mantle's elasticity) can move the pole; not the theory's own error, which a track's estimate "
+                   "gives")
+
 #: Error terms of the physics left out rather than of a theory's approximations (the orbit's motion, the
 #: rotation, the free wobble): what :attr:`Estimate.theory_total` leaves out
-PHYSICS_TERMS = ("orbit_motion", "rotation_averaging", "free_wobble", "free_wobble_model")
+PHYSICS_TERMS = ("orbit_motion", "rotation_averaging", "free_wobble", "free_wobble_model", "interior_rigid")
 
 #: what the precession answer's observable rate is (its ``model.assumptions``)
 OBSERVABLE_RATE = ("observable_precession_rate_arcsec_per_year: the torque's rate less the geodesic (de Sitter) "

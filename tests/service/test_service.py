@@ -291,19 +291,19 @@ def test_non_finite_numbers_are_never_sent():
 def test_track_with_a_tolerance_reports_the_chosen_model(client):
     q = "start=2000-01-01&stop=2010-01-01&step_days=30"
     loose = client.get(f"/v1/bodies/mars/track?{q}&tolerance_mas=1000").json()["model"]
-    # Mars' figure axis wobbles by 0.1" about the angular momentum: 10 mas needs the wobble's phase
-    refused = client.get(f"/v1/bodies/mars/track?{q}&tolerance_mas=10")
+    # Mars' figure axis wobbles by 0.1" about the angular momentum: 80 mas needs the wobble's phase
+    refused = client.get(f"/v1/bodies/mars/track?{q}&tolerance_mas=80")
     assert refused.status_code == 422 and "free_wobble" in refused.text
-    # tight enough that the fixed orbit's measured 2.79 mas (orbit_motion) does not fit: series N=4 meets 10 mas
-    # with the wobble (9.73) and second_order with the Oppolzer offset 5 mas on the angular momentum (3.13)
-    tight = client.get(f"/v1/bodies/mars/track?{q}&tolerance_mas=5&free_wobble_phase_deg=45").json()["model"]
-    momentum = client.get(f"/v1/bodies/mars/track?{q}&tolerance_mas=3&axis=angular_momentum").json()["model"]
-    assert loose["name"] in ("secular", "series") and tight["name"] == momentum["name"] == "real_orbit"
+    # every rigid rung leaves out Mars' liquid core (interior_rigid, 93 mas): 80 mas needs the non-rigid rung, with
+    # the wobble followed on the figure axis (49.7 mas) or on the angular momentum (48.8)
+    tight = client.get(f"/v1/bodies/mars/track?{q}&tolerance_mas=80&free_wobble_phase_deg=45").json()["model"]
+    momentum = client.get(f"/v1/bodies/mars/track?{q}&tolerance_mas=80&axis=angular_momentum").json()["model"]
+    assert loose["name"] in ("secular", "series") and tight["name"] == momentum["name"] == "nonrigid"
     assert tight["free_wobble"] == {"J_arcsec": 0.1, "phase_deg": 45.0, "epoch_jd_tdb": 2451545.0}
     assert loose["free_wobble"] is None and momentum["axis"] == "angular_momentum"
     for m in (loose, tight, momentum):
         assert m["estimated_error_mas"] <= m["tolerance_mas"] and m["cost_ms"] > 0
-    csv_text = client.get(f"/v1/bodies/mars/track?{q}&tolerance_mas=10&axis=angular_momentum&format=csv").text
+    csv_text = client.get(f"/v1/bodies/mars/track?{q}&tolerance_mas=80&axis=angular_momentum&format=csv").text
     assert csv_text.count("\n") == 123
     explicit = client.get(f"/v1/bodies/mars/track?{q}&model=second_order").json()["model"]
     assert explicit["name"] == "second_order" and explicit["tolerance_mas"] is None
