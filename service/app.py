@@ -188,6 +188,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                      ge=0.001, description="the lunisolar series (the Earth with the Moon): keep the terms whose "
                                            "amplitude reaches this many mas (default 0.1; not with tolerance_mas)",
                      examples=[0.1])] = None,
+                 nonrigid: Annotated[bool, Query(
+                     description="apply the body's interior model to the terms (data/interiors.toml): Mars' liquid "
+                                 "core, the Earth's IERS 1996 transfer function; a rigid body is refused (422) with "
+                                 "the catalogue's reason")] = False,
                  format: Annotated[TableFormat, Query(description="json (this answer), or the paper's table "
                                                                   "layout as csv, markdown, latex (booktabs) or "
                                                                   "table-json")] = TableFormat.json,
@@ -195,7 +199,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                                                   "5-8: Sin, Cos, Amp in arcsec, Period in years) "
                                                                   "or amp-period (Tables 9-10: Amp in mas, Period "
                                                                   "in days)")] = TableLayout.sin_cos):
-        ans = api.nutation(body, dataset.value, order, tolerance_mas, perturbers=perturbers, cut_mas=cut_mas)
+        ans = api.nutation(body, dataset.value, order, tolerance_mas, perturbers=perturbers, cut_mas=cut_mas,
+                           nonrigid=nonrigid)
         if format is TableFormat.json:
             return ans
         fmt = "json" if format is TableFormat.table_json else format.value

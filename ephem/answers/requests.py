@@ -140,7 +140,7 @@ def answer_cost(b: Body, order: int | None, nutation: bool = False, tolerance: b
 
 def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None,
              tolerance_mas: float | None = None, quantities: bool = False, perturbers=None,
-             cut_mas: float | None = None) -> dict:
+             cut_mas: float | None = None, nonrigid: bool = False) -> dict:
     """Nutation terms: Δψ = Σ S sin kM + C cos kM (likewise Δε), arcsec.
 
     ``tolerance_mas`` picks the lowest e-order whose terms move the pole by no more than
@@ -151,13 +151,19 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
     ``multiple`` null), signed periods (negative where the argument decreases) and its Poisson rates;
     ``cut_mas`` (default 0.1) or ``tolerance_mas`` (the largest cut whose omitted terms move the pole by
     no more than that in all) chooses the amplitude cut.
+
+    ``nonrigid``: the terms with the body's interior model applied (data/interiors.toml): Mars' liquid core (each
+    circular component times T(σ), the 1σ with the core parameters'), the Earth's IERS 1996 transfer function;
+    ``model.name`` is then "nonrigid". A rigid body is refused (not applicable) with the catalogue's reason.
     """
     start = time.perf_counter()
     b = resolve_body(body, dataset)
     per = _perturbers(b, perturbers)
     tol, order = _tolerance(tolerance_mas), check_order(order)
-    ans = render.with_perturbers(render.nutation(theory_for(b, per).nutation(order, tol, cut_mas, start)), b,
-                                 per)
+    if not isinstance(nonrigid, bool):
+        raise InvalidInputError("nonrigid", f"must be true or false, got {nonrigid!r}", b.name)
+    ans = render.with_perturbers(render.nutation(theory_for(b, per).nutation(order, tol, cut_mas, start,
+                                                                             nonrigid=nonrigid)), b, per)
     return with_units(ans) if quantities else ans
 
 

@@ -83,13 +83,17 @@ def nutation(name: str = typer.Argument(..., metavar="BODY"), dataset: str = Dat
                                           "single-perturber answer."),
              cut_mas: Optional[float] = typer.Option(None, "--cut-mas", help="The lunisolar series (the Earth "
                                                      "with the Moon): keep the terms whose amplitude reaches this "
-                                                     "many mas (default 0.1).")):
+                                                     "many mas (default 0.1)."),
+             nonrigid: bool = typer.Option(False, "--nonrigid", help="Apply the body's interior model to the "
+                                           "terms (data/interiors.toml): Mars' liquid core, the Earth's IERS 1996 "
+                                           "transfer function; a rigid body is refused with the reason.")):
     """Nutation series of BODY in longitude and obliquity (harmonics of the mean anomaly; for the Earth with
     the Moon, integer combinations of the Delaunay arguments l, l', F, D, Omega)."""
     from .. import api
 
     try:
-        ans = api.nutation(name, dataset, order, tolerance_mas, perturbers=perturbers, cut_mas=cut_mas)
+        ans = api.nutation(name, dataset, order, tolerance_mas, perturbers=perturbers, cut_mas=cut_mas,
+                           nonrigid=nonrigid)
     except api.EphemError as exc:
         fail(exc, api.NotApplicableError)
     rows = []

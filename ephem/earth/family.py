@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import replace
 from functools import lru_cache
 
 import numpy as np
@@ -28,7 +29,7 @@ from ..orbit.lunar import delaunay_arguments, delaunay_rates, lunisolar_data
 from ..forced.precession_nutation import Track, cached_model, model_for
 from ..longterm.averaged_spin import SpinConstants, spin_constants
 from ..theory.interface import SpectrumExport, SpinAxisTheory, Spectrum
-from ..theory.results import (COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate, NutationResult, NutationTerm,
+from ..theory.results import (COVERS_INTERIOR, COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate, NutationResult, NutationTerm,
                               OBSERVABLE_RATE, PrecessionResult, RateSigmas, selection)
 from ..forced.catalogue_sigmas import dynamical_ellipticity_sigma, no_uncertainty_reasons
 from ..forced.uncertainty import SCALAR_KEYS
@@ -36,7 +37,8 @@ from ..base.units import in_unit
 from ..orbit.lunar import check_cut
 from .model import LunisolarEarth, TRACK_CUT_MAS, TRACK_SIDEBANDS, lunisolar_earth, tidal_constant_drift
 from .estimates import add_wobble, cut_for_tolerance, estimates, nonrigid_earth, omitted_bound, window
-from .model import NonRigidEarth
+from .model import NonRigidEarth, residual_envelope
+from .nonrigid import non_rigid_series
 
 
 ARGUMENT = "Delaunay arguments l, l′, F, D, Ω (IERS 2010 eq. 5.43)"
@@ -251,7 +253,8 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
                                 selection(self, "lunisolar", None, None, 1e3 * (time.perf_counter() - start),
                                           tolerance, covers=COVERS_NOTHING_TRUNCATED), geodesic_rate=lm.geodesic_rate)
 
-    def nutation(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> NutationResult:
+    def nutation(self, order: int | None, tolerance: float | None, cut_mas, start: float,
+                 nonrigid: bool = False) -> NutationResult:
         b, per = self.body, self.perturbers
         self._check_answer(order)
         if tolerance is not None and cut_mas is not None:
@@ -264,6 +267,8 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
             cut = TRACK_CUT_MAS
         charge(self.answer_cost(order, nutation=True), b.name)
         lm = lunisolar_earth(b, "figure", cut, per)
+        if nonrigid:    # the served terms with the precession-nutation coupling, times the IERS 1996 T(σ)
+            lm = replace(lm, series=non_rigid_series(lm.series))
         eps = lunisolar_earth(b, "figure", TRACK_CUT_MAS, per).obliquity   # the track's, any cut
         sin_eps = abs(math.sin(eps))
         rel = hd_relative_sigma(b)
@@ -285,8 +290,18 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
                                    "multipliers · (l, l′, F, D, Ω), T Julian centuries TDB from J2000; `multiple` is "
                                    "null (no single mean anomaly), periods are signed (negative: the argument "
                                    "decreases); half peak-to-peak over 1900-2100")
-        chosen = selection(self, "lunisolar", None, omitted, 1e3 * (time.perf_counter() - start), tolerance,
-                           {"truncation": omitted}, covers=COVERS_TRUNCATION, cut_mas=cut)
+        bound = {"truncation": omitted}
+        if nonrigid:
+            # the measured envelope of the served non-rigid series against erfa.nut00a (data/lunisolar.toml)
+            bound["nutation_residual"] = residual_envelope() * MAS
+            info["assumptions"].append(
+                "nonrigid terms: the lunisolar series with the precession-nutation coupling, each circular "
+                "component times the IERS 1996 transfer function (ephem.earth.nonrigid, data/nonrigid.toml); the "
+                "Poisson rates stay rigid; nutation_residual: their measured envelope against IAU 2000A (erfa.nut00a) "
+                "over 1900-2100")
+        chosen = selection(self, "nonrigid" if nonrigid else "lunisolar", None, sum(bound.values()),
+                           1e3 * (time.perf_counter() - start), tolerance, bound,
+                           covers=COVERS_INTERIOR if nonrigid else COVERS_TRUNCATION, cut_mas=cut)
         return NutationResult(
             # the Earth's orbital mean anomaly is l′ (the Sun's mean anomaly seen from the Earth)
             b, ARGUMENT, float(delaunay_arguments(orbit_epoch)[1]), orbit_epoch,

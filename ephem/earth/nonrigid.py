@@ -25,7 +25,7 @@ and ocean corrections) to 0.06 mas for every leading term shorter than a year
 sign convention ("amplitudes defined as ar - ai"): T* multiplies our e^{+iφ} components.
 
 The Earth's non-rigid track rung (``nonrigid``, :class:`ephem.earth.model.NonRigidEarth`) applies it
-(:func:`non_rigid_series`); the nutation answer's terms stay the rigid series'.
+(:func:`non_rigid_series`), and so does the nutation answer when asked for ``nonrigid`` terms.
 
 Units: coefficients in mas, frequencies in cycles per sidereal day, periods in days.
 """

@@ -167,8 +167,8 @@ class WithLongTerm(SpinAxisTheory, SpectrumExport):
     def precession(self, order, tolerance, start):
         return self.inner.precession(order, tolerance, start)
 
-    def nutation(self, order, tolerance, cut_mas, start):
-        return self.inner.nutation(order, tolerance, cut_mas, start)
+    def nutation(self, order, tolerance, cut_mas, start, nonrigid=False):
+        return self.inner.nutation(order, tolerance, cut_mas, start, nonrigid=nonrigid)
 
     def spectrum(self, aim_mas, mid_centuries, jd_tdb=None, psi=None):
         if not isinstance(self.inner, SpectrumExport):

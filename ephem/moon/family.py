@@ -36,6 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..bodies.interior import interior_of
 from ..theory import cost
 from ..base.budget import Cost, charge
 from .cassini import SYNCHRONOUS_TOLERANCE, free_librations, moment_ratios
@@ -299,7 +300,11 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
                                           tolerance, covers=COVERS_NOTHING_TRUNCATED),
                                 derived_cassini_state(m))
 
-    def nutation(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> NutationResult:
+    def nutation(self, order: int | None, tolerance: float | None, cut_mas, start: float,
+                 nonrigid: bool = False) -> NutationResult:
+        if nonrigid:
+            raise NotApplicableError(self.body.name, "non-rigid terms do not apply: the body is rigid in this "
+                                     f"project: {interior_of(self.body.name).why}")
         b = self.body
         check_body(b)
         no_order(b, order)

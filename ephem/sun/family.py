@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import replace
 from functools import cached_property
 
 import numpy as np
@@ -12,6 +13,7 @@ from ..base.budget import charge
 from ..base.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from ..base.errors import InvalidInputError, NotApplicableError
 from ..bodies.catalogue import Body
+from ..forced import interior_response
 from ..forced.describe import ASSUMPTIONS, model_info
 from ..forced.kinoshita import eccentricity_factor, exact_series_floor, pole_displacement_sum
 from ..forced.precession_nutation import MAX_ORDER, Track, cached_model, check_domain, model_for
@@ -23,7 +25,7 @@ from ..orbit.relativity import geodesic_precession_rate
 from ..theory import cost
 from ..base.budget import Cost
 from ..theory.interface import Spectrum, SpectrumExport, SpinAxisTheory
-from ..theory.results import (COVERS_TRUNCATION, Estimate, NutationResult, NutationTerm, OBSERVABLE_RATE,
+from ..theory.results import (COVERS_INTERIOR, COVERS_TRUNCATION, Estimate, NutationResult, NutationTerm, OBSERVABLE_RATE,
                               PrecessionResult, RateSigmas, Selection, selection)
 from .bounds import truncation_bound
 from .ladder import Ladder
@@ -177,18 +179,33 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
                     return n
         return None
 
-    def _selection(self, order: int | None, tol: float | None, start: float) -> Selection:
+    def _selection(self, order: int | None, tol: float | None, start: float, interior=None) -> Selection:
         m = cached_model(self.body)
         # never 0 (issue 29): the exact coefficients' own floor, the harmonics dropped under their amplitude cut
         # (twice: they also move the mean pole) and the rounding of every coefficient kept, is part of both
         floor = exact_series_floor(m.nutation.dropped, pole_displacement_sum(m.nutation, m.obliquity))
-        estimate = floor + (0.0 if order is None else truncation_bound(m, order, 0.0))
+        truncation = floor + (0.0 if order is None else truncation_bound(m, order, 0.0))
+        terms = None
+        if interior is not None:    # what the interior's parameters and its left-out mantle can move
+            terms = {"truncation": truncation,
+                     "interior_parameters": interior_response.parameter_bound(m.nutation, m.obliquity, interior),
+                     "interior_mantle": interior_response.mantle_bound(m.nutation, m.obliquity, interior,
+                                                                       m.spin_rate)}
+        estimate = truncation if terms is None else sum(terms.values())
         if tol is not None and estimate > tol:
             raise NotApplicableError(self.body.name, (
                 f"no e-order meets the tolerance of {tol / MAS:.6g} mas: the exact Hansen coefficients are good to "
-                f"{estimate / MAS:.3g} mas (the harmonics under their amplitude cut and the coefficients' rounding)"))
-        return selection(self, "hansen" if order is None else "series", order, estimate,
-                         1e3 * (time.perf_counter() - start), tol, covers=COVERS_TRUNCATION)
+                f"{truncation / MAS:.3g} mas (the harmonics under their amplitude cut and the coefficients' rounding)"
+                + ("" if terms is None else f", and with the core to {estimate / MAS:.3g} mas (its parameters' "
+                   "2 sigma and the mantle)")))
+        chosen = selection(self, "hansen" if order is None else "series", order, estimate,
+                           1e3 * (time.perf_counter() - start), tol, terms,
+                           covers=COVERS_TRUNCATION if terms is None else COVERS_INTERIOR)
+        if interior is None:
+            return chosen
+        return replace(chosen, name="nonrigid", description=(
+            f"{chosen.description}, with the body's liquid core: each circular component times its interior "
+            "model's transfer function (data/interiors.toml)"))
 
     def precession(self, order: int | None, tolerance: float | None, start: float) -> PrecessionResult:
         b = self.body
@@ -203,35 +220,56 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
                                 summary(unc), info, self._selection(order, tolerance, start),
                                 geodesic_rate=geodesic_precession_rate(o.a_au, o.e, o.center))
 
-    def nutation(self, order: int | None, tolerance: float | None, cut_mas, start: float) -> NutationResult:
+    def nutation(self, order: int | None, tolerance: float | None, cut_mas, start: float,
+                 nonrigid: bool = False) -> NutationResult:
         b = self.body
         if cut_mas is not None:
             raise InvalidInputError("cut_mas", "an amplitude cut applies to the lunisolar series (the Earth with the "
                                     "Moon); this series is truncated by e-order (order, tolerance_mas)", b.name)
+        interior = self._interior(nonrigid)
         charge(self.answer_cost(order, nutation=True, tolerance=tolerance is not None), b.name)
         order = self.order_for_tolerance(tolerance, order)
         m = model_for(b, b.dataset, order)
-        s = m.nutation
+        rigid = m.nutation
+        s = rigid if interior is None else interior_response.nonrigid_series(rigid, m.obliquity, interior)
+        core = None if interior is None else interior_response.term_sigmas(rigid, m.obliquity, interior)
         unc = propagated(b, order)
         terms = []
-        for k, p, a, c, d, f, sigma in zip(s.multiple, s.period_days, s.lon_sin, s.lon_cos, s.obl_sin, s.obl_cos,
-                                           unc["terms"]):
+        for j, (k, p, a, c, d, f, sigma) in enumerate(zip(s.multiple, s.period_days, s.lon_sin, s.lon_cos,
+                                                           s.obl_sin, s.obl_cos, unc["terms"])):
             if sigma["multiple"] != k:  # pragma: no cover - both come from the same series
                 raise RuntimeError("uncertainty terms out of step with the nutation terms")
-            terms.append(NutationTerm(
-                int(k), None, float(p), float(a), float(c), float(d), float(f), sigma["period_days_uncertainty"],
-                *(_radians(sigma[f"{comp}_{part}_arcsec_uncertainty"]) for comp in ("longitude", "obliquity")
-                  for part in ("sin", "cos")),
-                _radians(sigma["amplitude_longitude_arcsec_uncertainty"]),
-                _radians(sigma["amplitude_obliquity_arcsec_uncertainty"])))
+            sigmas = [_radians(sigma[f"{comp}_{part}_arcsec_uncertainty"]) for comp in ("longitude", "obliquity")
+                      for part in ("sin", "cos")]
+            sigmas += [_radians(sigma["amplitude_longitude_arcsec_uncertainty"]),
+                       _radians(sigma["amplitude_obliquity_arcsec_uncertainty"])]
+            if core is not None:    # the core's parameters' σ, independent of the inputs'
+                sigmas = [None if x is None else math.hypot(x, float(core[i, j])) for i, x in enumerate(sigmas)]
+            terms.append(NutationTerm(int(k), None, float(p), float(a), float(c), float(d), float(f),
+                                      sigma["period_days_uncertainty"], *sigmas))
         # the selection's cost_ms is measured here, after the terms and their 1σ, as the answer is ready
-        chosen = self._selection(order, tolerance, start)
+        chosen = self._selection(order, tolerance, start, interior)
+        info = forced_model_info(m, b)
+        if interior is not None:
+            info["assumptions"] += list(rung_named("nonrigid").assumptions[2:]) + [
+                "nonrigid terms: each harmonic kM's prograde circular component times T(+k n), its retrograde one "
+                "times T(-k n); each 1-sigma combines the inputs' (rigid) with the core parameters' (linear; near "
+                "the resonance an order of magnitude)"]
         return NutationResult(
             b, "mean anomaly M", m.mean_anomaly_at_epoch, m.orbit_epoch, m.mean_motion, m.obliquity, tuple(terms),
-            abs(math.sin(m.obliquity)), semi_amplitudes(b, m.order),
+            abs(math.sin(m.obliquity)), semi_amplitudes(b, m.order) if interior is None else s.semi_peak_to_peak(),
             (_radians(unc["delta_psi_half_peak_to_peak_arcsec_uncertainty"]),
              _radians(unc["delta_epsilon_half_peak_to_peak_arcsec_uncertainty"])),
-            summary(unc), forced_model_info(m, b), chosen)
+            summary(unc), info, chosen)
+
+    def _interior(self, nonrigid: bool):
+        """The fluid core the non-rigid terms apply (None for the rigid answer); refused for a rigid body."""
+        if not nonrigid:
+            return None
+        why = interior_response.not_applicable(self.body)
+        if why is not None:
+            raise NotApplicableError(self.body.name, f"non-rigid terms do not apply: {why}")
+        return interior_response.fluid_core(self.body)
 
 
 def _radians(arcsec: float | None) -> float | None:
