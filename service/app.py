@@ -229,7 +229,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                                                  "with the Moon its lunisolar model")] = None,
               axis: Annotated[Axis, Query(description="the pole to follow: the figure axis (the body's axis of "
                                                       "largest inertia, which circles the angular momentum by the "
-                                                      "free wobble) or the angular momentum")] = Axis("figure"),
+                                                      "free wobble, counted as an error), the angular momentum, or "
+                                                      "forced_figure (the figure axis's forced motion, as the IAU's "
+                                                      "CIP: the free wobble is polar motion)")] = Axis("figure"),
               free_wobble_phase_deg: Annotated[Optional[float], Query(
                   description="the figure axis's position angle about the angular momentum at free_wobble_epoch, "
                               "from the ICRF north through east, deg: lets the track add the free wobble when the "

@@ -37,8 +37,18 @@ CENTER_HILL_AU = {"Sun": 2.3e5, "Earth": 0.0100}
 #: Julian dates accepted anywhere (times and epochs alike), open interval: 4713 BC to AD 22666.
 JD_RANGE = (0.0, 1e7)
 #: The poles a spin-axis track can follow: the figure axis (the body's axis of largest inertia, which circles the
-#: angular momentum by the free wobble) or the angular momentum.
-AXES = ("figure", "angular_momentum")
+#: angular momentum by the free wobble), the angular momentum, or the figure axis's forced motion
+#: (``forced_figure``: the figure axis without its free wobble, which is then not an error: the analogue of the IERS's
+#: celestial intermediate pole, whose free wobble is polar motion).
+AXES = ("figure", "angular_momentum", "forced_figure")
+#: The pole whose free wobble is left to polar motion (:data:`AXES`)
+FORCED_FIGURE = "forced_figure"
+
+
+def followed_axis(axis: str) -> str:
+    """The axis a theory computes for a requested one: the forced figure axis is the figure axis's track (its free
+    wobble is neither added nor counted as an error)."""
+    return "figure" if axis == FORCED_FIGURE else axis
 #: Rounding floor of any pole computed in double precision through a few rotations (radians, 0.2 µas): the
 #: ``rounding`` term of every track's error estimate.
 ROUNDING = 1e-12

@@ -113,11 +113,13 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
           dataset: str = DatasetOpt, fmt: Format = FormatOpt, order: Optional[int] = OrderOpt,
           tolerance_mas: Optional[float] = ToleranceOpt,
           model: Optional[str] = typer.Option(None, "--model", help="A rung of the fidelity ladder: "
-                                              "secular, series, hansen, second_order, numerical, real_orbit; "
-                                              "lunisolar for the Earth with the Moon (its default)."),
+                                              "secular, series, hansen, second_order, nonrigid (Mars' liquid "
+                                              "core), numerical, real_orbit; lunisolar or nonrigid for the Earth "
+                                              "with the Moon (lunisolar its default)."),
           axis: str = typer.Option("figure", "--axis", help="The pole to follow: figure (the axis of largest "
-                                   "inertia, which circles the angular momentum by the free wobble) or "
-                                   "angular_momentum."),
+                                   "inertia, which circles the angular momentum by the free wobble, counted as "
+                                   "an error), angular_momentum, or forced_figure (the figure axis's forced "
+                                   "motion, as the IAU's CIP: the free wobble is polar motion, not an error)."),
           wobble_phase: Optional[float] = typer.Option(None, "--free-wobble-phase-deg", help="Position angle of "
                                                        "the figure axis about the angular momentum at the wobble "
                                                        "epoch (north through east): lets the track add the free "

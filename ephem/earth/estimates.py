@@ -213,10 +213,11 @@ def nonrigid_terms(model: NonRigidEarth, jd_tdb) -> dict:
     return {**terms, **reference_terms(rigid, t)}
 
 
-def estimates(model: LunisolarEarth | NonRigidEarth, jd_tdb, wobble=None) -> list:
+def estimates(model: LunisolarEarth | NonRigidEarth, jd_tdb, wobble=None, counts_free_wobble: bool = True) -> list:
     """A rung's estimates (:class:`ephem.theory.results.Estimate`), ``lunisolar`` for the rigid model and
     ``nonrigid`` for the non-rigid one: without the free wobble and, for the figure axis with a wobble phase, with
-    it. The non-rigid rung outside its domain is one unavailable estimate saying why."""
+    it. The non-rigid rung outside its domain is one unavailable estimate saying why. ``counts_free_wobble`` False:
+    the figure axis's forced motion (the CIP's analogue), whose free wobble is polar motion, not an error."""
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     rung = "nonrigid" if isinstance(model, NonRigidEarth) else "lunisolar"
     if rung == "nonrigid":
@@ -227,7 +228,7 @@ def estimates(model: LunisolarEarth | NonRigidEarth, jd_tdb, wobble=None) -> lis
     else:
         terms = estimate_terms(model, t)
     unestimated = () if model.body.moments is not None else ("rotation_averaging",)
-    if model.axis != "figure":
+    if model.axis != "figure" or not counts_free_wobble:
         return [Estimate(rung, None, terms, unestimated=unestimated)]
     left_out = free_wobble_bound(model.body) if wobble is None else wobble.J_arcsec * ARCSEC
     out = [Estimate(rung, None, terms if left_out is None else {**terms, "free_wobble": left_out},

@@ -87,6 +87,8 @@ AXIS_ASSUMPTIONS = {
                      "torque-free rigid-body wobble (given J and phase)",
     "angular_momentum": "the pole served is the angular momentum (the series without the Oppolzer terms), "
                         "which the free wobble does not move",
+    "forced_figure": "the pole served is the figure axis's forced motion (Oppolzer terms included), as the IAU's "
+                     "CIP: the free wobble is polar motion, neither added nor counted as an error",
 }
 
 # ----------------------------------------------------------------------------- the theory's interface (ephem.theory.interface)
@@ -160,11 +162,12 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
 
     def estimates(self, jd_tdb) -> list[Estimate]:
         # cheapest first: the rigid rung, then the non-rigid one (the same series, times T(σ), on ERFA's precession)
-        return estimates(self.model, jd_tdb, self.wobble) + estimates(self.nonrigid, jd_tdb, self.wobble)
+        return estimates(self.model, jd_tdb, self.wobble, self.counts_free_wobble) \
+            + estimates(self.nonrigid, jd_tdb, self.wobble, self.counts_free_wobble)
 
     def named(self, jd_tdb, model, order):
         # the model follows the wobble whenever its phase is given
-        candidates = estimates(self._model_named(model), jd_tdb, self.wobble)
+        candidates = estimates(self._model_named(model), jd_tdb, self.wobble, self.counts_free_wobble)
         if not candidates[0].available:
             raise NotApplicableError(self.body.name, candidates[0].why_not)
         return candidates[-1] if self.wobble is not None else candidates[0]
@@ -184,7 +187,8 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
             rigid_only = ("rigid Earth", "first order in the torque", "the track turns about", "precession rate")
             info["assumptions"] = NONRIGID_ASSUMPTIONS + [a for a in info["assumptions"]
                                                           if not a.startswith(rigid_only)]
-        info["assumptions"] = [AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else self.axis]] + info["assumptions"]
+        info["assumptions"] = [AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else self.requested_axis]] \
+            + info["assumptions"]
         return info
 
     def secular_spin(self) -> SpinConstants:

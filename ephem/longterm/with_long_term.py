@@ -46,7 +46,7 @@ class WithLongTerm(SpinAxisTheory, SpectrumExport):
     method by method (the family's own attributes, its model or ladder, are ``inner``'s)."""
 
     def __init__(self, inner: SpinAxisTheory):
-        super().__init__(inner.body, inner.perturbers, inner.axis, inner.wobble, inner.rotation_phase)
+        super().__init__(inner.body, inner.perturbers, inner.requested_axis, inner.wobble, inner.rotation_phase)
         self.inner = inner
         self.summary = inner.summary
         self.models = tuple(inner.models) + (NAME,)

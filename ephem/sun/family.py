@@ -43,6 +43,9 @@ AXIS_ASSUMPTIONS = {
               "out and counted in the estimate (free_wobble)",
     "figure+wobble": "the pole served is the figure axis: the torque-free rigid-body wobble (given J and phase) "
                      "added about the forced angular momentum",
+    "forced_figure": "the pole served is the figure axis's forced motion (the analogue of the IERS's celestial "
+                     "intermediate pole): its free wobble is left to polar motion, neither added nor counted as an "
+                     "error",
 }
 
 
@@ -62,7 +65,8 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
 
     @cached_property
     def ladder(self) -> Ladder:
-        return Ladder(self.body, self.axis, self.wobble, self.rotation_phase)   # one per request
+        return Ladder(self.body, self.axis, self.wobble, self.rotation_phase,   # one per request
+                      counts_free_wobble=self.counts_free_wobble)
 
     @classmethod
     def how_to_reach(cls, body: Body) -> str:
@@ -113,7 +117,8 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
 
     def describe(self, est, model, order, with_wobble) -> dict:
         info = forced_model_info(cached_model(self.body, order), self.body)
-        info["assumptions"] = [AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else self.axis]] + ASSUMPTIONS[1:] \
+        info["assumptions"] = [AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else self.requested_axis]] \
+            + ASSUMPTIONS[1:] \
             + list(rung_named(model).assumptions)
         return info
 

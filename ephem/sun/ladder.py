@@ -94,6 +94,9 @@ class Ladder:
     #: the A axis's angle (radians) from the orbit's ascending node on the equator at the pole epoch
     #: (:mod:`ephem.forced.rotation_scale`); None: unknown, the semi-diurnal terms stay an error term
     rotation_phase: float | None = None
+    #: whether the figure axis's free wobble is an error (False: the forced figure axis, which leaves it to polar
+    #: motion, :data:`ephem.base.constants.FORCED_FIGURE`)
+    counts_free_wobble: bool = True
 
     def __post_init__(self):
         check_axis(self.axis, self.body.name)
@@ -157,7 +160,7 @@ class Ladder:
                                         **self._interior})
         out = [e for rung in RUNGS for e in rung.estimates(self, inputs)]
         out = self._with_rotation_scale(out, t)
-        return self._wobble_estimates(out, t) if self.axis == "figure" else out
+        return self._wobble_estimates(out, t) if self.axis == "figure" and self.counts_free_wobble else out
 
     def _wobble_estimates(self, estimates: list[Estimate], t: np.ndarray) -> list[Estimate]:
         """For the figure axis: each rung leaves out the free wobble (its amplitude, a term) and, when the

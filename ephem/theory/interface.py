@@ -32,7 +32,7 @@ import numpy as np
 
 from ..base.budget import Cost
 from ..bodies.catalogue import Body
-from ..base.constants import JULIAN_CENTURY_DAYS, MAS
+from ..base.constants import FORCED_FIGURE, JULIAN_CENTURY_DAYS, MAS, followed_axis
 from ..base.errors import NotApplicableError
 from ..forced.precession_nutation import Track
 from .results import Estimate, NutationResult, PrecessionResult
@@ -68,7 +68,8 @@ def cheapest_within(candidates: list, tolerance: float, body: str, wobble_given:
                 "(free_wobble_epoch) nearer these epochs, or ask for axis=angular_momentum")
     elif largest == "free_wobble":
         hint = ("the figure axis wobbles about the angular momentum by the free wobble; give its phase "
-                "(free_wobble_phase_deg) to follow it, or ask for axis=angular_momentum")
+                "(free_wobble_phase_deg) to follow it, or ask for axis=forced_figure (its forced motion, as the "
+                "IAU's CIP: the wobble is polar motion) or axis=angular_momentum")
     raise NotApplicableError(body, (
         f"no model meets the tolerance of {tolerance / MAS:.6g} mas over these epochs: the best, "
         f"'{best.rung}', is estimated good to {best.total / MAS:.6g} mas (largest term: {largest}); {hint}"))
@@ -159,7 +160,12 @@ class SpinAxisTheory(Pricing):
                  rotation_phase: float | None = None):
         self.body = body
         self.perturbers = tuple(perturbers)
-        self.axis = axis
+        #: the axis asked for (:data:`ephem.base.constants.AXES`), and the one the theory computes (the forced figure
+        #: axis is the figure axis's track); ``counts_free_wobble``: whether the free wobble is an error (it is not for
+        #: the forced figure axis, which leaves it to polar motion)
+        self.requested_axis = axis
+        self.axis = followed_axis(axis)
+        self.counts_free_wobble = axis != FORCED_FIGURE
         self.wobble = wobble
         #: the long (A) axis's angle at the pole epoch, radians (:mod:`ephem.forced.rotation_scale`), or None
         self.rotation_phase = rotation_phase
@@ -172,11 +178,11 @@ class SpinAxisTheory(Pricing):
 
     def with_wobble(self, wobble) -> "SpinAxisTheory":
         """The same family for the same request, with the free wobble a track of the figure axis may add."""
-        return type(self)(self.body, self.perturbers, self.axis, wobble, self.rotation_phase)
+        return type(self)(self.body, self.perturbers, self.requested_axis, wobble, self.rotation_phase)
 
     def with_rotation_phase(self, rotation_phase: float | None) -> "SpinAxisTheory":
         """The same family with the body's rotation phase (radians; :mod:`ephem.forced.rotation_scale`)."""
-        return type(self)(self.body, self.perturbers, self.axis, self.wobble, rotation_phase)
+        return type(self)(self.body, self.perturbers, self.requested_axis, self.wobble, rotation_phase)
 
     @classmethod
     @abstractmethod

@@ -40,8 +40,9 @@ def check_axis(axis: str, body: str | None = None) -> None:
 def check_wobble_axis(axis: str, body: str | None = None) -> None:
     """Refuse a free wobble asked for a pole it does not move (it moves the figure axis only)."""
     if axis != "figure":
-        raise InvalidInputError("free_wobble_phase_deg", "the free wobble moves the figure axis, not the "
-                                "angular momentum: ask for axis=figure", body)
+        raise InvalidInputError("free_wobble_phase_deg", f"the free wobble moves the figure axis, and axis={axis} "
+                                "does not follow it (the angular momentum is not moved by it; the forced figure axis "
+                                "leaves it to polar motion): ask for axis=figure", body)
 
 
 def check_tolerance(tolerance, body: str | None = None, unit: str = "") -> None:
