@@ -184,10 +184,14 @@ class Precession(BaseModel):
     precession_rate_arcsec_per_year_uncertainty: Optional[float] = Sigma
     geodesic_precession_rate_arcsec_per_year: Optional[float] = Field(
         None, description="the geodesic (de Sitter) precession, which turns the axis about the orbit normal the other "
-                          "way from the torque's rate (null where the served rate is an observed one: the Moon's node)")
+                          "way from the torque's rate (for the Moon: the Earth-Moon system's about the Sun)")
+    geodesic_precession_in_rate: Optional[bool] = Field(
+        None, description="true where precession_rate_arcsec_per_year is an observed rate that already contains the "
+                          "geodesic precession (the Moon's node, fitted to observations); false where it is the "
+                          "torque's alone")
     observable_precession_rate_arcsec_per_year: Optional[float] = Field(
         None, description="what radio tracking measures: precession_rate_arcsec_per_year (the torque's alone) less "
-                          "the geodesic precession")
+                          "the geodesic precession, or the rate itself where it contains it already")
     observable_precession_rate_arcsec_per_year_uncertainty: Optional[float] = Sigma
     cassini: Optional[CassiniInfo] = Field(None, description="a synchronous rotator (the Moon): its Cassini state")
     uncertainty: UncertaintyInfo

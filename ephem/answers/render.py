@@ -79,8 +79,9 @@ def precession(r: PrecessionResult) -> dict:
     # what radio tracking measures: the torque's rate less the geodesic precession (the same ψ sense as the track)
     geodesic = None if r.geodesic_rate is None else r.geodesic_rate * _PER_YEAR
     ans["geodesic_precession_rate_arcsec_per_year"] = geodesic
+    ans["geodesic_precession_in_rate"] = None if geodesic is None else r.geodesic_in_rate
     ans["observable_precession_rate_arcsec_per_year"] = None if geodesic is None else \
-        ans["precession_rate_arcsec_per_year"] - geodesic
+        ans["precession_rate_arcsec_per_year"] - (0.0 if r.geodesic_in_rate else geodesic)
     ans["observable_precession_rate_arcsec_per_year_uncertainty"] = None if geodesic is None else \
         ans["precession_rate_arcsec_per_year_uncertainty"]
     if r.cassini is not None:

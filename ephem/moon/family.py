@@ -43,7 +43,8 @@ from .cassini import SYNCHRONOUS_TOLERANCE, free_librations, moment_ratios
 from ..bodies.catalogue import Body
 from ..base.constants import J2000_JD, JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS, MAS, ROUNDING
 from ..base.errors import InvalidInputError, NotApplicableError
-from ..orbit.lunar import MIN_CUT_MAS, check_cut
+from ..orbit.lunar import MIN_CUT_MAS, check_cut, lunisolar_data
+from ..orbit.relativity import geodesic_precession_rate
 from ..orbit.geometry import carry
 from ..orbit.kepler import mean_motion_rad_per_day
 from ..forced.precession_nutation import Track
@@ -291,14 +292,20 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         info["assumptions"].append(
             "precession_rate_arcsec_per_year: the node's inertial regression (the pole turns with it about the "
             "Laplace pole); obliquity_deg: the mean pole's θ = i + I to the orbit; scaling_factor_arcsec_per_year: "
-            "2 P(0), twice the synchronous torque's precession constant (ephem.moon.cassini); the node's regression is "
-            "an observed rate already, so no separate observable rate is given (null)")
+            "2 P(0), twice the synchronous torque's precession constant (ephem.moon.cassini)")
+        info["assumptions"].append(
+            "the node's regression is an observed rate (the lunar theory's, fitted to observations), so it already "
+            "contains the geodesic (de Sitter) precession of the Earth-Moon system about the Sun "
+            "(geodesic_precession_rate_arcsec_per_year, ephem.orbit.relativity; lunar laser ranging confirms it, "
+            "Williams, Newhall & Dickey 1996): observable_precession_rate_arcsec_per_year is the rate itself, and "
+            "nothing is subtracted")
         # the rate and the mean obliquity are the bare Cassini state's: nothing truncated
         return PrecessionResult(b, m.obliquity, m.hd, m.scaling_factor, m.precession_rate, rate_sigmas(b, m),
                                 uncertainty_summary(b), info,
                                 selection(self, "cassini", None, None, 1e3 * (time.perf_counter() - start),
                                           tolerance, covers=COVERS_NOTHING_TRUNCATED),
-                                derived_cassini_state(m))
+                                derived_cassini_state(m), geodesic_rate=earth_moon_geodesic_rate(),
+                                geodesic_in_rate=True)
 
     def nutation(self, order: int | None, tolerance: float | None, cut_mas, start: float,
                  nonrigid: bool = False) -> NutationResult:
@@ -428,3 +435,11 @@ def no_order(body: Body, order) -> None:
     if order is not None:
         raise NotApplicableError(body.name, f"an e-order (order={order!r}) truncates the fast-rotator theory's "
                                  "Hansen coefficients; the Cassini-state theory of a synchronous rotator has none")
+
+
+def earth_moon_geodesic_rate() -> float:
+    """Ω_gp (rad/day) of the Earth-Moon barycentre's orbit about the Sun (the Kepler ellipse of
+    ``data/lunisolar.toml [sun]`` at J2000, :func:`ephem.orbit.relativity.geodesic_precession_rate`): 19.2 mas/yr,
+    the de Sitter precession of the lunar orbit and spin axis, which the observed node rate contains."""
+    s = lunisolar_data()["sun"]
+    return geodesic_precession_rate(s["semi_major_axis_au"], s["eccentricity"][0], "Sun")

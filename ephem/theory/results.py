@@ -155,9 +155,11 @@ class PrecessionResult:
     selection: Selection
     cassini: CassiniSummary | None = None
     #: the geodesic (de Sitter) precession Ω_gp (rad/day, :mod:`ephem.orbit.relativity`), which turns the axis
-    #: about the orbit normal the other way from the torque's ψ̇: the observable rate is ψ̇ − Ω_gp. None where the
-    #: served rate is already an observed one (the Moon's: its node's regression)
+    #: about the orbit normal the other way from the torque's ψ̇: the observable rate is ψ̇ − Ω_gp
     geodesic_rate: float | None = None
+    #: whether the served rate is an observed one that already contains Ω_gp (the Moon's: its node's regression,
+    #: fitted to lunar laser ranging): the observable rate is then the rate itself
+    geodesic_in_rate: bool = False
 
 
 @dataclass(frozen=True)
