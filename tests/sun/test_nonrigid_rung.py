@@ -132,3 +132,24 @@ def test_tolerance_chooses_the_nonrigid_rung_for_mars_and_names_the_parameters_b
     assert any("liquid core" in a for a in ans["model"]["assumptions"])
     with pytest.raises(NotApplicableError, match="interior_parameters"):
         api.track("mars", "2000-01-01", "2010-01-01", 100.0, tolerance_mas=20.0, axis="angular_momentum")
+
+
+def test_the_spice_kernel_of_the_nonrigid_track():
+    """The export follows the rung: a text PCK of Mars' non-rigid track fits it within its limit, says which model,
+    and its angles reproduce the core's change (its pole at a mid-span epoch is where the non-rigid track is, not
+    where the rigid one is, beyond the fit's error)."""
+    from ephem.answers.kernels import write_pck
+    r = write_pck(["mars"], "2000-01-01", "2020-01-01", model="nonrigid", axis="angular_momentum")
+    b = r.bodies[0]
+    assert b.model["name"] == "nonrigid" and "nonrigid" in r.text
+    assert b.fit_error_mas <= b.fit_limit_mas
+    rigid = write_pck(["mars"], "2000-01-01", "2020-01-01", model="second_order", axis="angular_momentum").bodies[0]
+    assert b.fit_error_mas < 1.0 and rigid.fit_error_mas < 1.0
+    # the two kernels' poles differ by the core's change (tens of mas), far beyond either fit, as the tracks do
+    jd = np.linspace(2451545.0, 2451545.0 + 20 * YEAR, 2001)
+    kernels = [k.pole_j2000(jd) for k in (b, rigid)]
+    gap = float(separation(*kernels).max()) / MAS
+    ladder = Ladder(get_body("mars"), axis="angular_momentum")
+    tracks = float(separation(*(pole_vectors(ladder.track(r, jd)) for r in ("nonrigid", "second_order"))).max()) / MAS
+    assert gap > 10.0 and abs(gap - tracks) <= b.fit_error_mas + rigid.fit_error_mas
+
