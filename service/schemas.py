@@ -123,6 +123,30 @@ class Correlation(BaseModel):
     value: float = Field(description="the correlation coefficient, in [-1, 1]")
 
 
+class InteriorParameter(BaseModel):
+    value: float
+    unit: str = Field(description="the value's unit (empty: dimensionless)")
+    uncertainty: Optional[float] = Field(description="1-sigma, same unit; null: none published")
+    no_uncertainty: Optional[str] = Field(None, description="why no 1-sigma is published (null when one is)")
+
+
+class InteriorAlternative(BaseModel):
+    model: Literal["rigid", "transfer_function"]
+    form: Optional[str] = Field(description="the transfer function's formula (fluid_core_resonance, "
+                                            "iers1996_resonance); null when rigid")
+    parameters: dict[str, InteriorParameter]
+    source: Optional[str] = Field(description="a key of data/interiors.toml's [references.*]")
+    reference: Optional[dict] = Field(description="the source's citation, where it was read and its status")
+    why: Optional[str] = Field(description="why the body is rigid (null otherwise)")
+    left_out: list[str] = Field(description="what the model leaves out")
+    parameters_file: Optional[str] = Field(description="the file holding the parameters when they are not listed")
+
+
+class Interior(InteriorAlternative):
+    """The interior model of the forced nutation (data/interiors.toml, docs/interiors.md)."""
+    alternatives: dict[str, InteriorAlternative] = Field(description="other published parameter sets, by name")
+
+
 class BodyRecord(BaseModel):
     name: str
     naif_id: Optional[int]
@@ -136,6 +160,8 @@ class BodyRecord(BaseModel):
     correlations: list[Correlation] = Field(
         description="correlations of the values' errors: stated by a source, or implied by deriving several values "
                     "from one measurement (data/catalogue/SCHEMA.md)")
+    interior: Interior = Field(description="the body's interior model of the forced nutation: rigid (with why) or a "
+                                           "transfer function (form, parameters, source)")
 
 
 class UncertaintyInfo(BaseModel):

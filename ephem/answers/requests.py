@@ -15,6 +15,7 @@ from ..theory import cost
 from ..base.budget import OverBudgetError, charge, checkpoint, prepaid
 from ..bodies.catalogue import (DEFAULT_DATASET, Body, check_angle, get_body, load_catalogue, load_references,
                                 resolve_body, resolve_perturbers)
+from ..bodies.interior import interior_record
 from ..base.constants import MAS
 from ..base.errors import InvalidInputError, NotApplicableError, count_text
 from ..orbit.hansen import hansen_series
@@ -99,7 +100,8 @@ def list_bodies(dataset: str = DEFAULT_DATASET) -> list[dict]:
 def body_record(body: str | int, dataset: str = DEFAULT_DATASET) -> dict:
     """The full catalogue record: every value with unit, uncertainty (or the reason none is published) and resolved
     source, the values derived from others (``inertia.derived_from.*`` are the inputs of the moments), and the
-    correlations of their errors (``correlations``: [{inputs: [key, key], value: ρ}])."""
+    correlations of their errors (``correlations``: [{inputs: [key, key], value: ρ}]), and the interior model of
+    the forced nutation (``interior``: :meth:`ephem.bodies.interior.Interior.as_dict`, data/interiors.toml)."""
     b = get_body(body, dataset)
     refs = load_references()
     values = {}
@@ -110,7 +112,8 @@ def body_record(body: str | int, dataset: str = DEFAULT_DATASET) -> dict:
     return {"name": b.name, "naif_id": b.naif_id, "kind": b.kind, "dataset": b.dataset,
             "orbit_center": b.orbit.center, "dynamical_ellipticity": b.hd,
             "dynamical_ellipticity_from": b.hd_from, "perturbers": list(b.perturbers), "values": values,
-            "correlations": [{"inputs": list(pair), "value": rho} for pair, rho in b.correlations.items()]}
+            "correlations": [{"inputs": list(pair), "value": rho} for pair, rho in b.correlations.items()],
+            "interior": interior_record(b.name)}
 
 
 def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None,

@@ -80,6 +80,20 @@ class Interior:
     left_out: tuple[str, ...] = ()
     parameters_file: str | None = None
 
+    def as_dict(self, nested: bool = True) -> dict:
+        """The model as plain data (the body record's ``interior``): model, form, parameters {name: {value, unit,
+        uncertainty, no_uncertainty}}, source and its ``reference`` (the file's [references.*] entry, or None),
+        why, left_out, parameters_file and, with ``nested``, the alternatives in the same shape without theirs."""
+        out = {"model": self.model, "form": self.form,
+               "parameters": {name: {"value": p.value, "unit": p.unit,
+                                     "uncertainty": None if p.sigma is None else float(p.sigma),
+                                     "no_uncertainty": p.no_uncertainty} for name, p in self.parameters.items()},
+               "source": self.source, "reference": dict(references()[self.source]) if self.source in references() else None,
+               "why": self.why, "left_out": list(self.left_out), "parameters_file": self.parameters_file}
+        if nested:
+            out["alternatives"] = {key: alt.as_dict(nested=False) for key, alt in self.alternatives.items()}
+        return out
+
 
 @lru_cache(maxsize=1)
 def interiors_data() -> dict:
@@ -116,6 +130,11 @@ def interior_of(body_name: str) -> Interior:
             return _interior(name, rec)
     return Interior(body_name.strip(), RIGID, why="not listed in data/interiors.toml: no interior resonance is "
                     "applied, the body is treated as rigid")
+
+
+def interior_record(body_name: str) -> dict:
+    """:meth:`Interior.as_dict` of :func:`interior_of` ``body_name``: what the body answer shows as ``interior``."""
+    return interior_of(body_name).as_dict()
 
 
 def fcn_frequency(fcn_period_days: float) -> float:

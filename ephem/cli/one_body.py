@@ -31,13 +31,26 @@ BODY_CSV_COLUMNS = ("quantity", "value", "unit", "uncertainty", "no_uncertainty"
 BODY_TABLE_COLUMNS = ("quantity", "value", "unit", "uncertainty", "source")
 
 
+def interior_line(interior: dict) -> str:
+    """The record's ``interior`` on one line: the model and form, the parameters with their 1σ and unit, the
+    source (or, for a rigid body, why)."""
+    params = ", ".join(f"{k} {p['value']:.10g}" + (f" ± {p['uncertainty']:.4g}" if p["uncertainty"] is not None else "")
+                       + (f" {p['unit']}" if p["unit"] else "") for k, p in interior["parameters"].items())
+    return (f"interior: {interior['model']}" + (f" ({interior['form']})" if interior["form"] else "")
+            + (f": {params}" if params else "")
+            + (f"; parameters in {interior['parameters_file']}" if interior["parameters_file"] else "")
+            + (f"; source {interior['source']}" if interior["source"] else "")
+            + (f"; alternatives {', '.join(interior['alternatives'])}" if interior["alternatives"] else "")
+            + (f"; why: {interior['why']}" if interior["why"] else ""))
+
+
 @app.command()
 def body(name: str = typer.Argument(..., metavar="BODY"), dataset: str = DatasetOpt, fmt: Format = FormatOpt):
     """Full catalogue record of BODY (name or NAIF id): values, units, uncertainties, sources.
 
     JSON (the default) is the whole record. CSV and table give one row per value (CSV: quantity, value, unit,
     uncertainty, no_uncertainty, source, note; the table leaves out the reasons and notes); the body's identity,
-    H_d and the correlations of the values' errors then go to stderr.
+    H_d and the correlations of the values' errors then go to stderr, and the interior model on a line of its own.
     """
     from .. import api
 
@@ -52,6 +65,7 @@ def body(name: str = typer.Argument(..., metavar="BODY"), dataset: str = Dataset
     typer.echo(f"{record['name']} (NAIF {record['naif_id']}, {record['kind']}), dataset {record['dataset']}: H_d "
                f"{record['dynamical_ellipticity']:.10g} from {record['dynamical_ellipticity_from']}, perturbers "
                f"{', '.join(record['perturbers'])}" + (f"; correlations {corr}" if corr else ""), err=True)
+    typer.echo(interior_line(record["interior"]), err=True)
     columns = BODY_CSV_COLUMNS if fmt is Format.csv else BODY_TABLE_COLUMNS
     rows = [{c: key if c == "quantity" else value[c] for c in columns} for key, value in record["values"].items()]
     emit(record, fmt, rows)
