@@ -17,5 +17,7 @@ run from a checkout, from the project root, each as a module:
   costs, for a before/after comparison (docs/accuracy.md);
 * ``python -m studies.moon``: the Moon's pole per model against the IAU WGCCRE model (docs/moon.md);
 * ``python -m studies.earth_nutation_residual [PREFIX]``: the Earth's nutation minus IAU 2000A, rigid and
-  times the IERS 1996 transfer function (the chart of docs/earth.md).
+  times the IERS 1996 transfer function (the chart of docs/earth.md);
+* ``python -m studies.mars_core_chart [--prefix P]``: Mars' non-rigid rung against the rigid one and the IAU
+  WGCCRE 2015 pole, and its cost (the chart of docs/interiors.md).
 """
