@@ -2,45 +2,90 @@
 
 Answers are plain dicts with the contract's keys and units in their names (angles in degrees, precession
 and nutation in arcseconds, rates per Julian year, times as JD TDB), made by :mod:`ephem.answers`; the
-numeric model of a body (radians, days) is :func:`model_for`. Importing this module loads numpy and the
-answers, not matplotlib, SPICE or Dask (each loads with the first plot, kernel or batch).
+numeric model of a body (radians, days) is :func:`model_for`. Importing this module loads nothing: each name
+loads its module on first use (PEP 562), so a one-body answer pays only for what it runs (the CLI's start-up,
+benchmarks/RESULTS_cli.md); matplotlib, SPICE and Dask load with the first plot, kernel or batch.
 
 As skyfield's ``api``: ``from ephem import api`` then ``api.track("Vesta", "2040-01-01", ...)``.
 """
 from __future__ import annotations
 
-from .answers.batches import MAX_BATCH_ROWS, batch
-from .answers.requests import (FREE_MOTION_KEYS, MAX_TRACK_SAMPLES, REFUSE_ESTIMATE_MAS, TRACK_KEYS, WARN_ESTIMATE_MAS,
-                               answer_cost, body_record, epoch_grid, free_motion_answer, free_motion_arrays, history,
-                               list_bodies, nutation, precession, precession_nutation, track, track_arrays, track_models,
-                               warm_up)
-from .base import memo
-from .base.budget import Budget, BusyError, DeadlineExceededError, OverBudgetError, budget, charge
-from .base.constants import AXES, GM_CENTER
-from .base.errors import EphemError, InvalidInputError, NotApplicableError, UnknownBodyError
-from .base.times import TIME_PATTERN_ECMA, ut1_span
-from .bodies.catalogue import (DEFAULT_DATASET, KNOWN_PERTURBERS, MAX_ANGLE_DEG, MIN_ROTATION_PERIOD_HOURS, Body,
-                               Orbit, Pole, get_body, load_catalogue, resolve_body)
-from .bodies.datasets import available_datasets
-from .batch.distributed import BatchFailed
-from .batch.distributed import run as run_batch
-from .batch.population import HistorySpec
-from .bodies.importer import import_catalogue
-from .answers.kernels import write_pck, write_pck_file
-from .answers.figures import CONTENT_TYPES as PLOT_CONTENT_TYPES
-from .answers.figures import DPI_RANGE as PLOT_DPI_RANGE
-from .answers.figures import HISTORY_KIND as HISTORY_PLOT_KIND
-from .answers.figures import KINDS as PLOT_KINDS
-from .answers.figures import MAX_PLOT_POINTS
-from .answers.figures import render as render_plot
-from .exports.tables import FORMATS, LAYOUTS, render_nutation, write_tables
-from .families import MODELS
-from .forced.precession_nutation import MAX_ORDER, model_for
-from .orbit.geometry import icrf_to_ecliptic_matrix
-from .orbit.hansen import LAPLACE_LIMIT
-from .orbit.lunar import DELAUNAY_NAMES
-from .rotation.free_motion import SERIES_MAX_DELTA
-from .theory.cost import MAX_NUMERICAL_ORBITS
+import importlib
+
+#: public name -> (module relative to ``ephem``, attribute): loaded on first access
+_NAMES = {
+    "MAX_BATCH_ROWS": (".answers.batches", "MAX_BATCH_ROWS"),
+    "batch": (".answers.batches", "batch"),
+    "FREE_MOTION_KEYS": (".answers.requests", "FREE_MOTION_KEYS"),
+    "MAX_TRACK_SAMPLES": (".answers.requests", "MAX_TRACK_SAMPLES"),
+    "REFUSE_ESTIMATE_MAS": (".answers.requests", "REFUSE_ESTIMATE_MAS"),
+    "TRACK_KEYS": (".answers.requests", "TRACK_KEYS"),
+    "WARN_ESTIMATE_MAS": (".answers.requests", "WARN_ESTIMATE_MAS"),
+    "answer_cost": (".answers.requests", "answer_cost"),
+    "body_record": (".answers.requests", "body_record"),
+    "epoch_grid": (".answers.requests", "epoch_grid"),
+    "free_motion_answer": (".answers.requests", "free_motion_answer"),
+    "free_motion_arrays": (".answers.requests", "free_motion_arrays"),
+    "history": (".answers.requests", "history"),
+    "list_bodies": (".answers.requests", "list_bodies"),
+    "nutation": (".answers.requests", "nutation"),
+    "precession": (".answers.requests", "precession"),
+    "precession_nutation": (".answers.requests", "precession_nutation"),
+    "track": (".answers.requests", "track"),
+    "track_arrays": (".answers.requests", "track_arrays"),
+    "track_models": (".answers.requests", "track_models"),
+    "warm_up": (".answers.requests", "warm_up"),
+    "memo": (".base", "memo"),
+    "Budget": (".base.budget", "Budget"),
+    "BusyError": (".base.budget", "BusyError"),
+    "DeadlineExceededError": (".base.budget", "DeadlineExceededError"),
+    "OverBudgetError": (".base.budget", "OverBudgetError"),
+    "budget": (".base.budget", "budget"),
+    "charge": (".base.budget", "charge"),
+    "AXES": (".base.constants", "AXES"),
+    "GM_CENTER": (".base.constants", "GM_CENTER"),
+    "EphemError": (".base.errors", "EphemError"),
+    "InvalidInputError": (".base.errors", "InvalidInputError"),
+    "NotApplicableError": (".base.errors", "NotApplicableError"),
+    "UnknownBodyError": (".base.errors", "UnknownBodyError"),
+    "TIME_PATTERN_ECMA": (".base.times", "TIME_PATTERN_ECMA"),
+    "ut1_span": (".base.times", "ut1_span"),
+    "DEFAULT_DATASET": (".bodies.catalogue", "DEFAULT_DATASET"),
+    "KNOWN_PERTURBERS": (".bodies.catalogue", "KNOWN_PERTURBERS"),
+    "MAX_ANGLE_DEG": (".bodies.catalogue", "MAX_ANGLE_DEG"),
+    "MIN_ROTATION_PERIOD_HOURS": (".bodies.catalogue", "MIN_ROTATION_PERIOD_HOURS"),
+    "Body": (".bodies.catalogue", "Body"),
+    "Orbit": (".bodies.catalogue", "Orbit"),
+    "Pole": (".bodies.catalogue", "Pole"),
+    "get_body": (".bodies.catalogue", "get_body"),
+    "load_catalogue": (".bodies.catalogue", "load_catalogue"),
+    "resolve_body": (".bodies.catalogue", "resolve_body"),
+    "available_datasets": (".bodies.datasets", "available_datasets"),
+    "BatchFailed": (".batch.distributed", "BatchFailed"),
+    "run_batch": (".batch.distributed", "run"),
+    "HistorySpec": (".batch.population", "HistorySpec"),
+    "import_catalogue": (".bodies.importer", "import_catalogue"),
+    "write_pck": (".answers.kernels", "write_pck"),
+    "write_pck_file": (".answers.kernels", "write_pck_file"),
+    "PLOT_CONTENT_TYPES": (".answers.figures", "CONTENT_TYPES"),
+    "PLOT_DPI_RANGE": (".answers.figures", "DPI_RANGE"),
+    "HISTORY_PLOT_KIND": (".answers.figures", "HISTORY_KIND"),
+    "PLOT_KINDS": (".answers.figures", "KINDS"),
+    "MAX_PLOT_POINTS": (".answers.figures", "MAX_PLOT_POINTS"),
+    "render_plot": (".answers.figures", "render"),
+    "FORMATS": (".exports.tables", "FORMATS"),
+    "LAYOUTS": (".exports.tables", "LAYOUTS"),
+    "render_nutation": (".exports.tables", "render_nutation"),
+    "write_tables": (".exports.tables", "write_tables"),
+    "MODELS": (".families", "MODELS"),
+    "MAX_ORDER": (".forced.precession_nutation", "MAX_ORDER"),
+    "model_for": (".forced.precession_nutation", "model_for"),
+    "icrf_to_ecliptic_matrix": (".orbit.geometry", "icrf_to_ecliptic_matrix"),
+    "LAPLACE_LIMIT": (".orbit.hansen", "LAPLACE_LIMIT"),
+    "DELAUNAY_NAMES": (".orbit.lunar", "DELAUNAY_NAMES"),
+    "SERIES_MAX_DELTA": (".rotation.free_motion", "SERIES_MAX_DELTA"),
+    "MAX_NUMERICAL_ORBITS": (".theory.cost", "MAX_NUMERICAL_ORBITS"),
+}
 
 __all__ = [
     # answers (dicts, units in the keys)
@@ -64,3 +109,17 @@ __all__ = [
     # bounded work (a host, as the service, sets the budget and the caches)
     "Budget", "budget", "charge", "BusyError", "DeadlineExceededError", "OverBudgetError", "memo",
 ]
+
+
+def __getattr__(name: str):
+    try:
+        module, attribute = _NAMES[name]
+    except KeyError:
+        raise AttributeError(f"module 'ephem.api' has no attribute {name!r}") from None
+    value = getattr(importlib.import_module(module, "ephem"), attribute)
+    globals()[name] = value      # once: later lookups are ordinary
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -13,6 +13,8 @@
   ``max_examples``. ``HYPOTHESIS_PROFILE=explore`` draws fresh random examples for a local hunt.
 * The user catalogue directory (``ephem catalogue import``'s datasets) is an empty one of each test process's
   own: the datasets a user imported on this machine must not enter the tests (tests that import set their own).
+* So is the disk cache of built tables (``EPHEM_CACHE_DIR``, :mod:`ephem.base.disk_cache`): a table built by another
+  run (another numpy, or numpy held to its baseline SIMD path) must not be read here.
 """
 import os
 import tempfile
@@ -21,6 +23,7 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLIS
              "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 os.environ["EPHEM_USER_CATALOGUE_DIR"] = tempfile.mkdtemp(prefix="ephem-test-user-catalogue-")
+os.environ["EPHEM_CACHE_DIR"] = tempfile.mkdtemp(prefix="ephem-test-cache-")
 
 import pytest  # noqa: E402
 from hypothesis import settings  # noqa: E402

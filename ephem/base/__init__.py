@@ -2,11 +2,13 @@
 
 - :mod:`ephem.base.budget`: A request's budget: predicted costs charged before the work, and a deadline while it runs.
 - :mod:`ephem.base.constants`: Physical and astronomical constants (SI unless the name says otherwise).
+- :mod:`ephem.base.disk_cache`: Arrays built from shipped data, kept on disk between processes.
 - :mod:`ephem.base.errors`: Exceptions raised by the science core.
 - :mod:`ephem.base.memo`: Caches of per-body work bounded in bytes, not in entries.
 - :mod:`ephem.base.paths`: Where the shipped data live (the catalogue, the references, the reference tables, the lunar series).
 - :mod:`ephem.base.times`: Times at the boundary: ISO 8601 (UTC unless a scale is named) or Julian dates (TDB).
-- :mod:`ephem.base.units`: astropy at the boundary: ``Time`` and ``Quantity`` in, and out on request.
+- :mod:`ephem.base.units`: astropy at the boundary: ``Time`` and ``Quantity`` in, and out on request (and the
+  catalogue's unit factors, which need no astropy).
 
 The package imports none of its modules: importing one loads only what it needs.
 """

@@ -16,6 +16,7 @@ import math
 from dataclasses import dataclass
 
 from ..base.errors import InvalidInputError
+from ..base.units import unit_factor
 from .inertia import METHODS, derive
 
 
@@ -67,11 +68,9 @@ def measured(raw: dict, where: str, body: str, default_reason: str | None = None
 
 
 def convert(m: Measured, target: str, where: str, body: str) -> float:
-    import astropy.units as u
-
     try:
-        return float((m.value * u.Unit(m.unit)).to_value(u.Unit(target)))
-    except (ValueError, u.UnitConversionError) as exc:
+        return float(m.value * unit_factor(m.unit, target))
+    except ValueError as exc:     # astropy's UnitConversionError is a ValueError
         raise InvalidInputError(where, f"cannot convert unit {m.unit!r} to {target!r}: {exc}", body) from None
 
 

@@ -10,11 +10,11 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
 from ..base.errors import InvalidInputError
+from ..base.units import unit_factor
 from ..bodies.catalogue import Body
 
 
@@ -30,12 +30,6 @@ class CatalogueInput:
     source: str | None
     kind: str             # "a", "e", "angle", "relative": default FD step family
 
-
-@lru_cache(maxsize=64)
-def unit_factor(unit: str, target: str) -> float:
-    import astropy.units as u
-
-    return float((1.0 * u.Unit(unit)).to_value(u.Unit(target)))
 
 
 def model_inputs(body: Body) -> list[tuple[str, float, str, str]]:

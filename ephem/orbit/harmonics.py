@@ -403,3 +403,28 @@ def harmonic_sum(sin_coef: np.ndarray, cos_coef: np.ndarray, shape: tuple[int, .
         return (np.sin(arg) @ sin_coef + np.cos(arg) @ cos_coef).reshape(arg.shape[0], *shape)
 
     return at
+
+
+# ----------------------------------------------------------------------------- integer multiplier rows
+
+def row_codes(k: np.ndarray) -> np.ndarray:
+    """One int64 per row of the integer matrix ``k``, ordered as the rows are lexicographically (the first column
+    most significant: each column shifted to start at 0 is a digit of a mixed radix). np.unique of these is
+    np.unique(k, axis=0)'s order at a fraction of its cost (it sorts rows as opaque bytes)."""
+    k = np.asarray(k, dtype=np.int64)
+    if k.ndim != 2 or k.shape[1] == 0:
+        return np.zeros(k.shape[0] if k.ndim else 0, dtype=np.int64)
+    low = k.min(axis=0)
+    radix = k.max(axis=0) - low + 1
+    if float(np.prod(radix.astype(float))) >= 2.0**62:     # pragma: no cover - multipliers of a few tens
+        raise ValueError("multipliers too large to code as one integer")
+    codes = np.zeros(k.shape[0], dtype=np.int64)
+    for j in range(k.shape[1]):
+        codes = codes * radix[j] + (k[:, j] - low[j])
+    return codes
+
+
+def unique_rows(k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """np.unique(k, axis=0, return_inverse=True), the same arrays in the same order, by :func:`row_codes`."""
+    _, first, inverse = np.unique(row_codes(k), return_index=True, return_inverse=True)
+    return np.asarray(k)[first], inverse.ravel()

@@ -24,7 +24,27 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.special import ellipj, elliprf, elliprj
+
+
+# scipy.special's Jacobi and Carlson functions, imported on first use: scipy.special costs 0.15-0.2 s to import,
+# which every answer paid at start-up (the ladder imports this module) though only the free wobble calls them
+def ellipj(u, m):
+    """scipy.special.ellipj (sn, cn, dn, am)."""
+    from scipy.special import ellipj as jacobi
+    return jacobi(u, m)
+
+
+def elliprf(x, y, z):
+    """scipy.special.elliprf, Carlson's R_F."""
+    from scipy.special import elliprf as carlson_rf
+    return carlson_rf(x, y, z)
+
+
+def elliprj(x, y, z, p):
+    """scipy.special.elliprj, Carlson's R_J."""
+    from scipy.special import elliprj as carlson_rj
+    return carlson_rj(x, y, z, p)
+
 
 
 # --------------------------------------------------------------------------- elliptic helpers

@@ -14,11 +14,11 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import elliprf, elliprj
 
 from ..base.constants import ARCSEC
 from ..base.errors import InvalidInputError
 from .andoyer import N_OVER_M_SLACK, check_finite, check_moments, wrap_angle
+from .elliptic_solution import elliprf, elliprj
 from .euler_poinsot import FreeRotation
 
 

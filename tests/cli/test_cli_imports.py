@@ -48,6 +48,16 @@ def test_a_one_body_answer_imports_no_plotting_integrator_or_web_stack(args):
     assert loaded(ran["modules"], FORBIDDEN) == []
 
 
+@pytest.mark.parametrize("args", [["precession", "vesta"], ["nutation", "vesta", "--order", "4"], ["body", "vesta"],
+                                  ["precession", "moon"]])
+def test_a_one_body_answer_needs_neither_astropy_nor_scipy(args):
+    """Issue 33: the catalogue's units convert by exact factors (astropy is the fallback), the free wobble's elliptic
+    functions and the Moon's root load scipy only when used, and ephem.api loads a name's module on first use."""
+    ran = run_cli(args)
+    assert ran["code"] == 0, ran["stderr"]
+    assert loaded(ran["modules"], ("astropy", "scipy", "ephem.batch", "ephem.answers.kernels")) == []
+
+
 def test_the_answer_is_unchanged_by_the_lighter_rotation():
     ran = run_cli(["precession", "vesta", "--dataset", "petit2014"])
     assert round(json.loads(ran["stdout"])["precession_rate_arcsec_per_year"], 4) == 13.6713   # Petit et al.: 13.6728

@@ -404,3 +404,18 @@ def test_nutation_at_checkpoints_every_block(rigid, monkeypatch):
     block = rigid._plan.block
     rigid.nutation_at(np.linspace(*WINDOW, 2 * block + 1))
     assert len(calls) == 3
+
+
+def test_the_integer_row_codes_sort_as_numpy_unique_rows():
+    """ephem.orbit.harmonics.unique_rows (one int64 per row) against np.unique(axis=0): the same rows, order and
+    inverse, on random multiplier matrices and on the served series' own multipliers."""
+    from ephem.orbit.harmonics import unique_rows
+
+    rng = np.random.default_rng(7)
+    cases = [rng.integers(-9, 10, size=(int(rng.integers(1, 500)), int(rng.integers(1, 6)))) for _ in range(40)]
+    cases.append(np.asarray(L.earth_lunisolar(cut_mas=0.01).multipliers))
+    for k in cases:
+        want, want_inverse = np.unique(k, axis=0, return_inverse=True)
+        got, got_inverse = unique_rows(k)
+        np.testing.assert_array_equal(got, want)
+        np.testing.assert_array_equal(got_inverse, np.asarray(want_inverse).ravel())

@@ -63,8 +63,23 @@ def test_the_balance_holds_at_the_root_and_its_sides():
     lhs = n * (s.precession_constant * math.sin(s.obliquity)
                + s.sun_precession_constant * math.cos(s.equator_inclination) * math.sin(s.equator_inclination))
     rhs = w * (n + w * math.cos(s.equator_inclination)) * math.sin(s.equator_inclination)
-    assert lhs == pytest.approx(rhs, rel=1e-12)          # brentq to 1e-15 rad in I: 1e-13 relative
+    assert lhs == pytest.approx(rhs, rel=1e-12)          # bisection to 1e-15 rad in I: 1e-13 relative
     assert s.obliquity == pytest.approx(o.inclination + s.equator_inclination, abs=1e-15)
+
+
+@pytest.mark.parametrize("moments", ["catalogue", "llr"])
+def test_the_bisection_finds_brents_root(moments):
+    """The library's bisection (no scipy.optimize at start-up) against scipy's brentq on the same balance and
+    bracket: the same root to 2e-15 rad (both stop at 1e-15)."""
+    from scipy.optimize import brentq
+
+    from ephem.moon.cassini import _balance
+
+    o = synchronous_orbit(MOON)
+    m = MOON.moments if moments == "catalogue" else LLR
+    ref = brentq(lambda x: _balance(o, m, x), 1e-12, 0.5 * math.pi - o.inclination, xtol=1e-15,
+                 rtol=4.0 * 2.220446049250313e-16, maxiter=200)
+    assert cassini_state(o, m).equator_inclination == pytest.approx(ref, abs=2e-15)
 
 
 def test_the_moons_equator_inclination_is_derived_within_the_budget():
