@@ -37,11 +37,9 @@ from __future__ import annotations
 
 import argparse
 import csv
-import datetime as _dt
 import json
 import math
 import os
-import platform
 import subprocess
 import sys
 import tempfile
@@ -49,11 +47,12 @@ import time
 import timeit
 from pathlib import Path
 
+from machine import BLAS_VARS, machine_info   # benchmarks/machine.py
+
 ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-BLAS_VARS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 WINDOW = (2415020.5, 2488069.5)          # 1900-01-01 .. 2100-01-01 TDB
 SPAN_2000B = (2449718.5, 2469807.5)      # 1995-01-01 .. 2050-01-01: IAU 2000B's stated 1 mas span
 EPS0_DEG = 23.4392794                    # J2000 mean obliquity (84381.406")
@@ -97,37 +96,6 @@ def parse_args(argv=None) -> argparse.Namespace:
 
 def _floats(text: str) -> list[float]:
     return [float(x) for x in text.split(",") if x.strip()]
-
-
-def machine_info() -> list[str]:
-    import numpy as np
-
-    model = "unknown"
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    try:
-        from numpy._core._multiarray_umath import __cpu_baseline__, __cpu_dispatch__, __cpu_features__
-        simd = (f"baseline {','.join(__cpu_baseline__)}; dispatch enabled "
-                f"{','.join(f for f in __cpu_dispatch__ if __cpu_features__.get(f)) or 'none'}")
-    except ImportError:
-        simd = "unknown"
-    import erfa
-
-    usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    load = ", ".join(f"{x:.2f}" for x in os.getloadavg()) if hasattr(os, "getloadavg") else "n/a"
-    return [
-        f"date: {_dt.datetime.now(_dt.timezone.utc).isoformat(timespec='seconds')}",
-        f"machine: {platform.machine()}, nproc {os.cpu_count()} (usable {usable}), CPU model: {model}",
-        f"python {platform.python_version()}, numpy {np.__version__}, pyerfa {erfa.__version__}",
-        f"numpy SIMD: {simd}; NPY_DISABLE_CPU_FEATURES={os.environ.get('NPY_DISABLE_CPU_FEATURES', 'unset')}",
-        f"BLAS threads: { {v: os.environ.get(v, 'unset') for v in BLAS_VARS} }",
-        f"load average at the start: {load}",
-    ]
 
 
 def best_per_call(fn, repeat: int) -> float:
@@ -397,7 +365,9 @@ def main(argv=None) -> int:
         cold_child(args.cold_child)
         return 0
     t_start = time.perf_counter()
-    info = machine_info()           # imports numpy after the BLAS variables are set
+    import erfa
+
+    info = machine_info(pyerfa=erfa.__version__)   # imports numpy after the BLAS variables are set
     for line in info:
         print(line)
     cuts = _floats(args.cuts)

@@ -18,18 +18,17 @@ acts before numpy loads its BLAS.
 from __future__ import annotations
 
 import argparse
-import datetime as _dt
 import os
-import platform
 import sys
 import time
 from pathlib import Path
+
+from machine import BLAS_VARS, machine_info   # benchmarks/machine.py
 
 ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-BLAS_VARS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 WINDOW = (2415020.5, 2488069.5)          # 1900-01-01 .. 2100-01-01 TDB (ephem.earth.estimates.window())
 TRACK_STEP = 0.2                         # days: 3.6 x 10^5 epochs span 197 years
 DEFAULT_OUTPUT = ROOT / "benchmarks" / "RESULTS_earth_track.md"
@@ -98,28 +97,6 @@ def best_of(fn, repeat: int):
     return cpu, wall, out
 
 
-def machine_info() -> list[str]:
-    import numpy as np
-
-    model = "unknown"
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    load = ", ".join(f"{x:.2f}" for x in os.getloadavg()) if hasattr(os, "getloadavg") else "n/a"
-    return [
-        f"date: {_dt.datetime.now(_dt.timezone.utc).isoformat(timespec='seconds')}",
-        f"machine: {platform.machine()}, nproc {os.cpu_count()} (usable {usable}), CPU model: {model}",
-        f"python {platform.python_version()} ({platform.python_implementation()}), numpy {np.__version__}",
-        f"BLAS threads: { {v: os.environ.get(v, 'unset') for v in BLAS_VARS} }",
-        f"load average at the start: {load}",
-    ]
-
-
 def main(argv=None) -> int:
     args = parse_args(argv)
     if args.blas_threads.strip() != "0":
@@ -131,6 +108,7 @@ def main(argv=None) -> int:
     from unittest import mock
 
     from ephem import api
+    from ephem.base.constants import J2000_JD
     from ephem.earth import lunisolar as L
 
     sizes, cuts, track_sizes = _ints(args.sizes), _floats(args.cuts), _ints(args.track_sizes)
@@ -138,7 +116,7 @@ def main(argv=None) -> int:
     for cut in cuts:
         series = L.earth_lunisolar(cut_mas=cut)
         n = len(series.multipliers)
-        series.nutation_at(np.array([L.J2000_JD]))          # build the evaluation plan once (cached)
+        series.nutation_at(np.array([J2000_JD]))          # build the evaluation plan once (cached)
         for size in sizes:
             jd = np.linspace(*WINDOW, size)
             b_cpu, b_wall, before = best_of(lambda: direct_nutation_at(series, jd), args.repeat)
