@@ -67,7 +67,8 @@ class Interior:
     ``model``: "rigid" or "transfer_function"; ``form``: the transfer function's formula ("fluid_core_resonance",
     "iers1996_resonance"; None when rigid); ``parameters``: name -> :class:`Parameter` (for Mars
     ``fcn_amplitude_factor`` and ``fcn_period_days``); ``source``: a key of the file's [references.*];
-    ``why``: the reason a body is rigid; ``alternatives``: other published parameter sets, by name.
+    ``why``: the reason a body is rigid; ``alternatives``: other published parameter sets, by name;
+    ``mantle_elastic_scale``: the stated bound on the mantle's elastic response (None: none stated).
     """
 
     body: str
@@ -79,6 +80,7 @@ class Interior:
     alternatives: Mapping[str, "Interior"] = field(default_factory=dict)
     left_out: tuple[str, ...] = ()
     parameters_file: str | None = None
+    mantle_elastic_scale: float | None = None
 
     def as_dict(self, nested: bool = True) -> dict:
         """The model as plain data (the body record's ``interior``): model, form, parameters {name: {value, unit,
@@ -116,7 +118,8 @@ def _interior(body: str, rec: dict) -> Interior:
     alternatives = {key: _interior(body, {"model": rec["model"], "form": rec.get("form"), **alt})
                     for key, alt in rec.get("alternatives", {}).items()}
     return Interior(body, rec["model"], rec.get("form"), params, rec.get("source"), rec.get("why"), alternatives,
-                    tuple(rec.get("left_out", ())), rec.get("parameters_file"))
+                    tuple(rec.get("left_out", ())), rec.get("parameters_file"),
+                    None if "mantle_elastic_scale" not in rec else float(rec["mantle_elastic_scale"]))
 
 
 def interior_of(body_name: str) -> Interior:

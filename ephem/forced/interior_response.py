@@ -34,7 +34,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..bodies.catalogue import Body
-from ..bodies.interior import FLUID_CORE, Interior, apply_fluid_core, interior_of, interiors_data, transfer_sigma
+from ..bodies.interior import FLUID_CORE, Interior, apply_fluid_core, interior_of, transfer_sigma
 from .kinoshita import NutationSeries, pole_displacement_sum
 
 #: the number of standard deviations of F and P_FCN the served estimate allows (an upper bound, not a 1σ)
@@ -136,19 +136,11 @@ def parameter_bound(series: NutationSeries, obliquity: float, interior: Interior
     return 2.0 * worst
 
 
-def mantle_elastic_scale(body_name: str) -> float:
-    """The body's ``mantle_elastic_scale`` (data/interiors.toml): the relative change per cycle per sidereal day
-    of frequency the mantle's elasticity may make (module docstring)."""
-    for name, rec in interiors_data().items():
-        if name.lower() == body_name.lower() and isinstance(rec, dict):
-            return float(rec.get("mantle_elastic_scale", 0.0))
-    return 0.0
-
-
 def mantle_bound(series: NutationSeries, obliquity: float, interior: Interior, spin_rate: float) -> float:
     """The mantle's elastic response the single resonance leaves out (radians): each harmonic's pole displacement
-    times ``mantle_elastic_scale`` × |k n| / ω (its frequency in cycles per sidereal day of the body), twice."""
-    scale = mantle_elastic_scale(interior.body)
+    times ``mantle_elastic_scale`` × |k n| / ω (its frequency in cycles per sidereal day of the body), twice; 0 for
+    an interior that states no such scale."""
+    scale = interior.mantle_elastic_scale or 0.0
     relative = scale * np.abs(np.asarray(series.multiple, dtype=float) * series.mean_motion) / abs(spin_rate)
     served = nonrigid_series(series, obliquity, interior)
     scaled = replace(served, lon_sin=served.lon_sin * relative, lon_cos=served.lon_cos * relative,
