@@ -116,7 +116,11 @@ def __getattr__(name: str):
         module, attribute = _NAMES[name]
     except KeyError:
         raise AttributeError(f"module 'ephem.api' has no attribute {name!r}") from None
-    value = getattr(importlib.import_module(module, "ephem"), attribute)
+    package = importlib.import_module(module, "ephem")
+    try:
+        value = getattr(package, attribute)
+    except AttributeError:   # a submodule (memo) that nothing has imported yet
+        value = importlib.import_module(f"{module}.{attribute}", "ephem")
     globals()[name] = value      # once: later lookups are ordinary
     return value
 

@@ -31,6 +31,7 @@ from .measured import (Measured, check_finite, convert, derived_moments, measure
                        stated_correlations)
 from ..base.paths import data_dir
 from ..orbit.geometry import ecliptic_to_icrf, lon_lat
+from ..orbit.kepler import mean_motion_rad_per_day
 
 DEFAULT_DATASET = "current"
 #: Bodies that may torque a body (the ``perturbers`` of a record): an orbit's centre, or the Moon
@@ -262,6 +263,28 @@ class Body:
 def is_earth(body: Body) -> bool:
     """The Earth (by name or NAIF id 399): the one body whose perturbers may include the Moon."""
     return body.naif_id == 399 or body.name.strip().lower() == "earth"
+
+
+#: A synchronous rotator: the spin rate within this fraction of the orbital mean motion.
+SYNCHRONOUS_TOLERANCE = 0.01
+
+
+def is_synchronous(body: Body, perturbers: tuple[str, ...]) -> bool:
+    """A synchronous rotator (ω/n within :data:`SYNCHRONOUS_TOLERANCE` of 1) torqued by its orbit's centre, among
+    others: what the Moon's Cassini-state theory serves (the Sun's torque on a satellite is in that theory)."""
+    o = body.orbit
+    ratio = body.spin_rate_rad_per_day / mean_motion_rad_per_day(o.a_au, o.center)
+    return abs(ratio - 1.0) <= SYNCHRONOUS_TOLERANCE and o.center in perturbers
+
+
+def is_lunisolar(body: Body, perturbers: tuple[str, ...]) -> bool:
+    """The Moon among the perturbers (only the Earth may name it): what the Earth's lunisolar theory serves."""
+    return "Moon" in perturbers
+
+
+def is_centre_alone(body: Body, perturbers: tuple[str, ...]) -> bool:
+    """The centre of the body's orbit the one perturber: what the single-perturber ladder serves."""
+    return tuple(perturbers) == (body.orbit.center,)
 
 
 def resolve_perturbers(value, body: Body) -> tuple[str, ...]:

@@ -70,7 +70,7 @@ import numpy as np
 
 from ..base.budget import checkpoint
 from ..base.disk_cache import cached_arrays, fingerprint
-from ..orbit.harmonics import row_codes, unique_rows
+from ..orbit.harmonics import matching_rows, row_codes, unique_rows
 from ..base.paths import data_dir
 from ..bodies.catalogue import get_body
 from ..base.constants import ARCSEC, AU_M, AXES, JULIAN_YEAR_DAYS, MAS
@@ -528,10 +528,12 @@ def _build(cut: float, perturbers: tuple, hd: float, axis: str, grid: tuple, ome
     coef0, prec0 = _coefficients(spec0, hd, omega, eps0, nu0, axis)
     # the same harmonics one century on: ε_A, the solar eccentricity and the frequencies drift
     spec1 = orbital_spectrum(perturbers, 1.0, grid)
-    lookup = {tuple(k): i for i, k in enumerate(spec1.multipliers)}
-    rows = [lookup.get(tuple(k)) for k in spec0.multipliers]
-    cos1 = np.array([spec1.cos_[i] if i is not None else np.zeros(4) for i in rows]).reshape(-1, 4)
-    sin1 = np.array([spec1.sin_[i] if i is not None else np.zeros(4) for i in rows]).reshape(-1, 4)
+    rows = matching_rows(spec0.multipliers, spec1.multipliers)    # -1: the harmonic is not there a century on
+    found = rows >= 0
+    cos1 = np.zeros((rows.size, 4))
+    sin1 = np.zeros((rows.size, 4))
+    cos1[found] = np.asarray(spec1.cos_).reshape(-1, 4)[rows[found]]
+    sin1[found] = np.asarray(spec1.sin_).reshape(-1, 4)[rows[found]]
     spec1 = OrbitalSpectrum(spec0.multipliers, cos1, sin1, spec1.const)
     nu1 = spec0.multipliers @ delaunay_rates(1.0)
     coef1, prec1 = _coefficients(spec1, hd, omega, obliquity_arcsec(1.0) * ARCSEC, nu1, axis)
@@ -552,15 +554,19 @@ def _build(cut: float, perturbers: tuple, hd: float, axis: str, grid: tuple, ome
 def term_dicts(ks, nu, c, r) -> list:
     """The series' terms as dicts (the ``LunisolarSeries.terms`` entries): Delaunay multipliers ``ks``, angular
     frequencies ``nu`` (rad/day; the period is 2π/ν), coefficients ``c`` (mas: Δψ sin, Δψ cos, Δε sin, Δε cos)
-    and their rates ``r`` (mas per century), one row per term."""
+    and their rates ``r`` (mas per century), one row per term. (``tolist`` converts each array once: the same
+    Python numbers as a float() per element, five times faster on the 17 000 terms of a cut-free series.)"""
+    period = (2.0 * math.pi / np.asarray(nu, dtype=float)).tolist()
     return [{
-        "delaunay_multipliers": [int(v) for v in k],
-        "period_days": float(2.0 * math.pi / n),
-        "longitude_sin_mas": float(ci[0]), "longitude_cos_mas": float(ci[1]),
-        "obliquity_sin_mas": float(ci[2]), "obliquity_cos_mas": float(ci[3]),
-        "longitude_sin_rate_mas_per_century": float(ri[0]), "longitude_cos_rate_mas_per_century": float(ri[1]),
-        "obliquity_sin_rate_mas_per_century": float(ri[2]), "obliquity_cos_rate_mas_per_century": float(ri[3]),
-    } for k, n, ci, ri in zip(ks, nu, c, r)]
+        "delaunay_multipliers": k,
+        "period_days": p,
+        "longitude_sin_mas": ci[0], "longitude_cos_mas": ci[1],
+        "obliquity_sin_mas": ci[2], "obliquity_cos_mas": ci[3],
+        "longitude_sin_rate_mas_per_century": ri[0], "longitude_cos_rate_mas_per_century": ri[1],
+        "obliquity_sin_rate_mas_per_century": ri[2], "obliquity_cos_rate_mas_per_century": ri[3],
+    } for k, p, ci, ri in zip(np.asarray(ks, dtype=int).reshape(-1, 5).tolist(), period,
+                              np.asarray(c, dtype=float).reshape(-1, 4).tolist(),
+                              np.asarray(r, dtype=float).reshape(-1, 4).tolist())]
 
 
 # ----------------------------------------------------------------------------- comparison with IAU 2000A

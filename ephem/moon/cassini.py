@@ -51,13 +51,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..base.errors import NotApplicableError
+from ..bodies.catalogue import SYNCHRONOUS_TOLERANCE
 from ..orbit.kepler import solve_kepler
 
 #: Hansen-mean samples of (a/r)³ cos 2(f − M) over an orbit: the trapezoid rule on a periodic analytic
 #: function converges geometrically; 512 points give 1e-15 relative at e = 0.5
 _ORBIT_SAMPLES = 512
-#: A synchronous rotator: the spin rate within this fraction of the orbital mean motion.
-SYNCHRONOUS_TOLERANCE = 0.01
 
 
 @dataclass(frozen=True)

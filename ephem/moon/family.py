@@ -39,8 +39,8 @@ import numpy as np
 from ..bodies.interior import interior_of
 from ..theory import cost
 from ..base.budget import Cost, charge
-from .cassini import SYNCHRONOUS_TOLERANCE, free_librations, moment_ratios
-from ..bodies.catalogue import Body
+from .cassini import free_librations, moment_ratios
+from ..bodies.catalogue import Body, is_synchronous
 from ..base.constants import J2000_JD, JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS, MAS, ROUNDING
 from ..base.errors import InvalidInputError, NotApplicableError
 from ..orbit.lunar import MIN_CUT_MAS, check_cut, lunisolar_data
@@ -143,10 +143,7 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
 
     @classmethod
     def serves(cls, body: Body, perturbers: tuple[str, ...]) -> bool:
-        """A synchronous rotator torqued by its orbit's centre (the Sun's torque on a satellite is in the theory)."""
-        o = body.orbit
-        ratio = body.spin_rate_rad_per_day / mean_motion_rad_per_day(o.a_au, o.center)
-        return abs(ratio - 1.0) <= SYNCHRONOUS_TOLERANCE and o.center in perturbers
+        return is_synchronous(body, perturbers)
 
     @property
     def model(self) -> SynchronousModel:

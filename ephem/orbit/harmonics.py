@@ -428,3 +428,19 @@ def unique_rows(k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """np.unique(k, axis=0, return_inverse=True), the same arrays in the same order, by :func:`row_codes`."""
     _, first, inverse = np.unique(row_codes(k), return_index=True, return_inverse=True)
     return np.asarray(k)[first], inverse.ravel()
+
+
+def matching_rows(k: np.ndarray, table: np.ndarray) -> np.ndarray:
+    """For each row of the integer matrix ``k``, the index of the same row in ``table`` (the last, if it repeats),
+    or -1 where ``table`` has none: a dict of tuples' lookup, by :func:`row_codes` of both (one code space)."""
+    k = np.asarray(k, dtype=np.int64).reshape(-1, np.shape(table)[-1] if np.ndim(table) == 2 else 0)
+    table = np.asarray(table, dtype=np.int64).reshape(-1, k.shape[1])
+    if table.shape[0] == 0 or k.shape[0] == 0:
+        return np.full(k.shape[0], -1, dtype=np.intp)
+    codes = row_codes(np.concatenate([k, table]))
+    want, have = codes[:k.shape[0]], codes[k.shape[0]:]
+    by_code = np.argsort(have, kind="stable")
+    sorted_codes = have[by_code]
+    at = np.searchsorted(sorted_codes, want, side="right") - 1       # the last of equal codes: the latest row
+    hit = (at >= 0) & (sorted_codes[np.maximum(at, 0)] == want)
+    return np.where(hit, by_code[np.maximum(at, 0)], -1).astype(np.intp)

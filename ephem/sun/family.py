@@ -12,7 +12,7 @@ import numpy as np
 from ..base.budget import charge
 from ..base.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from ..base.errors import InvalidInputError, NotApplicableError
-from ..bodies.catalogue import Body
+from ..bodies.catalogue import Body, is_centre_alone
 from ..forced import interior_response
 from ..forced.describe import ASSUMPTIONS, model_info
 from ..forced.kinoshita import eccentricity_factor, exact_series_floor, pole_displacement_sum
@@ -61,7 +61,7 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
 
     @classmethod
     def serves(cls, body: Body, perturbers: tuple[str, ...]) -> bool:
-        return tuple(perturbers) == (body.orbit.center,)
+        return is_centre_alone(body, perturbers)
 
     @cached_property
     def ladder(self) -> Ladder:
