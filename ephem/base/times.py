@@ -1,7 +1,8 @@
 """Times at the boundary: ISO 8601 (UTC unless a scale is named) or Julian dates (TDB).
 
 Accepted forms (text exactly as :data:`TIME_PATTERN` states, which the service's OpenAPI document
-publishes; astropy ``Time`` parses the ISO forms):
+publishes; ERFA takes ISO times in UTC, TAI, TT and TDB to TDB by the chain astropy's ``Time`` runs, to the same
+bits, without loading astropy; astropy ``Time`` parses the other scales):
 - a number, or digits ``"2451545.0"``, ``"JD2451545.0"``: a Julian date in TDB, in (0, 1e7);
 - ``"2020-01-01"``, ``"2020-01-01T12:00:00"``, ``"2020-01-01 12:00"``, ``"2020-01-01T12:00Z"``: ISO 8601 in UTC;
 - ``"2020-01-01T12:00:00 TDB"`` (or TT, TAI, TCB, TCG, UTC, UT1, any case): ISO 8601 in the named scale;
