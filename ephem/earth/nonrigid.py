@@ -41,7 +41,7 @@ import numpy as np
 from ..base.paths import data_dir
 from ..base.errors import InvalidInputError
 from ..bodies.interior import circular_parts, from_circular_parts
-from .lunisolar import precession_nutation_coupling, term_dicts
+from .lunisolar import precession_nutation_coupling
 
 
 @lru_cache(maxsize=1)
@@ -153,5 +153,4 @@ def non_rigid_series(series, coupling: bool = True):
                 "obliquity_sin_mas": coef[i, 2], "obliquity_cos_mas": coef[i, 3]}
         nr = non_rigid_term(term, series.obliquity)
         out[i] = (nr["longitude_sin_mas"], nr["longitude_cos_mas"], nr["obliquity_sin_mas"], nr["obliquity_cos_mas"])
-    terms = term_dicts(series.multipliers, series.frequencies, out, series.rates)
-    return dataclasses.replace(series, coefficients=out, terms=terms, long_period_terms=[])
+    return dataclasses.replace(series, coefficients=out, long_period_terms=[])   # its terms: from ``out``
