@@ -77,13 +77,15 @@ def warm_up(dataset: str = DEFAULT_DATASET) -> None:
     which an Earth precession, nutation or track answer takes milliseconds; and the Moon's libration
     series (read from data/moon_librations: 0.1 s; built, 2 s a moment set, if the catalogue's moments change). Also the rational
     Hansen series every e-order is cut from (~0.1 s), which every track's error estimate needs and
-    no request's cost counts. The service calls it at start-up.
+    no request's cost counts; and a short history, which loads the orbit's spline (scipy.interpolate: 0.5 s, more
+    than a whole 4-Myr history since issue 33). The service calls it at start-up.
     """
     hansen_series(4)
     track("moon", "2000-01-01", "2000-01-02", 1.0, dataset=dataset)    # the Moon's shipped libration series
     precession("earth", dataset=dataset)
     nutation("earth", dataset=dataset)
     track("earth", "2000-01-01", "2000-02-01", 10.0, dataset=dataset)
+    history("ceres", -1000.0, 0.0, 500.0, dataset=dataset)
 
 
 def list_bodies(dataset: str = DEFAULT_DATASET) -> list[dict]:

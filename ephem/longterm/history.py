@@ -47,11 +47,11 @@ from .secular_orbit import planet_secular_history, secular_orbit_history
 
 ORBIT_MODELS = ("secular", "nbody")
 DESCRIPTIONS = {
-    "secular": "the spin equation averaged over the rotation and the orbit, integrated (DOP853) along the "
-               "first-order Laplace-Lagrange secular orbit (the planets' modes; a small body's forced and free "
+    "secular": "the spin equation averaged over the rotation and the orbit, integrated (a 4th-order splitting) "
+               "along the first-order Laplace-Lagrange secular orbit (the planets' modes; a small body's forced and free "
                "elements); no nutation, no resonance of the orbit",
-    "nbody": "the spin equation averaged over the rotation and the orbit, integrated (DOP853) along a REBOUND "
-             "WHFast N-body orbit started from DE421 (shipped for the catalogue's bodies); no nutation",
+    "nbody": "the spin equation averaged over the rotation and the orbit, integrated (a 4th-order splitting) "
+             "along a REBOUND WHFast N-body orbit started from DE421 (shipped for the catalogue's bodies); no nutation",
 }
 #: the most epochs one history answers (a 4 Myr history at a 40-year step)
 MAX_HISTORY_SAMPLES = 100_001

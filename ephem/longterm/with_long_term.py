@@ -24,9 +24,9 @@ from ..theory.interface import SpectrumExport, SpinAxisTheory
 from ..theory.results import Estimate
 
 NAME = "long_term"
-DESCRIPTION = ("the spin averaged over the rotation and the orbit, integrated (DOP853) along the long-term orbit "
-               "(the shipped N-body orbit where it covers the epochs, else the secular one): good over millennia, "
-               "without the nutation")
+DESCRIPTION = ("the spin averaged over the rotation and the orbit, integrated (a 4th-order splitting) along the "
+               "long-term orbit (the shipped N-body orbit where it covers the epochs, else the secular one): good "
+               "over millennia, without the nutation")
 #: the most epochs at which the long-term estimate is evaluated (it is smooth: the largest over a subsample)
 ESTIMATE_EPOCHS = 2001
 

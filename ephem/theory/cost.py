@@ -201,15 +201,18 @@ def synchronous_integration(span_days: float, epochs: int) -> Part:
                 + epochs * _u("dense_output_s"), years * _u("moon_mb_per_year") + epochs * _u("track_bytes_per_epoch") / MB)
 
 
-def spin_history(span_years: float, epochs: int) -> Part:
+def spin_history(span_years: float, epochs: int, steps_per_sample: int = 1) -> Part:
     """The averaged spin equation integrated over ``span_years`` (both sides of the epoch together) with its
-    neighbours (:func:`ephem.longterm.averaged_spin.integrate`), then the requested epochs. DOP853's steps follow the orbit's
-    spline, knot by knot (500 years), more than the precession: the work is per year of span."""
+    neighbours (:func:`ephem.longterm.averaged_spin.integrate`'s splitting), then the requested epochs. The steps
+    cut the orbit's 500-year samples in ``steps_per_sample`` (a power of two, :func:`ephem.longterm.averaged_spin.
+    split_steps` on the body's own orbit): the work is per year of span and per step. The unit is the shipped
+    catalogue's slowest per year at one step per sample (Eros, whose noisy orbit asks for 1.8 on average)."""
     return Part("stop_year", f"the averaged spin integrated over {span_years:.4g} years",
-                _u("base_s") + _u("spin_history_base_s") + span_years * _u("spin_history_s_per_year")
+                _u("base_s") + _u("spin_history_base_s")
+                + span_years * steps_per_sample * _u("spin_history_s_per_year")
                 + epochs * _u("history_epoch_s"),
                 _u("spin_history_base_mb") + epochs * _u("history_bytes_per_epoch") / MB
-                + span_years / 500.0 * _u("history_bytes_per_orbit_sample") / MB)
+                + span_years / 500.0 * steps_per_sample * _u("history_bytes_per_orbit_sample") / MB)
 
 
 def population(rows: int, sigma_inputs: int = 0, groups=()) -> Cost:

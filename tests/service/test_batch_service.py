@@ -74,8 +74,10 @@ def test_too_many_rows_say_to_use_the_cli(client):
 
 
 def test_a_history_over_the_budget_is_refused_before_the_work(client):
-    """Five histories over 10 Myr: 5 x (2.5e-6 s x 1e7 yr) = 125 s of predicted CPU against the 5 s budget."""
-    r = client.post("/v1/batch?start_year=-1e7&stop_year=0&step_years=1000", json=[ROW] * 5)
+    """Five histories over 20 Myr (the longest span): the predicted spin integrations alone (ephem.theory.cost.
+    spin_history, 1.6 s a row since the splitting of issue 33) pass the 5 s budget: refused before the work."""
+    assert 5 * cost.spin_history(2e7, 20_001).cpu_s > 5.0
+    r = client.post("/v1/batch?start_year=-2e7&stop_year=0&step_years=1000", json=[ROW] * 5)
     assert r.status_code == 422 and r.json()["type"].endswith("over-budget")
 
 
@@ -266,14 +268,16 @@ def test_a_history_row_is_priced_with_the_model_its_secular_spin_builds(client, 
 
 
 def test_a_history_is_priced_from_its_poles_epoch(client, monkeypatch):
-    """1000 years a million years ago: each history integrates from its pole's epoch (J2000.0) through the span, as
-    ephem.longterm.history.history_cost counts it, so a million years a row, not the thousand asked for; the end of the span
-    that sets it is named as the client wrote it."""
+    """1000 years 15 million years ago: each history integrates from its pole's epoch (J2000.0) through the span, as
+    ephem.longterm.history.history_cost counts it, so 15 million years a row, not the thousand asked for; the end of
+    the span that sets it is named as the client wrote it."""
     monkeypatch.setattr(population, "evaluate", _no_work)
-    span = {"start_year": -1_000_000, "stop_year": -999_000, "step_years": 100}
-    body = _problem(client.post("/v1/batch?start_year=-1000000&stop_year=-999000&step_years=100", json=[ROW] * 3),
-                    422, "over-budget")
+    span = {"start_year": -15_000_000, "stop_year": -14_999_000, "step_years": 100}
+    # 15 million years a row pass the 5 s budget in five rows, where the thousand asked for would not
+    assert 5 * cost.spin_history(15_000_000, 11).cpu_s > 5.0 > 5 * cost.spin_history(1_000, 11).cpu_s
+    body = _problem(client.post("/v1/batch?start_year=-15000000&stop_year=-14999000&step_years=100",
+                                json=[ROW] * 5), 422, "over-budget")
     assert body["errors"][0]["field"] == "start_year"
-    assert body["estimated_cpu_s"] >= 3 * cost.spin_history(1_000_000, 11).cpu_s
-    body = _problem(client.post("/v1/batch", json={"rows": [ROW] * 3, "history": span}), 422, "over-budget")
+    assert body["estimated_cpu_s"] >= 5 * cost.spin_history(15_000_000, 11).cpu_s
+    body = _problem(client.post("/v1/batch", json={"rows": [ROW] * 5, "history": span}), 422, "over-budget")
     assert body["errors"][0]["field"] == "history.start_year"
