@@ -5,13 +5,16 @@ theory with exact Hansen coefficients, the model the single-body answers serve b
 :func:`ephem.forced.precession_nutation.build_model` with ``order=None``), with numpy broadcasting over the bodies: no Python loop per
 body. Each step is the single-body one applied to columns (the same functions: ``kinoshita.scaling_factor``,
 ``geometry.spin_angles``, ``hansen.hansen_exact_many`` grouped by FFT length, ``kinoshita.nutation_coefficients``,
-the mean pole's fixed point ``kinoshita.mean_pole``, ``kinoshita.precession_rate``), so the outputs equal
+the mean pole's fixed point ``kinoshita.mean_pole`` on the nutation's θ-free sums, made once per row,
+``kinoshita.precession_rate``), so the outputs equal
 ``ephem.answers.requests.precession`` / ``ephem.answers.requests.nutation`` for the same body (tests/batch/test_population.py).
 
 A row the theory cannot take (a missing or impossible value, a slow rotator, an orbit too eccentric for the
 Fourier series, a pole normal to the orbit) gets its reason in ``error``, named by its column as the catalogue
 names a field, and NaN in the numbers; the other rows are untouched. ``*_sigma`` columns are propagated linearly
-(central differences of σ/100, the inputs independent) to ``*_uncertainty`` outputs. With a
+(the inputs independent) to ``*_uncertainty`` outputs: forward-mode derivatives through the theory
+(:mod:`ephem.batch.tangents`; central differences of σ/100 for the eccentricity, which moves the Hansen
+coefficients). With a
 :class:`HistorySpec`, each row's obliquity is integrated over the span (the averaged spin equation along the
 secular orbit, as :func:`ephem.answers.requests.history` with ``orbit_model="secular"``: a loop per body, seconds each).
 
@@ -31,14 +34,15 @@ from ..orbit.geometry import icrf_to_ecliptic_matrix, spin_angles, unit_vector
 from ..orbit.hansen import exact_available, fft_lengths, hansen_exact_many
 from ..bodies.inertia import hd_of_moments, moments_from_ellipsoid
 from ..orbit.kepler import mean_motion_rad_per_day
-from ..forced.kinoshita import (TERM_FLOOR, exact_series_floor, mean_pole, nutation_coefficients, precession_rate,
-                                scaling_factor)
+from ..forced.kinoshita import (TERM_FLOOR, exact_series_floor, mean_pole, nutation_coefficients,
+                                precession_rate, scaling_factor)
 from ..forced.precession_nutation import MIN_SPIN_ORBIT_RATIO
 from ..base.budget import prepaid
 from ..base.errors import EphemError, InvalidInputError
 from ..longterm.history import MAX_HISTORY_SAMPLES, history_grid, spin_axis_history
 from ..sun.family import SunLadder
 from ..theory import cost
+from .tangents import INERTIA_INPUTS, MEAN_ANOMALY_INPUTS, forward, geometry, hypot, nutation_sums, rowdot
 
 #: The input columns: name -> (unit, meaning). Required: name, the orbit, the pole, the period and one of the
 #: three inertia forms (dynamical_ellipticity, else the moments, else the ellipsoid's semi-axes).
@@ -75,6 +79,8 @@ UNCERTAIN = ("obliquity_deg", "dynamical_ellipticity", "scaling_factor_arcsec_pe
 #: central-difference step, a fraction of each input's σ (as :data:`ephem.forced.uncertainty.STEP_FRACTION`)
 STEP_FRACTION = 0.01
 MODEL = "hansen"
+#: how many nutation coefficients (rows x harmonics) the theory works on at once: 2^15 float64 (256 kB) per array
+CHUNK_ELEMENTS = 1 << 15
 
 
 def _term_columns() -> tuple[str, ...]:
@@ -127,15 +133,17 @@ class _Errors:
 
     def __init__(self, n: int):
         self.reason = np.full(n, "", dtype=object)
+        self._free = np.ones(n, dtype=bool)      # the rows without a reason (cheaper than comparing the text)
 
     def add(self, bad: np.ndarray, message) -> None:
-        new = np.asarray(bad) & (self.reason == "")
+        new = np.asarray(bad) & self._free
         for j in np.nonzero(new)[0]:       # only the bad rows are formatted
             self.reason[j] = message(j) if callable(message) else message
+            self._free[j] = not self.reason[j]
 
     @property
     def ok(self) -> np.ndarray:
-        return self.reason == ""
+        return self._free.copy()
 
 
 def _inertia(x: dict, errors: _Errors) -> np.ndarray:
@@ -199,10 +207,11 @@ def _check(x: dict, errors: _Errors) -> None:
 
 # --------------------------------------------------------------------------- the theory over columns
 
-def _theory(x: dict, ok: np.ndarray, errors: _Errors | None) -> dict:
+def _theory(x: dict, ok: np.ndarray, errors: _Errors | None, state: dict | None = None) -> dict:
     """The outputs for the rows ``ok`` of the inputs ``x`` (columns of floats, radians where the model wants
     them converted here); the others NaN. ``errors``: where a row's theory-level reason goes (None: a perturbed
-    evaluation of the uncertainties, whose rejected rows are only NaN)."""
+    evaluation of the uncertainties, whose rejected rows are only NaN). ``state`` (:func:`_sigma_state`): where
+    the mean pole's sums go for the uncertainties' derivatives (:func:`ephem.batch.tangents.forward`)."""
     n_rows = ok.size
     out = {k: np.full(n_rows, np.nan) for k in UNCERTAIN + ("_estimate",)}
     terms = {k: np.full(n_rows, np.nan) for k in _term_columns()}
@@ -231,36 +240,70 @@ def _theory(x: dict, ok: np.ndarray, errors: _Errors | None) -> dict:
     e = x["e"][rows]
     m_t0 = np.radians(x["mean_anomaly_deg"][rows]) + n * (x["pole_epoch_jd_tdb"][rows] - x["epoch_jd_tdb"][rows])
     per_year = JULIAN_YEAR_DAYS / ARCSEC
-    for group, k, c0, c2, s2 in hansen_exact_many(e):
-        g = group
+    for group, k, c0_group, c2_group, s2_group in hansen_exact_many(e):
         kk = k[1:].astype(float)
-        Kg, ng, eg, tg = K[g, None], n[g, None], eps[g], theta[g]
-        skm, ckm = np.sin(np.outer(m_t0[g], kk)), np.cos(np.outer(m_t0[g], kk))
-        last = {}
+        # the group's rows in chunks of CHUNK_ELEMENTS coefficients: the (rows, k) temporaries then stay in the cache
+        # (4-5x faster than whole groups); every number is the same (the work is row by row)
+        step = max(1, CHUNK_ELEMENTS // kk.size)
+        for start in range(0, group.size, step):
+            g = group[start:start + step]
+            c0, c2, s2 = (h[start:start + step, 1:] for h in (c0_group, c2_group, s2_group))
+            phase = np.outer(m_t0[g], kk)
+            skm, ckm = np.sin(phase), np.cos(phase)
+            # the nutation at the pole epoch from its θ-free sums A, B, C (tangents.nutation_sums): the sums of
+            # nutation_coefficients regrouped (a few 1e-16 relative), made once; the mean pole's passes are then
+            # numbers per row
+            sk, ck = skm / kk, ckm / kk
+            sums = (rowdot(c0, sk), rowdot(c2, sk), rowdot(s2, ck))
+            cg = 0.5 * K[g] / n[g]
+            last = {}
 
-        def nutation_at_pole_epoch(eps_trial, theta_trial):
-            coef = last["coef"] = nutation_coefficients(Kg, ng, eps_trial[:, None], theta_trial[:, None], kk,
-                                                         c0[:, 1:], c2[:, 1:], s2[:, 1:])
-            return np.sum(coef[0] * skm + coef[1] * ckm, axis=1), np.sum(coef[2] * skm + coef[3] * ckm, axis=1)
+            def nutation_at_pole_epoch(eps_trial, theta_trial):
+                last["pole"] = eps_trial, theta_trial
+                return nutation_sums(cg, eps_trial, theta_trial, *sums)
 
-        eps_mean = mean_pole(eg, tg, nutation_at_pole_epoch)[0]
-        lon_s, lon_c, obl_s, obl_c = last["coef"]
-        target = rows[g]
-        out["obliquity_deg"][target] = np.degrees(eps_mean)
-        out["dynamical_ellipticity"][target] = hd[g]
-        out["scaling_factor_arcsec_per_year"][target] = K[g] * per_year
-        out["precession_rate_arcsec_per_year"][target] = precession_rate(K[g], eps_mean, e[g], None) * per_year
-        _leading_terms(terms, target, kk, n[g], eps_mean, lon_s, lon_c, obl_s, obl_c)
-        out["_estimate"][target] = _exact_floor(eps_mean, lon_s, lon_c, obl_s, obl_c)
+            eps_mean = mean_pole(eps[g], theta[g], nutation_at_pole_epoch)[0]
+            # the series of the last pass (the mean pole it was made at), as the single-body model keeps it
+            eps_trial, theta_trial = last["pole"]
+            lon_s, lon_c, obl_s, obl_c = nutation_coefficients(K[g, None], n[g, None], eps_trial[:, None],
+                                                               theta_trial[:, None], kk, c0, c2, s2)
+            target = rows[g]
+            out["obliquity_deg"][target] = np.degrees(eps_mean)
+            out["dynamical_ellipticity"][target] = hd[g]
+            out["scaling_factor_arcsec_per_year"][target] = K[g] * per_year
+            out["precession_rate_arcsec_per_year"][target] = precession_rate(K[g], eps_mean, e[g], None) * per_year
+            out["_estimate"][target] = _terms_and_floor(terms, target, kk, n[g], eps_mean, lon_s, lon_c, obl_s,
+                                                        obl_c)
+            if state is not None:       # for the uncertainties' derivatives (tangents.forward): the sums, and in M
+                state["sums"][target] = np.stack(sums, axis=-1)
+                want = state["m_rows"][target]
+                if want.any():
+                    state["dsums"][target[want]] = np.stack([rowdot(c0[want], ckm[want]), rowdot(
+                        c2[want], ckm[want]), -rowdot(s2[want], skm[want])], axis=-1)
     return {**out, **terms}
 
 
-def _exact_floor(eps, lon_s, lon_c, obl_s, obl_c) -> np.ndarray:
-    """Each row's estimate as the single-body answer gives it (:func:`kinoshita.exact_series_floor`, radians):
-    the trailing harmonics whose four coefficients are under TERM_FLOOR (which the single-body series drops),
-    and the rounding of the others."""
-    disp = np.abs(np.sin(eps))[:, None] * np.hypot(lon_s, lon_c) + np.hypot(obl_s, obl_c)
-    big = np.max(np.abs(np.stack([lon_s, lon_c, obl_s, obl_c])), axis=0) >= TERM_FLOOR
+def _terms_and_floor(terms: dict, target, k, n, eps, lon_s, lon_c, obl_s, obl_c) -> np.ndarray:
+    """The :data:`LEADING_TERMS` largest terms of each row by the pole displacement each can make
+    (``kinoshita.pole_displacements``: |sin ε| |Δψ| + |Δε|), with the paper's amplitudes (Table 5's Amp: in
+    longitude (Sin² + Cos²)^½ sin ε, in obliquity (Sin² + Cos²)^½), in arcsec, and periods in days; returns each
+    row's estimate as the single-body answer gives it (:func:`kinoshita.exact_series_floor`, radians): the
+    trailing harmonics whose four coefficients are under TERM_FLOOR (which the single-body series drops), and
+    the rounding of the others."""
+    lon, obl = hypot(lon_s, lon_c) * np.abs(np.sin(eps))[:, None], hypot(obl_s, obl_c)
+    disp = lon + obl
+    # the first LEADING_TERMS of a stable sort by decreasing displacement: the largest, ties to the lowest k
+    # (argmax takes the first), NaN last, as np.argsort(-disp, kind="stable") orders them
+    score = np.where(np.isnan(disp), -1.0, disp)
+    pick = np.arange(disp.shape[0])
+    for j in range(min(LEADING_TERMS, disp.shape[1])):
+        col = np.argmax(score, axis=1)
+        score[pick, col] = -np.inf
+        terms[f"nutation_{j + 1}_multiple"][target] = k[col]
+        terms[f"nutation_{j + 1}_period_days"][target] = 2.0 * math.pi / (k[col] * n)
+        terms[f"nutation_{j + 1}_longitude_amplitude_arcsec"][target] = lon[pick, col] / ARCSEC
+        terms[f"nutation_{j + 1}_obliquity_amplitude_arcsec"][target] = obl[pick, col] / ARCSEC
+    big = np.maximum(np.maximum(np.abs(lon_s), np.abs(lon_c)), np.maximum(np.abs(obl_s), np.abs(obl_c))) >= TERM_FLOOR
     width = big.shape[1]
     last = np.where(big.any(axis=1), width - np.argmax(big[:, ::-1], axis=1), 0)
     tail = np.where(np.arange(width)[None, :] >= last[:, None], disp, 0.0).sum(axis=1)
@@ -271,22 +314,6 @@ def _scatter(rows: np.ndarray, mask: np.ndarray, n_rows: int) -> np.ndarray:
     full = np.zeros(n_rows, dtype=bool)
     full[rows[mask]] = True
     return full
-
-
-def _leading_terms(terms: dict, target, k, n, eps, lon_s, lon_c, obl_s, obl_c) -> None:
-    """The :data:`LEADING_TERMS` largest terms of each row by the pole displacement each can make
-    (``kinoshita.pole_displacements``: |sin ε| |Δψ| + |Δε|), with the paper's amplitudes (Table 5's Amp: in
-    longitude (Sin² + Cos²)^½ sin ε, in obliquity (Sin² + Cos²)^½), in arcsec, and periods in days."""
-    sin_eps = np.abs(np.sin(eps))[:, None]
-    lon, obl = np.hypot(lon_s, lon_c) * sin_eps, np.hypot(obl_s, obl_c)
-    order = np.argsort(-(lon + obl), axis=1, kind="stable")[:, :LEADING_TERMS]
-    pick = np.arange(order.shape[0])[:, None]
-    for j in range(min(LEADING_TERMS, order.shape[1])):
-        col = order[:, j]
-        terms[f"nutation_{j + 1}_multiple"][target] = k[col]
-        terms[f"nutation_{j + 1}_period_days"][target] = 2.0 * math.pi / (k[col] * n)
-        terms[f"nutation_{j + 1}_longitude_amplitude_arcsec"][target] = lon[pick[:, 0], col] / ARCSEC
-        terms[f"nutation_{j + 1}_obliquity_amplitude_arcsec"][target] = obl[pick[:, 0], col] / ARCSEC
 
 
 # --------------------------------------------------------------------------- the public entry
@@ -337,10 +364,11 @@ def evaluate(columns: Mapping, history: HistorySpec | None = None) -> dict[str, 
         _check(x, errors)
         x["_hd"] = _inertia(x, errors)
         errors.add(~np.isfinite(x["_hd"]), "inertia: H_d is not a finite number for these values")
-        result = _theory(x, errors.ok, errors)
+        state = _sigma_state(columns, n_rows) if sigma_inputs(columns) else None
+        result = _theory(x, errors.ok, errors, state)
         errors.add(~np.all([np.isfinite(result[k]) for k in UNCERTAIN], axis=0),
                    "the theory's values are not finite numbers for these inputs")
-        result.update(_uncertainties(columns, x, errors.ok))
+        result.update(_uncertainties(columns, x, errors.ok, state))
     bad = ~errors.ok
     for key in UNCERTAIN + _term_columns():
         result[key][bad] = np.nan
@@ -357,42 +385,82 @@ def evaluate(columns: Mapping, history: HistorySpec | None = None) -> dict[str, 
     return out
 
 
-def _uncertainties(columns: Mapping, x: dict, ok: np.ndarray) -> dict:
-    """Linear 1σ of :data:`UNCERTAIN` from the ``<column>_sigma`` columns given (central differences of
-    :data:`STEP_FRACTION` σ, the inputs independent); NaN where a row has no σ, or where a step of σ/100 leaves the
-    theory's domain (e ± σ/100 beyond [0, 1), a pole stepped onto the orbit normal: no central difference, so the
-    σ is unknown rather than a guess)."""
+def _uncertainties(columns: Mapping, x: dict, ok: np.ndarray, state: dict) -> dict:
+    """Linear 1σ of :data:`UNCERTAIN` from the ``<column>_sigma`` columns given, the inputs independent: σ_out² =
+    Σ (∂out/∂in σ_in)². The derivatives are forward-mode through the theory (:func:`ephem.batch.tangents.forward`:
+    exact, the rows not evaluated again), but for :data:`DIFFERENCED_INPUTS` (central differences of
+    :data:`STEP_FRACTION` σ). NaN where a row has no σ, or where a step of σ/100 leaves the theory's domain
+    (e ± σ/100 beyond [0, 1), a pole stepped onto the orbit normal: the σ is unknown rather than a guess; the
+    derivatives are checked at the same steps, :func:`_outside`)."""
     n_rows = ok.size
     var = {k: np.zeros(n_rows) for k in UNCERTAIN}
-    any_sigma = np.zeros(n_rows, dtype=bool)
-    unknown = np.zeros(n_rows, dtype=bool)
+    any_sigma, unknown = np.zeros(n_rows, dtype=bool), np.zeros(n_rows, dtype=bool)
     for key in SIGMA_INPUTS:
-        sigma = _floats(columns, f"{key}_sigma", n_rows) if f"{key}_sigma" in columns else None
-        if sigma is None:
-            continue
+        sigma = _floats(columns, f"{key}_sigma", n_rows) if f"{key}_sigma" in columns else np.full(n_rows, np.nan)
         has = ok & np.isfinite(sigma) & (sigma > 0.0)
         if not has.any():
             continue
         any_sigma |= has
-        h = np.where(has, STEP_FRACTION * sigma, 0.0)
-        ends = []
-        for sign in (1.0, -1.0):
-            moved = dict(x)
-            moved[key] = x[key] + sign * h
-            inside = _Errors(n_rows)
-            _check(moved, inside)
-            moved["_hd"] = _inertia(moved, inside) if key in _INERTIA_INPUTS else x["_hd"]
-            unknown |= has & ~inside.ok
-            ends.append(_theory(moved, has & inside.ok, None))
-        for k in UNCERTAIN:
+        rows = np.nonzero(has)[0]
+        if key in DIFFERENCED_INPUTS:
+            h = np.where(has, STEP_FRACTION * sigma, 0.0)
+            ends = []
+            for sign in (1.0, -1.0):
+                moved = dict(x)
+                moved[key] = x[key] + sign * h
+                inside = _Errors(n_rows)
+                _check(moved, inside)
+                moved["_hd"] = _inertia(moved, inside) if key in INERTIA_INPUTS else x["_hd"]
+                unknown |= has & ~inside.ok
+                ends.append(_theory(moved, has & inside.ok, None))
             with np.errstate(invalid="ignore"):
-                slope = (ends[0][k] - ends[1][k]) / np.where(has, 2.0 * h, 1.0)
-            unknown |= has & ~np.isfinite(slope)
-            var[k] += np.where(has & np.isfinite(slope), (slope * np.where(has, sigma, 0.0)) ** 2, 0.0)
+                slopes = {k: (ends[0][k][rows] - ends[1][k][rows]) / (2.0 * h[rows]) for k in UNCERTAIN}
+        else:
+            unknown[rows] |= _outside(x, rows, key, STEP_FRACTION * sigma[rows])
+            per_year = (1.0, 1.0, JULIAN_YEAR_DAYS / ARCSEC, JULIAN_YEAR_DAYS / ARCSEC)     # K, ψ̇ in rad/day
+            slopes = {k: d * unit for k, d, unit in zip(UNCERTAIN, forward(
+                {k: v[rows] for k, v in x.items()}, state["sums"][rows], state["dsums"][rows], key), per_year)}
+        for k in UNCERTAIN:
+            term = slopes[k] * sigma[rows]
+            unknown[rows[~np.isfinite(term)]] = True
+            var[k][rows] += np.where(np.isfinite(term), term, 0.0) ** 2
     return {f"{k}_uncertainty": np.where(any_sigma & ~unknown, np.sqrt(var[k]), np.nan) for k in UNCERTAIN}
 
 
-_INERTIA_INPUTS = ("dynamical_ellipticity", "moment_a", "moment_b", "moment_c", "axis_a_km", "axis_b_km", "axis_c_km")
+def _sigma_state(columns: Mapping, n_rows: int) -> dict:
+    """Where :func:`_theory` leaves the mean pole's sums A, B, C per row (and their derivatives in M for the rows
+    with a σ of a or of the mean anomaly, which move M(t0)) for :func:`ephem.batch.tangents.forward`."""
+    m_rows = np.zeros(n_rows, dtype=bool)
+    for key in MEAN_ANOMALY_INPUTS:
+        sigma = _floats(columns, f"{key}_sigma", n_rows)
+        m_rows |= np.isfinite(sigma) & (sigma > 0.0)
+    return {"sums": np.full((n_rows, 3), np.nan), "dsums": np.full((n_rows, 3), np.nan), "m_rows": m_rows}
+
+
+#: the inputs whose σ goes by central differences: they move the Hansen coefficients (a new FFT per step)
+DIFFERENCED_INPUTS = ("e",)
+
+
+def _outside(x: dict, rows: np.ndarray, key: str, h: np.ndarray) -> np.ndarray:
+    """Whether ``key`` stepped by ± ``h`` takes each of ``rows`` out of the theory's domain, as a central
+    difference's evaluations find it: the row's checks, a slow rotation, a pole on the orbit normal; or h = 0 (a σ
+    whose hundredth underflows: no step to take)."""
+    sub = {k: v[rows] for k, v in x.items()}
+    out = h == 0.0
+    for sign in (1.0, -1.0):
+        moved = dict(sub)
+        moved[key] = sub[key] + sign * h
+        inside = _Errors(rows.size)
+        _check(moved, inside)
+        if key in INERTIA_INPUTS:
+            out |= ~np.isfinite(_inertia(moved, inside))
+        out |= ~inside.ok
+        if key in ("a_au", "rotation_period_hours"):      # the other checks pass as the row's own did
+            n = mean_motion_rad_per_day(moved["a_au"])
+            out |= spin_rate_rad_per_day(moved["rotation_period_hours"]) / n < MIN_SPIN_ORBIT_RATIO
+        elif key in ("pole_ra_deg", "pole_dec_deg", "i_deg", "node_deg", "peri_deg"):
+            out |= ~np.isfinite(geometry(moved)[1])
+    return out
 
 
 def _histories(columns: Mapping, x: dict, ok: np.ndarray, spec: HistorySpec) -> dict:
@@ -449,7 +517,8 @@ def batch_cost(rows: int, history: HistorySpec | None = None, sigma_inputs: int 
             members = good[counts == n]
             worst = int(members[np.argmax(x["e"][members])])    # the row whose eccentricity sets the group's K
             groups.append((members.size, int(n), cost.harmonics(float(x["e"][worst]), None)[1], f"rows[{worst}].e"))
-    total = cost.population(rows, sigma_inputs, groups)
+    total = cost.population(rows, sigma_inputs, groups, None if columns is None else
+                            sum(f"{k}_sigma" in columns for k in DIFFERENCED_INPUTS))
     if history is None or not rows:
         return total
     epochs = history_epochs(history)

@@ -215,21 +215,25 @@ def spin_history(span_years: float, epochs: int, steps_per_sample: int = 1) -> P
                 + span_years / 500.0 * steps_per_sample * _u("history_bytes_per_orbit_sample") / MB)
 
 
-def population(rows: int, sigma_inputs: int = 0, groups=()) -> Cost:
+def population(rows: int, sigma_inputs: int = 0, groups=(), differenced: int | None = None) -> Cost:
     """A partition of ``rows`` bodies through the population core (:func:`ephem.batch.population.evaluate`).
 
     Every body costs a fixed part (the parsing, the checks, the geometry on columns). ``groups``: the rows that
     reach the Hansen coefficients, as :func:`ephem.orbit.hansen.hansen_exact_many` groups them by FFT length, each
     ``(count, N, K, parameter)``: each row pays the FFT of its own eccentricity (:func:`hansen_fft_s`, the
     single-body formula: the large step, 0.19 s a row at e = 0.99) and the theory over its group's ``K``
-    harmonics (the mean pole's passes, the sines of the mean anomaly, the sort of the leading terms). Each input
-    with a sigma column evaluates the rows twice more. The groups' coefficients stay in memory until the theory
-    ends, so each group's part carries the memory of those before it: the last one is the peak. Without
-    ``groups`` (the eccentricities unknown) the estimate is that of the low eccentricities of a main-belt
-    population, which the fixed part covers.
+    harmonics (the sines of the mean anomaly, the last pass's series, the leading terms). Of the ``sigma_inputs``
+    inputs with a sigma column, the ``differenced`` ones (the eccentricity's: central differences,
+    :data:`ephem.batch.population.DIFFERENCED_INPUTS`; None: all of them, when the columns are unknown) evaluate
+    the rows twice more; the others cost a part per row (forward-mode derivatives, :mod:`ephem.batch.tangents`,
+    and the checks of the steps). The groups' coefficients stay in memory until the theory ends, so each group's
+    part carries the memory of those before it: the last one is the peak. Without ``groups`` (the eccentricities
+    unknown) the estimate is that of the low eccentricities of a main-belt population, which the fixed part
+    covers.
     """
-    evaluations = 1 + 2 * sigma_inputs
-    per_row = _u("population_row_s") + sigma_inputs * _u("population_sigma_row_s")
+    differenced = sigma_inputs if differenced is None else min(differenced, sigma_inputs)
+    evaluations = 1 + 2 * differenced
+    per_row = evaluations * _u("population_row_s") + (sigma_inputs - differenced) * _u("population_sigma_row_s")
     fixed = Part("rows", f"{rows} bodies through the theory on columns"
                  + (f", {sigma_inputs} inputs with a sigma" if sigma_inputs else ""),
                  _u("population_base_s") + rows * per_row, rows * _u("population_row_bytes") / MB)
