@@ -85,11 +85,12 @@ def _solve_kepler_many(reduced: np.ndarray, e: np.ndarray) -> np.ndarray:
     sm, cm = np.sin(m), np.cos(m)
     series = m + e * sm * (1.0 + e * cm + 0.5 * e * e * (3.0 * cm * cm - 1.0))
     E = np.where(e < 0.3, series, np.minimum(m + 0.85 * e, np.pi))
-    eps = np.finfo(float).eps
+    eps, tiny = np.finfo(float).eps, np.finfo(float).tiny
     for _ in range(200):
         residual = E - e * np.sin(E) - m
         E = E - residual / (1.0 - e * np.cos(E))
-        if np.all(np.abs(residual) <= 4.0 * eps * (E + m)):
+        # + tiny: at m = 0 Newton can settle on a subnormal E whose residual E (1 - e) never meets a relative test
+        if np.all(np.abs(residual) <= 4.0 * eps * (E + m) + tiny):
             break
     else:  # pragma: no cover - monotone Newton always converges
         raise RuntimeError("Kepler solver did not converge")
@@ -104,7 +105,7 @@ def solve_kepler_scalar(m: float, e: float) -> float:
     for _ in range(200):
         residual = ecc - e * math.sin(ecc) - x
         ecc -= residual / (1.0 - e * math.cos(ecc))
-        if abs(residual) <= 4.0 * 2.220446049250313e-16 * (ecc + x):
+        if abs(residual) <= 4.0 * 2.220446049250313e-16 * (ecc + x) + 2.2250738585072014e-308:   # as above
             break
     return math.copysign(ecc, reduced)
 
