@@ -35,10 +35,11 @@ from ..orbit.hansen import exact_available, fft_lengths, hansen_exact_many
 from ..bodies.inertia import hd_of_moments, moments_from_ellipsoid
 from ..orbit.kepler import mean_motion_rad_per_day
 from ..forced.kinoshita import (TERM_FLOOR, exact_series_floor, mean_pole, nutation_coefficients,
-                                precession_rate, scaling_factor)
+                                eccentricity_factor, precession_rate, scaling_factor)
 from ..forced.precession_nutation import MIN_SPIN_ORBIT_RATIO
 from ..base.budget import prepaid
 from ..base.errors import EphemError, InvalidInputError
+from ..longterm.averaged_spin import steps_per_sample
 from ..longterm.history import MAX_HISTORY_SAMPLES, history_grid, spin_axis_history
 from ..sun.family import SunLadder
 from ..theory import cost
@@ -540,10 +541,10 @@ def batch_cost(rows: int, history: HistorySpec | None = None, sigma_inputs: int 
         span = max(hi, t0) - min(lo, t0)
         if span > widest:
             far = "start_year" if t0 - lo > hi - t0 else "stop_year"
-        spin = cost.spin_history(span, epochs)
-        e = float(x["e"][j])
-        k = cost.spin_harmonics(e, float(x["a_au"][j]), float(x["_hd"][j]),
-                                spin_rate_rad_per_day(float(x["rotation_period_hours"][j])))
+        (e, a, hd), w = (float(x[c][j]) for c in ("e", "a_au", "_hd")), spin_rate_rad_per_day(float(x["rotation_period_hours"][j]))
+        # the splitting's steps from the row's precession constant α = (K/2) (1 - e²)^(-3/2), rad/yr
+        alpha = 0.5 * scaling_factor(mean_motion_rad_per_day(a), w, hd) * eccentricity_factor(e) * JULIAN_YEAR_DAYS
+        spin, k = cost.spin_history(span, epochs, steps_per_sample(alpha)), cost.spin_harmonics(e, a, hd, w)
         model = cost.Cost((cost.hansen_build(e, None), cost.half_peak_to_peak(e, None, k)))
         spin_cpu, model_cpu = spin_cpu + spin.cpu_s, model_cpu + model.cpu_s
         spin_mb, model_mb = max(spin_mb, spin.memory_mb), max(model_mb, model.memory_mb)

@@ -118,8 +118,13 @@ class SpinConstants:
         scale = 1.0 + math.hypot(self.constant_sigma or 0.0, DEFAULT_CONSTANT_PROBE) \
             + abs(self.constant_drift) * span_years
         rate = (abs(self.orbit_constant) + abs(self.fixed_constant)) * scale + abs(self.geodesic_rate)
-        steps = int(split_steps(np.array([rate * ORBIT_SAMPLE_YEARS]), np.zeros(1))[0])
-        return spin_history(span_years, epochs, steps)
+        return spin_history(span_years, epochs, steps_per_sample(rate))
+
+
+def steps_per_sample(rate_rad_per_year: float) -> int:
+    """The splitting's steps per orbit sample (:func:`split_steps`) for a precession rate bound |α| + |Ω_gp|
+    (rad/yr), the orbit normal's turn aside: what a history's cost is priced at before its orbit is sampled."""
+    return int(split_steps(np.array([abs(rate_rad_per_year) * ORBIT_SAMPLE_YEARS]), np.zeros(1))[0])
 
 
 @dataclass(frozen=True)
