@@ -20,6 +20,7 @@ the nutation, and the periodic part of the instantaneous geodesic rate) is an er
 """
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass
 
@@ -29,7 +30,9 @@ from ..bodies.catalogue import DEFAULT_DATASET, Body, resolve_body
 from ..base.errors import InvalidInputError, NotApplicableError
 from ..orbit.geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from ..orbit.hansen import LAPLACE_LIMIT, exact_unavailable
-from ..orbit.harmonics import MAX_SHIFT, cos_sin_shifted, uniform_cos_sin
+from ..base.budget import checkpoint
+from ..orbit.harmonics import (BLOCK_BYTES, MAX_POWER_BASIS_TERMS, MAX_SHIFT, HarmonicSums, cos_sin_into,
+                                shift_factors, uniform_cos_sin)
 from ..orbit.kepler import mean_motion_rad_per_day
 from ..orbit.relativity import geodesic_precession_rate
 from ..base.memo import bytes_bounded
@@ -109,12 +112,9 @@ class PrecessionNutation:
         return psi, dpsi, deps, self.obliquity + deps
 
     def angles_grid(self, jd_start: float, step_days: float, count: int):
-        """As :meth:`angles` on the grid t_j = jd_start + j step_days (no trig per epoch)."""
-        t = jd_start + step_days * np.arange(count)
-        m_start = float(self.mean_anomaly(jd_start))
-        dpsi, deps = self.nutation.evaluate_uniform(m_start, self.mean_motion * step_days, count)
-        psi = self.track_rate * (t - self.pole_epoch) + dpsi
-        return t, psi, dpsi, deps, self.obliquity + deps
+        """As :meth:`angles` on the grid t_j = jd_start + j step_days: (t, ψ, Δψ, Δε, ε), no trigonometric call
+        per epoch (:meth:`_kernel`)."""
+        return self._kernel(_Epochs(None, jd_start, step_days, count), pole=False)[:5]
 
     def first_order_error_bound(self, span_days: float) -> float:
         """Estimated upper bound (radians) on the pole error the first-order theory leaves over a span.
@@ -145,31 +145,157 @@ class PrecessionNutation:
         return np.stack([se * np.sin(psi), se * np.cos(psi), np.cos(eps)], axis=-1)
 
     def track(self, jd_tdb) -> Track:
-        """Track at any epochs (JD TDB)."""
+        """Track at any epochs (JD TDB, any shape and order): the numbers of the plain path
+        ``track_from_angles(t, *angles(t))`` (numpy's sin, cos, arctan2 at every epoch; the reference the tests
+        hold this to) to ~1e-15 rad, by :meth:`_kernel` (no sin or cos per epoch)."""
         t = np.asarray(jd_tdb, dtype=float)
-        return self.track_from_angles(t, *self.angles(t))
+        flat = t.reshape(-1)
+        _, psi, dpsi, deps, eps, ra, dec = self._kernel(_Epochs(flat, 0.0, 0.0, flat.size), pole=True)
+        return Track(t, *(a.reshape(t.shape) for a in (psi, dpsi, deps, eps, ra, dec)))
 
     def track_grid(self, jd_start: float, step_days: float, count: int) -> Track:
-        """Track on an evenly spaced grid: the same numbers as :meth:`track`, faster.
+        """Track on the evenly spaced grid t_j = jd_start + j step_days: the numbers of :meth:`track` at those
+        epochs, faster (the nutation by one matrix product per block with a table all blocks share, no cos M at
+        all: :meth:`_kernel`)."""
+        return Track(*self._kernel(_Epochs(None, jd_start, step_days, count), pole=True))
 
-        ψ = ψ̇ (t - t0) + Δψ and ε = ε̄0 + Δε: the linear part of ψ is evenly spaced
-        (angle addition) and the nutation is small (short Taylor series), so no
-        trigonometric call per epoch remains but the final atan2's; the pole is
-        computed by cache-sized blocks.
+    def _kernel(self, epochs: _Epochs, pole: bool):
+        """(t, ψ, Δψ, Δε, ε, RA, Dec) at the epochs (RA, Dec None without ``pole``), by blocks that stay in cache,
+        written in place into one array (its rows), with no sin or cos per epoch:
+
+        * Δψ, Δε: on a grid, one matrix product per block of the harmonics' coefficients rotated to each
+          sub-block's start with a table shared by all (:class:`UniformHarmonics`); at any
+          epochs from cos M and sin M (a table of 4096 angles and a short Taylor series,
+          :func:`ephem.orbit.harmonics.cos_sin_into`) by a power table and one matrix product
+          (:class:`ephem.orbit.harmonics.HarmonicSums`);
+        * ψ = ψ̇ (t - t0) + Δψ and ε = ε̄0 + Δε, the same operations as :meth:`angles`;
+        * the pole: cos and sin of ε, and the rotation by ψ folded into the orbit-to-ICRF matrix, by a Taylor
+          series about the block's middle ψ and ε with the terms the block's spread needs
+          (:func:`ephem.orbit.harmonics.shift_factors`; the 4096-angle table where a block spreads beyond
+          0.01 rad: a fast precession, unsorted epochs, large steps, a large nutation);
+        * RA: the block's middle RA_r plus atan u, u = tan(RA - RA_r) from cross and dot products of v's
+          equatorial part with v_r's, by its odd Taylor series (:func:`_ra_into`; numpy's arctan2 where the block
+          strays too far in RA: near the celestial poles, fast tracks); Dec = arcsin v_z (atan2(v_z, hypot(v_x,
+          v_y)) where a block may reach |v_z| > 0.9: near the poles arcsin would amplify v's rounding). With
+          numpy's AVX-512 kernels arctan2 and arcsin cost a quarter and a sixth of a numpy.sin, the RA series as
+          much as arctan2; on CPUs (or numpy builds) without them arctan2 costs a whole sin, the series a third.
         """
-        t, psi, dpsi, deps, eps = self.angles_grid(jd_start, step_days, count)
-        if count == 0 or max(np.max(np.abs(dpsi)), np.max(np.abs(deps))) > MAX_SHIFT:
-            return self.track_from_angles(t, psi, dpsi, deps, eps)
-        ra = np.empty(count)
-        dec = np.empty(count)
-        psi_start = self.track_rate * (jd_start - self.pole_epoch)
-        ce0, se0 = math.cos(self.obliquity), math.sin(self.obliquity)
-        for start, c, s in uniform_cos_sin(psi_start, self.track_rate * step_days, count):
-            sl = slice(start, start + c.size)
-            cos_psi, sin_psi = cos_sin_shifted(c, s, dpsi[sl])
-            cos_eps, sin_eps = cos_sin_shifted(ce0, se0, deps[sl])
-            self._pole_into(sin_eps * sin_psi, sin_eps * cos_psi, cos_eps, ra[sl], dec[sl])
-        return Track(t, psi, dpsi, deps, eps, ra, dec)
+        count = epochs.count
+        grid = epochs.given is None
+        rows = (5 if grid else 4) + (2 if pole else 0)
+        out = np.empty((rows, count))          # one allocation: fresh pages cost more than the arithmetic here
+        if grid:
+            t, psi, nut, eps = out[0], out[1], out[2:4], out[4]
+        else:
+            t, psi, nut, eps = epochs.given, out[0], out[1:3], out[3]
+        ra, dec = (out[-2], out[-1]) if pole else (None, None)
+        series = self.nutation
+        sin_coef, cos_coef = series._sin_coef, series._cos_coef
+        kmax = series.multiple.size
+        uniform = grid and kmax <= MAX_POWER_BASIS_TERMS
+        if uniform:
+            m_start = float(self.mean_anomaly(epochs.start))
+            harmonics = UniformHarmonics(m_start, self.mean_motion * epochs.step, sin_coef, cos_coef, count)
+            block = harmonics.sub * max(1, _KERNEL_BLOCK // harmonics.sub)
+        else:
+            sums = HarmonicSums(series.multiple, sin_coef, cos_coef, count, cap=_KERNEL_BLOCK)
+            block = sums.block
+        work = np.empty((_KERNEL_ROWS, block))
+        if grid:
+            index = np.arange(block, dtype=float)
+            if not uniform:
+                m_start = float(self.mean_anomaly(epochs.start))
+                angles = uniform_cos_sin(m_start, self.mean_motion * epochs.step, count, block, work[:3])
+        rate, t0, eps0 = self.track_rate, self.pole_epoch, self.obliquity
+        for start in range(0, count, block):
+            checkpoint()
+            m = min(block, count - start)
+            sl = slice(start, start + m)
+            tb, pb, eb = t[sl], psi[sl], eps[sl]
+            if grid:
+                np.add(index[:m], float(start), out=tb)      # t = jd_start + step j, as np.arange makes it
+                tb *= epochs.step
+                tb += epochs.start
+            if uniform:
+                harmonics.into(start, m, nut[:, sl])
+            else:
+                if grid:
+                    _, c, s = next(angles)
+                else:
+                    c, s, mb = work[0, :m], work[1, :m], work[2, :m]
+                    np.subtract(tb, self.orbit_epoch, out=mb)   # M = M0 + n (t - t_orb), as mean_anomaly
+                    mb *= self.mean_motion
+                    mb += self.mean_anomaly_at_epoch
+                    cos_sin_into(mb, c, s, work[3:7, :m])
+                sums.into(c, s, nut[:, sl])
+            np.subtract(tb, t0, out=pb)                      # ψ = ψ̇ (t - t0) + Δψ, as angles
+            pb *= rate
+            pb += nut[0, sl]
+            np.add(nut[1, sl], eps0, out=eb)                 # ε = ε̄0 + Δε
+            if pole:
+                self._pole_block(pb, eb, ra[sl], dec[sl], work[:, :m])
+        return t, psi, nut[0], nut[1], eps, ra, dec
+
+    def _pole_block(self, psi, eps, ra, dec, work) -> None:
+        """RA in [0, 2π) and Dec of the pole at one block's ψ, ε (see :meth:`_kernel`), into ra, dec."""
+        ce, se, vx, vy, vz, cd, sd, tmp = work[:8]
+        eps_ref, eps_spread = _spread(eps)
+        if eps_spread <= MAX_SHIFT:                 # cos ε, sin ε about the middle ε_r
+            np.subtract(eps, eps_ref, out=work[8])
+            sd = shift_factors(work[8], eps_spread, cd, sd, work[9])
+            c0, s0 = math.cos(eps_ref), math.sin(eps_ref)
+            np.multiply(cd, c0, out=ce)
+            np.multiply(sd, s0, out=tmp)
+            ce -= tmp
+            np.multiply(cd, s0, out=se)
+            np.multiply(sd, c0, out=tmp)
+            se += tmp
+        else:
+            cos_sin_into(eps, ce, se, work[7:11])
+        r = self.icrf_from_orbit
+        signs = (-1.0, -1.0, 1.0)                   # v_x, v_y negated: RA = atan2(-v_y, -v_x) + π
+        psi_ref, psi_spread = _spread(psi)
+        cd, sd = work[5], work[6]
+        if psi_spread <= MAX_SHIFT:
+            # v = sin ε (sin ψ a + cos ψ b) + cos ε w (a, b, w: the matrix's columns) with ψ = ψ_r + δ:
+            # sin ψ a + cos ψ b = cos δ p + sin δ q, p = sin ψ_r a + cos ψ_r b, q = cos ψ_r a - sin ψ_r b
+            np.subtract(psi, psi_ref, out=work[8])
+            sd = shift_factors(work[8], psi_spread, cd, sd, work[9])
+            cr, sr = math.cos(psi_ref), math.sin(psi_ref)
+            for v, row, sign in zip((vx, vy, vz), r, signs):
+                np.multiply(cd, sign * (sr * row[0] + cr * row[1]), out=v)
+                np.multiply(sd, sign * (cr * row[0] - sr * row[1]), out=tmp)
+                v += tmp
+                v *= se
+                np.multiply(ce, sign * row[2], out=tmp)
+                v += tmp
+        else:
+            cos_sin_into(psi, cd, sd, work[7:11])          # cos ψ, sin ψ
+            sd *= se                                        # the orbit-frame pole (sin ε sin ψ, sin ε cos ψ, cos ε)
+            cd *= se
+            for v, row, sign in zip((vx, vy, vz), r, signs):
+                np.multiply(sd, sign * row[0], out=v)
+                np.multiply(cd, sign * row[1], out=tmp)
+                v += tmp
+                np.multiply(ce, sign * row[2], out=tmp)
+                v += tmp
+        # how far v strays from its value v_r at the block's middle epoch: at most the spreads of ψ and ε there
+        # (|∂v/∂ψ| = sin ε <= 1, |∂v/∂ε| = 1), plus v's rounding; None where a spread was not measured
+        mid = psi.size // 2
+        stray = psi_spread + eps_spread + 1e-15 if psi_spread <= MAX_SHIFT and eps_spread <= MAX_SHIFT else None
+        _ra_into(vx, vy, mid, stray, ra, cd, work[6], tmp)
+        if stray is not None:
+            z_bound = abs(float(vz[mid])) + stray
+        else:
+            z_bound = max(-float(vz.min()), float(vz.max()))
+        if z_bound <= _ARCSIN_DEC_LIMIT:
+            np.arcsin(vz, out=dec)
+        else:
+            np.multiply(vx, vx, out=tmp)
+            np.multiply(vy, vy, out=cd)
+            tmp += cd
+            np.sqrt(tmp, out=tmp)
+            np.arctan2(vz, tmp, out=dec)
 
     def track_from_angles(self, t, psi, dpsi, deps, eps) -> Track:
         """The track whose angles (radians) at the epochs ``t`` are given (any theory's ψ, Δψ, Δε, ε in this
@@ -181,15 +307,160 @@ class PrecessionNutation:
         return Track(t, psi, dpsi, deps, eps, ra, dec)
 
     def _pole_into(self, x, y, z, ra, dec) -> None:
-        """RA in [0, 2π) and Dec of the orbit-frame unit vectors (x, y, z), written into ra, dec."""
+        """RA in [0, 2π) and Dec of the orbit-frame unit vectors (x, y, z), written into ra, dec (the plain path:
+        numpy's arctan2 at every epoch)."""
         r = self.icrf_from_orbit
         xi = r[0, 0] * x + r[0, 1] * y + r[0, 2] * z
         yi = r[1, 0] * x + r[1, 1] * y + r[1, 2] * z
         zi = r[2, 0] * x + r[2, 1] * y + r[2, 2] * z
         np.arctan2(yi, xi, out=ra)
-        ra += (ra < 0.0) * (2.0 * math.pi)
+        ra += (ra < 0.0) * _TWO_PI
+        ra[ra >= _TWO_PI] = 0.0   # -1e-17 + 2π rounds to 2π: RA = 0
         np.arctan2(zi, np.sqrt(xi * xi + yi * yi), out=dec)  # unit vectors: no overflow to guard
 
+
+#: points per sub-block of :class:`UniformHarmonics` (its shared table, 2 kmax rows of them, stays in cache)
+_GRID_SUB = 2048
+
+
+class UniformHarmonics:
+    """Σ_k S[k, j] sin(k x) + C[k, j] cos(k x), k = 1..kmax, on the even grid x_i = x_start + i x_step, i < count,
+    by sub-blocks of :attr:`sub` points with no sin or cos per point and no table per block.
+
+    On a sub-block x = x_s + θ_j (θ_j = j x_step, j < sub), harmonic k is cos kθ_j (S sin kx_s + C cos kx_s) +
+    sin kθ_j (S cos kx_s - C sin kx_s): the sums of all the sub-blocks are one matrix product of their rotated
+    coefficients (one cos and sin of k x_s per harmonic and sub-block) with one table cos kθ_j, sin kθ_j shared by
+    every sub-block (kθ by angle addition in k, from one cos and sin of θ_j). For few harmonics (the kernel's, up
+    to :data:`ephem.orbit.harmonics.MAX_POWER_BASIS_TERMS`): the coefficients cost 2 kmax sin/cos per sub-block.
+    """
+
+    def __init__(self, x_start: float, x_step: float, sin_coef: np.ndarray, cos_coef: np.ndarray, count: int):
+        self.x_start, self.x_step = float(x_start), float(x_step)
+        self.sin_coef, self.cos_coef = np.asarray(sin_coef, dtype=float), np.asarray(cos_coef, dtype=float)
+        kmax = self.sin_coef.shape[0]
+        self.k = np.arange(1.0, kmax + 1.0)
+        self.sub = max(1, min(_GRID_SUB, count, BLOCK_BYTES // (16 * max(kmax, 1))))
+        theta = self.x_step * np.arange(self.sub)
+        c1, s1 = np.cos(theta), np.sin(theta)
+        table = np.empty((2 * kmax, self.sub))       # rows: cos kθ, k = 1..kmax, then sin kθ
+        if kmax:
+            table[0], table[kmax] = c1, s1
+        for k in range(1, kmax):
+            ck, sk = table[k - 1], table[kmax + k - 1]
+            np.multiply(ck, c1, out=table[k])
+            table[k] -= sk * s1
+            np.multiply(sk, c1, out=table[kmax + k])
+            table[kmax + k] += ck * s1
+        self.table = table
+
+    def into(self, start: int, m: int, out: np.ndarray) -> None:
+        """The sums at grid points start .. start + m - 1 (``start`` a multiple of :attr:`sub`) into ``out``
+        (ncol, m), whose rows are contiguous."""
+        sub, ncol = self.sub, self.sin_coef.shape[1]
+        if m <= 0:
+            return
+        if self.k.size == 0:
+            out[...] = 0.0
+            return
+        full, rest = divmod(m, sub)
+        x_s = self.x_start + self.x_step * (start + sub * np.arange(full + (rest > 0), dtype=float))
+        phase = np.multiply.outer(x_s, self.k)                     # (sub-blocks, kmax)
+        ca, sa = np.cos(phase)[:, :, None], np.sin(phase)[:, :, None]
+        coef = np.empty((ncol, x_s.size, 2 * self.k.size))
+        coef[:, :, :self.k.size] = (ca * self.cos_coef + sa * self.sin_coef).transpose(2, 0, 1)
+        coef[:, :, self.k.size:] = (ca * self.sin_coef - sa * self.cos_coef).transpose(2, 0, 1)
+        for j in range(ncol):
+            row = out[j]
+            if full:
+                np.matmul(coef[j, :full], self.table, out=row[:full * sub].reshape(full, sub))
+            if rest:
+                np.matmul(coef[j, full], self.table[:, :rest], out=row[full * sub:])
+
+
+def _spread(x: np.ndarray) -> tuple[float, float]:
+    """(x_r, the largest |x - x_r|) for a block of angles, x_r its middle element (a track's ψ or ε over consecutive
+    epochs stays close to it); the spread is rounded up by 2^-20 of itself (NaN in a block: NaN)."""
+    ref = float(x[x.size // 2])
+    return ref, max(ref - float(x.min()), float(x.max()) - ref) * (1.0 + 2.0**-20)
+
+
+def _ra_into(vx, vy, mid: int, stray: float | None, ra, u, u2, tmp) -> None:
+    """RA = atan2(-v_y, -v_x) + π in [0, 2π) of a block of pole vectors whose x and y come negated (vx, vy), into
+    ``ra``: RA_r at the block's middle vector plus atan u, u = (x_r y - y_r x)/(x_r x + y_r y) = tan(RA - RA_r), by
+    the odd series of atan with the terms |u|'s bound needs (an alternating series: what it leaves out is below its
+    first omitted term, kept under 2^-57 rad), while |u| <= :data:`_RA_SERIES_LIMIT`; else numpy's arctan2.
+    |u| is bounded from ``stray`` (how far the vectors are from the middle one: their equatorial parts then are
+    within asin(stray/ρ_r) of its direction, ρ_r its length), or measured when ``stray`` is None. u, u2, tmp: work
+    arrays the size of the block."""
+    xr, yr = float(vx[mid]), float(vy[mid])
+    rho = math.hypot(xr, yr)
+    bound = math.inf
+    if stray is not None and stray < 0.5 * rho:
+        q = stray / rho
+        bound = q / math.sqrt(1.0 - q * q)
+    if bound <= _RA_SERIES_LIMIT or (stray is None and rho > 0.0):
+        np.multiply(vy, xr, out=u)                 # x_r y - y_r x (in the negated coordinates: the same)
+        np.multiply(vx, yr, out=tmp)
+        u -= tmp
+        np.multiply(vx, xr, out=u2)                # x_r x + y_r y
+        np.multiply(vy, yr, out=tmp)
+        u2 += tmp
+        if stray is None:   # measured: every vector on the reference's side (a positive dot product), |u| small
+            bound = max(-float(u.min()), float(u.max())) / float(u2.min()) if float(u2.min()) > 0.0 else math.inf
+        u /= u2             # (NaN in a block, a non-finite v: the bound is NaN, not <=, and arctan2 takes it)
+    if not bound <= _RA_SERIES_LIMIT:
+        np.arctan2(vy, vx, out=ra)                 # atan2(-y, -x) in [-π, π]: RA - π
+        ra += math.pi
+        if float(ra.max()) >= _TWO_PI:             # RA a hair below 2π rounds up to it: that is RA = 0
+            ra[ra >= _TWO_PI] = 0.0
+        return
+    ra_r = math.atan2(yr, xr) + math.pi
+    n = bisect.bisect_left(_ATAN_LIMITS, bound) + 1  # atan u = u Σ_{i<n} (-u²)^i/(2i+1)
+    np.multiply(u, u, out=u2)
+    if n > 1:
+        np.multiply(u2, _ATAN_COEF[n - 1], out=ra)
+        for i in range(n - 2, 0, -1):
+            ra += _ATAN_COEF[i]
+            ra *= u2
+        ra += 1.0
+        ra *= u
+    else:
+        np.copyto(ra, u)
+    ra += ra_r
+    reach = math.atan(bound)
+    if ra_r - reach < 0.0:                         # the block may cross RA = 0 from above
+        ra[ra < 0.0] += _TWO_PI
+    if ra_r + reach >= _TWO_PI - 1e-15:           # ... or reach 2π (rounded up from a hair below: RA = 0)
+        ra[ra >= _TWO_PI] -= _TWO_PI
+    if ra_r - reach < 0.0 and float(ra.max()) >= _TWO_PI:
+        ra[ra >= _TWO_PI] = 0.0
+
+
+@dataclass(frozen=True)
+class _Epochs:
+    """The epochs of a kernel call: ``given`` (a flat float array), or the grid start + step j, j < count."""
+
+    given: np.ndarray | None
+    start: float
+    step: float
+    count: int
+
+
+_TWO_PI = 2.0 * math.pi
+#: the kernel's RA takes atan's series while a block's |tan(RA - RA_r)| stays below this (4 terms at most)
+_RA_SERIES_LIMIT = 0.01
+#: for n = 1, 2, …: the largest |u| at which n terms of atan's series leave out less than 2^-57 rad
+_ATAN_LIMITS = tuple((2.0**-57 * (2 * n + 1)) ** (1.0 / (2 * n + 1)) for n in range(1, 12))
+_ATAN_COEF = tuple((-1.0) ** i / (2 * i + 1) for i in range(12))
+#: the kernel's Dec is arcsin v_z while a block's |v_z| stays below this (Dec within ±64°: arcsin's slope
+#: 1/sqrt(1 - z²) <= 2.3 turns v's rounding into <= 1e-15 rad); beyond, atan2(v_z, hypot(v_x, v_y))
+_ARCSIN_DEC_LIMIT = 0.9
+#: rows of the kernel's work table: cos M, sin M, M (or the grid's temporary), cos_sin_into's 4; the pole's 8
+#: (cos ε, sin ε, v, cos δψ, sin δψ, a temporary) and the series' 3-4 reuse them after the sums
+_KERNEL_ROWS = 11
+#: epochs per block of the kernel (on a grid a multiple of the harmonics' sub-block; fewer where the harmonic sums'
+#: table would pass BLOCK_BYTES): measured faster than 8192 or 32768 here (numpy's ~1 µs a call against L2)
+_KERNEL_BLOCK = 16384
 
 
 def check_applicable(body: Body, spin_rate: float, mean_motion: float) -> None:

@@ -5,14 +5,17 @@
 cos of x per epoch and build the harmonics from Chebyshev polynomials of cos x (a power table and one
 matrix product per cache-sized block, or the three-term recurrence for many harmonics), never a sin/cos
 per harmonic, in blocks whose work table stays under :data:`BLOCK_BYTES` whatever the harmonics and the
-epochs. :func:`cos_sin_shifted` moves cos x, sin x by a small angle (below :data:`MAX_SHIFT`) without a
-trigonometric call; :func:`series_extrema` finds the half peak-to-peak excursion of a sum over a period.
+epochs. :func:`cos_sin_into` gives cos x, sin x at any angles and :func:`shift_factors` moves them by a small
+angle without a trigonometric call (the track kernel's); :func:`series_extrema` finds the half peak-to-peak
+excursion of a sum over a period.
 
 Angles in radians; the coefficients in any unit (the sums come out in it). Nothing here is one theory's:
 Kinoshita's nutation series (:mod:`ephem.forced.kinoshita`) and the model's tracks (:mod:`ephem.forced.precession_nutation`) use it.
 """
 from __future__ import annotations
 
+import bisect
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -35,6 +38,7 @@ _MAX_POWER_BASIS_GROWTH = 8.0
 #: Beyond this many harmonics the power basis is not even tried (2^k overflows past ~1000 and
 #: no series that long decays fast enough to pass the growth test).
 _MAX_POWER_BASIS_TERMS = 48
+MAX_POWER_BASIS_TERMS = _MAX_POWER_BASIS_TERMS   # public: the track kernel's grid product takes as many harmonics
 
 
 def _power_basis(multiple: np.ndarray, sin_coef: np.ndarray, cos_coef: np.ndarray) -> np.ndarray:
@@ -65,18 +69,23 @@ def _power_basis(multiple: np.ndarray, sin_coef: np.ndarray, cos_coef: np.ndarra
 
 def _sum_block(c: np.ndarray, s: np.ndarray, kmax: int, power_coef: np.ndarray | None,
                sin_coef: np.ndarray, cos_coef: np.ndarray, out: np.ndarray, work: np.ndarray) -> None:
-    """Harmonic sums for one block, given c = cos x and s = sin x; writes out (ncol, m)."""
+    """Harmonic sums for one block, given c = cos x and s = sin x; writes out (ncol, m).
+
+    ``power_coef`` is :func:`_prepare`'s power basis, (2 ncol, kmax + 1): P's rows then Q's, or None for the
+    three-term recurrence; ``work`` its table (the power table's row 0 already holds ones).
+    """
     m = c.size
     ncol = sin_coef.shape[1]
     if power_coef is not None:
-        pw = work[: kmax + 1, :m]  # rows: 1, c, c², … (contiguous)
-        pw[0] = 1.0
+        pw = work[: kmax + 1, :m]  # rows: 1, c, c², … (contiguous for a full block)
+        r = work[kmax + 1: kmax + 1 + 2 * ncol, :m]
         pw[1] = c
         for k in range(2, kmax + 1):
             np.multiply(pw[k - 1], c, out=pw[k])
-        r = power_coef.T @ pw  # (2 ncol, m): P's rows then Q's
-        np.multiply(r[ncol:], s, out=r[ncol:])
-        np.add(r[:ncol], r[ncol:], out=out)
+        np.matmul(power_coef, pw, out=r)  # (2 ncol, m): P's rows then Q's
+        q = r[ncol:]
+        np.multiply(q, s, out=q)
+        np.add(r[:ncol], q, out=out)
         return
     tab = work[: 2 * kmax, :m]  # rows: cos x .. cos kmax x, sin x .. sin kmax x
     cos_t, sin_t = tab[:kmax], tab[kmax:]
@@ -95,49 +104,87 @@ def _sum_block(c: np.ndarray, s: np.ndarray, kmax: int, power_coef: np.ndarray |
     np.matmul(np.concatenate([cos_coef, sin_coef], axis=0).T, tab, out=out)
 
 
-def _prepare(multiple, sin_coef, cos_coef, count: int = _BLOCK):
-    """(kmax, the power basis or None, the work table, the epochs per block) for ``count`` epochs."""
+@functools.lru_cache(maxsize=64)
+def _power_basis_cached(key: bytes, kmax: int, ncol: int) -> np.ndarray | None:
+    """The power basis transposed, (2 ncol, kmax + 1), or None where it amplifies rounding beyond
+    :data:`_MAX_POWER_BASIS_GROWTH`; kept per coefficients (``key``, their bytes): 0.5 ms a call on the same series."""
+    coef = np.frombuffer(key, dtype=float).reshape(2, kmax, ncol)
+    sin_coef, cos_coef = coef[0], coef[1]
+    candidate = _power_basis(np.arange(1, kmax + 1), sin_coef, cos_coef)
+    scale = np.abs(sin_coef).sum() + np.abs(cos_coef).sum()
+    if np.abs(candidate).sum() <= _MAX_POWER_BASIS_GROWTH * scale:
+        power = np.ascontiguousarray(candidate.T)
+        power.flags.writeable = False
+        return power
+    return None
+
+
+def _prepare(multiple, sin_coef, cos_coef, count: int = _BLOCK, cap: int = _BLOCK):
+    """(kmax, the power basis (2 ncol, kmax + 1) or None, the work table, the epochs per block, at most ``cap``)
+    for ``count`` epochs."""
     kmax = len(multiple)
     if kmax and not np.array_equal(multiple, np.arange(1, kmax + 1)):
         raise ValueError("multiple must be 1..kmax")
+    ncol = sin_coef.shape[1]
     power = None
     if 0 < kmax <= _MAX_POWER_BASIS_TERMS:
-        candidate = _power_basis(multiple, sin_coef, cos_coef)
-        scale = np.abs(sin_coef).sum() + np.abs(cos_coef).sum()
-        if np.abs(candidate).sum() <= _MAX_POWER_BASIS_GROWTH * scale:
-            power = candidate
-    width = max(kmax + 1 if power is not None else 2 * kmax, 1)
-    block = max(1, min(_BLOCK, count, BLOCK_BYTES // (8 * width)))
-    return kmax, power, np.empty((width, block)), block
+        key = np.ascontiguousarray(np.stack([sin_coef, cos_coef]), dtype=float).tobytes()
+        power = _power_basis_cached(key, kmax, ncol)
+    width = max(kmax + 1 + 2 * ncol if power is not None else 2 * kmax, 1)
+    block = max(1, min(cap, count, BLOCK_BYTES // (8 * width)))
+    work = np.empty((width, block))
+    if power is not None:
+        work[0] = 1.0   # the power table's c⁰ row, the same for every block
+    return kmax, power, work, block
+
+
+class HarmonicSums:
+    """Σ_k S[k, j] sin(k x) + C[k, j] cos(k x), k = 1..kmax, block by block from cos x and sin x: the set-up of
+    :func:`evaluate_harmonics` (the power basis or the recurrence, the work table, :attr:`block` epochs per block)
+    for a caller that makes its own cos x and sin x (a track's kernel, :mod:`ephem.forced.precession_nutation`)."""
+
+    def __init__(self, multiple: np.ndarray, sin_coef: np.ndarray, cos_coef: np.ndarray, count: int = _BLOCK,
+                 cap: int = _BLOCK):
+        self.sin_coef, self.cos_coef = np.asarray(sin_coef, dtype=float), np.asarray(cos_coef, dtype=float)
+        self.kmax, self.power, self.work, self.block = _prepare(multiple, self.sin_coef, self.cos_coef, count, cap)
+
+    def into(self, c: np.ndarray, s: np.ndarray, out: np.ndarray) -> None:
+        """The sums at the block's angles (c = cos x, s = sin x, at most :attr:`block` of them) into ``out``
+        (ncol, m)."""
+        if self.kmax:
+            _sum_block(c, s, self.kmax, self.power, self.sin_coef, self.cos_coef, out, self.work)
+        else:
+            out[...] = 0.0
 
 
 def evaluate_harmonics(angle, multiple: np.ndarray, sin_coef: np.ndarray, cos_coef: np.ndarray):
     """Σ_k S[k, j] sin(k x) + C[k, j] cos(k x) for each output column j, at any angles x.
 
-    ``multiple`` must be 1, 2, …, kmax. One sin and one cos of x per epoch; the
-    harmonics come from Chebyshev polynomials of cos x (a power table and one
-    matrix product per cache-sized block, or the three-term recurrence for many
-    harmonics) — never a sin/cos per harmonic. Returns arrays shaped like x.
+    ``multiple`` must be 1, 2, …, kmax. One numpy sin and cos of x per epoch (the plain path); the harmonics
+    come from Chebyshev polynomials of cos x (a power table and one matrix product per cache-sized block, or the
+    three-term recurrence for many harmonics) — never a sin/cos per harmonic. Returns arrays shaped like x.
     """
     x = np.asarray(angle, dtype=float)
     flat = x.ravel()
     ncol = sin_coef.shape[1]
     out = np.zeros((ncol, flat.size))
-    kmax, power, work, block = _prepare(multiple, sin_coef, cos_coef, flat.size)
-    if kmax:
-        for start in range(0, flat.size, block):
+    sums = HarmonicSums(multiple, sin_coef, cos_coef, flat.size)
+    if sums.kmax:
+        for start in range(0, flat.size, sums.block):
             checkpoint()
-            xb = flat[start:start + block]
-            _sum_block(np.cos(xb), np.sin(xb), kmax, power, sin_coef, cos_coef, out[:, start:start + xb.size], work)
+            xb = flat[start:start + sums.block]
+            sums.into(np.cos(xb), np.sin(xb), out[:, start:start + xb.size])
     return tuple(out[j].reshape(x.shape) for j in range(ncol))
 
 
-def uniform_cos_sin(x_start: float, x_step: float, count: int, block: int = _BLOCK):
+def uniform_cos_sin(x_start: float, x_step: float, count: int, block: int = _BLOCK, work: np.ndarray | None = None):
     """Yield (start, cos x, sin x) by blocks for x_j = x_start + j x_step, j < count.
 
     One table of cos/sin(j x_step) within a block and one exact cos/sin per block
     start (angle addition): a few multiplications per epoch instead of two
     trigonometric calls, with rounding at the level of a direct evaluation.
+    With ``work`` (at least 3 rows of ``block``), cos x and sin x are written into its rows 0 and 1 (valid until
+    the next block) instead of new arrays.
     """
     if count <= 0:
         return
@@ -148,22 +195,124 @@ def uniform_cos_sin(x_start: float, x_step: float, count: int, block: int = _BLO
         a = x_start + x_step * start
         ca, sa = math.cos(a), math.sin(a)
         cb, sb = cos_off[:m], sin_off[:m]
-        yield start, cb * ca - sb * sa, sb * ca + cb * sa
+        c, s, tmp = (np.empty(m), np.empty(m), np.empty(m)) if work is None else (work[0, :m], work[1, :m], work[2, :m])
+        np.multiply(cb, ca, out=c)
+        np.multiply(sb, sa, out=tmp)
+        c -= tmp
+        np.multiply(sb, ca, out=s)
+        np.multiply(cb, sa, out=tmp)
+        s += tmp
+        yield start, c, s
 
 
-def cos_sin_shifted(cos_x, sin_x, delta):
-    """cos and sin of x + δ from cos x, sin x and a small δ (|δ| <= 0.01 rad).
-
-    Taylor series of cos δ and sin δ to δ^6 and δ^5: truncation below 3e-18.
-    """
-    d2 = delta * delta
-    sd = delta * (1.0 - d2 * (1.0 / 6.0 - d2 / 120.0))
-    cd = 1.0 - d2 * (0.5 - d2 * (1.0 / 24.0 - d2 / 720.0))
-    return cos_x * cd - sin_x * sd, sin_x * cd + cos_x * sd
-
-
-#: Largest |δ| (radians) for :func:`cos_sin_shifted`.
+#: The largest spread of a block of angles about a reference that the track kernel moves cos and sin across by the
+#: Taylor series (:func:`shift_factors`; beyond, :func:`cos_sin_into`'s table), radians
 MAX_SHIFT = 0.01
+#: The Taylor series stop where the first omitted term is below this (alternating series with falling terms: it
+#: bounds what is left out), 1/32 of an ulp of 1
+SHIFT_TRUNCATION = 2.0**-57
+#: :func:`cos_sin_into`'s table: cos and sin of j 2π/L, L = 2^12 (|δ| <= π/L = 7.7e-4 is left to the series). 2π/L
+#: in two parts (Cody and Waite): the first with 26 significant bits, so j times it is exact for |j| < 2^27, the
+#: second the rest of 2π/L to 53 bits (2π = 6.283185307179586 + 2.4492935982947064e-16)
+_TABLE_SIZE = 1 << 12
+_STEP = 2.0 * math.pi / _TABLE_SIZE                                     # exact: L is a power of 2
+_STEP_HI = math.ldexp(math.floor(math.ldexp(math.frexp(_STEP)[0], 26)), math.frexp(_STEP)[1] - 26)
+_STEP_LO = (_STEP - _STEP_HI) + 2.4492935982947064e-16 / _TABLE_SIZE    # _STEP - _STEP_HI is exact
+#: angles up to this size are reduced by the table (|j| < 2^26: j times :data:`_STEP_HI` exact, with room); beyond
+#: (10^5 rad: 16 000 years of the Earth's mean anomaly), numpy's cos and sin
+REDUCE_LIMIT = 2.0**26 * _STEP
+#: 1.5 2^52: x/step + this rounds x/step to the nearest integer j, whose low bits are then the mantissa's
+_ROUND = 1.5 * 2.0**52
+
+
+def _cos_sin_table(extended: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """cos and sin of j 2π/L, j < L: the nearest doubles (but for the long double angle's 3e-19) where numpy's
+    long double has the x87's 64-bit mantissa (``extended`` None: wherever it has); else within an ulp: libm's at
+    the rounded angle a = fl(j 2π/L), corrected by its rounding e = j 2π/L - a (exact from the split step):
+    cos a - e sin a, sin a + e cos a (|e| <= 4.4e-16, e² negligible)."""
+    j = np.arange(_TABLE_SIZE, dtype=float)
+    if extended if extended is not None else np.finfo(np.longdouble).nmant >= 63:
+        a = np.longdouble("6.283185307179586476925286766559005768") * j.astype(np.longdouble) / _TABLE_SIZE
+        cos_t, sin_t = np.cos(a).astype(float), np.sin(a).astype(float)
+    else:                                          # platforms whose long double is a double (tested on any)
+        hi, lo = j * _STEP_HI, j * _STEP_LO       # j * hi exact
+        a = hi + lo
+        e = (hi - a) + lo
+        cos_t, sin_t = np.cos(a) - e * np.sin(a), np.sin(a) + e * np.cos(a)
+    cos_t.flags.writeable = sin_t.flags.writeable = False
+    return cos_t, sin_t
+
+
+_TABLE_COS, _TABLE_SIN = _cos_sin_table()
+#: for n = 1, 2, …: the largest |δ| at which n terms of sin δ's (cos δ's) series leave out less than
+#: :data:`SHIFT_TRUNCATION` (the first omitted term, δ^(2n+1)/(2n+1)! (δ^2n/(2n)!), bounds the rest)
+_SIN_LIMITS = tuple((SHIFT_TRUNCATION * math.factorial(2 * n + 1)) ** (1.0 / (2 * n + 1)) for n in range(1, 12))
+_COS_LIMITS = tuple((SHIFT_TRUNCATION * math.factorial(2 * n)) ** (1.0 / (2 * n)) for n in range(1, 12))
+#: Horner coefficients: sin δ = δ Σ_i SIN_COEF[i] δ^2i, cos δ = Σ_i COS_COEF[i] δ^2i
+_SIN_COEF = tuple((-1.0) ** i / math.factorial(2 * i + 1) for i in range(12))
+_COS_COEF = tuple((-1.0) ** i / math.factorial(2 * i) for i in range(12))
+
+
+def _series_terms(beta: float) -> tuple[int, int]:
+    """The terms (n_sin, n_cos) of sin δ = δ Σ_{i<n_sin} (-δ²)^i/(2i+1)! and cos δ = Σ_{i<n_cos} (-δ²)^i/(2i)!
+    that leave out less than :data:`SHIFT_TRUNCATION` for |δ| <= beta (beta < 1)."""
+    return bisect.bisect_left(_SIN_LIMITS, beta) + 1, bisect.bisect_left(_COS_LIMITS, beta) + 1
+
+
+def shift_factors(delta: np.ndarray, beta: float, cd: np.ndarray, sd: np.ndarray, d2: np.ndarray) -> np.ndarray:
+    """cos δ into cd and sin δ into sd for |δ| <= beta < 1, no trigonometric call: their Taylor series with the
+    terms :func:`_series_terms` keeps (Horner in δ²), so cos(x + δ) = cos x cd - sin x sd and sin(x + δ) =
+    sin x cd + cos x sd. d2: a work array the size of δ; none of the arrays is δ. Returns sin δ's array: sd, or δ
+    itself when sin δ = δ to the truncation (then sd is untouched)."""
+    n_sin, n_cos = _series_terms(beta)
+    np.multiply(delta, delta, out=d2)
+    for n, coef, out in ((n_sin, _SIN_COEF, sd), (n_cos, _COS_COEF, cd)):
+        if n == 1:
+            continue
+        np.multiply(d2, coef[n - 1], out=out)
+        for i in range(n - 2, 0, -1):
+            out += coef[i]
+            out *= d2
+        out += 1.0
+    if n_sin > 1:
+        sd *= delta
+    if n_cos == 1:
+        cd.fill(1.0)
+    return sd if n_sin > 1 else delta
+
+
+def cos_sin_into(x: np.ndarray, cos_out: np.ndarray, sin_out: np.ndarray, work: np.ndarray) -> None:
+    """cos x and sin x at any angles x (a block, in any order), into cos_out and sin_out, with no trigonometric
+    call per angle: x = j 2π/L + δ (L = 2^12, |δ| <= π/L), cos and sin of j 2π/L from a table (each within half an
+    ulp), of δ by :func:`shift_factors` (truncation below 2^-57). j 2π/L is subtracted in two parts (exact to 1e-18
+    for |x| <= :data:`REDUCE_LIMIT`): within 3 ulp of numpy's at the same x. A block reaching beyond
+    :data:`REDUCE_LIMIT` (or not finite) gets numpy's cos and sin. ``work``: 4 rows of at least x.size, none of them
+    x or the outputs."""
+    m = x.size
+    if m and not (max(-float(x.min()), float(x.max())) <= REDUCE_LIMIT):
+        np.cos(x, out=cos_out)
+        np.sin(x, out=sin_out)
+        return
+    y, j, delta, tmp = work[0, :m], work[1, :m], work[2, :m], work[3, :m]
+    np.multiply(x, _TABLE_SIZE / (2.0 * math.pi), out=y)
+    y += _ROUND                                   # j in the low bits, rounded to nearest
+    np.subtract(y, _ROUND, out=j)                 # j (exact)
+    index = y.view(np.int64)
+    np.bitwise_and(index, _TABLE_SIZE - 1, out=index)   # j mod L (two's complement: also for j < 0)
+    _TABLE_COS.take(index, out=cos_out, mode="clip")
+    _TABLE_SIN.take(index, out=sin_out, mode="clip")
+    np.multiply(j, _STEP_HI, out=delta)
+    np.subtract(x, delta, out=delta)
+    j *= _STEP_LO
+    delta -= j
+    # |δ| <= π/L, plus the rounding of x/step to an integer (an ulp of it) and of δ
+    sd = shift_factors(delta, math.pi / _TABLE_SIZE * (1.0 + 2.0**-20), tmp, y, j)
+    np.multiply(sin_out, sd, out=j)               # sin x_j sin δ
+    sd *= cos_out                                 # cos x_j sin δ
+    cos_out *= tmp
+    cos_out -= j
+    sin_out *= tmp
+    sin_out += sd
 
 
 def evaluate_harmonics_uniform(x_start: float, x_step: float, count: int, multiple: np.ndarray,
@@ -174,11 +323,12 @@ def evaluate_harmonics_uniform(x_start: float, x_step: float, count: int, multip
     """
     ncol = sin_coef.shape[1]
     out = np.zeros((ncol, count))
-    kmax, power, work, block = _prepare(multiple, sin_coef, cos_coef, count)
-    if kmax:
-        for start, c, s in uniform_cos_sin(x_start, x_step, count, block):
+    sums = HarmonicSums(multiple, sin_coef, cos_coef, count)
+    if sums.kmax:
+        cs = np.empty((3, sums.block))
+        for start, c, s in uniform_cos_sin(x_start, x_step, count, sums.block, cs):
             checkpoint()
-            _sum_block(c, s, kmax, power, sin_coef, cos_coef, out[:, start:start + c.size], work)
+            sums.into(c, s, out[:, start:start + c.size])
     return tuple(out[j] for j in range(ncol))
 
 

@@ -91,9 +91,10 @@ def hansen_build(e: float, order: int | None) -> Part:
 
 
 def harmonic_work_mb(epochs: int, k: int) -> float:
-    """The work table of a harmonic sum (:func:`ephem.orbit.harmonics.evaluate_harmonics`): two float64 rows
-    per harmonic over a block of at most 8192 epochs, capped at ``harmonic_block_mb``."""
-    return min(_u("harmonic_block_mb"), 16.0 * max(k, 1) * min(epochs, 8192) / MB)
+    """The work table of a harmonic sum: two float64 rows per harmonic over a block of at most 16 384 epochs (the
+    track kernel's, :mod:`ephem.forced.precession_nutation`; :func:`ephem.orbit.harmonics.evaluate_harmonics`
+    takes 8192), capped at ``harmonic_block_mb``."""
+    return min(_u("harmonic_block_mb"), 16.0 * max(k, 1) * min(epochs, 16384) / MB)
 
 
 def half_peak_to_peak(e: float, order: int | None, k: int | None = None) -> Part:

@@ -293,9 +293,16 @@ def test_over_four_decades_the_core_moves_our_pole_by_the_expected_semi_annual_a
     def vec(ra, dec):
         return np.stack([np.cos(dec) * np.cos(ra), np.cos(dec) * np.sin(ra), np.sin(dec)], axis=-1)
 
-    sep = np.degrees(np.arccos(np.clip(np.sum(vec(ra_w, dec_w) * vec(rigid.pole_ra, rigid.pole_dec), -1), -1, 1)))
-    sep_mas = sep * 3.6e6
-    assert sep_mas[0] == pytest.approx(9.2, abs=0.5)        # the catalogue's 1e-5 deg rounding of WGCCRE at J2000
+    def separation_mas(u, v):   # atan2(|u×v|, u·v): an arccos of the dot resolves 9 mas only in 0.5-mas steps
+        return np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.sum(u * v, axis=-1)) / MAS
+
+    sep_mas = separation_mas(vec(ra_w, dec_w), vec(rigid.pole_ra, rigid.pole_dec))
+    # at J2000 the track is at the catalogue pole, WGCCRE's rounded to 1e-5 deg: the separation is that rounding's
+    # (9.9 mas; an earlier arccos read 9.2), within the half-unit's bound hypot(0.5e-5 cos δ, 0.5e-5) deg = 21 mas
+    pole = get_body("mars").pole
+    rounding = separation_mas(vec(ra_w[0], dec_w[0]), vec(math.radians(pole.ra_deg), math.radians(pole.dec_deg)))
+    assert sep_mas[0] == pytest.approx(rounding, abs=0.01)   # the track's start: the catalogue pole to 1e-12 rad
+    assert 0.0 < rounding <= math.hypot(0.5e-5 * math.cos(dec_w[0]), 0.5e-5) * 3.6e6
     assert 20.0 < sep_mas.max() < 100.0
 
     core = with_core(mars, F, P).track(JD)
