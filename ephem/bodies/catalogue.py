@@ -29,6 +29,7 @@ from .datasets import available_datasets, dataset_file
 from .inertia import hd_of_moments
 from .measured import (Measured, check_finite, convert, derived_moments, measured, rotation_period, section_reason,
                        stated_correlations)
+from ..base.disk_cache import parse_toml, read_toml
 from ..base.paths import data_dir
 from ..orbit.geometry import ecliptic_to_icrf, lon_lat
 from ..orbit.kepler import mean_motion_rad_per_day
@@ -424,7 +425,7 @@ class Catalogue:
 
 def parse_catalogue(text: str, dataset: str) -> Catalogue:
     """Parse and validate a catalogue TOML document."""
-    doc = tomllib.loads(text)
+    doc = parse_toml(text, f"catalogue_{dataset}")
     meta = doc.get("dataset", {})
     bodies = tuple(_body_from_record(rec, dataset) for rec in doc.get("body", []))
     names = [b.name.lower() for b in bodies]
@@ -468,8 +469,7 @@ load_catalogue.cache_clear = _load_catalogue_file.cache_clear
 @lru_cache(maxsize=1)
 def load_references() -> dict:
     """The references file: source key -> {authors, year, title, journal, where, …}."""
-    with open(data_dir() / "references.toml", "rb") as fh:
-        return tomllib.load(fh)
+    return read_toml(data_dir() / "references.toml")
 
 
 def get_body(query: str | int, dataset: str = DEFAULT_DATASET) -> Body:

@@ -35,7 +35,6 @@ Units inside: radians, days, rad/day.
 from __future__ import annotations
 
 import math
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -44,6 +43,7 @@ import numpy as np
 
 from ..base.errors import InvalidInputError
 from ..base.paths import data_dir
+from ..base.disk_cache import read_toml
 
 RIGID = "rigid"
 TRANSFER_FUNCTION = "transfer_function"
@@ -100,8 +100,7 @@ class Interior:
 @lru_cache(maxsize=1)
 def interiors_data() -> dict:
     """Parsed data/interiors.toml."""
-    with open(data_dir() / "interiors.toml", "rb") as fh:
-        return tomllib.load(fh)
+    return read_toml(data_dir() / "interiors.toml")
 
 
 def references() -> dict:

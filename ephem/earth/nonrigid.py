@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import tomllib
 from functools import lru_cache
 
 import numpy as np
@@ -42,13 +41,13 @@ from ..base.paths import data_dir
 from ..base.errors import InvalidInputError
 from ..bodies.interior import circular_parts, from_circular_parts
 from .lunisolar import precession_nutation_coupling
+from ..base.disk_cache import read_toml
 
 
 @lru_cache(maxsize=1)
 def nonrigid_data() -> dict:
     """Parsed data/nonrigid.toml (transfer-function coefficients and IERS 1996 reference terms)."""
-    with open(data_dir() / "nonrigid.toml", "rb") as fh:
-        return tomllib.load(fh)
+    return read_toml(data_dir() / "nonrigid.toml")
 
 
 def _coefficients():

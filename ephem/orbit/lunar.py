@@ -8,7 +8,6 @@ arguments (``cut_mas``). The data are data/lunisolar.toml.
 from __future__ import annotations
 
 import math
-import tomllib
 from functools import lru_cache
 
 import numpy as np
@@ -18,6 +17,7 @@ from ..base.errors import InvalidInputError
 from ..base.paths import data_dir
 from .de421_header import GM_DE421, GM_SUN_DE421
 from .kepler import solve_kepler
+from ..base.disk_cache import read_toml
 
 DAYS_PER_CENTURY = 36525.0
 
@@ -30,8 +30,7 @@ DELAUNAY_NAMES = ("l", "l'", "F", "D", "Omega")
 @lru_cache(maxsize=1)
 def lunisolar_data() -> dict:
     """Parsed data/lunisolar.toml (the Moon, the Sun, Delaunay polynomials, reference values)."""
-    with open(data_dir() / "lunisolar.toml", "rb") as fh:
-        return tomllib.load(fh)
+    return read_toml(data_dir() / "lunisolar.toml")
 
 
 def _delaunay_poly() -> np.ndarray:

@@ -15,13 +15,13 @@ The unit costs in ``data/cost_model.toml`` were measured on the project's refere
 from __future__ import annotations
 
 import math
-import tomllib
 from functools import lru_cache
 
 from ..base.budget import FREE, Cost, Part  # noqa: F401  (FREE, Cost: re-exported with the predictors)
 from ..base.paths import data_dir
 from ..orbit.hansen import decay_rate, fft_length
 from ..orbit.kepler import mean_motion_rad_per_day
+from ..base.disk_cache import read_toml
 
 MB = 1024.0 * 1024.0
 #: The numerical rungs integrate through every orbit (~5 ms each); beyond this many orbits from the pole epoch a
@@ -34,8 +34,7 @@ MAX_NUMERICAL_ORBITS = 1000
 @lru_cache(maxsize=1)
 def unit_costs() -> dict:
     """The measured unit costs (``data/cost_model.toml``)."""
-    with open(data_dir() / "cost_model.toml", "rb") as fh:
-        return tomllib.load(fh)["unit"]
+    return read_toml(data_dir() / "cost_model.toml")["unit"]
 
 
 def _u(key: str) -> float:

@@ -102,3 +102,46 @@ def test_the_earths_orbital_spectrum_read_back_is_the_one_built(cache, monkeypat
         np.testing.assert_array_equal(again.cos_, built.cos_)
     finally:
         L.orbital_spectrum.cache_clear()
+
+
+# --- parsed TOML kept as JSON (ephem.base.disk_cache.parse_toml, issue 33)
+
+def test_every_shipped_toml_reads_back_as_tomllib_parses_it(tmp_path, monkeypatch):
+    """Each data file, parsed then read back from the cache in a new process, is the dict tomllib gives (exact: a
+    cache must give back what it stored, and JSON's shortest float repr reads back to the same double)."""
+    import json
+    import os
+    import subprocess
+    import sys
+    import tomllib
+
+    from ephem.base.disk_cache import read_toml
+    from ephem.base.paths import data_dir
+
+    monkeypatch.setenv("EPHEM_CACHE_DIR", str(tmp_path))
+    files = sorted(data_dir().rglob("*.toml"))
+    assert len(files) > 10
+    for f in files:
+        assert read_toml(f) == tomllib.loads(f.read_text(encoding="utf-8")), f
+    code = ("import json, sys; from pathlib import Path; from ephem.base.disk_cache import read_toml; "
+            "print(json.dumps([read_toml(Path(p)) for p in sys.argv[1:]]))")
+    out = subprocess.run([sys.executable, "-c", code, *map(str, files)], capture_output=True, text=True, check=True,
+                         env={**os.environ, "EPHEM_CACHE_DIR": str(tmp_path)}).stdout
+    for f, doc in zip(files, json.loads(out)):
+        assert doc == tomllib.loads(f.read_text(encoding="utf-8")), f
+
+
+def test_a_toml_json_cannot_carry_is_parsed_each_time_and_a_damaged_file_again(tmp_path, monkeypatch):
+    import datetime
+
+    from ephem.base.disk_cache import parse_toml
+
+    monkeypatch.setenv("EPHEM_CACHE_DIR", str(tmp_path))
+    assert parse_toml("when = 2020-01-01\n", "dated") == {"when": datetime.date(2020, 1, 1)}
+    assert not list(tmp_path.glob("toml_dated-*"))
+    assert parse_toml("x = 1.5\n", "plain") == {"x": 1.5}
+    (stored,) = tmp_path.glob("toml_plain-*.json")
+    stored.write_text("{not json")
+    assert parse_toml("x = 1.5\n", "plain") == {"x": 1.5}
+    assert parse_toml("x = 2.5\n", "plain") == {"x": 2.5}          # changed text: a new key, the old file goes
+    assert len(list(tmp_path.glob("toml_plain-*.json"))) == 1
