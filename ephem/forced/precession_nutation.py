@@ -31,7 +31,7 @@ from ..base.errors import InvalidInputError, NotApplicableError
 from ..orbit.geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from ..orbit.hansen import LAPLACE_LIMIT, exact_unavailable
 from ..base.budget import checkpoint
-from ..orbit.harmonics import (BLOCK_BYTES, MAX_POWER_BASIS_TERMS, MAX_SHIFT, HarmonicSums, cos_sin_into,
+from ..orbit.harmonics import (BLOCK_BYTES, MAX_POWER_BASIS_TERMS, MAX_SHIFT, HarmonicSums, angle_sum_into, cos_sin_into,
                                 shift_factors, uniform_cos_sin)
 from ..orbit.kepler import mean_motion_rad_per_day
 from ..orbit.relativity import geodesic_precession_rate
@@ -243,13 +243,7 @@ class PrecessionNutation:
         if eps_spread <= MAX_SHIFT:                 # cos ε, sin ε about the middle ε_r
             np.subtract(eps, eps_ref, out=work[8])
             sd = shift_factors(work[8], eps_spread, cd, sd, work[9])
-            c0, s0 = math.cos(eps_ref), math.sin(eps_ref)
-            np.multiply(cd, c0, out=ce)
-            np.multiply(sd, s0, out=tmp)
-            ce -= tmp
-            np.multiply(cd, s0, out=se)
-            np.multiply(sd, c0, out=tmp)
-            se += tmp
+            angle_sum_into(cd, sd, math.cos(eps_ref), math.sin(eps_ref), ce, se, tmp)
         else:
             cos_sin_into(eps, ce, se, work[7:11])
         r = self.icrf_from_orbit

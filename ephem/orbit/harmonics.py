@@ -196,13 +196,18 @@ def uniform_cos_sin(x_start: float, x_step: float, count: int, block: int = _BLO
         ca, sa = math.cos(a), math.sin(a)
         cb, sb = cos_off[:m], sin_off[:m]
         c, s, tmp = (np.empty(m), np.empty(m), np.empty(m)) if work is None else (work[0, :m], work[1, :m], work[2, :m])
-        np.multiply(cb, ca, out=c)
-        np.multiply(sb, sa, out=tmp)
-        c -= tmp
-        np.multiply(sb, ca, out=s)
-        np.multiply(cb, sa, out=tmp)
-        s += tmp
-        yield start, c, s
+        yield start, *angle_sum_into(cb, sb, ca, sa, c, s, tmp)
+
+
+def angle_sum_into(cos_b, sin_b, cos_a: float, sin_a: float, c, s, tmp):
+    """(c, s) = cos(a + b), sin(a + b) in place from arrays cos b, sin b and numbers cos a, sin a; ``tmp``: work."""
+    np.multiply(cos_b, cos_a, out=c)
+    np.multiply(sin_b, sin_a, out=tmp)
+    c -= tmp
+    np.multiply(sin_b, cos_a, out=s)
+    np.multiply(cos_b, sin_a, out=tmp)
+    s += tmp
+    return c, s
 
 
 #: The largest spread of a block of angles about a reference that the track kernel moves cos and sin across by the
@@ -581,8 +586,7 @@ def unique_rows(k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def matching_rows(k: np.ndarray, table: np.ndarray) -> np.ndarray:
-    """For each row of the integer matrix ``k``, the index of the same row in ``table`` (the last, if it repeats),
-    or -1 where ``table`` has none: a dict of tuples' lookup, by :func:`row_codes` of both (one code space)."""
+    """Per row of the integer matrix ``k``, its index in ``table`` (the last if repeated; -1: none), by row codes."""
     k = np.asarray(k, dtype=np.int64).reshape(-1, np.shape(table)[-1] if np.ndim(table) == 2 else 0)
     table = np.asarray(table, dtype=np.int64).reshape(-1, k.shape[1])
     if table.shape[0] == 0 or k.shape[0] == 0:
