@@ -339,7 +339,7 @@ def _tree_order(k: np.ndarray) -> list[int]:
     count = {}
     for mask in range(1, 1 << len(used)):
         cols = [used[i] for i in range(len(used)) if mask >> i & 1]
-        count[mask] = np.unique(row_codes(k[:, cols])).size
+        count[mask] = 1 + int(np.count_nonzero(np.diff(np.sort(row_codes(k[:, cols])))))  # distinct rows; np.unique loads numpy.ma
     best = {}   # mask -> (products, order)
     for mask in sorted(count, key=lambda m: bin(m).count("1")):
         members = [i for i in range(len(used)) if mask >> i & 1]
