@@ -35,7 +35,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..orbit.hansen import hansen_exact, hansen_series
-from ..orbit.harmonics import evaluate_harmonics, evaluate_harmonics_uniform, series_extrema
+from ..orbit.harmonic_grid import evaluate_harmonics_uniform
+from ..orbit.harmonics import evaluate_harmonics, series_extrema
 
 
 def scaling_factor(n: float, omega: float, hd: float) -> float:

@@ -31,8 +31,8 @@ from ..base.errors import InvalidInputError, NotApplicableError
 from ..orbit.geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from ..orbit.hansen import LAPLACE_LIMIT, exact_unavailable
 from ..base.budget import checkpoint
-from ..orbit.harmonics import (BLOCK_BYTES, MAX_POWER_BASIS_TERMS, MAX_SHIFT, HarmonicSums, angle_sum_into, cos_sin_into,
-                                shift_factors, uniform_cos_sin)
+from ..orbit.harmonic_grid import GridHarmonics, angle_sum_into
+from ..orbit.harmonics import MAX_SHIFT, HarmonicSums, cos_sin_into, shift_factors
 from ..orbit.kepler import mean_motion_rad_per_day
 from ..orbit.relativity import geodesic_precession_rate
 from ..base.memo import bytes_bounded
@@ -164,7 +164,7 @@ class PrecessionNutation:
         written in place into one array (its rows), with no sin or cos per epoch:
 
         * Δψ, Δε: on a grid, one matrix product per block of the harmonics' coefficients rotated to each
-          sub-block's start with a table shared by all (:class:`UniformHarmonics`); at any
+          sub-block's start with a table shared by all (:class:`ephem.orbit.harmonic_grid.GridHarmonics`); at any
           epochs from cos M and sin M (a table of 4096 angles and a short Taylor series,
           :func:`ephem.orbit.harmonics.cos_sin_into`) by a power table and one matrix product
           (:class:`ephem.orbit.harmonics.HarmonicSums`);
@@ -191,21 +191,15 @@ class PrecessionNutation:
         ra, dec = (out[-2], out[-1]) if pole else (None, None)
         series = self.nutation
         sin_coef, cos_coef = series._sin_coef, series._cos_coef
-        kmax = series.multiple.size
-        uniform = grid and kmax <= MAX_POWER_BASIS_TERMS
-        if uniform:
-            m_start = float(self.mean_anomaly(epochs.start))
-            harmonics = UniformHarmonics(m_start, self.mean_motion * epochs.step, sin_coef, cos_coef, count)
-            block = harmonics.sub * max(1, _KERNEL_BLOCK // harmonics.sub)
+        if grid:
+            harmonics = GridHarmonics(float(self.mean_anomaly(epochs.start)), self.mean_motion * epochs.step, count,
+                                      series.multiple, sin_coef, cos_coef, cap=_KERNEL_BLOCK)
+            block = harmonics.block
+            index = np.arange(block, dtype=float)
         else:
             sums = HarmonicSums(series.multiple, sin_coef, cos_coef, count, cap=_KERNEL_BLOCK)
             block = sums.block
         work = np.empty((_KERNEL_ROWS, block))
-        if grid:
-            index = np.arange(block, dtype=float)
-            if not uniform:
-                m_start = float(self.mean_anomaly(epochs.start))
-                angles = uniform_cos_sin(m_start, self.mean_motion * epochs.step, count, block, work[:3])
         rate, t0, eps0 = self.track_rate, self.pole_epoch, self.obliquity
         for start in range(0, count, block):
             checkpoint()
@@ -216,17 +210,14 @@ class PrecessionNutation:
                 np.add(index[:m], float(start), out=tb)      # t = jd_start + step j, as np.arange makes it
                 tb *= epochs.step
                 tb += epochs.start
-            if uniform:
+            if grid:
                 harmonics.into(start, m, nut[:, sl])
             else:
-                if grid:
-                    _, c, s = next(angles)
-                else:
-                    c, s, mb = work[0, :m], work[1, :m], work[2, :m]
-                    np.subtract(tb, self.orbit_epoch, out=mb)   # M = M0 + n (t - t_orb), as mean_anomaly
-                    mb *= self.mean_motion
-                    mb += self.mean_anomaly_at_epoch
-                    cos_sin_into(mb, c, s, work[3:7, :m])
+                c, s, mb = work[0, :m], work[1, :m], work[2, :m]
+                np.subtract(tb, self.orbit_epoch, out=mb)   # M = M0 + n (t - t_orb), as mean_anomaly
+                mb *= self.mean_motion
+                mb += self.mean_anomaly_at_epoch
+                cos_sin_into(mb, c, s, work[3:7, :m])
                 sums.into(c, s, nut[:, sl])
             np.subtract(tb, t0, out=pb)                      # ψ = ψ̇ (t - t0) + Δψ, as angles
             pb *= rate
@@ -311,64 +302,6 @@ class PrecessionNutation:
         ra += (ra < 0.0) * _TWO_PI
         ra[ra >= _TWO_PI] = 0.0   # -1e-17 + 2π rounds to 2π: RA = 0
         np.arctan2(zi, np.sqrt(xi * xi + yi * yi), out=dec)  # unit vectors: no overflow to guard
-
-
-#: points per sub-block of :class:`UniformHarmonics` (its shared table, 2 kmax rows of them, stays in cache)
-_GRID_SUB = 2048
-
-
-class UniformHarmonics:
-    """Σ_k S[k, j] sin(k x) + C[k, j] cos(k x), k = 1..kmax, on the even grid x_i = x_start + i x_step, i < count,
-    by sub-blocks of :attr:`sub` points with no sin or cos per point and no table per block.
-
-    On a sub-block x = x_s + θ_j (θ_j = j x_step, j < sub), harmonic k is cos kθ_j (S sin kx_s + C cos kx_s) +
-    sin kθ_j (S cos kx_s - C sin kx_s): the sums of all the sub-blocks are one matrix product of their rotated
-    coefficients (one cos and sin of k x_s per harmonic and sub-block) with one table cos kθ_j, sin kθ_j shared by
-    every sub-block (kθ by angle addition in k, from one cos and sin of θ_j). For few harmonics (the kernel's, up
-    to :data:`ephem.orbit.harmonics.MAX_POWER_BASIS_TERMS`): the coefficients cost 2 kmax sin/cos per sub-block.
-    """
-
-    def __init__(self, x_start: float, x_step: float, sin_coef: np.ndarray, cos_coef: np.ndarray, count: int):
-        self.x_start, self.x_step = float(x_start), float(x_step)
-        self.sin_coef, self.cos_coef = np.asarray(sin_coef, dtype=float), np.asarray(cos_coef, dtype=float)
-        kmax = self.sin_coef.shape[0]
-        self.k = np.arange(1.0, kmax + 1.0)
-        self.sub = max(1, min(_GRID_SUB, count, BLOCK_BYTES // (16 * max(kmax, 1))))
-        theta = self.x_step * np.arange(self.sub)
-        c1, s1 = np.cos(theta), np.sin(theta)
-        table = np.empty((2 * kmax, self.sub))       # rows: cos kθ, k = 1..kmax, then sin kθ
-        if kmax:
-            table[0], table[kmax] = c1, s1
-        for k in range(1, kmax):
-            ck, sk = table[k - 1], table[kmax + k - 1]
-            np.multiply(ck, c1, out=table[k])
-            table[k] -= sk * s1
-            np.multiply(sk, c1, out=table[kmax + k])
-            table[kmax + k] += ck * s1
-        self.table = table
-
-    def into(self, start: int, m: int, out: np.ndarray) -> None:
-        """The sums at grid points start .. start + m - 1 (``start`` a multiple of :attr:`sub`) into ``out``
-        (ncol, m), whose rows are contiguous."""
-        sub, ncol = self.sub, self.sin_coef.shape[1]
-        if m <= 0:
-            return
-        if self.k.size == 0:
-            out[...] = 0.0
-            return
-        full, rest = divmod(m, sub)
-        x_s = self.x_start + self.x_step * (start + sub * np.arange(full + (rest > 0), dtype=float))
-        phase = np.multiply.outer(x_s, self.k)                     # (sub-blocks, kmax)
-        ca, sa = np.cos(phase)[:, :, None], np.sin(phase)[:, :, None]
-        coef = np.empty((ncol, x_s.size, 2 * self.k.size))
-        coef[:, :, :self.k.size] = (ca * self.cos_coef + sa * self.sin_coef).transpose(2, 0, 1)
-        coef[:, :, self.k.size:] = (ca * self.sin_coef - sa * self.cos_coef).transpose(2, 0, 1)
-        for j in range(ncol):
-            row = out[j]
-            if full:
-                np.matmul(coef[j, :full], self.table, out=row[:full * sub].reshape(full, sub))
-            if rest:
-                np.matmul(coef[j, full], self.table[:, :rest], out=row[full * sub:])
 
 
 def _spread(x: np.ndarray) -> tuple[float, float]:

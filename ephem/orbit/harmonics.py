@@ -1,8 +1,7 @@
 """Harmonic sums Σ_k S_k sin kx + C_k cos kx, k = 1..K, at many angles x: the engine the theories' series run on.
 
-:func:`evaluate_harmonics` sums at any angles and :func:`evaluate_harmonics_uniform` on an even grid
-(angle addition, :func:`uniform_cos_sin`: no trigonometric call per epoch); both take one sin and one
-cos of x per epoch and build the harmonics from Chebyshev polynomials of cos x (a power table and one
+:func:`evaluate_harmonics` sums at any angles (:mod:`ephem.orbit.harmonic_grid`: on an even grid); it takes
+one sin and one cos of x per epoch and builds the harmonics from Chebyshev polynomials of cos x (a power table and one
 matrix product per cache-sized block, or the three-term recurrence for many harmonics), never a sin/cos
 per harmonic, in blocks whose work table stays under :data:`BLOCK_BYTES` whatever the harmonics and the
 epochs. :func:`cos_sin_into` gives cos x, sin x at any angles and :func:`shift_factors` moves them by a small
@@ -25,7 +24,7 @@ import numpy as np
 from ..base.budget import checkpoint
 
 #: Epochs per block in the evaluators: small enough to stay in cache.
-_BLOCK = 8192
+BLOCK = 8192
 #: Largest work table of one block, bytes: with many harmonics (e -> 1: 10^4-10^5) a block holds fewer
 #: epochs, so memory stays bounded whatever the harmonics and the epochs (a full 8192-epoch block of
 #: 42 000 harmonics at e = 0.99 would be 5.5 GB). The cost model's harmonic_block_mb (data/cost_model.toml) is
@@ -37,8 +36,7 @@ BLOCK_BYTES = 32 * 2**20
 _MAX_POWER_BASIS_GROWTH = 8.0
 #: Beyond this many harmonics the power basis is not even tried (2^k overflows past ~1000 and
 #: no series that long decays fast enough to pass the growth test).
-_MAX_POWER_BASIS_TERMS = 48
-MAX_POWER_BASIS_TERMS = _MAX_POWER_BASIS_TERMS   # public: the track kernel's grid product takes as many harmonics
+MAX_POWER_BASIS_TERMS = 48
 
 
 def _power_basis(multiple: np.ndarray, sin_coef: np.ndarray, cos_coef: np.ndarray) -> np.ndarray:
@@ -119,7 +117,7 @@ def _power_basis_cached(key: bytes, kmax: int, ncol: int) -> np.ndarray | None:
     return None
 
 
-def _prepare(multiple, sin_coef, cos_coef, count: int = _BLOCK, cap: int = _BLOCK):
+def _prepare(multiple, sin_coef, cos_coef, count: int = BLOCK, cap: int = BLOCK):
     """(kmax, the power basis (2 ncol, kmax + 1) or None, the work table, the epochs per block, at most ``cap``)
     for ``count`` epochs."""
     kmax = len(multiple)
@@ -127,7 +125,7 @@ def _prepare(multiple, sin_coef, cos_coef, count: int = _BLOCK, cap: int = _BLOC
         raise ValueError("multiple must be 1..kmax")
     ncol = sin_coef.shape[1]
     power = None
-    if 0 < kmax <= _MAX_POWER_BASIS_TERMS:
+    if 0 < kmax <= MAX_POWER_BASIS_TERMS:
         key = np.ascontiguousarray(np.stack([sin_coef, cos_coef]), dtype=float).tobytes()
         power = _power_basis_cached(key, kmax, ncol)
     width = max(kmax + 1 + 2 * ncol if power is not None else 2 * kmax, 1)
@@ -143,8 +141,8 @@ class HarmonicSums:
     :func:`evaluate_harmonics` (the power basis or the recurrence, the work table, :attr:`block` epochs per block)
     for a caller that makes its own cos x and sin x (a track's kernel, :mod:`ephem.forced.precession_nutation`)."""
 
-    def __init__(self, multiple: np.ndarray, sin_coef: np.ndarray, cos_coef: np.ndarray, count: int = _BLOCK,
-                 cap: int = _BLOCK):
+    def __init__(self, multiple: np.ndarray, sin_coef: np.ndarray, cos_coef: np.ndarray, count: int = BLOCK,
+                 cap: int = BLOCK):
         self.sin_coef, self.cos_coef = np.asarray(sin_coef, dtype=float), np.asarray(cos_coef, dtype=float)
         self.kmax, self.power, self.work, self.block = _prepare(multiple, self.sin_coef, self.cos_coef, count, cap)
 
@@ -175,39 +173,6 @@ def evaluate_harmonics(angle, multiple: np.ndarray, sin_coef: np.ndarray, cos_co
             xb = flat[start:start + sums.block]
             sums.into(np.cos(xb), np.sin(xb), out[:, start:start + xb.size])
     return tuple(out[j].reshape(x.shape) for j in range(ncol))
-
-
-def uniform_cos_sin(x_start: float, x_step: float, count: int, block: int = _BLOCK, work: np.ndarray | None = None):
-    """Yield (start, cos x, sin x) by blocks for x_j = x_start + j x_step, j < count.
-
-    One table of cos/sin(j x_step) within a block and one exact cos/sin per block
-    start (angle addition): a few multiplications per epoch instead of two
-    trigonometric calls, with rounding at the level of a direct evaluation.
-    With ``work`` (at least 3 rows of ``block``), cos x and sin x are written into its rows 0 and 1 (valid until
-    the next block) instead of new arrays.
-    """
-    if count <= 0:
-        return
-    offsets = x_step * np.arange(min(block, count))
-    cos_off, sin_off = np.cos(offsets), np.sin(offsets)
-    for start in range(0, count, block):
-        m = min(block, count - start)
-        a = x_start + x_step * start
-        ca, sa = math.cos(a), math.sin(a)
-        cb, sb = cos_off[:m], sin_off[:m]
-        c, s, tmp = (np.empty(m), np.empty(m), np.empty(m)) if work is None else (work[0, :m], work[1, :m], work[2, :m])
-        yield start, *angle_sum_into(cb, sb, ca, sa, c, s, tmp)
-
-
-def angle_sum_into(cos_b, sin_b, cos_a: float, sin_a: float, c, s, tmp):
-    """(c, s) = cos(a + b), sin(a + b) in place from arrays cos b, sin b and numbers cos a, sin a; ``tmp``: work."""
-    np.multiply(cos_b, cos_a, out=c)
-    np.multiply(sin_b, sin_a, out=tmp)
-    c -= tmp
-    np.multiply(sin_b, cos_a, out=s)
-    np.multiply(cos_b, sin_a, out=tmp)
-    s += tmp
-    return c, s
 
 
 #: The largest spread of a block of angles about a reference that the track kernel moves cos and sin across by the
@@ -318,23 +283,6 @@ def cos_sin_into(x: np.ndarray, cos_out: np.ndarray, sin_out: np.ndarray, work: 
     cos_out -= j
     sin_out *= tmp
     sin_out += sd
-
-
-def evaluate_harmonics_uniform(x_start: float, x_step: float, count: int, multiple: np.ndarray,
-                               sin_coef: np.ndarray, cos_coef: np.ndarray):
-    """As :func:`evaluate_harmonics` on the grid x_j = x_start + j x_step, j < count.
-
-    cos and sin of x come from :func:`uniform_cos_sin` (no trigonometric call per epoch).
-    """
-    ncol = sin_coef.shape[1]
-    out = np.zeros((ncol, count))
-    sums = HarmonicSums(multiple, sin_coef, cos_coef, count)
-    if sums.kmax:
-        cs = np.empty((3, sums.block))
-        for start, c, s in uniform_cos_sin(x_start, x_step, count, sums.block, cs):
-            checkpoint()
-            sums.into(c, s, out[:, start:start + c.size])
-    return tuple(out[j] for j in range(ncol))
 
 
 def evaluate_harmonics_periodic(x_start: float, count: int, sin_coef: np.ndarray, cos_coef: np.ndarray) -> np.ndarray:

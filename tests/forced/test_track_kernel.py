@@ -23,6 +23,7 @@ import numpy as np
 import pytest
 
 from ephem.api import model_for
+from ephem.orbit.harmonic_grid import UniformHarmonics
 from ephem.forced import precession_nutation as pn
 from ephem.orbit import harmonics
 
@@ -278,7 +279,7 @@ def test_the_grid_product_matches_direct_sums(kmax, count, span):
     rng = np.random.default_rng(kmax + count)
     sin_c, cos_c = rng.normal(size=(kmax, 2)), rng.normal(size=(kmax, 2))
     x0, dx = -1.234567, 0.0123
-    grid = pn.UniformHarmonics(x0, dx, sin_c, cos_c, count)
+    grid = UniformHarmonics(x0, dx, sin_c, cos_c, count)
     out = np.full((2, count), np.nan)
     for start in range(0, count, span):
         grid.into(start, min(span, count - start), out[:, start:start + span])

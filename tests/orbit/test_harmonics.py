@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from ephem.orbit import harmonics
-from ephem.orbit.harmonics import (PeriodicTable, evaluate_harmonics, evaluate_harmonics_periodic,
-                                   evaluate_harmonics_uniform, harmonic_norms)
+from ephem.orbit.harmonic_grid import evaluate_harmonics_uniform
+from ephem.orbit.harmonics import PeriodicTable, evaluate_harmonics, evaluate_harmonics_periodic, harmonic_norms
 
 
 def rounding_bound(sin_c, cos_c):
@@ -192,8 +192,8 @@ def test_the_table_entries(extended, budget):
 
 @pytest.mark.parametrize("kmax, count", [(1, 5000), (48, 4097), (49, 4097), (12, 8192), (12, 8193), (3, 0)])
 def test_uniform_grid_evaluator_with_its_work_rows(kmax, count):
-    # uniform_cos_sin writes into the caller's work rows (up to the power basis's 48 harmonics and beyond, blocks
-    # whole or cut): the direct sums, as the test of the Kinoshita series: the grid rounds its angles (a block's
+    # the grid's two routes (UniformHarmonics up to the power basis's 48 harmonics, uniform_cos_sin and the
+    # Chebyshev sums beyond; blocks whole or cut): the direct sums, as the test of the Kinoshita series: the grid rounds its angles (a block's
     # start x0 + i dx, |x| <= 62 rad here, a few ulp of it), which harmonic k turns into k times that phase error
     rng = np.random.default_rng(kmax + count)
     sin_c, cos_c = rng.normal(size=(kmax, 2)), rng.normal(size=(kmax, 2))
