@@ -27,6 +27,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from machine import tree_env   # benchmarks/machine.py: this directory is first on the path
+
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -65,7 +67,7 @@ def core_cpu(tree: Path, path: Path, rows: int, sigmas: bool) -> float:
     import subprocess
     import sys
 
-    env = {**os.environ, "PYTHONPATH": str(tree)}
+    env = tree_env(tree)
     proc = subprocess.run([sys.executable, "-c", _CORE_CHILD.format(path=str(path), rows=rows, sigmas=sigmas)],
                           cwd=tree, env=env, capture_output=True, text=True, check=True)
     return float(proc.stdout.split()[-1])

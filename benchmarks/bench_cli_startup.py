@@ -23,9 +23,10 @@ import resource
 import statistics
 import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
+
+from machine import tree_env   # benchmarks/machine.py: this directory is first on the path
 
 ROOT = Path(__file__).resolve().parent.parent
 HEAVY = ("matplotlib", "scipy.integrate", "scipy", "fastapi", "starlette", "pydantic", "uvicorn",
@@ -43,21 +44,6 @@ print(" ".join(sorted(sys.modules)))
 """
 
 
-#: where the children's bytecode goes (one per benchmark run: nothing written into the checkouts)
-_PYCACHE = tempfile.mkdtemp(prefix="ephem_bench_pyc_")
-
-
-def _env(src: Path) -> dict:
-    env = dict(os.environ)
-    env.pop("PYTHONDONTWRITEBYTECODE", None)
-    env["PYTHONPYCACHEPREFIX"] = _PYCACHE
-    # each tree its own table cache (ephem.base.disk_cache): two versions of the code make two keys for one table
-    # name, and interleaved runs sharing one directory would replace each other's file at every run
-    env["EPHEM_CACHE_DIR"] = os.path.join(_PYCACHE, "tables", str(abs(hash(str(src)))))
-    env["PYTHONPATH"] = str(src) + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
-    return env
-
-
 def _children_cpu() -> float:
     r = resource.getrusage(resource.RUSAGE_CHILDREN)
     return r.ru_utime + r.ru_stime
@@ -67,7 +53,7 @@ def run_once(args: list[str], src: Path = ROOT, command: list[str] | None = None
     """(wall, CPU) seconds of one ``ephem ARGS`` (or of ``command``) in a fresh interpreter; CPU (user +
     system) is the steadier of the two on a machine others share."""
     cpu0, t0 = _children_cpu(), time.perf_counter()
-    proc = subprocess.run(command or [sys.executable, "-m", "ephem.cli", *args], cwd=src, env=_env(src),
+    proc = subprocess.run(command or [sys.executable, "-m", "ephem.cli", *args], cwd=src, env=tree_env(src),
                           capture_output=True, text=True)
     wall, cpu = time.perf_counter() - t0, _children_cpu() - cpu0
     if proc.returncode not in (0, 2, 3):  # 2, 3: a refusal is an answer too (a usage error is timed as one)
@@ -77,7 +63,7 @@ def run_once(args: list[str], src: Path = ROOT, command: list[str] | None = None
 
 def heavy_modules(args: list[str], src: Path = ROOT) -> list[str]:
     """The modules of HEAVY (or their submodules) that ``ephem ARGS`` imports."""
-    proc = subprocess.run([sys.executable, "-c", _PROBE.format(args=args)], cwd=src, env=_env(src),
+    proc = subprocess.run([sys.executable, "-c", _PROBE.format(args=args)], cwd=src, env=tree_env(src),
                           capture_output=True, text=True, check=True)
     loaded = proc.stdout.strip().splitlines()[-1].split()
     return [h for h in HEAVY if any(m == h or m.startswith(h + ".") for m in loaded)]

@@ -26,6 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
+from machine import tree_env   # benchmarks/machine.py: this directory is first on the path
+
 ROOT = Path(__file__).resolve().parent.parent
 CASES = [(body, -3.0e6, 1.0e6, 1000.0) for body in ("earth", "mars", "ceres", "vesta", "eros", "steins", "moon",
                                                       "itokawa")] + [
@@ -79,7 +81,7 @@ def worker(out: str) -> int:
 
 
 def _run(tree: Path, out: str) -> dict:
-    env = dict(os.environ, PYTHONPATH=str(tree))
+    env = tree_env(tree)
     subprocess.run([sys.executable, __file__, "--worker", out], env=env, check=True, cwd=str(tree))
     got = json.loads(Path(out).read_text())
     assert got["ephem"].startswith(str(tree)), (got["ephem"], tree)     # the tree asked for, not the installed one

@@ -25,9 +25,10 @@ import os
 import statistics
 import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
+
+from machine import tree_env   # benchmarks/machine.py: this directory is first on the path
 
 ROOT = Path(__file__).resolve().parent.parent
 N = 1_000_000
@@ -111,21 +112,10 @@ def import_time(env: dict) -> tuple[float, float]:
     return statistics.median(light), statistics.median(full)
 
 
-_CACHE = tempfile.mkdtemp(prefix="ephem_bench_track_")
-
-
-def _env(src: Path) -> dict:
-    env = dict(os.environ)
-    env["PYTHONPATH"] = str(src) + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
-    # each tree its own table cache (ephem.base.disk_cache): two versions of the code, two keys for one table
-    env["EPHEM_CACHE_DIR"] = os.path.join(_CACHE, str(abs(hash(str(src)))))
-    return env
-
-
 def run_worker(src: Path, inner: int, check: bool) -> dict:
     cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", "--inner", str(inner)] + (["--check"] if check
                                                                                                else [])
-    res = json.loads(subprocess.check_output(cmd, env=_env(src), cwd="/"))
+    res = json.loads(subprocess.check_output(cmd, env=tree_env(src), cwd="/"))
     if Path(res["file"]).resolve().parent.parent != src.resolve():
         raise RuntimeError(f"{src}: the worker imported {res['file']}")
     return res
@@ -178,7 +168,7 @@ def main() -> None:
             print(f"\n{s}: largest difference from the plain path (radians; the pole as an angle on the sky): "
                   + "; ".join(f"{key} " + ", ".join(f"{n} {v:.1e}" for n, v in e.items()) for key, e in err.items()))
     for s in srcs:
-        light, full = import_time(_env(s))
+        light, full = import_time(tree_env(s))
         print(f"{s}: import ephem {light * 1e3:.0f} ms; import ephem.forced.precession_nutation + ephem.api "
               f"{full * 1e3:.0f} ms")
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 import datetime as _dt
 import os
 import platform
+import tempfile
 from pathlib import Path
 
 #: the thread-count variables of the BLAS libraries numpy may load
@@ -49,3 +50,25 @@ def machine_info(**versions: str) -> list[str]:
         f"BLAS threads: { {v: os.environ.get(v, 'unset') for v in BLAS_VARS} }",
         f"load average at the start: {load}",
     ]
+
+
+#: where the children of :func:`tree_env` keep their bytecode and tables (one directory per benchmark run)
+_SCRATCH = None
+
+
+def tree_env(src: Path) -> dict:
+    """The environment of a child process that runs the ``ephem`` package of the checkout ``src`` (an A/B
+    benchmark's "before" or "after"): ``src`` first on PYTHONPATH; compiled bytecode, as an installed copy reads
+    it (a temporary PYTHONPYCACHEPREFIX, PYTHONDONTWRITEBYTECODE lifted: some environments set it, and every run
+    would compile ~90 modules again); and the tree's own table cache (ephem.base.disk_cache: two versions of the
+    code make two keys for one table name, and interleaved runs sharing a directory would replace each other's
+    file at every run)."""
+    global _SCRATCH
+    if _SCRATCH is None:
+        _SCRATCH = tempfile.mkdtemp(prefix="ephem_bench_")
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(src) + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    env["PYTHONPYCACHEPREFIX"] = os.path.join(_SCRATCH, "pyc")
+    env["EPHEM_CACHE_DIR"] = os.path.join(_SCRATCH, "tables", str(abs(hash(str(Path(src).resolve())))))
+    return env
