@@ -1,6 +1,7 @@
 """The long term: the secular and N-body orbit histories, the averaged spin integrated along them, a body's history, and the long-term model added to every family.
 
 - :mod:`ephem.longterm.averaged_spin`: The spin axis over millennia and millions of years: the averaged spin equation along a moving orbit.
+- :mod:`ephem.longterm.cubic_spline`: Not-a-knot cubic splines on numpy alone: the orbit histories' interpolant, as scipy's ``CubicSpline`` builds it.
 - :mod:`ephem.longterm.history`: The spin axis over millennia and millions of years: a body's history, through its own theory.
 - :mod:`ephem.longterm.nbody_orbit`: Long-term orbit-plane histories (millions of years) from an N-body integration with REBOUND (WHFast).
 - :mod:`ephem.longterm.secular_orbit`: The orbits over long spans by Laplace–Lagrange secular theory: the planets' orbit planes and eccentricities,

@@ -40,6 +40,7 @@ from ..orbit.geometry import angle_between, icrf_to_ecliptic_matrix, lon_lat
 from ..orbit.relativity import geodesic_precession_rate
 from ..forced.catalogue_sigmas import dynamical_ellipticity_sigma, input_sigmas
 from ..theory.cost import spin_history
+from .cubic_spline import CubicSpline
 
 #: DOP853's relative tolerance (the reference path): over 4 Myr (the shipped N-body orbits) the Earth's pole moves
 #: by 0.9″ at 1e-10, Vesta's by 0.5″, Ceres' and Mars' by 0.1″, their obliquities by at most 0.13″, far below the
@@ -167,8 +168,6 @@ class _SampledOrbit:
     per-call overhead would dominate)."""
 
     def __init__(self, orbit, spin: SpinConstants, lo: float, hi: float):
-        from scipy.interpolate import CubicSpline
-
         # samples on [lo, hi] only (the orbit may end there), at most ORBIT_SAMPLE_YEARS apart
         intervals = max(int(math.ceil((hi - lo) / ORBIT_SAMPLE_YEARS)), 3)
         t = np.linspace(lo, hi, intervals + 1) if hi > lo else lo + np.arange(4.0)

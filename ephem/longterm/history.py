@@ -42,7 +42,7 @@ from ..base.errors import InvalidInputError, NotApplicableError, count_text
 from ..orbit.geometry import angle_between
 from .averaged_spin import MEANINGFUL_LIMIT, SpinHistory, outward_max
 from .nbody_orbit import (SHIPPED_ASTEROIDS, SHIPPED_BODIES, SHIPPED_PLANETS, load_metadata, nbody_cost_seconds,
-                          nbody_orbit_history, shipped_orbit_history)
+                          nbody_orbit_history, shipped_orbit_history, shipped_sample_noise)
 from .secular_orbit import planet_secular_history, secular_orbit_history
 
 ORBIT_MODELS = ("secular", "nbody")
@@ -129,31 +129,36 @@ def orbit_choices(b: Body, orbit_body: str, lo: float, hi: float, on_demand: boo
     """The orbit models for ``b`` over [lo, hi] years, cheapest first; unavailable ones say why. ``on_demand``:
     whether a body without a shipped N-body orbit may have one run for it (a history may; the ``long_term``
     model of a track, whose estimate every track by tolerance computes, may not)."""
-    out = []
+    return [secular_choice(b, orbit_body), nbody_choice(b, orbit_body, lo, hi, on_demand)]
+
+
+def secular_choice(b: Body, orbit_body: str) -> OrbitChoice:
+    """The ``secular`` model of :func:`orbit_choices` (the theory solved: the planets' modes once per process)."""
     try:
-        out.append(OrbitChoice("secular", secular_orbit(b, orbit_body)))
+        return OrbitChoice("secular", secular_orbit(b, orbit_body))
     except NotApplicableError as exc:
-        out.append(OrbitChoice("secular", why_not=exc.reason))
+        return OrbitChoice("secular", why_not=exc.reason)
+
+
+def nbody_choice(b: Body, orbit_body: str, lo: float, hi: float, on_demand: bool = True) -> OrbitChoice:
+    """The ``nbody`` model of :func:`orbit_choices`: the shipped orbit where it covers [lo, hi] years, else one run on
+    request (``on_demand``), else unavailable with the reason."""
     shipped = _shipped(b, orbit_body)
     if shipped is not None:
         first, last = shipped.span_years
         if first <= lo and hi <= last:
-            out.append(OrbitChoice("nbody", shipped, shipped=True))
-        else:
-            out.append(OrbitChoice("nbody", why_not=f"the shipped N-body orbit of {orbit_body} covers "
-                                   f"[{first:g}, {last:g}] years from J2000.0, not [{lo:g}, {hi:g}]"))
-    elif b.orbit.center != "Sun":
-        out.append(OrbitChoice("nbody", why_not=f"the N-body orbits are heliocentric; {b.name} orbits "
-                               f"{b.orbit.center}"))
-    elif not on_demand:
-        out.append(OrbitChoice("nbody", why_not=f"no N-body orbit is shipped for {b.name} ({b.dataset} dataset); "
-                               "a history (GET .../history, orbit_model=nbody) runs one on request"))
-    else:
-        span = (min(lo, 0.0), max(hi, 0.0))
-        seconds = nbody_cost_seconds(*span)
-        out.append(OrbitChoice("nbody", _LazyNbody(b, span), cost.Cost((cost.Part(
-            "stop_year", f"a REBOUND N-body orbit over {span[1] - span[0]:.4g} years", seconds, 30.0),))))
-    return out
+            return OrbitChoice("nbody", shipped, shipped=True)
+        return OrbitChoice("nbody", why_not=f"the shipped N-body orbit of {orbit_body} covers "
+                           f"[{first:g}, {last:g}] years from J2000.0, not [{lo:g}, {hi:g}]")
+    if b.orbit.center != "Sun":
+        return OrbitChoice("nbody", why_not=f"the N-body orbits are heliocentric; {b.name} orbits {b.orbit.center}")
+    if not on_demand:
+        return OrbitChoice("nbody", why_not=f"no N-body orbit is shipped for {b.name} ({b.dataset} dataset); "
+                           "a history (GET .../history, orbit_model=nbody) runs one on request")
+    span = (min(lo, 0.0), max(hi, 0.0))
+    seconds = nbody_cost_seconds(*span)
+    return OrbitChoice("nbody", _LazyNbody(b, span), cost.Cost((cost.Part(
+        "stop_year", f"a REBOUND N-body orbit over {span[1] - span[0]:.4g} years", seconds, 30.0),)))
 
 
 class _LazyNbody:
@@ -221,17 +226,11 @@ def nbody_orbit_error(orbit_body: str, years: np.ndarray) -> np.ndarray:
     return out
 
 
-@lru_cache(maxsize=16)
 def sample_noise(orbit_body: str) -> float:
     """The shipped orbit normal's short-period noise (radians): half the largest miss of a spline through every
-    other sample at the samples between (the osculating normal's terms of synodic periods, aliased)."""
-    from scipy.interpolate import CubicSpline
-
-    h = shipped_orbit_history(orbit_body)
-    even = CubicSpline(h.years[::2], h.pole[::2], axis=0)
-    mid = h.years[1:-1:2]
-    return 0.5 * float(np.max(angle_between(even(mid) / np.linalg.norm(even(mid), axis=-1, keepdims=True),
-                                     h.pole[1:-1:2])))
+    other sample at the samples between (the osculating normal's terms of synodic periods, aliased;
+    :func:`ephem.longterm.nbody_orbit.shipped_sample_noise`)."""
+    return shipped_sample_noise(orbit_body)
 
 
 @lru_cache(maxsize=4)
@@ -296,8 +295,7 @@ def spin_axis_history(b: Body, theory, start_year, stop_year, step_years, tolera
     if orbit_model is not None and tolerance is not None:
         raise InvalidInputError("orbit_model", "give either an orbit model or a tolerance, not both")
     spin = theory.secular_spin()
-    choices = orbit_choices(b, spin.orbit_body, float(years[0]), float(years[-1]))
-    chosen, result, estimates = _choose(b, spin, choices, years, tolerance, orbit_model, progress)
+    chosen, result, estimates = _choose(b, spin, years, tolerance, orbit_model, progress)
     return _result(b, theory, spin, chosen, result, estimates, years, tolerance, t_start)
 
 
@@ -320,9 +318,16 @@ def default_choice(choices: list[OrbitChoice], b: Body) -> OrbitChoice:
     return next((c for c in available if c.shipped), available[0])
 
 
+def default_orbit(b: Body, orbit_body: str, lo: float, hi: float, on_demand: bool = False) -> OrbitChoice:
+    """:func:`default_choice` of :func:`orbit_choices`, the secular theory solved only when no shipped N-body orbit
+    covers [lo, hi] years (the planets' modes: 15-20 ms of a fresh process)."""
+    nbody = nbody_choice(b, orbit_body, lo, hi, on_demand)
+    return nbody if nbody.shipped else default_choice([secular_choice(b, orbit_body), nbody], b)
+
+
 def long_term_cost(b: Body, spin, lo: float, hi: float, count: int) -> cost.Cost:
     """What :func:`long_term_run` costs over [lo, hi] years at ``count`` epochs."""
-    choice = default_choice(orbit_choices(b, spin.orbit_body, min(lo, hi), max(lo, hi), on_demand=False), b)
+    choice = default_orbit(b, spin.orbit_body, min(lo, hi), max(lo, hi))
     return history_cost(spin, choice, lo, hi, count)
 
 
@@ -330,8 +335,7 @@ def long_term_run(b: Body, spin, years: np.ndarray, progress=None, on_demand: bo
     """The history of ``spin`` at ``years`` along the default orbit model (:func:`default_choice`), charged
     first; ``on_demand``: as :func:`orbit_choices`."""
     years = np.asarray(years, dtype=float)
-    choice = default_choice(orbit_choices(b, spin.orbit_body, float(years.min()), float(years.max()), on_demand),
-                            b)
+    choice = default_orbit(b, spin.orbit_body, float(years.min()), float(years.max()), on_demand)
     h, terms = _run(b, spin, choice, years, progress)
     return LongTermRun(h, terms, choice)
 
@@ -352,11 +356,13 @@ def _run(b: Body, spin, choice: OrbitChoice, years: np.ndarray, progress=None) -
     return h, terms
 
 
-def _choose(b: Body, spin, choices: list[OrbitChoice], years, tolerance, orbit_model, progress=None):
+def _choose(b: Body, spin, years, tolerance, orbit_model, progress=None):
     """(the orbit model, (history, terms), every tried model's terms): the named one, the default, or the
     cheapest within ``tolerance``."""
+    lo, hi = float(years[0]), float(years[-1])
     if orbit_model is not None:
-        c = next(c for c in choices if c.name == orbit_model)
+        c = secular_choice(b, spin.orbit_body) if orbit_model == "secular" else \
+            nbody_choice(b, spin.orbit_body, lo, hi)
         if c.why_not is not None:
             raise NotApplicableError(b.name, f"the {orbit_model} orbit: {c.why_not}")
         h, terms = _run(b, spin, c, years, progress)
@@ -364,6 +370,8 @@ def _choose(b: Body, spin, choices: list[OrbitChoice], years, tolerance, orbit_m
     if tolerance is None:
         run = long_term_run(b, spin, years, progress, on_demand=True)
         return run.choice, (run.history, run.terms), {run.choice.name: run.terms}
+    choices = orbit_choices(b, spin.orbit_body, lo, hi)
+    choices = orbit_choices(b, spin.orbit_body, lo, hi)
     available = [c for c in choices if c.why_not is None]
     if not available:
         default_choice(choices, b)          # raises, saying why each is unavailable

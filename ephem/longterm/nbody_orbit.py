@@ -45,7 +45,6 @@ from __future__ import annotations
 
 import math
 import time
-import tomllib
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -58,7 +57,9 @@ from ..base.constants import J2000_JD, JULIAN_YEAR_DAYS
 from ..base.errors import InvalidInputError, NotApplicableError
 from ..orbit.de421 import barycentric
 from ..orbit.de421_header import GM_DE421, GM_SUN_DE421
-from ..orbit.geometry import icrf_to_ecliptic_matrix
+from ..base.disk_cache import cached_arrays, fingerprint, read_toml
+from ..orbit.geometry import angle_between, icrf_to_ecliptic_matrix
+from .cubic_spline import CubicSpline
 
 #: the massive bodies of the run: (name, NAIF id of the DE421 barycentre, GM keys in GM_DE421 (none: the Sun))
 MASSIVE = (("Sun", 10, ()), ("Mercury", 1, (1,)), ("Venus", 2, (2,)), ("Earth", 3, (399, 301)),
@@ -275,38 +276,35 @@ class OrbitHistory:
     def span_years(self) -> tuple[float, float]:
         return float(self.years[0]), float(self.years[-1])
 
-    def _splines(self):
-        """The not-a-knot cubic splines of the pole's components, a and e, built once per object."""
+    def _spline(self) -> CubicSpline:
+        """The not-a-knot cubic spline of the pole's components, a and e (five columns), built once per object."""
         cached = self.__dict__.get("_spline_cache")
         if cached is None:
-            from scipy.interpolate import CubicSpline
-
-            cached = (CubicSpline(self.years, self.pole, axis=0), CubicSpline(self.years, self.a_au),
-                      CubicSpline(self.years, self.e))
+            cached = CubicSpline(self.years, np.column_stack([self.pole, self.a_au, self.e]))
             object.__setattr__(self, "_spline_cache", cached)   # a cache, not a field: frozen stays frozen
         return cached
 
-    def _at(self, years, index: int) -> np.ndarray:
+    def _at(self, years, columns) -> np.ndarray:
         t = _check_years("years", years, self.body)
         lo, hi = self.span_years
         if np.any(t < lo - 1e-9) or np.any(t > hi + 1e-9):
             raise InvalidInputError("years", f"outside the history's span [{lo:g}, {hi:g}] Julian years from "
                                     f"J2000.0 ({self.source})", self.body)
-        return self._splines()[index](t)
+        return self._spline()(t)[..., columns]
 
     def pole_at(self, years) -> np.ndarray:
         """Unit orbit normal(s) (..., 3), ecliptic J2000, at Julian years from J2000.0: a not-a-knot cubic spline
         of each component, renormalised."""
-        p = self._at(years, 0)
+        p = self._at(years, slice(0, 3))
         return p / np.linalg.norm(p, axis=-1, keepdims=True)
 
     def semi_major_axis_at(self, years) -> np.ndarray:
         """Osculating heliocentric a (au) at Julian years from J2000.0 (cubic spline)."""
-        return self._at(years, 1)
+        return self._at(years, 3)
 
     def eccentricity_at(self, years) -> np.ndarray:
         """Osculating heliocentric e at Julian years from J2000.0 (cubic spline)."""
-        return self._at(years, 2)
+        return self._at(years, 4)
 
     def covers(self, start_years: float, stop_years: float) -> bool:
         """Whether [start, stop] (Julian years from J2000.0) lies inside the data and inside the 1 arcmin
@@ -329,9 +327,9 @@ def history_dir() -> Path:
 
 @lru_cache(maxsize=1)
 def load_metadata() -> dict:
-    """``data/orbit_history/metadata.toml``: the run, its sources, and each body's horizons."""
-    with open(history_dir() / "metadata.toml", "rb") as fh:
-        return tomllib.load(fh)
+    """``data/orbit_history/metadata.toml``: the run, its sources, and each body's horizons (parsed once per machine,
+    :func:`ephem.base.disk_cache.read_toml`)."""
+    return read_toml(history_dir() / "metadata.toml")
 
 
 def shipped_orbit_history(body_name: str) -> OrbitHistory:
@@ -340,6 +338,11 @@ def shipped_orbit_history(body_name: str) -> OrbitHistory:
     Raises :class:`~ephem.base.errors.NotApplicableError` for a body that has none (:data:`SHIPPED_BODIES`). Each file
     is read once (cached).
     """
+    return _load_shipped(_shipped_name(body_name))
+
+
+def _shipped_name(body_name: str) -> str:
+    """The name of the shipped file's body for a body of :data:`SHIPPED_BODIES` (the Moon: the Earth)."""
     if not isinstance(body_name, str):
         raise InvalidInputError("body", f"must be a body name, got {body_name!r}")
     names = {b.lower(): b for b in SHIPPED_BODIES}
@@ -347,19 +350,49 @@ def shipped_orbit_history(body_name: str) -> OrbitHistory:
     if name is None:
         raise NotApplicableError(body_name, "no shipped orbit history; shipped: " + ", ".join(SHIPPED_BODIES)
                                  + " (use nbody_orbit_history for an orbit of your own)")
-    return _load_shipped("Earth" if name == "Moon" else name)
+    return "Earth" if name == "Moon" else name
 
 
 @lru_cache(maxsize=None)
 def _load_shipped(name: str) -> OrbitHistory:
     meta = load_metadata()
     entry = meta["body"][name]
-    with np.load(history_dir() / entry["file"]) as z:
-        years, pole, a, e = (np.array(z[k]) for k in ("years", "pole", "a_au", "e"))
+    z = _shipped_arrays(name)
     horizon = (float(entry["horizon_1arcmin_past_years"]), float(entry["horizon_1arcmin_future_years"]))
     source = (f"REBOUND {meta['run']['rebound_version']} WHFast dt={meta['run']['dt_days']:.5f} d N-body run "
               f"from DE421 at J2000 ({entry['initial_conditions']}); data/orbit_history/{entry['file']}")
-    return OrbitHistory(name, years, pole, a, e, horizon, source)
+    h = OrbitHistory(name, z["years"], z["pole"], z["a_au"], z["e"], horizon, source)
+    object.__setattr__(h, "_spline_cache", CubicSpline.from_coefficients(z["years"], z["spline_c"]))
+    return h
+
+
+def shipped_sample_noise(name: str) -> float:
+    """The shipped orbit normal's short-period noise (radians, :func:`_parse_shipped`) of a body of
+    :data:`SHIPPED_BODIES` (the Moon: the Earth's)."""
+    return float(_shipped_arrays(_shipped_name(name))["sample_noise"])
+
+
+@lru_cache(maxsize=None)
+def _shipped_arrays(name: str) -> dict:
+    """The shipped file of ``name`` parsed, with its spline's coefficients and its sample noise: kept on disk between
+    processes (:mod:`ephem.base.disk_cache`, keyed by the file and the code that builds them), so that a fresh
+    process reads one table instead of solving two splines (12-15 ms of a CLI history)."""
+    path = history_dir() / load_metadata()["body"][name]["file"]
+    code = [Path(__file__), Path(__file__).with_name("cubic_spline.py")]
+    return cached_arrays(f"orbit_history_{name.lower()}", fingerprint([path, *code]), lambda: _parse_shipped(path))
+
+
+def _parse_shipped(path: Path) -> dict:
+    """A shipped file's arrays, the coefficients (4, N-1, 5) of the not-a-knot spline of its pole's components, a
+    and e (:meth:`OrbitHistory.pole_at`), and its normal's short-period noise (radians): half the largest miss of a
+    spline through every other sample at the samples between (the osculating normal's terms of synodic periods,
+    aliased by the 500-year sampling)."""
+    with np.load(path) as z:
+        years, pole, a, e = (np.array(z[k]) for k in ("years", "pole", "a_au", "e"))
+    spline = CubicSpline(years, np.column_stack([pole, a, e]))
+    even = CubicSpline(years[::2], pole[::2])(years[1:-1:2])
+    noise = 0.5 * float(np.max(angle_between(even / np.linalg.norm(even, axis=-1, keepdims=True), pole[1:-1:2])))
+    return {"years": years, "pole": pole, "a_au": a, "e": e, "spline_c": spline.c, "sample_noise": np.array(noise)}
 
 
 # ----------------------------------------------------------------- custom bodies
