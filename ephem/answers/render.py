@@ -16,6 +16,7 @@ from ..base.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from ..bodies.catalogue import Body
 from ..rotation.free_motion import FreeMotion
 from ..longterm.history import DESCRIPTIONS as HISTORY_DESCRIPTIONS, HISTORY_ASSUMPTIONS, HistoryResult, total
+from ..theory.choice import RULE as CHOICE_RULE, Choice
 from ..theory.results import CassiniSummary, NutationResult, NutationTerm, PrecessionResult, Selection
 
 #: the precession answer's values (Petit et al. Table 4 columns)
@@ -242,14 +243,45 @@ def free_motion(r: FreeMotion) -> dict:
     }
 
 
-def track_models(b: Body, theory, estimates, costs, chosen, tolerance: float | None, epochs: tuple,
+def choice(c: Choice) -> dict:
+    """A track's ``model.choice``: the rule, why the chosen model won, and every model as the choice saw it in the
+    family's order (its estimate in mas where the choice made it, null where it stopped before: dearer than the
+    chosen one; its predicted CPU ms and MB; whether it meets the tolerance)."""
+    return {"rule": CHOICE_RULE, "reason": c.reason, "candidates": [{
+        "name": k.rung, "order": k.order, "free_wobble": k.free_wobble, "rotation_scale": k.rotation_scale,
+        "estimated_error_mas": None if k.estimate is None or not k.estimate.available else k.estimate.total / MAS,
+        "estimated_cpu_ms": None if k.cost is None else 1e3 * k.cost.cpu_s,
+        "estimated_memory_mb": None if k.cost is None else k.cost.memory_mb,
+        "eligible": k.eligible, "chosen": k.estimate is c.chosen,
+    } for k in c.candidates]}
+
+
+def _why(e, c, chosen, tolerance: float | None) -> str:
+    """Why one model of the comparison is (or is not) eligible, or chosen."""
+    if not e.available:
+        return f"cannot serve these epochs: {e.why_not}"
+    if c is None:
+        return "no cost can be predicted for it here"
+    if tolerance is None:
+        return "available (no tolerance given: every available model is eligible)"
+    if e.total > tolerance:
+        return f"estimated {e.total / MAS:.4g} mas, beyond the tolerance of {tolerance / MAS:.6g} mas"
+    if chosen is not None and e is chosen.chosen:
+        return "chosen: " + chosen.reason
+    return f"within the tolerance ({e.total / MAS:.4g} mas), predicted dearer ({1e3 * c.cpu_s:.3g} ms)" + (
+        "" if chosen is None else f" than the chosen {chosen.chosen.rung} or less accurate at a tied cost")
+
+
+def track_models(b: Body, theory, estimates, costs, chosen: Choice | None, tolerance: float | None, epochs: tuple,
                  perturbers: tuple[str, ...]) -> dict:
     """The speed-against-accuracy answer: each model's estimate (mas, by term) and predicted cost (CPU ms, MB)
-    over the request's epochs, in the family's order; ``chosen`` the one the tolerance picks (None: none given, or
-    none within it)."""
+    over the request's epochs, in the family's order, whether it is eligible (available, and within the tolerance
+    where one is given) and why; ``chosen`` the choice the tolerance makes (None: none given, or none within it),
+    as a track makes it (:func:`ephem.theory.choice.choose`)."""
     t0, t1, count = epochs
     models = []
     for e, c in zip(estimates, costs):
+        eligible = e.available and c is not None and (tolerance is None or e.total <= tolerance)
         models.append({
             "name": e.rung, "order": e.order, "description": theory.descriptions.get(e.rung, ""),
             "available": e.available, "why_not": e.why_not,
@@ -258,9 +290,13 @@ def track_models(b: Body, theory, estimates, costs, chosen, tolerance: float | N
             "free_wobble": e.free_wobble, "rotation_scale": e.rotation_scale,
             "estimated_cpu_ms": None if c is None else 1e3 * c.cpu_s,
             "estimated_memory_mb": None if c is None else c.memory_mb,
-            "chosen": e is chosen,
+            "eligible": eligible, "why": _why(e, c, chosen, tolerance),
+            "chosen": chosen is not None and e is chosen.chosen,
         })
     return {"body": b.name, "dataset": b.dataset, "perturbers": list(perturbers), "theory": theory.summary,
             "start_jd_tdb": t0, "stop_jd_tdb": t1, "epochs": count,
             "tolerance_mas": None if tolerance is None else float(f"{tolerance / MAS:.12g}"),
-            "chosen": None if chosen is None else chosen.rung, "models": models}
+            "rule": CHOICE_RULE,
+            "chosen": None if chosen is None else chosen.chosen.rung,
+            "chosen_order": None if chosen is None else chosen.chosen.order,
+            "why_chosen": None if chosen is None else chosen.reason, "models": models}

@@ -24,11 +24,13 @@ from ..rotation.free_motion import free_motion, make_wobble
 from ..theory.tracks import check_axis, check_tolerance, check_wobble_axis
 from ..forced.precession_nutation import check_order
 from ..families import MODELS, refuse_model, theory_for
-from ..theory.interface import cheapest_within
+from ..theory.choice import choose
+from ..theory.interface import refuse
 from ..theory.results import selection
 from . import render
 from ..forced.catalogue_sigmas import input_sigmas
-from ..forced.uncertainty import pole_uncertainty, propagated
+from ..forced.pole_uncertainty import pole_uncertainty
+from ..forced.uncertainty import propagated
 from ..base.times import to_jd_tdb
 from ..base.units import in_unit, with_units
 
@@ -305,8 +307,10 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
            + (cost.FREE if tol is not None else theory.track_cost(name, order, t0, t_end, count, wobble is not None, phase is not None)
               + output), b.name)
     t = t0 + step * np.arange(count)
+    choice = None
     if tol is not None:
-        est = cheapest_within([e for e in theory.estimates(t) if e.available], tol, b.name, wobble is not None)
+        choice = theory.choose(t, tol, t0, t_end, count)
+        est = choice.chosen
         name, order = est.rung, est.order
         charge(theory.track_cost(name, order, t0, t_end, count, est.free_wobble, est.rotation_scale is not None)
                + output, b.name)
@@ -318,6 +322,8 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     with_wobble = wobble is not None and (est is None or est.free_wobble)
     estimate = None if est is None or not est.available else est.total
     info = theory.describe(est, name, order, with_wobble)
+    if choice is not None:
+        info["choice"] = render.choice(choice)
     for term in () if est is None else est.unestimated:
         info["warnings"].append(UNESTIMATED_WARNINGS[term])
     _meaningful(b, estimate, info)
@@ -355,17 +361,19 @@ def track_models(body: str | int | Body, start, stop, step_days: float, dataset:
     theory = theory_for(b, per, axis)
     t_end = t0 + step * (count - 1)
     charge(theory.choice_cost(t0, t_end, count), b.name)
-    estimates = theory.estimates(t0 + step * np.arange(count))
-    chosen = None
+    estimates = theory.estimates(t0 + step * np.arange(count))      # every one: the comparison is asked for
+
+    def price(e):
+        return theory.track_cost(e.rung, e.order, t0, t_end, count, e.free_wobble, e.rotation_scale is not None)
+
+    costs = [price(e) if e.available else None for e in estimates]
+    choice = None
     if tol is not None:
-        try:
-            chosen = cheapest_within([e for e in estimates if e.available], tol, b.name, False)
+        try:       # the track's own rule on the same estimates (nothing deferred here): the same model
+            choice = choose(estimates, price, tol, lambda made: refuse(made, tol, b.name, False))
         except NotApplicableError:
-            chosen = None
-    costs = [None if not e.available else
-             theory.track_cost(e.rung, e.order, t0, t_end, count, e.free_wobble, e.rotation_scale is not None)
-             for e in estimates]
-    return render.track_models(b, theory, estimates, costs, chosen, tol, (t0, t_end, count), per)
+            choice = None
+    return render.track_models(b, theory, estimates, costs, choice, tol, (t0, t_end, count), per)
 
 
 #: the warning an answer carries for each error term its estimate could not include

@@ -17,9 +17,11 @@ from ..theory import cost
 from ..base.budget import Cost, charge, prepaid
 from ..base.constants import J2000_JD, JULIAN_YEAR_DAYS
 from ..base.errors import NotApplicableError
+from ..base.memo import bytes_bounded
 from .history import DESCRIPTIONS as ORBIT_DESCRIPTIONS
 from .history import long_term_run, long_term_cost
 from ..forced.precession_nutation import Track
+from ..theory.choice import Deferred
 from ..theory.interface import SpectrumExport, SpinAxisTheory
 from ..theory.results import Estimate
 
@@ -33,6 +35,17 @@ ESTIMATE_EPOCHS = 2001
 
 def _years(jd_tdb) -> np.ndarray:
     return (np.asarray(jd_tdb, dtype=float) - J2000_JD) / JULIAN_YEAR_DAYS
+
+
+@bytes_bounded(key=lambda inner, body, perturbers, lo, hi, count: (type(inner), body, perturbers, lo, hi, count))
+def _long_term_cost(inner: SpinAxisTheory, body, perturbers, lo: float, hi: float, count: int) -> Cost:
+    """The long-term model's price over [lo, hi] years (FREE where the family has no secular spin): it reads the
+    body's secular orbit and spin, so it is kept per family, body and span, as every choice by tolerance prices
+    it."""
+    try:
+        return long_term_cost(body, inner.secular_spin(), lo, hi, count)
+    except NotApplicableError:
+        return cost.FREE
 
 
 def _subsample(years: np.ndarray) -> np.ndarray:
@@ -92,10 +105,7 @@ class WithLongTerm(SpinAxisTheory, SpectrumExport):
     def _cost(self, start: float, stop: float, count: int, in_years: bool = False) -> Cost:
         """The long-term model's cost over [start, stop] (JD TDB, or Julian years from J2000 ``in_years``)."""
         lo, hi = (start, stop) if in_years else (float(_years(start)), float(_years(stop)))
-        try:
-            return long_term_cost(self.body, self.inner.secular_spin(), lo, hi, count)
-        except NotApplicableError:
-            return cost.FREE
+        return _long_term_cost(self.inner, self.body, self.perturbers, lo, hi, count)
 
     def track_cost(self, model, order, start, stop, count, free_wobble, rotation_scale=False) -> Cost:
         if model != NAME:
@@ -126,6 +136,15 @@ class WithLongTerm(SpinAxisTheory, SpectrumExport):
                 raise                    # neither serves: the family's reason stands
             return [Estimate(m, None, {}, available=False, why_not=exc.reason) for m in self.inner.models] + [own]
         return inner + [self._estimate(jd_tdb)]
+
+    def estimate_plan(self, jd_tdb) -> list:
+        """As :meth:`estimates`, the long-term estimate deferred: it is made by running the model's history, so the
+        choice by cost makes it only when it reaches the model (:func:`ephem.theory.choice.choose`)."""
+        own = Deferred(NAME, None, lambda: self._estimate(jd_tdb))
+        try:
+            return self.inner.estimate_plan(jd_tdb) + [own]
+        except NotApplicableError:
+            return self.estimates(jd_tdb)            # the family serves none of the epochs: as estimates() says
 
     def named(self, jd_tdb, model, order):
         if model != NAME:

@@ -35,6 +35,7 @@ from ..bodies.catalogue import Body
 from ..base.constants import FORCED_FIGURE, JULIAN_CENTURY_DAYS, MAS, followed_axis
 from ..base.errors import NotApplicableError
 from ..forced.precession_nutation import Track
+from .choice import choose
 from .results import Estimate, NutationResult, PrecessionResult
 
 #: what to suggest when the largest term of the best estimate is a theory's own limit
@@ -52,11 +53,20 @@ THEORY_LIMIT_HINTS["interior_parameters"] = (
 
 
 def cheapest_within(candidates: list, tolerance: float, body: str, wobble_given: bool) -> Estimate:
-    """The first (cheapest) estimate within ``tolerance`` (radians); else :class:`NotApplicableError` naming
-    the best estimate, its largest term and what would help."""
+    """The first estimate within ``tolerance`` (radians) in the order given; else :class:`NotApplicableError`
+    naming the best estimate, its largest term and what would help (:func:`refuse`). A request's choice is by
+    predicted cost (:func:`ephem.theory.choice.choose`); this is for a list already in the order to try."""
     for est in candidates:
         if est.total <= tolerance:
             return est
+    refuse(candidates, tolerance, body, wobble_given)
+
+
+def refuse(candidates: list, tolerance: float, body: str, wobble_given: bool) -> None:
+    """Raise :class:`NotApplicableError`: no model meets ``tolerance`` (radians), naming the best of the available
+    estimates ``candidates``, its largest term and what would help."""
+    if not candidates:
+        raise NotApplicableError(body, "no model can serve these epochs")
     best = min(candidates, key=lambda e: e.total)
     largest = max(best.terms, key=best.terms.get)
     hint = THEORY_LIMIT_HINTS.get(largest, "widen the tolerance or shorten the span")
@@ -201,6 +211,21 @@ class SpinAxisTheory(Pricing):
     @abstractmethod
     def estimates(self, jd_tdb) -> list[Estimate]:
         """Every model's estimate over the epochs, cheapest first; unavailable ones say why."""
+
+    def estimate_plan(self, jd_tdb) -> list:
+        """Every model's estimate as :meth:`estimates`, where one made by running its model may stand as a
+        :class:`~ephem.theory.choice.Deferred` estimate, made only when the choice by cost reaches it."""
+        return self.estimates(jd_tdb)
+
+    def choose(self, jd_tdb, tolerance: float, start: float, stop: float, count: int):
+        """The model chosen by ``tolerance`` (radians) for ``count`` epochs ``jd_tdb`` from ``start`` to ``stop``:
+        the one predicted cheapest (:meth:`track_cost`) among those estimated within it
+        (:func:`ephem.theory.choice.choose`, a :class:`~ephem.theory.choice.Choice`)."""
+        wobble = getattr(self, "wobble", None) is not None
+        return choose(self.estimate_plan(jd_tdb),
+                      lambda e: self.track_cost(e.rung, e.order, start, stop, count, e.free_wobble,
+                                                e.rotation_scale is not None),
+                      tolerance, lambda made: refuse(made, tolerance, self.body.name, wobble))
 
     @abstractmethod
     def named(self, jd_tdb, model: str | None, order: int | None) -> Estimate | None:

@@ -1,0 +1,130 @@
+"""The choice of a model by tolerance: among the models whose estimate meets it, the one predicted cheapest for this
+request (issue 39).
+
+Every family lists its models and their variants (e-orders, the free wobble followed, the rotation-scale terms) with
+an :class:`~ephem.theory.results.Estimate` each (:meth:`~ephem.theory.interface.SpinAxisTheory.estimate_plan`); a
+model whose estimate is made by running it (the long-term model's history) stands in the plan as a :class:`Deferred`
+estimate, made only when the choice reaches it. :func:`choose` prices every model first (its track's
+:class:`~ephem.base.budget.Cost` for these epochs: cheap arithmetic on the request's parameters), then makes the
+estimates in order of predicted CPU, cheapest first, and stops at the first within the tolerance: no dearer model's
+estimate is made. Models predicted within :data:`TIE` of the first eligible one are a tie, won by the smaller
+estimated error, so that a cost that differs in its last bits between two machines cannot change the answer's
+accuracy for nothing. Where no model meets the tolerance every estimate is made, and the refusal names the best
+(:func:`ephem.theory.interface.refuse`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+from ..base.budget import Cost
+from ..base.constants import MAS
+from .results import Estimate
+
+#: predicted costs within this fraction of the cheapest eligible one are a tie: the more accurate model wins
+TIE = 0.01
+
+RULE = (f"the model predicted cheapest for these epochs among those whose estimate meets the tolerance (costs within "
+        f"{TIE:.0%} of each other: the smaller estimate); models are estimated in order of predicted cost and the "
+        "dearer ones are not estimated")
+
+
+@dataclass(frozen=True)
+class Deferred:
+    """A model of a plan whose estimate is made by running the model (``make``): made only when the choice reaches
+    it, or when every estimate is asked for (:func:`resolve`)."""
+
+    rung: str
+    order: int | None
+    make: Callable[[], Estimate]
+    free_wobble: bool = False
+    rotation_scale: str | None = None
+    available: bool = True
+
+
+def resolve(plan: list) -> list[Estimate]:
+    """Every estimate of a plan, the deferred ones made."""
+    return [p.make() if isinstance(p, Deferred) else p for p in plan]
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One model of the choice: its estimate (None where it is made by running the model and the choice stopped
+    before it, dearer than the chosen one) and its predicted cost (None: the model cannot serve these epochs)."""
+
+    rung: str
+    order: int | None
+    free_wobble: bool
+    rotation_scale: str | None
+    estimate: Estimate | None
+    cost: Cost | None
+
+    @property
+    def eligible(self) -> bool | None:
+        """Whether its estimate meets the tolerance (None: not estimated)."""
+        return None if self.estimate is None else self._eligible
+
+    _eligible: bool = False
+
+
+@dataclass(frozen=True)
+class Choice:
+    """The model a tolerance chose (``chosen``), every model as the choice saw it, in the family's order
+    (``candidates``), and why the chosen one won (``reason``)."""
+
+    chosen: Estimate
+    candidates: tuple[Candidate, ...]
+    reason: str
+
+
+def _label(c) -> str:
+    what = c.rung + ("" if c.order is None else f" e^{c.order}")
+    if c.free_wobble:
+        what += " with the free wobble"
+    if c.rotation_scale is not None:
+        what += f" with the rotation-scale terms ({c.rotation_scale})"
+    return what
+
+
+def choose(plan: list, price: Callable[[Estimate | Deferred], Cost], tolerance: float,
+           refuse: Callable[[list[Estimate]], None]) -> Choice:
+    """The model of ``plan`` (estimates and :class:`Deferred` ones, in the family's order) predicted cheapest by
+    ``price`` among those whose estimate is within ``tolerance`` (radians); ``refuse`` (given every estimate, made)
+    raises when none is."""
+    costs = [price(p) if p.available else None for p in plan]
+    order = sorted((i for i, c in enumerate(costs) if c is not None), key=lambda i: (costs[i].cpu_s, i))
+    made: dict[int, Estimate] = {}
+    first, best = None, None
+    for i in order:
+        if first is not None and costs[i].cpu_s > costs[first].cpu_s * (1.0 + TIE):
+            break
+        est = made[i] = plan[i].make() if isinstance(plan[i], Deferred) else plan[i]
+        if not est.available or est.total > tolerance:
+            continue
+        if first is None:
+            first = i
+        if best is None or est.total < made[best].total:
+            best = i
+    if best is None:
+        refuse([e for e in resolve(plan) if e.available])
+        raise AssertionError("refuse() must raise")      # pragma: no cover
+    known = {i: made.get(i, None if isinstance(p, Deferred) else p) for i, p in enumerate(plan)}
+    candidates = tuple(Candidate(p.rung, p.order, p.free_wobble, p.rotation_scale, known[i], costs[i],
+                                 known[i] is not None and known[i].available and known[i].total <= tolerance)
+                       for i, p in enumerate(plan))
+    won = made[best]
+    tried = [i for i in order if i in made]
+    cheaper = [i for i in tried[:tried.index(first)] if made[i].available]
+    reason = (f"{_label(won)} is the model predicted cheapest ({1e3 * costs[best].cpu_s:.3g} ms) whose estimate "
+              f"({won.total / MAS:.4g} mas) meets the tolerance of {tolerance / MAS:.6g} mas")
+    if best != first:
+        reason = (f"{_label(won)} ties in predicted cost ({1e3 * costs[best].cpu_s:.3g} ms) with "
+                  f"{_label(made[first])} ({1e3 * costs[first].cpu_s:.3g} ms) and is estimated the more accurate "
+                  f"({won.total / MAS:.4g} mas): it meets the tolerance of {tolerance / MAS:.6g} mas")
+    if cheaper:
+        reason += "; cheaper, and estimated beyond it: " + ", ".join(
+            f"{_label(made[i])} ({made[i].total / MAS:.4g} mas)" for i in cheaper)
+    dearer = [plan[i] for i in order if known[i] is None]
+    if dearer:
+        reason += "; dearer, and not run for an estimate: " + ", ".join(_label(p) for p in dearer)
+    return Choice(won, candidates, reason)
