@@ -17,6 +17,7 @@ at the pool's next use after each time it was handed out, and the pool evicted t
 from __future__ import annotations
 
 import functools
+import hashlib
 import inspect
 import sys
 import threading
@@ -189,19 +190,23 @@ def budget_mb() -> float:
 
 
 def bytes_bounded(func: Callable | None = None, *, name: str | None = None, grows: bool = False,
-                  pool: BytePool = POOL):
+                  pool: BytePool = POOL, key: Callable | None = None):
     """Memoise ``func`` (of hashable arguments) in ``pool``: as ``functools.lru_cache``, with ``cache_clear``
     and ``cache_info`` (a :class:`CacheInfo`), but bounded by the pool's bytes rather than a count of entries.
     ``func.cached(*args, **kwargs)`` tells whether a call would find its value stored. ``grows``: the values
-    fill themselves in as they are used (see :meth:`BytePool.put`)."""
+    fill themselves in as they are used (see :meth:`BytePool.put`). ``key``: a function of the call's arguments
+    giving the hashable key that stands for them (an array's digest, say), where they are not hashable
+    themselves; it must tell apart every two calls whose values differ."""
     if func is None:
-        return functools.partial(bytes_bounded, name=name, grows=grows, pool=pool)
+        return functools.partial(bytes_bounded, name=name, grows=grows, pool=pool, key=key)
     label = name or f"{func.__module__}.{func.__qualname__}"
     counts = {"hits": 0, "misses": 0}
     signature = inspect.signature(func)
     positional = len(signature.parameters)
 
     def key_of(args, kwargs):
+        if key is not None:
+            return (label, key(*args, **kwargs))
         # f(body) and f(body, None) are one entry: the arguments as the function sees them, defaults filled in
         if kwargs or len(args) < positional:
             bound = signature.bind(*args, **kwargs)
@@ -237,3 +242,10 @@ def bytes_bounded(func: Callable | None = None, *, name: str | None = None, grow
     wrapper.cached = lambda *args, **kwargs: key_of(args, kwargs) in pool
     return wrapper
 
+
+
+def epochs_digest(t: np.ndarray) -> tuple:
+    """A key that stands for an array of epochs in a memo (:func:`bytes_bounded`'s ``key``): its shape, dtype and a
+    128-bit BLAKE2b digest of its bytes (two different arrays share it with probability 2^-128)."""
+    a = np.ascontiguousarray(t)
+    return a.shape, a.dtype.str, hashlib.blake2b(a.view(np.uint8), digest_size=16).digest()

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import os
+from functools import lru_cache
 from pathlib import Path
 
 
@@ -14,6 +15,12 @@ def data_dir() -> Path:
     env = os.environ.get("EPHEM_DATA_DIR")
     if env:
         return Path(env)
+    return _shipped_data_dir()
+
+
+@lru_cache(maxsize=1)
+def _shipped_data_dir() -> Path:
+    """The package's own data directory, found once per process (every answer asks for it)."""
     here = Path(__file__).resolve().parent.parent
     for candidate in (here / "_data", here.parent / "data"):
         if (candidate / "catalogue").is_dir():

@@ -191,6 +191,7 @@ def _day_frac(a: float, b: float) -> tuple[float, float]:
     return day, frac
 
 
+@lru_cache(maxsize=4096)     # a pure function of two strings: the same dates come again and again (~0.3 ms each)
 def _erfa_jd_tdb(iso: str, scale: str) -> float:
     """JD TDB of a grammar-checked ISO date-time in UTC, TAI, TT or TDB by ERFA's conversions, the chain astropy's
     ``Time(...).tdb`` runs (dtf2d; utctai, taitt, tttdb with ERFA's dtdb at the geocentre), without importing

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from functools import lru_cache
 from pathlib import Path
 
@@ -209,6 +209,22 @@ class Body:
     #: The bodies whose torque moves the spin axis (canonical names, :data:`KNOWN_PERTURBERS`);
     #: None: the orbit's centre alone. Only the Earth may add the Moon.
     perturbers: tuple[str, ...] | None = None
+
+    def __hash__(self) -> int:
+        # the dataclass's hash of the compared fields, computed once: every per-body cache (ephem.base.memo) hashes
+        # the body on each look-up, and hashing the nested orbit and pole records took ~50 us a time
+        h = self.__dict__.get("_hash")
+        if h is None:
+            h = hash(tuple(getattr(self, f.name) for f in fields(self) if f.compare))
+            object.__setattr__(self, "_hash", h)
+        return h
+
+    def __getstate__(self) -> dict:
+        # the kept hash is of this process's string hashing (PYTHONHASHSEED): a pickled body (a Dask task's)
+        # computes its own
+        state = dict(self.__dict__)
+        state.pop("_hash", None)
+        return state
 
     def __post_init__(self):
         

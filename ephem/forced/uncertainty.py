@@ -27,7 +27,6 @@ returns the model's numbers, nominal and perturbed).
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -36,7 +35,7 @@ import numpy as np
 
 from ..bodies.catalogue import DEFAULT_DATASET, Body, dynamical_ellipticity, resolve_body, spin_rate_rad_per_day
 from ..base.constants import ARCSEC, JULIAN_YEAR_DAYS
-from ..base.errors import InvalidInputError, NotApplicableError
+from ..base.errors import InvalidInputError
 from ..orbit.geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
 from ..orbit.hansen import hansen_exact, hansen_series
 from ..orbit.harmonics import series_extrema
@@ -44,7 +43,7 @@ from ..orbit.kepler import mean_motion_rad_per_day
 from .kinoshita import mean_pole, nutation_coefficients, precession_rate, scaling_factor
 from ..base.memo import bytes_bounded
 from .catalogue_sigmas import CatalogueInput, catalogue_inputs, correlation_matrix, input_sigmas, no_uncertainty_reasons
-from .precession_nutation import build_model, cached_model, model_for
+from .precession_nutation import cached_model, model_for
 
 #: Central-difference step as a fraction of the input's σ. The linear σ is J·σ with J the
 #: derivative at the nominal point. Truncation error of the central difference, relative:
@@ -231,7 +230,7 @@ def _setup(body, dataset, order, uncertainties, correlations) -> _Setup:
                   np.arange(1, kmax + 1), correlation_matrix(inputs, correlations, b))
 
 
-def _step(inp: CatalogueInput, x_model: float) -> float:
+def difference_step(inp: CatalogueInput, x_model: float) -> float:
     """Finite-difference step in model units."""
     if inp.sigma:
         return STEP_FRACTION * inp.sigma * inp.factor
@@ -246,7 +245,7 @@ def _jacobian(st: _Setup, which: list[int], step_scale: float = 1.0) -> np.ndarr
     """d outputs / d input (per model unit of the input) for the inputs ``which``: (n_out, len(which))."""
     cols = []
     for j in which:
-        h = step_scale * _step(st.inputs[j], st.x0[j])
+        h = step_scale * difference_step(st.inputs[j], st.x0[j])
         xp, xm = st.x0.copy(), st.x0.copy()
         xp[j] += h
         xm[j] -= h
@@ -454,62 +453,3 @@ def summary(u: dict) -> dict:
             "complete": not u["unpropagated_inputs"],
             "dominant_input": u["dominant_input"], "unpropagated_inputs": list(u["unpropagated_inputs"]),
             "no_uncertainty_reasons": dict(u["no_uncertainty_reasons"]), "assumptions": list(u["assumptions"])}
-
-
-# --------------------------------------------------------------------------- the pole's 1-σ along a track
-
-def _perturbed_body(b: Body, inputs: list[CatalogueInput], x: np.ndarray) -> Body:
-    """``b`` with its inputs set to ``x`` (model units, in the order of ``inputs``)."""
-    v = {i.key: float(xi) for i, xi in zip(inputs, x)}
-    if "pole.lon" in v:
-        raise NotApplicableError(b.name, "the pole's uncertainty along a track is propagated for poles given in "
-                                 "RA and Dec only")
-    orbit = dataclasses.replace(b.orbit, a_au=v["orbit.a"], e=v["orbit.e"], i_deg=v["orbit.i"],
-                                node_deg=v["orbit.node"], peri_deg=v["orbit.peri"],
-                                mean_anomaly_deg=v["orbit.mean_anomaly"])
-    pole = dataclasses.replace(b.pole, ra_deg=v["pole.ra"], dec_deg=v["pole.dec"])
-    if "inertia.dynamical_ellipticity" in v:
-        inertia = {"dynamical_ellipticity": v["inertia.dynamical_ellipticity"], "moments": None}
-    else:
-        inertia = {"moments": (v["inertia.A"], v["inertia.B"], v["inertia.C"]), "dynamical_ellipticity": None}
-    return dataclasses.replace(b, orbit=orbit, pole=pole, rotation_period_hours=v["rotation.period"],
-                               values={}, **inertia)
-
-
-def _pole_vectors(b: Body, order: int | None, jd_tdb: np.ndarray) -> np.ndarray:
-    tr = build_model(b, order).track(jd_tdb)
-    cd = np.cos(tr.pole_dec)
-    return np.stack([cd * np.cos(tr.pole_ra), cd * np.sin(tr.pole_ra), np.sin(tr.pole_dec)], axis=-1)
-
-
-def pole_uncertainty(body: str | int | Body, jd_tdb, dataset: str = DEFAULT_DATASET, order: int | None = None, *,
-                     uncertainties: Mapping[str, float | None] | None = None,
-                     correlations: Mapping[tuple[str, str], float] | None = None) -> np.ndarray | None:
-    """The 1-σ of the angle between the served and the true pole (radians, the RMS of that angle) at each epoch
-    of a first-order track (:meth:`ephem.forced.precession_nutation.PrecessionNutation.track`), from the inputs' 1-σ and correlations:
-    the pole vector's derivatives by central differences (each input stepped by :data:`STEP_FRACTION` of its σ),
-    its 3×3 covariance J Σ Jᵀ per epoch, σ² its trace (the pole is a unit vector: its errors lie across it).
-
-    It grows from the catalogue pole's own σ at the pole epoch as the precession rate's σ accumulates. None
-    where no input has a σ (a user's body); the inputs without one do not count (their σ is unknown, not zero).
-    """
-    b = resolve_body(body, dataset)
-    t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
-    inputs = catalogue_inputs(b, uncertainties)
-    which = [j for j, i in enumerate(inputs) if i.sigma]
-    if not which:
-        return None
-    x0 = np.array([i.value * i.factor for i in inputs])
-    rho = correlation_matrix(inputs, correlations, b)
-    cols = []
-    for j in which:
-        h = _step(inputs[j], x0[j])
-        xp, xm = x0.copy(), x0.copy()
-        xp[j] += h
-        xm[j] -= h
-        cols.append((_pole_vectors(_perturbed_body(b, inputs, xp), order, t)
-                     - _pole_vectors(_perturbed_body(b, inputs, xm), order, t)) / (2.0 * h))
-    J = np.stack(cols, axis=-1)                                   # (epochs, 3, inputs)
-    s = np.array([inputs[j].sigma * inputs[j].factor for j in which])
-    cov = (s[:, None] * rho[np.ix_(which, which)] * s[None, :])
-    return np.sqrt(np.einsum("eai,ij,eaj->e", J, cov, J))

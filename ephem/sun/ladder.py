@@ -62,6 +62,7 @@ from functools import cached_property
 import numpy as np
 
 from ..base.budget import Cost
+from ..base.memo import bytes_bounded, epochs_digest
 from ..base.constants import ARCSEC, ROUNDING
 from ..base.errors import InvalidInputError
 from ..bodies.catalogue import Body
@@ -152,8 +153,15 @@ class Ladder:
         return out
 
     def estimates(self, jd_tdb) -> list[Estimate]:
-        """Every rung's estimate for these epochs, cheapest first (rung 2 once per order)."""
+        """Every rung's estimate for these epochs, cheapest first (rung 2 once per order): a pure function of the
+        ladder and the epochs, kept per ladder and epochs while the per-body caches' byte budget lets it
+        (:func:`_cached_estimates`), so that a repeated question does not bound its errors again."""
         t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+        if t.size > MEMO_EPOCHS:
+            return self._estimates(t)
+        return list(_cached_estimates(self, t))
+
+    def _estimates(self, t: np.ndarray) -> list[Estimate]:
         m, th = self.model, self.theory
         inputs = EstimateInputs(t, epoch_span(m, t), physics=self.physics_terms(t),
                                 theory={**theory_terms(m, th, cached_tables(self.body), Window.of(m, t)),
@@ -194,6 +202,13 @@ class Ladder:
 
     def cost(self, rung: str | None, start: float, stop: float, count: int, order: int | None = None,
              free_wobble: bool = False, rotation_scale: bool = False) -> Cost:
+        """What a track of ``count`` epochs from ``start`` to ``stop`` (JD TDB) will cost (:meth:`price`), kept per
+        question (a choice by tolerance prices every model and variant, ~20 us each)."""
+        return _cached_cost(self, rung, start, stop, count, order, free_wobble, rotation_scale,
+                            tables_built(self.body))
+
+    def price(self, rung: str | None, start: float, stop: float, count: int, order: int | None = None,
+              free_wobble: bool = False, rotation_scale: bool = False) -> Cost:
         """What a track of ``count`` epochs from ``start`` to ``stop`` (JD TDB) will cost (:mod:`ephem.theory.cost`),
         from the body's parameters alone, before anything is built. ``rung`` None: the estimates that
         choose a rung by tolerance (the chosen rung's own cost is charged once it is known)."""
@@ -291,3 +306,18 @@ class Ladder:
     def _rung_track(self, rung: str, t: np.ndarray, order: int | None) -> Track:
         m = self.model
         return rung_named(rung, self.body.name).track(self, m, t, order)
+
+
+#: requests of at most this many epochs keep their estimates (:meth:`Ladder.estimates`); beyond, the estimates are a
+#: small part of the track's cost and the epochs' digest would cost more than it saves
+MEMO_EPOCHS = 65536
+
+
+@bytes_bounded(key=lambda ladder, t: (ladder, epochs_digest(t)))
+def _cached_estimates(ladder: Ladder, t: np.ndarray) -> tuple[Estimate, ...]:
+    return tuple(ladder._estimates(t))
+
+
+@bytes_bounded      # a pure function of its arguments (the tables' state among them): ~1 kB an entry, counted
+def _cached_cost(ladder: Ladder, rung, start, stop, count, order, free_wobble, rotation_scale, built: bool) -> Cost:
+    return ladder.price(rung, start, stop, count, order, free_wobble, rotation_scale)

@@ -363,7 +363,7 @@ def test_linear_fails_for_a_5_degree_pole_near_the_orbit_normal():
 
 
 def test_the_poles_uncertainty_along_a_track_is_the_monte_carlo_one():
-    """The pole's 1-σ at each epoch (ephem.forced.uncertainty.pole_uncertainty, linear, the RMS angle) against a Monte
+    """The pole's 1-σ at each epoch (ephem.forced.pole_uncertainty.pole_uncertainty, linear, the RMS angle) against a Monte
     Carlo of 400 catalogue Eros (pole RA and Dec σ 0.02°, here correlated at ρ = 0.5 to use the covariance): the
     RMS angle of the sampled poles from the nominal one, over a century. Budget: the RMS of N normal samples is
     known to 1/sqrt(2N) = 3.5 % (1σ); 4σ, 14 %. At the pole epoch it is the pole's own σ, sqrt(σ_ra² cos²δ +
@@ -373,7 +373,7 @@ def test_the_poles_uncertainty_along_a_track_is_the_monte_carlo_one():
     import math
 
     from ephem.forced.precession_nutation import build_model
-    from ephem.forced.uncertainty import pole_uncertainty
+    from ephem.forced.pole_uncertainty import pole_uncertainty
 
     b = get_body("eros")
     t = 2451545.0 + np.array([0.0, 18262.5, 36525.0])
