@@ -51,6 +51,7 @@ from __future__ import annotations
 
 import io
 import math
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -345,6 +346,12 @@ def figure(kind: str, body, start, stop, step_days: float | None = None, dataset
     return fig
 
 
+#: matplotlib's ``svg.hashsalt`` while an SVG is written: its ids then follow from the figure alone
+SVG_HASH_SALT = "ephem-plots"
+#: rc_context sets a process-wide parameter (the service draws in several threads): one SVG written at a time
+_SVG_LOCK = threading.Lock()
+
+
 def _check_fmt(fmt) -> str:
     if fmt not in CONTENT_TYPES:
         raise InvalidInputError("fmt", f"must be one of {', '.join(CONTENT_TYPES)}, got {fmt!r}")
@@ -359,11 +366,18 @@ def _check_dpi(dpi) -> float:
 
 
 def figure_bytes(fig, fmt: str = "png", dpi: float = DEFAULT_DPI) -> bytes:
-    """A figure as PNG or SVG bytes (no timestamp, no software tag: the same figure gives the same PNG)."""
+    """A figure as PNG or SVG bytes (no timestamp, no software tag, SVG ids from :data:`SVG_HASH_SALT`: the
+    same figure gives the same bytes, which the service's strong ETag promises)."""
     fmt, dpi = _check_fmt(fmt), _check_dpi(dpi)
     buf = io.BytesIO()
-    metadata = {"Software": None} if fmt == "png" else {"Date": None}
-    fig.savefig(buf, format=fmt, dpi=dpi, metadata=metadata)
+    if fmt == "png":
+        fig.savefig(buf, format=fmt, dpi=dpi, metadata={"Software": None})
+        return buf.getvalue()
+    import matplotlib      # loaded already: the figure is matplotlib's
+
+    # without a salt matplotlib draws a random one for each SVG's clip-path and marker ids
+    with _SVG_LOCK, matplotlib.rc_context({"svg.hashsalt": SVG_HASH_SALT}):
+        fig.savefig(buf, format=fmt, dpi=dpi, metadata={"Date": None})
     return buf.getvalue()
 
 
@@ -413,7 +427,7 @@ def regenerate_doc_figures(out_dir: str | Path = "docs/figures", dpi: float = 11
     out.mkdir(parents=True, exist_ok=True)
     written = []
     # a script, not the server: the global rc_context is fine here
-    with matplotlib.rc_context({"svg.hashsalt": "ephem-plots"}):
+    with matplotlib.rc_context({"svg.hashsalt": SVG_HASH_SALT}):
         for stem, kind, body, dataset, start, stop in DOC_FIGURES:
             if stop is None:
                 start = to_jd_tdb(start, "start")
