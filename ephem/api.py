@@ -61,6 +61,8 @@ _NAMES = {
     "load_catalogue": (".bodies.catalogue", "load_catalogue"),
     "resolve_body": (".bodies.catalogue", "resolve_body"),
     "available_datasets": (".bodies.datasets", "available_datasets"),
+    "user_catalogue_dir": (".bodies.datasets", "user_catalogue_dir"),
+    "data_dir": (".base.paths", "data_dir"),
     "BatchFailed": (".batch.distributed", "BatchFailed"),
     "run_batch": (".batch.distributed", "run"),
     "HistorySpec": (".batch.population", "HistorySpec"),
@@ -96,6 +98,7 @@ __all__ = [
     "model_for", "MAX_ORDER",
     # bodies
     "Body", "Orbit", "Pole", "get_body", "resolve_body", "load_catalogue", "available_datasets", "DEFAULT_DATASET",
+    "user_catalogue_dir", "data_dir",
     "KNOWN_PERTURBERS", "MAX_ANGLE_DEG", "MIN_ROTATION_PERIOD_HOURS", "GM_CENTER", "icrf_to_ecliptic_matrix",
     # what a request may name, and its limits
     "MODELS", "AXES", "LAPLACE_LIMIT", "MAX_NUMERICAL_ORBITS", "SERIES_MAX_DELTA", "TIME_PATTERN_ECMA", "ut1_span",

@@ -20,7 +20,7 @@ from ephem import api
 from ephem.api import (AXES, DEFAULT_DATASET, FORMATS, MODELS,
                        available_datasets, icrf_to_ecliptic_matrix, load_catalogue, memo, render_nutation)
 
-from . import guards, pages, problems, schemas
+from . import caching, guards, pages, problems, schemas
 from .batch_input import batch_rows
 from .limits import BodySizeLimit
 from .openapi_rules import document_rules
@@ -112,6 +112,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     problems.install(app)
     guards.install(app, settings)
+    caching.install(app, settings)  # ETag, Cache-Control; a 304 before the budget and the route (outermost)
     _install_docs(app)
     pages.install(app)              # the web page for a person (service/pages.py)
 

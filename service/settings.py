@@ -6,7 +6,7 @@ import os
 from dataclasses import dataclass
 
 
-def _int_env(name: str, default: int) -> int:
+def _int_env(name: str, default: int, minimum: int = 1) -> int:
     raw = os.environ.get(name)
     if raw is None or raw.strip() == "":
         return default
@@ -14,8 +14,9 @@ def _int_env(name: str, default: int) -> int:
         value = int(raw)
     except ValueError:
         raise SystemExit(f"{name} must be an integer, got {raw!r}") from None
-    if value <= 0:
-        raise SystemExit(f"{name} must be positive, got {value}")
+    if value < minimum:
+        raise SystemExit(f"{name} must be positive, got {value}" if minimum == 1 else
+                         f"{name} must be at least {minimum}, got {value}")
     return value
 
 
@@ -81,6 +82,11 @@ class Settings:
     #: together, MB: the bodies are the clients', and one eccentric body's entries weigh megabytes (a cache
     #: counted in entries let 512 of them walk a worker to its recycle threshold)
     model_cache_mb: float = 64.0
+    #: how long a client or a shared cache (a reverse proxy, a CDN) may keep a GET answer without asking again,
+    #: seconds: ``Cache-Control: public, max-age=N`` (0: ``no-cache``, every reuse revalidated with the ETag, a
+    #: 304 when unchanged; service/caching.py). An answer is a pure function of the request, the version and
+    #: the data, so a day is safe: a new version or new data change every ETag
+    cache_max_age_s: int = 86_400
 
     @classmethod
     def from_env(cls) -> "Settings":
@@ -97,4 +103,5 @@ class Settings:
                    worker_memory_mb=_float_env("EPHEM_WORKER_MEMORY_MB", cls.worker_memory_mb),
                    supervised=_bool_env("EPHEM_SUPERVISED", cls.supervised),
                    max_batch_rows=_int_env("EPHEM_MAX_BATCH_ROWS", cls.max_batch_rows),
-                   model_cache_mb=_float_env("EPHEM_MODEL_CACHE_MB", cls.model_cache_mb))
+                   model_cache_mb=_float_env("EPHEM_MODEL_CACHE_MB", cls.model_cache_mb),
+                   cache_max_age_s=_int_env("EPHEM_CACHE_MAX_AGE_S", cls.cache_max_age_s, minimum=0))
