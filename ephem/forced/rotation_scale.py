@@ -38,10 +38,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
 from ..orbit.kepler import solve_kepler, true_anomaly
+from .precession_nutation import PrecessionNutation
 
 
 @dataclass(frozen=True)
@@ -286,20 +288,53 @@ def _cumulative(f: np.ndarray, t: np.ndarray) -> np.ndarray:
 
 def _long_span_drift(model, moments, span: float) -> float:
     """max |∫ ε cos 2δ dL̂/dt| over a span of many orbits: the orbit-mean rate, largest over the pole's azimuths
-    (:data:`LONG_SPAN_AZIMUTHS`), times the span, plus the largest departure within an orbit from that mean."""
-    period = 2.0 * math.pi / model.mean_motion
+    (:data:`LONG_SPAN_AZIMUTHS`), times the span, plus the largest departure within an orbit from that mean
+    (:func:`_orbit_drift`, which depends on the body alone)."""
+    worst_rate, worst_wiggle = _orbit_drift(
+        model.mean_motion, model.eccentricity, model.equinox_to_pericentre, model.mean_anomaly_at_epoch,
+        model.orbit_epoch, model.pole_epoch, model.obliquity, model.scaling_factor, model.spin_rate,
+        tuple(float(x) for x in moments))
+    # a sampled azimuth can miss the largest rate by the harmonic's curvature: (π / N)² / 2 of it for harmonic 2
+    return worst_rate * (1.0 + 0.5 * (2.0 * math.pi / LONG_SPAN_AZIMUTHS) ** 2) * abs(span) + worst_wiggle
+
+
+@lru_cache(maxsize=256)     # the body's alone (~26 ms: 24 azimuths over an orbit), asked by every estimate of a long span
+def _orbit_drift(mean_motion, eccentricity, equinox_to_pericentre, mean_anomaly_at_epoch, orbit_epoch, pole_epoch,
+                 obliquity, scaling_factor, spin_rate, moments) -> tuple[float, float]:
+    """(the largest orbit-mean drift rate over the pole's azimuths, rad/day; the largest departure within an orbit
+    from it, rad) of a model given by the values :func:`_drift_rate` and :class:`SunGeometry` read."""
+    model = _DriftModel(mean_motion, eccentricity, equinox_to_pericentre, mean_anomaly_at_epoch, orbit_epoch,
+                        pole_epoch, obliquity, scaling_factor, spin_rate)
+    period = 2.0 * math.pi / mean_motion
     t = _span_grid(model, period, 1025)
     sun = SunGeometry.at(model, t)
-    eps = model.obliquity
     worst_rate, worst_wiggle = 0.0, 0.0
     for psi in np.linspace(0.0, 2.0 * math.pi, LONG_SPAN_AZIMUTHS, endpoint=False):
-        s = np.broadcast_to(model.pole_orbit_frame(np.array([psi]), np.array([eps])), (t.size, 3))
+        s = np.broadcast_to(model.pole_orbit_frame(np.array([psi]), np.array([obliquity])), (t.size, 3))
         c = _cumulative(_drift_rate(model, moments, s, sun), t)
         mean = c[-1] / period
         worst_rate = max(worst_rate, float(np.linalg.norm(mean)))
         worst_wiggle = max(worst_wiggle, float(np.max(np.linalg.norm(c - np.outer(t - t[0], mean), axis=1))))
-    # a sampled azimuth can miss the largest rate by the harmonic's curvature: (π / N)² / 2 of it for harmonic 2
-    return worst_rate * (1.0 + 0.5 * (2.0 * math.pi / LONG_SPAN_AZIMUTHS) ** 2) * abs(span) + worst_wiggle
+    return worst_rate, worst_wiggle
+
+
+@dataclass(frozen=True)
+class _DriftModel:
+    """The values of a :class:`~ephem.forced.precession_nutation.PrecessionNutation` that the drift over an orbit
+    reads (its Keplerian orbit, pole epoch, mean obliquity and rates), with the same methods."""
+
+    mean_motion: float
+    eccentricity: float
+    equinox_to_pericentre: float
+    mean_anomaly_at_epoch: float
+    orbit_epoch: float
+    pole_epoch: float
+    obliquity: float
+    scaling_factor: float
+    spin_rate: float
+
+    mean_anomaly = PrecessionNutation.mean_anomaly
+    pole_orbit_frame = PrecessionNutation.pole_orbit_frame
 
 
 def error_terms(model, moments, span_days: float, axis: str = "figure",

@@ -207,6 +207,7 @@ def synchronous_model(body: Body) -> SynchronousModel:
     return SynchronousModel(body, orbit, state, colat, offset, node0, frame_rate, t0, o.frame, body.hd, series)
 
 
+@lru_cache(maxsize=64)     # the model's alone (its free librations: ~5 ms), the models kept as synchronous_model keeps them
 def ecliptic_lag(m: SynchronousModel) -> float:
     """v/ω_lat (rad): how far the real pole lags a Laplace plane moving at v (the ecliptic of date's pole, IAU
     2006's π_A rate), its free libration in latitude turning at ω_lat in the node's frame; 0 on a fixed plane."""
