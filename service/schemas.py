@@ -300,6 +300,19 @@ class HistoryOrbit(BaseModel):
         description="(past, future) years from J2000.0 over which the orbit normal holds to 1 arcmin, or null")
 
 
+class HistoryCandidate(BaseModel):
+    """One orbit model of a history's choice (ephem.longterm.orbit_selection)."""
+    name: OrbitModelName
+    available: bool = Field(description="whether the model can serve the span (why_not says why not)")
+    why_not: Optional[str] = Field(description="why the model cannot serve the span, or null")
+    estimated_error_mas: Optional[float] = Field(description="its estimate over the span, mas; null: not run for "
+                                                             "one (dearer than the chosen model, or not chosen)")
+    estimated_cpu_ms: Optional[float] = Field(description="its predicted CPU time, ms of one core; null: unavailable")
+    eligible: Optional[bool] = Field(description="whether its estimate meets tolerance_mas; null: not estimated, or "
+                                                 "no tolerance given")
+    chosen: bool
+
+
 class HistoryModel(BaseModel):
     name: OrbitModelName = Field(description="the orbit model the spin was integrated along")
     description: str
@@ -318,6 +331,12 @@ class HistoryModel(BaseModel):
     assumptions: list[str]
     warnings: list[str]
     perturbers: Optional[list[str]] = Perturbers
+    rule: Optional[str] = Field(None, description="how the orbit model is chosen: named, the default without a "
+                                                  "tolerance, or the cheapest predicted among those within it")
+    why_chosen: Optional[str] = Field(None, description="why that orbit model: with a tolerance, 'cheapest predicted "
+                                                        "of N eligible: ...' and the others' reasons")
+    candidates: Optional[list[HistoryCandidate]] = Field(None, description="each orbit model examined, as the choice "
+                                                                           "saw it")
 
 
 class History(BaseModel):

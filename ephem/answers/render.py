@@ -211,6 +211,14 @@ def history(r: HistoryResult) -> dict:
         "assumptions": list(HISTORY_ASSUMPTIONS),
         "warnings": list(r.warnings),
     }
+    if r.selection is not None:     # how the orbit model was chosen: each one examined, as the choice saw it
+        model["rule"], model["why_chosen"] = r.selection.rule, r.selection.reason
+        model["candidates"] = [{
+            "name": k.name, "available": k.why_not is None, "why_not": k.why_not,
+            "estimated_error_mas": None if k.estimate is None else k.estimate / MAS,
+            "estimated_cpu_ms": None if k.cost_s is None else 1e3 * k.cost_s,
+            "eligible": k.eligible, "chosen": k.chosen,
+        } for k in r.selection.candidates]
     start, stop = r.meaningful
     return {
         "body": b.name, "dataset": b.dataset,

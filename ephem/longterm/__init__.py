@@ -4,6 +4,7 @@
 - :mod:`ephem.longterm.cubic_spline`: Not-a-knot cubic splines on numpy alone: the orbit histories' interpolant, as scipy's ``CubicSpline`` builds it.
 - :mod:`ephem.longterm.history`: The spin axis over millennia and millions of years: a body's history, through its own theory.
 - :mod:`ephem.longterm.nbody_orbit`: Long-term orbit-plane histories (millions of years) from an N-body integration with REBOUND (WHFast).
+- :mod:`ephem.longterm.orbit_selection`: How a history's orbit model was chosen (issue 39): every model as the choice saw it, the rule and the reason.
 - :mod:`ephem.longterm.secular_orbit`: The orbits over long spans by Laplace–Lagrange secular theory: the planets' orbit planes and eccentricities,
 - :mod:`ephem.longterm.with_long_term`: The ladder across spans: every family's models, and the long-term model beyond them.
 

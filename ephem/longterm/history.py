@@ -6,14 +6,21 @@ with the theory's precession constant, or the Moon's Cassini state carried along
 chooses the orbit it moves along, charges the cost before the work, and returns a :class:`HistoryResult`
 (rendered by :func:`ephem.answers.render.history`).
 
-Two models of the orbit, cheapest first (:data:`ORBIT_MODELS`):
+Two models of the orbit (:data:`ORBIT_MODELS`):
 
 - ``secular``: first-order Laplace–Lagrange theory (:mod:`ephem.longterm.secular_orbit`): the planets' modes, and a small
   body's forced and free elements in them; milliseconds, good for the slow modes, blind to resonances and
   close encounters;
 - ``nbody``: a REBOUND (WHFast) integration from DE421 (:mod:`ephem.longterm.nbody_orbit`): shipped for the catalogue's
-  bodies over :data:`~ephem.longterm.nbody_orbit` 's span (so their history costs only the spin integration), run on
-  request for a body of the user's own within the request's budget.
+  bodies over :data:`~ephem.longterm.nbody_orbit` 's span (so their history costs only the file's read and the spin
+  integration), run on request for a body of the user's own within the request's budget.
+
+Each is priced for the request (:func:`history_cost`: the spin integration both share, and the orbit's own work,
+measured by benchmarks/bench_orbit_models.py). With a tolerance the answer is the model predicted cheapest among those
+whose estimate meets it (:func:`ephem.theory.choice.choose`, the rule of every track's choice: each estimate is a run,
+made in order of predicted cost); without one, the shipped N-body orbit where it covers the span, else the cheapest
+available; the answer says which models were examined and why the chosen one won
+(:mod:`ephem.longterm.orbit_selection`).
 
 The estimate of a history, per epoch, is the sum of named terms (radians): ``nutation`` (the periodic terms the
 averaged equation leaves out), ``precession_constant`` and ``pole`` (the divergence of neighbouring solutions
@@ -35,14 +42,18 @@ from functools import lru_cache
 import numpy as np
 
 from ..theory import cost
+from ..theory.choice import RULE, Deferred, choose
+from ..theory.results import Estimate
 from ..base.budget import charge, checkpoint
 from ..bodies.catalogue import DEFAULT_DATASET, Body, load_catalogue
 from ..base.constants import MAS
 from ..base.errors import InvalidInputError, NotApplicableError, count_text
 from ..orbit.geometry import angle_between
-from .averaged_spin import MEANINGFUL_LIMIT, SpinHistory, outward_max
+from .averaged_spin import MEANINGFUL_LIMIT, ORBIT_SAMPLE_YEARS, SpinHistory, outward_max
 from .nbody_orbit import (SHIPPED_ASTEROIDS, SHIPPED_BODIES, SHIPPED_PLANETS, load_metadata, nbody_cost_seconds,
                           nbody_orbit_history, shipped_orbit_history, shipped_sample_noise)
+from .orbit_selection import (DEFAULT_RULE, NAMED_RULE, OrbitCandidate, OrbitSelection, RunEstimate, ms_text,
+                              why_chosen)
 from .secular_orbit import planet_secular_history, secular_orbit_history
 
 ORBIT_MODELS = ("secular", "nbody")
@@ -126,18 +137,43 @@ def secular_orbit(b: Body, orbit_body: str):
 
 
 def orbit_choices(b: Body, orbit_body: str, lo: float, hi: float, on_demand: bool = True) -> list[OrbitChoice]:
-    """The orbit models for ``b`` over [lo, hi] years, cheapest first; unavailable ones say why. ``on_demand``:
-    whether a body without a shipped N-body orbit may have one run for it (a history may; the ``long_term``
-    model of a track, whose estimate every track by tolerance computes, may not)."""
-    return [secular_choice(b, orbit_body), nbody_choice(b, orbit_body, lo, hi, on_demand)]
+    """The orbit models for ``b`` over [lo, hi] years in :data:`ORBIT_MODELS`' order, each priced (its own part:
+    :func:`history_cost` adds the spin's); unavailable ones say why. ``on_demand``: whether a body without a
+    shipped N-body orbit may have one run for it (a history may; the ``long_term`` model of a track may not)."""
+    return [secular_choice(b, orbit_body, lo, hi), nbody_choice(b, orbit_body, lo, hi, on_demand)]
 
 
-def secular_choice(b: Body, orbit_body: str) -> OrbitChoice:
-    """The ``secular`` model of :func:`orbit_choices` (the theory solved: the planets' modes once per process)."""
+#: CPU of an orbit model's own work in a history, beyond the spin integration the models share: the one-time work of
+#: a process priced with the request (the first history of a CLI call pays it), each about twice its measurement
+#: (benchmarks/bench_orbit_models.py, benchmarks/RESULTS_orbit_models.md; the measured ms in fresh processes)
+SHIPPED_READ_S = 0.01           # the shipped N-body file with its spline and noise from the table cache: 4.6-5.8
+SECULAR_SOLVE_S = 0.035         # the planets' eight modes (Laplace-Lagrange), once per process: 16-18
+ENVELOPE_S = {"planet": 0.02, "small body": 0.07}    # the secular error's envelope, once per process: 9 and 33
+SPLINE_POINT_S = 8.0e-7         # the shipped orbit's spline at one epoch (the pole, a and e): 0.37-0.56 us
+SECULAR_POINT_S = 1.3e-6        # the secular orbit at one epoch (its modes summed for the pole, a and e): 0.62-0.70 us
+
+
+def _part(what: str, seconds: float) -> cost.Part:
+    """A part of an orbit model's price (its memory: small arrays, 1 MB)."""
+    return cost.Part("orbit_model", what, seconds, 1.0)
+
+
+def secular_choice(b: Body, orbit_body: str, lo: float, hi: float) -> OrbitChoice:
+    """The ``secular`` model of :func:`orbit_choices` (the theory solved: the planets' modes once per process),
+    priced with its error term over [lo, hi] years: its distance from the shipped N-body orbit where that covers
+    the span, else the envelope of the shipped bodies of its kind (:func:`secular_orbit_error`)."""
     try:
-        return OrbitChoice("secular", secular_orbit(b, orbit_body))
+        orbit = secular_orbit(b, orbit_body)
     except NotApplicableError as exc:
         return OrbitChoice("secular", why_not=exc.reason)
+    shipped = _shipped(b, orbit_body)
+    if shipped is not None and shipped.span_years[0] <= lo and hi <= shipped.span_years[1]:
+        error = _part("its error: the shipped N-body orbit read", SHIPPED_READ_S)
+    else:
+        kind = "planet" if _is_planet(b, orbit_body) else "small body"
+        error = _part(f"its error: the envelope of the shipped {kind} orbits' (once per process)", ENVELOPE_S[kind])
+    return OrbitChoice("secular", orbit, cost.Cost((_part("the secular theory's modes (once per process)",
+                                                          SECULAR_SOLVE_S), error)))
 
 
 def nbody_choice(b: Body, orbit_body: str, lo: float, hi: float, on_demand: bool = True) -> OrbitChoice:
@@ -147,7 +183,8 @@ def nbody_choice(b: Body, orbit_body: str, lo: float, hi: float, on_demand: bool
     if shipped is not None:
         first, last = shipped.span_years
         if first <= lo and hi <= last:
-            return OrbitChoice("nbody", shipped, shipped=True)
+            return OrbitChoice("nbody", shipped, cost.Cost((_part("the shipped N-body orbit read", SHIPPED_READ_S),)),
+                               shipped=True)
         return OrbitChoice("nbody", why_not=f"the shipped N-body orbit of {orbit_body} covers "
                            f"[{first:g}, {last:g}] years from J2000.0, not [{lo:g}, {hi:g}]")
     if b.orbit.center != "Sun":
@@ -274,9 +311,15 @@ def secular_orbit_error(b: Body, orbit_body: str, years: np.ndarray) -> np.ndarr
 
 def history_cost(spin, choice: OrbitChoice, lo: float, hi: float, count: int) -> cost.Cost:
     """The orbit's and the spin integration's cost over [lo, hi] years at ``count`` epochs, known before the
-    work: the integration runs from the spin's epoch to the farthest epoch on each side."""
+    work: the integration runs from the spin's epoch to the farthest epoch on each side, sampling the orbit every
+    500 years (its pole, a and e) and at the epochs (twice: the spin's frame and the orbit's error)."""
     t0 = getattr(spin, "epoch_years", 0.0)
-    return choice.cost + cost.Cost((spin.cost(float(max(lo, hi, t0) - min(lo, hi, t0)), count),))
+    span = float(max(lo, hi, t0) - min(lo, hi, t0))
+    points = 2 * (int(math.ceil(span / ORBIT_SAMPLE_YEARS)) + 1 + count)
+    per = SECULAR_POINT_S if choice.name == "secular" else SPLINE_POINT_S
+    return choice.cost + cost.Cost((cost.Part("step_years", f"the {choice.name} orbit at {points} epochs",
+                                              points * per, points * 56.0 / cost.MB),     # 7 float64 a point
+                                    spin.cost(span, count)))
 
 
 def spin_axis_history(b: Body, theory, start_year, stop_year, step_years, tolerance: float | None = None,
@@ -286,8 +329,8 @@ def spin_axis_history(b: Body, theory, start_year, stop_year, step_years, tolera
     at each epoch of the grid, its error by named term, where it stops meaning anything and the orbit model
     used (:class:`HistoryResult`). ``tolerance`` (radians) or ``orbit_model`` ("secular" or "nbody"), not
     both; by default the shipped N-body orbit where it covers the span, else the cheapest available; with a
-    tolerance, the cheapest whose estimate meets it. ``progress``: called with the fraction integrated (a
-    console's progress bar)."""
+    tolerance, the one predicted cheapest whose estimate meets it. ``progress``: called with the fraction
+    integrated (a console's progress bar)."""
     t_start = time.perf_counter()
     years = history_grid(start_year, stop_year, step_years, min(max_samples, MAX_HISTORY_SAMPLES))
     if orbit_model is not None and orbit_model not in ORBIT_MODELS:
@@ -295,8 +338,8 @@ def spin_axis_history(b: Body, theory, start_year, stop_year, step_years, tolera
     if orbit_model is not None and tolerance is not None:
         raise InvalidInputError("orbit_model", "give either an orbit model or a tolerance, not both")
     spin = theory.secular_spin()
-    chosen, result, estimates = _choose(b, spin, years, tolerance, orbit_model, progress)
-    return _result(b, theory, spin, chosen, result, estimates, years, tolerance, t_start)
+    chosen, result, estimates, selection = _choose(b, spin, years, tolerance, orbit_model, progress)
+    return _result(b, theory, spin, chosen, result, estimates, years, tolerance, t_start, selection)
 
 
 @dataclass(frozen=True)
@@ -322,7 +365,7 @@ def default_orbit(b: Body, orbit_body: str, lo: float, hi: float, on_demand: boo
     """:func:`default_choice` of :func:`orbit_choices`, the secular theory solved only when no shipped N-body orbit
     covers [lo, hi] years (the planets' modes: 15-20 ms of a fresh process)."""
     nbody = nbody_choice(b, orbit_body, lo, hi, on_demand)
-    return nbody if nbody.shipped else default_choice([secular_choice(b, orbit_body), nbody], b)
+    return nbody if nbody.shipped else default_choice([secular_choice(b, orbit_body, lo, hi), nbody], b)
 
 
 def long_term_cost(b: Body, spin, lo: float, hi: float, count: int) -> cost.Cost:
@@ -357,37 +400,69 @@ def _run(b: Body, spin, choice: OrbitChoice, years: np.ndarray, progress=None) -
 
 
 def _choose(b: Body, spin, years, tolerance, orbit_model, progress=None):
-    """(the orbit model, (history, terms), every tried model's terms): the named one, the default, or the
-    cheapest within ``tolerance``."""
+    """(the orbit model, (history, terms), every tried model's terms, :class:`OrbitSelection`): the named one, the
+    default, or with ``tolerance`` the one predicted cheapest among those estimated within it
+    (:func:`ephem.theory.choice.choose`: estimated in order of predicted cost, each estimate a run)."""
     lo, hi = float(years[0]), float(years[-1])
+
+    def price(c: OrbitChoice) -> float:
+        return history_cost(spin, c, lo, hi, years.size).cpu_s
+
+    def alone(choices, c, result, rule, reason):
+        est = float(np.max(total(result[1])))
+        return c, result, {c.name: result[1]}, OrbitSelection(rule, reason, tuple(
+            OrbitCandidate(x.name, x.why_not, None if x.why_not else price(x), est if x is c else None,
+                           None, x is c) for x in choices))
+
     if orbit_model is not None:
-        c = secular_choice(b, spin.orbit_body) if orbit_model == "secular" else \
+        c = secular_choice(b, spin.orbit_body, lo, hi) if orbit_model == "secular" else \
             nbody_choice(b, spin.orbit_body, lo, hi)
         if c.why_not is not None:
             raise NotApplicableError(b.name, f"the {orbit_model} orbit: {c.why_not}")
-        h, terms = _run(b, spin, c, years, progress)
-        return c, (h, terms), {c.name: terms}
+        return alone([c], c, _run(b, spin, c, years, progress), NAMED_RULE, f"named: orbit_model={orbit_model}")
     if tolerance is None:
-        run = long_term_run(b, spin, years, progress, on_demand=True)
-        return run.choice, (run.history, run.terms), {run.choice.name: run.terms}
+        nbody = nbody_choice(b, spin.orbit_body, lo, hi, on_demand=True)
+        choices = [nbody] if nbody.shipped else [secular_choice(b, spin.orbit_body, lo, hi), nbody]
+        c = default_choice(choices, b)
+        reason = ("the shipped N-body orbit covers the span (the secular theory is not examined)" if nbody.shipped
+                  else f"no shipped N-body orbit covers the span: {c.name}, the cheapest available "
+                       f"({ms_text(price(c))})")
+        return alone(choices, c, _run(b, spin, c, years, progress), DEFAULT_RULE, reason)
     choices = orbit_choices(b, spin.orbit_body, lo, hi)
-    choices = orbit_choices(b, spin.orbit_body, lo, hi)
-    available = [c for c in choices if c.why_not is None]
-    if not available:
-        default_choice(choices, b)          # raises, saying why each is unavailable
-    tried = {}
-    for c in available:
-        h, terms = _run(b, spin, c, years, progress)
-        tried[c.name] = terms
-        if float(np.max(total(terms))) <= tolerance:
-            return c, (h, terms), tried
-    best = min(tried, key=lambda k: float(np.max(total(tried[k]))))
-    raise NotApplicableError(b.name, f"no orbit model meets tolerance_mas={tolerance / MAS:.6g} over "
-                             f"[{years[0]:g}, {years[-1]:g}] years: the best, {best}, is estimated at "
-                             f"{float(np.max(total(tried[best]))) / MAS:.4g} mas (largest terms: "
-                             + ", ".join(f"{k} {float(np.max(v)) / MAS:.4g}" for k, v in
-                                         sorted(tried[best].items(), key=lambda kv: -float(np.max(kv[1])))[:2])
-                             + "); the history has no nutation: for a few centuries ask for the track")
+    by_name = {c.name: c for c in choices}
+    runs = {}
+
+    def deferred(c: OrbitChoice) -> Deferred:
+        def make() -> Estimate:
+            if c.why_not is not None:
+                return Estimate(c.name, None, {}, available=False, why_not=c.why_not)
+            if c.name not in runs:          # made once: the refusal asks for every estimate again
+                runs[c.name] = _run(b, spin, c, years, progress)
+            terms = runs[c.name][1]
+            return RunEstimate(c.name, None, {k: float(np.max(v)) for k, v in terms.items()},
+                               largest=float(np.max(total(terms))))
+        return Deferred(c.name, None, make, available=c.why_not is None)
+
+    def refuse(made: list) -> None:
+        if not made:
+            default_choice(choices, b)          # raises, saying why each is unavailable
+        best = min(made, key=lambda e: e.total).rung
+        terms = runs[best][1]
+        raise NotApplicableError(b.name, f"no orbit model meets tolerance_mas={tolerance / MAS:.6g} over "
+                                 f"[{lo:g}, {hi:g}] years: the best, {best}, is estimated at "
+                                 f"{float(np.max(total(terms))) / MAS:.4g} mas (largest terms: "
+                                 + ", ".join(f"{k} {float(np.max(v)) / MAS:.4g}" for k, v in
+                                             sorted(terms.items(), key=lambda kv: -float(np.max(kv[1])))[:2])
+                                 + "); the history has no nutation: for a few centuries ask for the track")
+
+    pick = choose([deferred(c) for c in choices], lambda p: history_cost(spin, by_name[p.rung], lo, hi, years.size),
+                  tolerance, refuse)
+    candidates = tuple(OrbitCandidate(k.rung, by_name[k.rung].why_not, None if k.cost is None else k.cost.cpu_s,
+                                      None if k.estimate is None or not k.estimate.available else k.estimate.total,
+                                      k.eligible, k.estimate is pick.chosen) for k in pick.candidates)
+    c = by_name[pick.chosen.rung]
+    return c, runs[c.name], {k: v[1] for k, v in runs.items()}, OrbitSelection(
+        RULE, why_chosen(candidates, tolerance), candidates)
 
 
 def total(terms: dict) -> np.ndarray:
@@ -427,6 +502,8 @@ class HistoryResult:
     tolerance: float | None
     cost_ms: float
     warnings: tuple[str, ...]
+    #: how the orbit model was chosen (None: a result made without the choice)
+    selection: OrbitSelection | None = None
 
     @property
     def error(self) -> np.ndarray:
@@ -438,7 +515,8 @@ class HistoryResult:
         return total(self.history.obliquity_terms)
 
 
-def _result(b, theory, spin, chosen: OrbitChoice, result, estimates, years, tolerance, t_start) -> HistoryResult:
+def _result(b, theory, spin, chosen: OrbitChoice, result, estimates, years, tolerance, t_start,
+            selection: OrbitSelection) -> HistoryResult:
     h, terms = result
     meaningful = _meaningful(years, spin, h, terms)
     horizon = getattr(chosen.orbit, "horizon_years", None)
@@ -455,7 +533,7 @@ def _result(b, theory, spin, chosen: OrbitChoice, result, estimates, years, tole
     return HistoryResult(b, years, h, terms, estimates, meaningful, chosen.name,
                          getattr(chosen.orbit, "source", None),
                          None if horizon is None else tuple(float(x) for x in horizon), theory.summary, spin.source,
-                         tolerance, (time.perf_counter() - t_start) * 1e3, tuple(warnings))
+                         tolerance, (time.perf_counter() - t_start) * 1e3, tuple(warnings), selection)
 
 
 def _meaningful(years, spin, h: SpinHistory, terms: dict) -> tuple[float, float]:

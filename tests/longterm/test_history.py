@@ -59,7 +59,13 @@ def test_the_secular_orbit_is_served_by_name_and_estimated_against_the_n_body_on
 
 def test_a_tolerance_picks_the_cheapest_orbit_that_meets_it_or_refuses_with_the_best_estimate():
     loose = api.history("mars", -1.0e4, 1.0e4, 500.0, tolerance_mas=3.6e6)
-    assert loose["model"]["name"] == "secular"
+    # the shipped N-body orbit is priced below the secular theory (which reads it for its own error): chosen, and
+    # the secular one never run (tests/longterm/test_history_choice.py holds the rule over bodies and spans)
+    assert loose["model"]["name"] == "nbody"
+    secular, nbody = loose["model"]["candidates"]
+    assert (secular["name"], secular["chosen"], secular["estimated_error_mas"]) == ("secular", False, None)
+    assert nbody["name"] == "nbody" and nbody["chosen"] and nbody["estimated_cpu_ms"] < secular["estimated_cpu_ms"]
+    assert nbody["estimated_error_mas"] == pytest.approx(loose["model"]["estimated_error_mas"], rel=1e-12)
     assert loose["model"]["tolerance_mas"] == pytest.approx(3.6e6)
     with pytest.raises(NotApplicableError, match="no orbit model meets tolerance_mas=1"):
         api.history("mars", -1.0e4, 1.0e4, 500.0, tolerance_mas=1.0)
