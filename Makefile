@@ -15,7 +15,7 @@ PYTEST_ARGS ?=
 # pinned for CPython 3.11 on Linux. `make lock` regenerates it from pyproject.toml.
 LOCK := constraints.txt
 
-.PHONY: venv serve demo test bench bench-service lock clean
+.PHONY: venv serve demo test bench bench-service bench-overhead lock clean
 
 venv:
 	$(PYTHON) tools/bootstrap_venv.py --venv $(VENV) --lock $(LOCK)
@@ -34,6 +34,10 @@ bench: venv
 
 bench-service: venv
 	$(BIN)/python benchmarks/bench_service.py
+
+# the service's overhead near the framework's floor, before (8e7d8db) and after, in one run (~3 min)
+bench-overhead: venv
+	$(BIN)/python benchmarks/bench_overhead.py
 
 # Regenerate the lock with uv (installed in a throw-away venv outside the project, at a pinned
 # version). Existing pins are kept where pyproject.toml still allows them; `make lock UPGRADE=1`
