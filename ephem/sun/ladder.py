@@ -75,7 +75,8 @@ from ..forced.second_order import SecondOrderTheory
 from ..orbit.kepler import mean_motion_rad_per_day
 from ..rotation.free_motion import Wobble, add_free_wobble, free_wobble_bound, wobble_model_bound
 from ..theory import cost
-from ..theory.interface import cheapest_within
+from ..theory.choice import choose
+from ..theory.interface import refuse
 from ..theory.results import Estimate
 from ..theory.tracks import check_axis, check_tolerance, check_wobble_axis, pole_vectors, with_free_wobble
 from .bounds import MAX_LADDER_ORDER, Window, cached_tables, cached_theory, tables_built, theory_terms
@@ -239,13 +240,17 @@ class Ladder:
         return Cost(tuple(parts))
 
     def choose(self, jd_tdb, tolerance: float) -> Estimate:
-        """The cheapest rung whose estimated error over the epochs is within ``tolerance`` (radians).
+        """The rung predicted cheapest (:meth:`cost`) for these epochs among those whose estimated error over them
+        is within ``tolerance`` (radians): the rule of every track (:func:`ephem.theory.choice.choose`).
 
         Raises :class:`NotApplicableError` when none is, naming the best estimate available.
         """
         check_tolerance(tolerance, self.body.name)
-        return cheapest_within([e for e in self.estimates(jd_tdb) if e.available], tolerance, self.body.name,
-                               self.wobble is not None)
+        t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+        start, stop = (float(t.min()), float(t.max())) if t.size else (self.body.pole.epoch_jd_tdb,) * 2
+        return choose(self.estimates(t), lambda e: self.cost(e.rung, start, stop, t.size, e.order, e.free_wobble,
+                                                             e.rotation_scale is not None),
+                      tolerance, lambda made: refuse(made, tolerance, self.body.name, self.wobble is not None)).chosen
 
     def track(self, rung: str, jd_tdb, order: int | None = None, free_wobble: bool = False,
               rotation_scale: bool = False) -> Track:
