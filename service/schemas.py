@@ -59,6 +59,27 @@ class RotationScaleInfo(BaseModel):
     rotation_phase_deg: Optional[float] = Field(description="the rotation phase the request gave, deg, or null")
 
 
+class ChoiceCandidate(BaseModel):
+    name: RungName
+    order: Optional[int] = Field(description="e-power order (series), else null")
+    free_wobble: bool = Field(description="the variant follows the free wobble")
+    rotation_scale: Optional[Literal["oppolzer", "all"]] = Field(description="the variant adds these rotation-scale "
+                                                                           "terms, or null")
+    estimated_error_mas: Optional[float] = Field(description="its estimate over the epochs, mas; null where the "
+                                                             "choice stopped before a model estimated by running it")
+    estimated_cpu_ms: Optional[float] = Field(description="its predicted CPU time for these epochs, ms (null: it "
+                                                          "cannot serve them)")
+    estimated_memory_mb: Optional[float] = Field(description="its predicted peak memory, MB")
+    eligible: Optional[bool] = Field(description="its estimate meets the tolerance (null: not estimated)")
+    chosen: bool
+
+
+class Choice(BaseModel):
+    rule: str = Field(description="how a tolerance chooses: the model predicted cheapest among those within it")
+    reason: str = Field(description="why the chosen model won, in words")
+    candidates: list[ChoiceCandidate] = Field(description="every model and variant in the family's order")
+
+
 class ModelInfo(BaseModel):
     theory: str
     eccentricity_order: Optional[Union[int, Literal["exact"]]] = Field(
@@ -92,6 +113,8 @@ class ModelInfo(BaseModel):
     perturbers: Optional[list[str]] = Perturbers
     cut_mas: Optional[float] = Field(None, description="the lunisolar theory (name \"lunisolar\"): the amplitude cut "
                                                        "of its nutation series, mas")
+    choice: Optional[Choice] = Field(None, description="tracks chosen by tolerance_mas: how the model was chosen "
+                                                       "(docs/accuracy.md, How the model is chosen)")
 
 
 class BodySummary(BaseModel):
