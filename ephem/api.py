@@ -75,6 +75,9 @@ _NAMES = {
     "PLOT_KINDS": (".answers.figures", "KINDS"),
     "MAX_PLOT_POINTS": (".answers.figures", "MAX_PLOT_POINTS"),
     "render_plot": (".answers.figures", "render"),
+    "track_models_chart": (".answers.figures", "track_models_chart"),
+    "models_chart": (".answers.figures", "models_chart"),
+    "track_models_rows": (".exports.work_precision", "model_rows"),
     "FORMATS": (".exports.tables", "FORMATS"),
     "LAYOUTS": (".exports.tables", "LAYOUTS"),
     "render_nutation": (".exports.tables", "render_nutation"),
@@ -104,7 +107,7 @@ __all__ = [
     "MODELS", "AXES", "LAPLACE_LIMIT", "MAX_NUMERICAL_ORBITS", "SERIES_MAX_DELTA", "TIME_PATTERN_ECMA", "ut1_span",
     # exports: nutation tables, plots, SPICE kernels; catalogue import; batches of bodies
     "render_nutation", "write_tables", "FORMATS", "LAYOUTS", "DELAUNAY_NAMES", "render_plot", "PLOT_KINDS",
-    "HISTORY_PLOT_KIND", "PLOT_DPI_RANGE",
+    "HISTORY_PLOT_KIND", "PLOT_DPI_RANGE", "track_models_chart", "models_chart", "track_models_rows",
     "PLOT_CONTENT_TYPES", "MAX_PLOT_POINTS", "write_pck", "write_pck_file", "import_catalogue", "run_batch", "BatchFailed",
     "HistorySpec",
     # errors

@@ -45,7 +45,9 @@ pyplot's global state, so :func:`figure` and :func:`render` may run in several t
 
 Entry points: :func:`figure` (a Figure), :func:`render` (PNG or SVG bytes; :data:`CONTENT_TYPES`
 gives the media types), :func:`default_step_days`, :func:`default_step_years`, and :func:`regenerate_doc_figures` (the
-example figures of ``docs/plots.md``).
+example figures of ``docs/plots.md``); the work-precision chart of a request, every model's estimated error against
+its predicted cost: :func:`track_models_chart` (from the request) and :func:`models_chart` (from its
+``track_models`` answer).
 """
 from __future__ import annotations
 
@@ -66,6 +68,8 @@ from ..orbit.kepler import mean_motion_rad_per_day
 from ..rotation.free_motion import free_motion
 from ..exports.plot_drawing import (draw_free_wobble, draw_nutation_loop, draw_obliquity, draw_obliquity_history,
                            draw_precession, new_figure, period_text)
+from ..exports import work_precision
+from ..base.budget import Cost, Part, charge
 
 #: The kinds of plot, as ``figure(kind, …)`` takes them.
 KINDS = ("precession", "nutation-loop", "obliquity", "free-wobble", "obliquity-history")
@@ -395,6 +399,51 @@ def render(kind: str, body, start, stop, step_days: float | None = None, fmt: st
                  order=order, J_arcsec=J_arcsec, method=method, step_years=step_years, orbit_model=orbit_model,
                  perturbers=perturbers)
     return figure_bytes(fig, fmt, dpi)
+
+
+# --- the work-precision chart of a request (ephem.exports.work_precision) --------------------------
+
+#: CPU seconds of one work-precision chart, drawn and written (SVG): measured 0.16-0.19 s for 3 models on the
+#: reference machine, set about twice ...
+CHART_BASE_S = 0.4
+#: ... and per model drawn: measured 3-6 ms (36 models: 0.29-0.38 s) ...
+CHART_MODEL_S = 0.01
+#: ... and per pixel of a PNG: measured 2-3e-8 s (300 dpi, 4.9 Mpx: +0.11-0.15 s)
+CHART_PIXEL_S = 6e-8
+#: peak memory of a chart, MB: the figure, and a PNG's RGBA buffer and its compressed copy (~8 bytes a pixel)
+CHART_BASE_MB, CHART_PIXEL_BYTES = 20.0, 8.0
+
+
+def chart_cost(models: int, fmt: str = "svg", dpi: float = DEFAULT_DPI) -> Cost:
+    """The predicted cost of drawing a work-precision chart of ``models`` models as ``fmt`` (at ``dpi`` for PNG):
+    charged before it is drawn (:func:`models_chart`)."""
+    pixels = work_precision.FIGSIZE[0] * work_precision.FIGSIZE[1] * dpi * dpi if fmt == "png" else 0.0
+    return Cost((Part("dpi" if fmt == "png" else "format", f"the work-precision chart of {models} models as {fmt}",
+                      CHART_BASE_S + CHART_MODEL_S * models + CHART_PIXEL_S * pixels,
+                      CHART_BASE_MB + CHART_PIXEL_BYTES * pixels / (1024.0 * 1024.0)),))
+
+
+def models_chart(answer: dict, fmt: str = "svg", dpi: float = DEFAULT_DPI) -> bytes:
+    """The work-precision chart (:mod:`ephem.exports.work_precision`) of a :func:`ephem.answers.requests.track_models`
+    answer: each model's estimated error (mas) against its predicted cost (CPU ms), the tolerance, the chosen model;
+    "svg" (a ``<title>`` on every point: its model, order, error and cost, shown on hover) or "png" at ``dpi``.
+    Charges the drawing's cost (:func:`chart_cost`) first; the same answer gives the same bytes."""
+    fmt, dpi = _check_fmt(fmt), _check_dpi(dpi)
+    charge(chart_cost(len(answer["models"]), fmt, dpi), answer.get("body"))
+    data = figure_bytes(work_precision.figure(answer), fmt, dpi)
+    return data if fmt == "png" else work_precision.svg_with_titles(data.decode("utf-8"), answer).encode("utf-8")
+
+
+def track_models_chart(body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET, *,
+                       tolerance_mas: float | None = None, axis: str = "figure", perturbers=None, fmt: str = "svg",
+                       dpi: float = DEFAULT_DPI, max_samples: int = answers.MAX_TRACK_SAMPLES) -> bytes:
+    """Speed against accuracy for one request, charted: :func:`ephem.answers.requests.track_models` (same
+    arguments: every model serving ``body`` over these epochs, its estimate and predicted cost, the one
+    ``tolerance_mas`` picks) drawn by :func:`models_chart` as ``fmt`` ("svg" or "png", ``dpi`` 30-300)."""
+    fmt, dpi = _check_fmt(fmt), _check_dpi(dpi)
+    ans = answers.track_models(body, start, stop, step_days, dataset, tolerance_mas=tolerance_mas, axis=axis,
+                               perturbers=perturbers, max_samples=max_samples)
+    return models_chart(ans, fmt, dpi)
 
 
 # --- the figures of docs/plots.md -----------------------------------------------------------------
