@@ -54,6 +54,15 @@ OrderQuery = Annotated[Optional[int], Query(ge=0, le=api.MAX_ORDER, description=
 ToleranceQuery = Annotated[Optional[float], Query(gt=0, description="pick the cheapest model estimated within this "
                                                   "many milliarcseconds of the truth (see /docs/accuracy)",
                                                   examples=[10.0])]
+# the query of GET /v1/bodies/{body}/track/models and its charts (the track's, where it applies)
+ModelsStart = Annotated[str, Query(description="ISO 8601 (UTC unless a scale follows) or JD TDB",
+                                   examples=["2025-01-01"])]
+ModelsStop = Annotated[str, Query(description="ISO 8601 or JD TDB", examples=["2026-01-01"])]
+ModelsStep = Annotated[float, Query(description="sampling step, days", examples=[10.0])]
+ModelsAxis = Annotated[Axis, Query(description="the pole to follow, as the track's axis")]
+ModelsPerturbers = Annotated[Optional[str], Query(
+    description="the torquing bodies: default the catalogue's; sun alone for the single-perturber ladder",
+    examples=["sun", "moon,sun"], max_length=100)]
 
 
 class PlotKind(str, Enum):
@@ -255,6 +264,49 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         if format is TrackFormat.csv:
             return StreamingResponse(_csv_rows(arrays), media_type="text/csv; charset=utf-8")
         return finite_json(arrays)
+
+    # speed against accuracy for a track's request: every model's estimate and predicted cost, and its chart
+    @app.get("/v1/bodies/{body}/track/models", response_model=schemas.TrackModels, tags=["theory"], responses={
+        **ERRORS, 200: {"content": {"application/json": {"example": {
+            "body": "Vesta", "dataset": "current", "perturbers": ["Sun"], "theory": "the single-perturber ladder …",
+            "start_jd_tdb": 2460676.5008, "stop_jd_tdb": 2461036.5008, "epochs": 13, "tolerance_mas": 100.0,
+            "chosen": "hansen", "models": [{
+                "name": "hansen", "order": None, "description": "Kinoshita-Cayley nutation with exact Hansen …",
+                "available": True, "why_not": None, "estimated_error_mas": 63.08,
+                "error_terms_mas": {"orbit_motion": 62.0, "second_order": 0.9}, "free_wobble": False,
+                "rotation_scale": None, "estimated_cpu_ms": 2.05, "estimated_memory_mb": 0.05, "chosen": True}]}}}}})
+    def track_models(body: BodyPath, start: ModelsStart, stop: ModelsStop, step_days: ModelsStep,
+                     dataset: DatasetQuery = DEFAULT_DATASET_VALUE, tolerance_mas: ToleranceQuery = None,
+                     axis: ModelsAxis = Axis("figure"), perturbers: ModelsPerturbers = None):
+        """Speed against accuracy for a track's request (ephem.api.track_models): every model of the family
+        serving the body over these epochs, with its estimated error by term (mas) and predicted cost (CPU ms, MB),
+        and the one tolerance_mas picks. Computes no track; the same query charted: track/models.svg, .png."""
+        return finite_json(api.track_models(body, start, stop, step_days, dataset.value, tolerance_mas, axis.value,
+                                            perturbers, settings.max_track_samples))
+
+    def models_chart_route(ext: str):
+        def chart(body: BodyPath, start: ModelsStart, stop: ModelsStop, step_days: ModelsStep,
+                  dataset: DatasetQuery = DEFAULT_DATASET_VALUE, tolerance_mas: ToleranceQuery = None,
+                  axis: ModelsAxis = Axis("figure"), perturbers: ModelsPerturbers = None,
+                  dpi: Annotated[float, Query(ge=30, le=300, description="PNG resolution")] = 100):
+            image = api.track_models_chart(body, start, stop, step_days, dataset.value, tolerance_mas=tolerance_mas,
+                                           axis=axis.value, perturbers=perturbers, fmt=ext, dpi=dpi,
+                                           max_samples=settings.max_track_samples)
+            return Response(image, media_type=api.PLOT_CONTENT_TYPES[ext])
+        chart.__name__ = f"track_models_{ext}"
+        chart.__doc__ = (f"The work-precision chart of GET /v1/bodies/{{body}}/track/models as {ext.upper()}: each "
+                         "model's estimated error (mas, log) against its predicted cost (CPU ms, log), the tolerance "
+                         "as a line, the chosen model ringed, the ineligible dimmed"
+                         + (" (in SVG each point's <title> gives its model, order, error and cost)." if ext == "svg"
+                            else "."))
+        return chart
+
+    for ext in ("png", "svg"):
+        media = "image/png" if ext == "png" else "image/svg+xml"
+        app.get(f"/v1/bodies/{{body}}/track/models.{ext}", tags=["figures"], response_class=Response,
+                responses={**ERRORS, 200: {"content": {media: {"example": "(PNG bytes)" if ext == "png" else
+                                                          "<?xml version=\"1.0\" encoding=\"utf-8\"?><svg …"}}}})(
+            models_chart_route(ext))
 
     @app.get("/v1/bodies/{body}/history", response_model=schemas.History, tags=["theory"], responses={
         **ERRORS, 200: {"content": {"application/json": {"example": {

@@ -313,6 +313,46 @@ class Track(BaseModel):
     model: ModelInfo
 
 
+class TrackModelEntry(BaseModel):
+    """One model of the family serving the body, over the request's epochs (ephem.api.track_models)."""
+    name: RungName = Field(description="the model (a rung of the fidelity ladder, or the family's model)")
+    order: Optional[int] = Field(description="e-power order of the Hansen coefficients (series), else null")
+    description: str
+    available: bool = Field(description="whether the model can serve these epochs (why_not says why not)")
+    why_not: Optional[str] = Field(description="why the model cannot serve these epochs, or null")
+    estimated_error_mas: Optional[float] = Field(description="estimated upper bound on the pole's distance from the "
+                                                             "truth over the epochs, mas; null: not estimated")
+    error_terms_mas: Optional[dict[str, float]] = Field(description="the estimate by named term, mas")
+    free_wobble: bool = Field(description="the variant adds the free wobble of the figure axis")
+    rotation_scale: Optional[Literal["oppolzer", "all"]] = Field(
+        description="the rotation-scale terms the variant adds (the Oppolzer offset, or all), or null")
+    estimated_cpu_ms: Optional[float] = Field(description="predicted CPU time of its track, ms of one core "
+                                                          "(ephem.theory.cost); null where not available")
+    estimated_memory_mb: Optional[float] = Field(description="predicted peak memory of its track, MB")
+    eligible: Optional[bool] = Field(None, description="available, and within tolerance_mas when one is given")
+    why: Optional[str] = Field(None, description="why the model is eligible, ineligible or chosen")
+    chosen: bool = Field(description="the model tolerance_mas picks")
+
+
+class TrackModels(BaseModel):
+    """Speed against accuracy for one request: every model with its estimate and predicted cost, in the family's
+    order, and the one the tolerance picks."""
+    body: str
+    dataset: str
+    perturbers: Optional[list[str]] = Perturbers
+    theory: str = Field(description="the family of theories serving the body")
+    start_jd_tdb: float = Field(description="the first epoch, JD TDB")
+    stop_jd_tdb: float = Field(description="the last epoch on the grid, JD TDB")
+    epochs: int = Field(description="the number of epochs")
+    tolerance_mas: Optional[float] = Field(description="the request's tolerance, mas, or null")
+    rule: Optional[str] = Field(None, description="how the model is chosen")
+    chosen: Optional[RungName] = Field(description="the model the tolerance picks, or null (none given, or none "
+                                                   "within it)")
+    chosen_order: Optional[int] = Field(None, description="the chosen model's e-order, or null")
+    why_chosen: Optional[str] = Field(None, description="why that model, or null")
+    models: list[TrackModelEntry]
+
+
 OrbitModelName = Literal["secular", "nbody"]
 
 

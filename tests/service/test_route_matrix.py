@@ -145,6 +145,7 @@ def _plot_query(case: Case) -> dict:
 
 
 HISTORY = {"start_year": -400, "stop_year": 0}      # within Itokawa's shipped N-body orbit (-500 to 39500)
+MODELS_QUERY = {"start": "2020-01-01", "stop": "2020-03-01", "step_days": 30, "tolerance_mas": 1e5}
 
 
 def _batch_row() -> dict:
@@ -200,6 +201,10 @@ SPECS: dict[tuple[str, str], Spec] = {
     ("GET", "/v1/bodies/{body}/history"): Spec(CATALOGUE, lambda case: {**HISTORY, "step_years": 200}),
     ("GET", "/v1/bodies/{body}/track.png"): Spec(CATALOGUE, _plot_query),
     ("GET", "/v1/bodies/{body}/track.svg"): Spec(CATALOGUE, _plot_query),
+    # speed against accuracy: every model's estimate and cost, and its chart (a tolerance, so one may be chosen)
+    ("GET", "/v1/bodies/{body}/track/models"): Spec(CATALOGUE, lambda case: MODELS_QUERY),
+    ("GET", "/v1/bodies/{body}/track/models.png"): Spec(CATALOGUE, lambda case: {**MODELS_QUERY, "dpi": 30}),
+    ("GET", "/v1/bodies/{body}/track/models.svg"): Spec(CATALOGUE, lambda case: MODELS_QUERY),
     ("GET", "/v1/bodies/{body}/history.png"): Spec(CATALOGUE, lambda case: {**HISTORY, "dpi": 30}),
     ("GET", "/v1/bodies/{body}/history.svg"): Spec(CATALOGUE, lambda case: HISTORY),
     ("GET", "/v1/bodies/{body}/free-motion"): Spec(CATALOGUE, lambda case: {
