@@ -19,7 +19,9 @@ Routes (not in the OpenAPI document: they are pages, not the API):
   file, the one form that cannot be a GET) and the answers as a table and a CSV download (a ``data:`` link: the
   service keeps nothing);
 - ``GET /bodies/{body}/track``: a track (start, stop, step, the time scale stated; tolerance or model; axis): the
-  model chosen with its estimate by term, the first rows with the count, the plot, the CSV download.
+  model chosen with its estimate by term, every model's estimate against its predicted cost charted (the
+  work-precision chart, inline SVG, the table folded below it), the first rows with the count, the plot, the CSV
+  download.
 """
 from __future__ import annotations
 
@@ -29,6 +31,7 @@ import io
 import json
 import math
 import pathlib
+import re
 import shlex
 from urllib.parse import quote, urlencode
 
@@ -194,7 +197,11 @@ def install(app: FastAPI) -> None:
             # speed against accuracy for this scene: every model's estimate and cost over these epochs
             models = api.track_models(body, start, stop, step, dataset, tolerance_mas=tol, axis=axis,
                                       max_samples=request.app.state.settings.max_track_samples)
-            return {**track, "models": models}
+            # ... charted from the same answer (the drawing charged, as the .svg route charges it), inline: the
+            # points' hover titles work and no second request is made
+            chart = _inline_svg(api.models_chart(models, "svg"))
+            return {**track, "models": models, "models_chart": chart,
+                    "model_rows": api.track_models_rows(models)}
 
         result, problem = await _answer(request, compute)
         rows, count = [], 0
@@ -204,7 +211,11 @@ def install(app: FastAPI) -> None:
             rows = [[float(result[k][i]) for k in keys] for i in range(min(count, TRACK_ROWS_SHOWN))]
         name = result["body"] if result else body
         plot_params = {k: form[k] for k in ("start", "stop", "step_days", "tolerance_mas", "model", "order", "dataset")}
+        models_query = urlencode({k: form[k] for k in ("start", "stop", "step_days", "tolerance_mas", "axis", "dataset")
+                                  if form[k] not in (None, "")})
         return _page("track.html", _status(problem), body=name, form=form, result=result, problem=problem,
+                     models_json_url=f"/v1/bodies/{quote(name)}/track/models?{models_query}",
+                     models_svg_url=f"/v1/bodies/{quote(name)}/track/models.svg?{models_query}",
                      rows=rows, count=count, keys=api.TRACK_KEYS, models=api.MODELS, axes=api.AXES,
                      csv_url=_api_url(request, f"/v1/bodies/{name}/track", {**params, "format": "csv"}),
                      plot_url=_api_url(request, f"/v1/bodies/{name}/track.png", plot_params),
@@ -321,6 +332,14 @@ def _float(text: str, field: str) -> float:
         return float(text)
     except ValueError:
         raise api.InvalidInputError(field, f"must be a number, got {text!r}") from None
+
+
+def _inline_svg(svg: bytes) -> str:
+    """An SVG document as an element of the page: without its XML declaration and doctype, as wide as the page
+    (its viewBox keeps the aspect)."""
+    text = svg.decode("utf-8")
+    text = text[text.index("<svg"):]
+    return re.sub(r'^(<svg\b[^>]*?) width="[^"]*" height="[^"]*"', r'\1 width="100%"', text, count=1)
 
 
 def _maybe_float(text: str):

@@ -236,6 +236,32 @@ def test_the_track_page_charts_every_model_against_its_cost(client):
     assert f"{chosen['estimated_cpu_ms']:.3g}" in row
 
 
+def test_the_track_page_draws_the_models_chart_inline_with_the_table_folded(client):
+    """The chart is the API's SVG of the same query, inline (its points' hover titles kept, no second request),
+    described in words; the table is kept, folded in <details> under it."""
+    import xml.etree.ElementTree as ET
+
+    q = {"start": "2020-01-01", "stop": "2021-01-01", "step_days": "10", "tolerance_mas": "100"}
+    text = client.get("/bodies/vesta/track", params=q).text
+    figure = text.split('<figure class="chart" id="models-chart">', 1)[1].split("</figure>", 1)[0]
+    inline = ET.fromstring(figure[figure.index("<svg"):figure.index("</svg>") + len("</svg>")])
+    api_svg = ET.fromstring(client.get("/v1/bodies/vesta/track/models.svg", params=q).content)
+    svg = "{http://www.w3.org/2000/svg}"
+
+    def titles(root):
+        return [(g.get("id"), g.get("class"), g.find(f"{svg}title").text) for g in root.iter(f"{svg}g")
+                if (g.get("id") or "").startswith("wp-point-")]
+    assert titles(inline) == titles(api_svg) and len(titles(inline)) > 30
+    assert inline.get("role") == "img" and inline.get("aria-labelledby") == "wp-title wp-desc"
+    assert inline.find(f"{svg}desc").text == api_svg.find(f"{svg}desc").text        # its text alternative
+    assert inline.get("width") == "100%" and inline.get("viewBox") == api_svg.get("viewBox")
+    assert "<figcaption>" in figure and "/track/models.svg?" in figure and "/track/models?" in figure
+    details = text.split("<details>", 1)[1].split("</details>", 1)[0]
+    assert "Every model of" in details and details.count('<tr class="chosen">') == 1
+    assert text.index("</figure>", text.index('id="models-chart"')) < text.index("<details>")
+    _accessible(Page(text))
+
+
 def test_a_history_page_shows_the_apis_history(client):
     q = {"start_year": "-20000", "stop_year": "0", "step_years": "500"}
     text = client.get("/bodies/ceres/history", params=q).text
