@@ -7,6 +7,7 @@ without numpy and the theories (tests/cli/test_cli_imports.py).
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 from typing import Optional
 
 import typer
@@ -148,13 +149,29 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
                                                          "the semi-diurnal terms of the rotation scale."),
           perturbers: Optional[str] = typer.Option(None, "--perturbers", help="The torquing bodies, comma-separated: default the "
                                           "catalogue's (the Earth: moon,sun, the lunisolar theory); sun for the "
-                                          "single-perturber answer.")):
+                                          "single-perturber answer."),
+          models: bool = typer.Option(False, "--models", help="Instead of the track, compare every model serving "
+                                      "BODY over these epochs: its estimated error (mas), predicted cost (CPU ms, "
+                                      "MB), whether it is eligible and which one --tolerance-mas picks."),
+          out: Optional[str] = typer.Option(None, "--out", help="With --models: also write the chart of the "
+                                            "comparison (error against cost), FILE.svg or FILE.png.")):
     """Spin-axis track of BODY: ψ, Δψ, Δε, obliquity and pole RA/Dec over time.
 
-    The model used (rung, order, estimated error, cost) goes to stderr with --format csv or table.
+    The model used (rung, order, estimated error, cost) goes to stderr with --format csv or table. With --models,
+    the comparison of every model instead (JSON: ephem.api.track_models' answer; CSV and table: one row per model,
+    the chosen one on stderr), and with --out its chart.
     """
     from .. import api
 
+    if models:
+        _track_models(name, start, stop, step_days, dataset, fmt, tolerance_mas, axis, perturbers, out,
+                      {"order": order, "model": model, "free_wobble_phase_deg": wobble_phase,
+                       "free_wobble_J_arcsec": wobble_j, "free_wobble_epoch": wobble_epoch,
+                       "rotation_phase_deg": rotation_phase})
+        return
+    if out is not None:
+        fail(api.InvalidInputError("out", "writes the chart of the models' comparison: give --models too"),
+             api.NotApplicableError)
     try:
         ans = api.track(name, start, stop, step_days, dataset, order, tolerance_mas=tolerance_mas, model=model,
                         axis=axis, free_wobble_phase_deg=wobble_phase, free_wobble_J_arcsec=wobble_j,
@@ -176,6 +193,42 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
     if not rows:
         rows = [dict.fromkeys(keys, "")]
     emit(ans, fmt, rows)
+
+
+def _track_models(name: str, start: str, stop: str, step_days: float, dataset: str, fmt: Format,
+                  tolerance_mas: Optional[float], axis: str, perturbers: Optional[str], out: Optional[str],
+                  track_only: dict) -> None:
+    """``ephem track --models``: every model over these epochs (ephem.api.track_models), printed, and with
+    ``out`` its work-precision chart written (ephem.api.models_chart, as the suffix says)."""
+    from .. import api
+
+    image = None
+    try:
+        given = [k for k, v in track_only.items() if v is not None]
+        if given:
+            raise api.InvalidInputError(given[0], "applies to the track, not to --models (the comparison takes "
+                                        "--tolerance-mas, --axis, --perturbers and --dataset)")
+        chart = None if out is None else Path(out).suffix.lower().lstrip(".")
+        if chart is not None and chart not in api.PLOT_CONTENT_TYPES:
+            raise api.InvalidInputError("out", f"the chart's file must end in .svg or .png, got {Path(out).name!r}")
+        ans = api.track_models(name, start, stop, step_days, dataset, tolerance_mas=tolerance_mas, axis=axis,
+                               perturbers=perturbers)
+        if chart is not None:
+            image = api.models_chart(ans, chart)
+    except api.EphemError as exc:
+        fail(exc, api.NotApplicableError)
+    if image is not None:
+        Path(out).parent.mkdir(parents=True, exist_ok=True)
+        Path(out).write_bytes(image)
+        typer.echo(f"wrote {out} ({len(image)} bytes)", err=True)
+    if fmt is not Format.json:
+        pick = next((m for m in ans["models"] if m["chosen"]), None)
+        chosen = ("none chosen" + (": none within the tolerance" if ans["tolerance_mas"] is not None else
+                                   ": no tolerance given") if pick is None else
+                  f"chosen: {pick['name']}" + (f" (order {pick['order']})" if pick["order"] is not None else "")
+                  + f", estimated error {pick['estimated_error_mas']:.4g} mas, {pick['estimated_cpu_ms']:.4g} ms")
+        typer.echo(f"{len(ans['models'])} models over {ans['epochs']} epochs; {chosen}", err=True)
+    emit(ans, fmt, api.track_models_rows(ans, reasons=fmt is Format.csv))
 
 
 @app.command()
