@@ -103,12 +103,14 @@ class CubicSpline:
         self._trailing = self.c.shape[2:]
         return self
 
-    def __call__(self, t) -> np.ndarray:
+    def __call__(self, t, columns=None) -> np.ndarray:
+        """The spline at ``t``; ``columns`` (an index or a slice of a 2-D ``y``'s columns): those alone."""
         t = np.asarray(t, dtype=float)
         flat = t.reshape(-1)
         i = np.clip(np.searchsorted(self.x, flat, side="right") - 1, 0, self.x.size - 2)
         s = (flat - self.x[i])[:, None]
-        c = self._flat[:, i]
+        c = (self._flat if columns is None else self._flat[:, :, columns].reshape(4, self.x.size - 1, -1))[:, i]
         s2 = s * s
         out = c[3] + c[2] * s + c[1] * s2 + c[0] * (s2 * s)
-        return out.reshape(t.shape + self._trailing)
+        trailing = self._trailing if columns is None else () if isinstance(columns, (int, np.integer)) else out.shape[1:]
+        return out.reshape(t.shape + trailing)

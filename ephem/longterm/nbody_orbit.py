@@ -290,7 +290,7 @@ class OrbitHistory:
         if np.any(t < lo - 1e-9) or np.any(t > hi + 1e-9):
             raise InvalidInputError("years", f"outside the history's span [{lo:g}, {hi:g}] Julian years from "
                                     f"J2000.0 ({self.source})", self.body)
-        return self._spline()(t)[..., columns]
+        return self._spline()(t, columns)
 
     def pole_at(self, years) -> np.ndarray:
         """Unit orbit normal(s) (..., 3), ecliptic J2000, at Julian years from J2000.0: a not-a-knot cubic spline

@@ -35,6 +35,10 @@ def test_shapes_follow_scipys():
     assert one(2.5).shape == () and one([1.0, 2.0]).shape == (2,) and one(np.zeros((2, 3))).shape == (2, 3)
     assert three(2.5).shape == (3,) and three([1.0, 2.0]).shape == (2, 3)
     assert one.c.shape == (4, 5) and three.c.shape == (4, 5, 3)
+    t = np.array([[0.5, 1.5], [2.5, 5.5]])
+    assert three(t, 2).shape == (2, 2) and three(t, slice(0, 2)).shape == (2, 2, 2)
+    np.testing.assert_array_equal(three(t, 2), three(t)[..., 2])          # a column alone: the same arithmetic
+    np.testing.assert_array_equal(three(t, slice(1, 3)), three(t)[..., 1:3])
     # a cubic is its own not-a-knot spline, beyond the knots too
     assert np.allclose(three(np.array([-1.5, 0.3, 4.9, 7.0])),
                        np.column_stack([t := np.array([-1.5, 0.3, 4.9, 7.0]), t ** 2, t ** 3]), rtol=1e-13, atol=1e-13)
