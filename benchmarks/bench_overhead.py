@@ -177,6 +177,7 @@ def child_floor(n: int) -> dict:
     from service.app import app
 
     track_url = URLS[2][2]
+    out: dict = {"wall_ms": {}, "cpu_ms": {}, "pieces_us": {}}
 
     def med_us(fn, reps: int = 3000) -> float:
         for _ in range(100):
@@ -188,14 +189,20 @@ def child_floor(n: int) -> dict:
             ts.append(time.perf_counter() - t0)
         return statistics.median(ts) * 1e6
 
-    async def wall(c, url: str, reps: int) -> float:
-        ts = []
+    async def timed(c, url: str, wall: list, cpu: list) -> None:
+        """One request: its wall time and the process's CPU time (the event loop and the worker threads)."""
+        t0, c0 = time.perf_counter(), time.process_time()
+        r = await c.get(url)
+        wall.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
+        r.raise_for_status()
+
+    async def measure(c, url: str, reps: int, key: str | None = None) -> None:
+        wall, cpu = [], []
         for _ in range(reps):
-            t0 = time.perf_counter()
-            r = await c.get(url)
-            ts.append(time.perf_counter() - t0)
-            r.raise_for_status()
-        return statistics.median(ts) * 1e3
+            await timed(c, url, wall, cpu)
+        if key:
+            out["wall_ms"][key], out["cpu_ms"][key] = _median_ms(wall), _median_ms(cpu)
 
     async def bare(scope, receive, send):        # the least an ASGI app can do: the test client's own cost
         await send({"type": "http.response.start", "status": 200, "headers": [(b"content-type", b"application/json")]})
@@ -209,22 +216,27 @@ def child_floor(n: int) -> dict:
         calls["stub"] += 1
         return dict(answer)
 
-    async def main() -> dict:
-        out: dict = {"wall_ms": {}, "pieces_us": {}}
+    async def main() -> None:
         async with app.router.lifespan_context(app), await _asgi_client(app) as c:
             for _ in range(20):
                 (await c.get(track_url)).raise_for_status()
             async with await _asgi_client(bare) as b:
-                await wall(b, "/", 50)
-                out["wall_ms"]["bare"] = await wall(b, "/", n)
-            out["wall_ms"]["healthz"] = await wall(c, "/healthz", n)
-            out["wall_ms"]["track"] = await wall(c, track_url, max(50, n // 10))
+                await measure(b, "/", 50)
+                await measure(b, "/", n, "bare")
+            await measure(c, "/healthz", n, "healthz")
+            # the route as served and with the science stubbed, alternately (a drifting load falls on both)
+            served: tuple = ([], [])
+            stubbed: tuple = ([], [])
+            for _ in range(n):
+                for fn, (wall, cpu) in ((real, served), (stub, stubbed)):
+                    api.track_arrays = fn
+                    await timed(c, track_url, wall, cpu)
+            api.track_arrays = real
+            for key, (wall, cpu) in (("track", served), ("track_stub", stubbed)):
+                out["wall_ms"][key], out["cpu_ms"][key] = _median_ms(wall), _median_ms(cpu)
+            out["stub_used"] = calls["stub"] > 0
             api.track_arrays = stub
             try:
-                await wall(c, track_url, 50)
-                out["wall_ms"]["track_stub"] = await wall(c, track_url, n)
-                out["stub_used"] = calls["stub"] > 0
-
                 # pieces alone
                 hop = []
                 for _ in range(n):
@@ -232,7 +244,7 @@ def child_floor(n: int) -> dict:
                     await anyio.to_thread.run_sync(lambda: None)
                     hop.append(time.perf_counter() - t0)
                 out["pieces_us"]["thread-pool hop (anyio.to_thread.run_sync of a no-op)"] = statistics.median(hop) * 1e6
-                out["pieces_us"].update(_pieces(med_us, answer))
+                out["pieces_us"].update(_pieces(med_us, answer, app))
 
                 # cProfile of the stubbed route, the event loop and the worker threads, each on its own thread's
                 # CPU clock: a wall clock would charge a layer the time its thread waits for the GIL
@@ -264,16 +276,25 @@ def child_floor(n: int) -> dict:
         stats = pstats.Stats(loop_prof)
         stats.add(thread_prof)
         out["layers"] = _layers(stats, reps)
-        return out
 
-    out = asyncio.run(main())
+    asyncio.run(main())
     out["where"] = _where()
     return out
 
 
-def _pieces(med_us, answer: dict) -> dict:
+def _pieces(med_us, answer: dict, app) -> dict:
     """Single pieces of a request, each timed alone (µs, median); a piece a tree does not have is left out."""
     out = {}
+    with contextlib.suppress(Exception):
+        from fastapi.dependencies.utils import request_params_to_args
+        from starlette.datastructures import QueryParams
+        route = next(r for r in app.routes if getattr(r, "path", None) == "/v1/bodies/{body}/track"
+                     and "GET" in getattr(r, "methods", ()))
+        fields, given = route.dependant.query_params, QueryParams(QUERY)
+        values, errors = request_params_to_args(fields, given)
+        if not errors:
+            out[f"FastAPI: request_params_to_args, the track route's {len(fields)} query parameters "
+                f"({len(given)} given)"] = med_us(lambda: request_params_to_args(fields, given))
     with contextlib.suppress(Exception):
         from service.settings import Settings
 
@@ -344,12 +365,13 @@ def _layers(stats, reps: int) -> list[tuple[str, float]]:
         return None if g(a) is None or g(b) is None else max(0.0, g(a) - g(b))
     rows = [
         ("the whole app (FastAPI.__call__, on the event loop)", g("app")),
-        ("… outer middleware (Starlette's error handler, FastAPI's own) above the service's", diff("app", "guards")),
+        ("… middleware outside service/guards.py (Starlette's, FastAPI's, the service's added after it)",
+         diff("app", "guards")),
         ("… service/guards.py RequestBudget (its own time)", diff("guards", "limits")),
         ("… service/limits.py BodySizeLimit (its own time)", diff("limits", "exceptions_mw")),
         ("… routing (Starlette's router, route matching)", g("router")),
         ("… FastAPI's solve_dependencies (query parsing and validation, the dependency)", g("solve")),
-        ("… … request_params_to_args (the route's 16 query parameters validated)", g("params")),
+        ("… … request_params_to_args (the route's query parameters validated)", g("params")),
         ("… … service/problems.py single_query_values (in a worker thread)", g("sqv")),
         ("… thread-pool hops, event-loop side (the dependency and the route: 2 per request)", g("hop")),
         ("… the route's body with the answer precomputed (service/app.py track, in a worker thread)", g("endpoint")),
@@ -610,28 +632,51 @@ def report(info: list[str], meta: dict, http: dict, cpu: dict, asgi: dict, floor
               ""]
 
     if floor:
-        w = floor["wall_ms"]
+        w, c = floor["wall_ms"], floor["cpu_ms"]
         L += ["## 4. The framework's floor for the track route (after tree, in-process)", ""]
-        L += ["| what | median ms |", "|---|---:|",
-              f"| a bare ASGI app (the test client's own cost) | {_f(w['bare'], 3)} |",
-              f"| `GET /healthz` | {_f(w['healthz'], 3)} |",
-              f"| the 37-epoch track route, `api.track_arrays` replaced by its precomputed answer"
-              f"{'' if floor['stub_used'] else ' (**the route no longer calls it: not a floor**)'} | "
-              f"{_f(w['track_stub'], 3)} |",
-              f"| the 37-epoch track route as served | {_f(w['track'], 3)} |", ""]
+        L += ["Medians per request: wall time, and the process's CPU time (event loop and worker threads; it does "
+              "not count the waits for a core on a busy machine).", "",
+              "| what | wall ms | CPU ms |", "|---|---:|---:|"]
+        rows = [("bare", "a bare ASGI app (the test client's own cost)"), ("healthz", "`GET /healthz`"),
+                ("track_stub", "the 37-epoch track route, `api.track_arrays` replaced by its precomputed answer"
+                 + ("" if floor["stub_used"] else " (**the route no longer calls it: not a floor**)")),
+                ("track", "the 37-epoch track route as served (alternating with the row above)")]
+        L += [f"| {label} | {_f(w[k], 3)} | {_f(c[k], 3)} |" for k, label in rows]
+        L.append("")
         L += ["Pieces timed alone (µs, median):", "", "| piece | µs |", "|---|---:|"]
         L += [f"| {k} | {_f(v, 1)} |" for k, v in floor["pieces_us"].items()]
         L += ["", f"cProfile of the stubbed track route ({floor['profiled_ms']:.2f} ms a request under the profiler, "
-              f"{w['track_stub']:.2f} ms without; the profiler inflates Python-heavy layers most, so read the shares, "
-              "not the absolute ms): cumulative CPU ms per request of each layer (each thread's own CPU clock, "
+              f"{c['track_stub']:.2f} ms of CPU without; the profiler inflates Python-heavy layers most, so read the "
+              "shares, not the absolute ms): cumulative CPU ms per request of each layer (each thread's own CPU clock, "
               "so waits for the GIL or a thread count nowhere).", "",
               "| layer | CPU ms/request (profiled) | share of the app |", "|---|---:|---:|"]
         app_ms = dict(floor["layers"]).get("the whole app (FastAPI.__call__, on the event loop)")
         for label, v in floor["layers"]:
             share = f"{100 * v / app_ms:.0f} %" if app_ms and not label.startswith("the test client") else "—"
             L.append(f"| {label} | {v:.3f} | {share} |")
-        L.append("")
+        L += [""] + _floor_reading(floor, cpu) + [""]
     return "\n".join(L).rstrip() + "\n"
+
+
+def _floor_reading(floor: dict, cpu: dict) -> list[str]:
+    """What section 4's numbers say, in words (only what they show)."""
+    c, p = floor["cpu_ms"], floor["pieces_us"]
+    hop = p.get("thread-pool hop (anyio.to_thread.run_sync of a no-op)")
+    fj = p.get("service/app.py: finite_json(answer) (finiteness walk + orjson)")
+    oj = p.get("orjson.dumps(answer) alone")
+    out = [f"Reading: in-process, the app's own CPU for the track route (the science stubbed, less the test client) is "
+           f"{c['track_stub'] - c['bare']:.2f} ms against {c['healthz'] - c['bare']:.2f} ms for /healthz; the science "
+           f"adds {c['track'] - c['track_stub']:.2f} ms"
+           + (f" (the library call alone, section 2: {_median_ms(cpu['after']['hansen']):.2f} ms of CPU)."
+              if cpu.get("after", {}).get("hansen") else ".")]
+    if hop is not None:
+        out.append(f"Each thread-pool hop costs ~{hop:.0f} µs of wall time: the track route makes two, one for the "
+                   "sync route and one for the app-wide sync dependency `single_query_values` (every route pays the "
+                   "latter; as an `async def` it would run on the event loop, as FastAPI runs async dependencies).")
+    if fj is not None and oj is not None:
+        out.append(f"`finite_json` takes {fj:.0f} µs, of which orjson {oj:.0f} µs: the rest is the recursive "
+                   "finiteness walk over the answer's nested dicts and lists.")
+    return out
 
 
 # ----------------------------------------------------------------------------- main
