@@ -403,12 +403,12 @@ def render(kind: str, body, start, stop, step_days: float | None = None, fmt: st
 
 # --- the work-precision chart of a request (ephem.exports.work_precision) --------------------------
 
-#: CPU seconds of one work-precision chart, drawn and written (SVG): measured 0.16-0.19 s for 3 models on the
-#: reference machine, set about twice ...
-CHART_BASE_S = 0.4
-#: ... and per model drawn: measured 3-6 ms (36 models: 0.29-0.38 s) ...
-CHART_MODEL_S = 0.01
-#: ... and per pixel of a PNG: measured 2-3e-8 s (300 dpi, 4.9 Mpx: +0.11-0.15 s)
+#: CPU seconds of one work-precision chart, drawn and written (SVG; benchmarks/bench_work_precision.py): measured
+#: 0.08-0.09 s for 3-4 models, set about twice ...
+CHART_BASE_S = 0.2
+#: ... and per model drawn: measured ~3 ms (52 models: 0.20-0.25 s) ...
+CHART_MODEL_S = 0.005
+#: ... and per pixel of a PNG: measured 2-5e-8 s (100 dpi: +0.03-0.08 s; 300 dpi, 4.9 Mpx: +0.1-0.3 s)
 CHART_PIXEL_S = 6e-8
 #: peak memory of a chart, MB: the figure, and a PNG's RGBA buffer and its compressed copy (~8 bytes a pixel)
 CHART_BASE_MB, CHART_PIXEL_BYTES = 20.0, 8.0

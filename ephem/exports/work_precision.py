@@ -3,7 +3,8 @@ error (mas, vertical, log scale) against its predicted cost (CPU ms, horizontal,
 :func:`ephem.answers.requests.track_models` answers them.
 
 One labelled point per model (its name, its e-order where it has one, and what the variant adds: ``+wobble``,
-``+rotation scale``; the marker's shape says the variant too), the tolerance as a horizontal dashed line, the
+``+rotation scale``; the marker's shape says the variant too; e-orders of one model drawn at the same place share a
+label that lists them, "series e⁴–e¹⁹"), the tolerance as a horizontal dashed line, the
 chosen model ringed (and named in the legend), the models outside the tolerance (not eligible) dimmed to
 :data:`DIM_ALPHA`. A model with no estimate or no predicted cost (not available for these epochs) is not drawn:
 a note under the axes lists it with its reason.
@@ -40,6 +41,10 @@ FIGSIZE = (9.0, 6.0)
 MARKERS = {"": "o", "+rotation scale": "s", "+wobble": "^", "+wobble +rotation scale": "D"}
 #: the tolerance line is drawn when within this factor of the estimates drawn (else a note says where it lies)
 TOLERANCE_REACH = 1e3
+#: points of one model and variant this near each other, in points, share a label (their e-orders listed)
+SAME_PLACE_PT = 4.0
+#: an axis spanning at least this ratio has no minor ticks (its decades are labelled)
+MINOR_TICKS_BELOW = 100.0
 #: the ring round the chosen point, its span in points
 RING_PT = 17.0
 #: the longest reason a note under the axes prints for a model not drawn, characters; its lines' length
@@ -199,6 +204,7 @@ def _place_labels(fig, ax, points: list[tuple[float, float, str, float]]) -> Non
     :data:`_DISTANCES`) where it overlaps no label placed before and no point and stays inside the axes, else where
     it overlaps least; a label away from its point has a thin leader. Places are reckoned in display pixels from
     each text's measured size, and only the chosen one is drawn."""
+    from matplotlib.collections import LineCollection
     from matplotlib.font_manager import FontProperties
 
     renderer = fig.canvas.get_renderer()
@@ -209,7 +215,9 @@ def _place_labels(fig, ax, points: list[tuple[float, float, str, float]]) -> Non
     marks = [(px - r * scale, py - r * scale, px + r * scale, py + r * scale)
              for (px, py), (_, _, _, r) in zip(at, points)]
     placed: list[tuple] = []
-    for (x, y, text, _), (px, py) in zip(points, at):
+    leaders = []
+    to_data = ax.transData.inverted()
+    for (x, y, text, r), (px, py) in zip(points, at):
         w, h, _ = renderer.get_text_width_height_descent(text, font, ismath=False)
         best = None
         for d in _DISTANCES:
@@ -229,12 +237,61 @@ def _place_labels(fig, ax, points: list[tuple[float, float, str, float]]) -> Non
             if best[0] == 0.0:
                 break
         _, box, dx, dy, ha, va, d = best
-        arrow = None if d == _DISTANCES[0] else {"arrowstyle": "-", "color": "0.55", "lw": 0.5, "shrinkA": 0,
-                                                "shrinkB": 4}
         ann = ax.annotate(text, (x, y), xytext=(dx, dy), textcoords="offset points", ha=ha, va=va,
-                          fontsize=LABEL_SIZE, color="0.15", annotation_clip=False, arrowprops=arrow)
+                          fontsize=LABEL_SIZE, color="0.15", annotation_clip=False)
         ann.set_in_layout(False)
         placed.append(box)
+        if d != _DISTANCES[0]:      # a leader from the marker's edge to a point short of the label
+            ux, uy = dx / d, dy / d
+            leaders.append(to_data.transform([(px + ux * r * scale, py + uy * r * scale),
+                                              (px + ux * (d - 2.0) * scale, py + uy * (d - 2.0) * scale)]))
+    if leaders:     # one artist for all (in data coordinates: the same at any dpi, as the figure's inches are)
+        ax.add_collection(LineCollection(leaders, colors="0.55", linewidths=0.5, zorder=2.5, gid="wp-leaders"),
+                          autolim=False)
+
+
+def _orders_text(orders: list[int]) -> str:
+    """e-orders as runs: [0, 1, 2, 5] -> "e⁰–e², e⁵"."""
+    runs: list[list[int]] = []
+    for o in sorted(orders):
+        if runs and o == runs[-1][-1] + 1:
+            runs[-1].append(o)
+        else:
+            runs.append([o])
+    sup = [("e" + str(r[0]).translate(_SUPERSCRIPT)) + ("" if len(r) == 1 else
+                                                        "–e" + str(r[-1]).translate(_SUPERSCRIPT)) for r in runs]
+    return ", ".join(sup)
+
+
+def _label_groups(fig, ax, points: list[tuple[float, float, dict, float]]) -> list[tuple[float, float, str, float]]:
+    """The labels to place: one per point (x, y, the model, its marker's half span in points), save that points
+    of the same model and variant lying within :data:`SAME_PLACE_PT` of each other (e-orders of equal cost and
+    near-equal error) share one label naming their orders ("series e⁴–e¹⁹"): their labels could not be told apart.
+    Each point keeps its own hover title. The chosen point is never grouped."""
+    near = SAME_PLACE_PT * fig.dpi / 72.0
+    at = ax.transData.transform([(x, y) for x, y, _, _ in points])
+    groups: list[list] = []
+    for (x, y, m, r), (px, py) in zip(points, at):
+        key = (m["name"], variant(m))
+        home = None
+        if m.get("order") is not None and not m.get("chosen"):
+            home = next((g for g in groups if g[0] == key and abs(g[1] - px) <= near and abs(g[2] - py) <= near),
+                        None)
+        if home is None:
+            groups.append([key if m.get("order") is not None and not m.get("chosen") else None, px, py,
+                           [(x, y, m, r)]])
+        else:
+            home[3].append((x, y, m, r))
+    out = []
+    for _, _, _, members in groups:
+        x, y, m, r = members[0]
+        if len(members) == 1:
+            out.append((x, y, label(m), r))
+        else:
+            adds = variant(m)
+            text = f"{m['name']} {_orders_text([mm['order'] for _, _, mm, _ in members])}"
+            out.append((x, y, f"{text} {adds}" if adds else text, max(mr for *_, mr in members)))
+    return out
 
 
 def _log_limits(values: list[float], extra: list[float] = ()) -> tuple[float, float]:
@@ -248,6 +305,7 @@ def figure(answer: dict):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
+    from matplotlib.ticker import NullLocator
 
     fig = Figure(figsize=FIGSIZE)
     FigureCanvasAgg(fig)
@@ -266,7 +324,7 @@ def figure(answer: dict):
                 markeredgecolor="black" if m.get("chosen") else colours[m["name"]], alpha=1.0 if ok else DIM_ALPHA,
                 gid=POINT_ID.format(i), zorder=3)
         drawn.append(m)
-        points.append((x, y, label(m), RING_PT / 2 + 0.5 if m.get("chosen") else 4.0))
+        points.append((x, y, m, RING_PT / 2 + 0.5 if m.get("chosen") else 4.0))
     handles = []
     chosen = next((m for m in drawn if m.get("chosen")), None)
     if chosen is not None:
@@ -294,6 +352,9 @@ def figure(answer: dict):
     if drawn:
         ax.set_xlim(*_log_limits([m["estimated_cpu_ms"] for m in drawn]))
         ax.set_ylim(*_log_limits(errors, [tol] if tol_drawn else []))
+    for axis, (lo, hi) in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        if hi / lo >= MINOR_TICKS_BELOW:     # decades enough to read: no minor ticks (a third of the drawing)
+            axis.set_minor_locator(NullLocator())
     ax.set_xlabel("predicted cost [CPU ms of one core]")
     ax.set_ylabel("estimated error [mas]")
     ax.grid(True, which="major", lw=0.4, alpha=0.5)
@@ -323,7 +384,7 @@ def figure(answer: dict):
                  f"{answer['epochs']} epochs {_years(answer['start_jd_tdb'])}–{_years(answer['stop_jd_tdb'])} (TDB)",
                  fontsize="medium", y=1.0 - 0.1 / FIGSIZE[1], va="top")
     if points:      # the chosen one's label first, then from the cheapest
-        _place_labels(fig, ax, sorted(points, key=lambda p: (p[3] < 5.0, p[0])))
+        _place_labels(fig, ax, sorted(_label_groups(fig, ax, points), key=lambda p: (p[3] < 5.0, p[0])))
     return fig
 
 

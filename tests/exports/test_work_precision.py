@@ -174,7 +174,9 @@ def test_the_drawing_is_charged_before_it_is_drawn(vesta, monkeypatch):
         with pytest.raises(api.OverBudgetError) as refused:
             figures.models_chart(vesta, "svg")
     assert refused.value.field == "format" and not drawn
-    with api.budget(1.0, 1000.0):                   # the PNG's pixels: at 300 dpi over a second
+    png = figures.chart_cost(len(vesta["models"]), "png", 300)
+    assert png.cpu_s > 1.5 * cost.cpu_s                  # the PNG's pixels, at 300 dpi
+    with api.budget(0.5 * (cost.cpu_s + png.cpu_s), 1000.0):
         with pytest.raises(api.OverBudgetError) as refused:
             figures.models_chart(vesta, "png", 300)
     assert refused.value.field == "dpi" and not drawn
