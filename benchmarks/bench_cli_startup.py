@@ -3,6 +3,8 @@
     .venv/bin/python benchmarks/bench_cli_startup.py                    # ephem precession vesta, 11 runs
     .venv/bin/python benchmarks/bench_cli_startup.py -n 7 -- nutation itokawa --order 4
     .venv/bin/python benchmarks/bench_cli_startup.py --src /tmp/before --src .   # A/B, runs interleaved
+    .venv/bin/python benchmarks/bench_cli_startup.py --src /tmp/before --src . --row history-earth   # a named row
+    .venv/bin/python benchmarks/bench_cli_startup.py --src /tmp/before --src . --all-rows           # every row
 
 Each run is a new subprocess (``python -m ephem.cli ARGS``, the code the ``ephem`` script runs), so
 the time is almost all imports plus one catalogue read. The runs read compiled bytecode, as an installed copy
@@ -13,7 +15,8 @@ with the rest, and each row's ratio to it is printed (issue 33's measure). Print
 source tree and the heavy modules the command imported (a second subprocess lists ``sys.modules``
 after running it). ``--src DIR`` runs the ``ephem`` package of another checkout (``git worktree`` or
 ``git archive`` of a commit) with this interpreter; with several, the runs alternate between them so
-that the load of a shared machine falls on all alike. Results: benchmarks/RESULTS_cli.md.
+that the load of a shared machine falls on all alike. ``--row NAME`` runs one of :data:`ROWS`, the commands of
+RESULTS_cli.md's tables (repeatable; ``--all-rows``: each in turn). Results: benchmarks/RESULTS_cli.md.
 """
 from __future__ import annotations
 
@@ -31,6 +34,19 @@ from machine import tree_env   # benchmarks/machine.py: this directory is first 
 ROOT = Path(__file__).resolve().parent.parent
 HEAVY = ("matplotlib", "scipy.integrate", "scipy", "fastapi", "starlette", "pydantic", "uvicorn",
          "astropy.coordinates", "astropy", "skyfield", "rich")
+
+#: the commands of RESULTS_cli.md's tables: issue 33's one-body answers, and issue 39's 4-Myr history of the Earth
+#: (its goal: 0.5 s of CPU, the process's start included)
+ROWS = {
+    "precession-vesta": ["precession", "vesta"],
+    "nutation-earth": ["nutation", "earth"],
+    "track-earth": ["track", "earth", "--start", "2000-01-01", "--stop", "2000-04-01", "--step-days", "30"],
+    "precession-moon": ["precession", "moon"],
+    "history-earth": ["history", "earth", "--start-year", "-3000000", "--stop-year", "1000000", "--step-years", "1000",
+                      "--format", "json"],
+    "history-earth-table": ["history", "earth", "--start-year", "-3000000", "--stop-year", "1000000", "--step-years",
+                            "1000", "--format", "table", "--quiet"],
+}
 
 _PROBE = """
 import contextlib, io, sys
@@ -74,22 +90,30 @@ def main() -> None:
     ap.add_argument("-n", type=int, default=11, help="runs per source tree (default 11)")
     ap.add_argument("--src", type=Path, action="append", help="a checkout whose ephem package to run (repeatable; "
                     "default: this one)")
+    ap.add_argument("--row", action="append", choices=sorted(ROWS), help="a named command of ROWS (repeatable)")
+    ap.add_argument("--all-rows", action="store_true", help="every command of ROWS, in turn")
     ap.add_argument("args", nargs="*", help="the ephem command (default: precession vesta)")
     opts = ap.parse_args()
-    args = opts.args or ["precession", "vesta"]
     srcs = [s.resolve() for s in (opts.src or [ROOT])]
+    rows = list(ROWS) if opts.all_rows else (opts.row or [])
+    for args in [ROWS[r] for r in rows] or [opts.args or ["precession", "vesta"]]:
+        measure(args, srcs, opts.n)
+
+
+def measure(args: list[str], srcs: list[Path], n: int) -> None:
+    """Print the table of ``ephem ARGS`` run ``n`` times in each tree of ``srcs``, interleaved with import numpy."""
     numpy_only = [sys.executable, "-c", "import numpy"]
     for src in srcs:
         run_once(args, src)  # warm the OS file cache and write the .pyc files
     run_once(args, ROOT, numpy_only)
     times: dict[Path, list[tuple[float, float]]] = {src: [] for src in srcs}
     reference: list[tuple[float, float]] = []
-    for _ in range(opts.n):
+    for _ in range(n):
         for src in srcs:
             times[src].append(run_once(args, src))
         reference.append(run_once(args, ROOT, numpy_only))
     numpy_wall = min(w for w, _ in reference)
-    print(f"ephem {' '.join(args)}: {opts.n} runs each, load average {os.getloadavg()[0]:.1f} "
+    print(f"ephem {' '.join(args)}: {n} runs each, load average {os.getloadavg()[0]:.1f} "
           f"on {os.cpu_count()} CPUs")
     print(f"python -c 'import numpy': wall min {numpy_wall:.3f} s, median "
           f"{statistics.median(w for w, _ in reference):.3f} s")

@@ -146,11 +146,11 @@ def orbit_choices(b: Body, orbit_body: str, lo: float, hi: float, on_demand: boo
 #: CPU of an orbit model's own work in a history, beyond the spin integration the models share: the one-time work of
 #: a process priced with the request (the first history of a CLI call pays it), each about twice its measurement
 #: (benchmarks/bench_orbit_models.py, benchmarks/RESULTS_orbit_models.md; the measured ms in fresh processes)
-SHIPPED_READ_S = 0.01           # the shipped N-body file with its spline and noise from the table cache: 4.6-5.8
-SECULAR_SOLVE_S = 0.035         # the planets' eight modes (Laplace-Lagrange), once per process: 16-18
-ENVELOPE_S = {"planet": 0.02, "small body": 0.07}    # the secular error's envelope, once per process: 9 and 33
-SPLINE_POINT_S = 8.0e-7         # the shipped orbit's spline at one epoch (the pole, a and e): 0.37-0.56 us
-SECULAR_POINT_S = 1.3e-6        # the secular orbit at one epoch (its modes summed for the pole, a and e): 0.62-0.70 us
+SHIPPED_READ_S = 0.01           # the shipped N-body file with its spline and noise from the table cache: 4.4-5.6
+SECULAR_SOLVE_S = 0.03          # the planets' eight modes (Laplace-Lagrange), once per process: 15-16
+ENVELOPE_S = {"planet": 0.02, "small body": 0.05}    # the secular error's envelope, once per process: 8-10, 18-26
+SPLINE_POINT_S = 4.0e-7         # the shipped orbit's spline at one epoch (the pole, a and e): 0.17-0.19 us
+SECULAR_POINT_S = 1.2e-6        # the secular orbit at one epoch (its modes summed for the pole, a and e): 0.56-0.58 us
 
 
 def _part(what: str, seconds: float) -> cost.Part:
