@@ -105,8 +105,8 @@ def choose(plan: list, price: Callable[[Estimate | Deferred], Cost], tolerance: 
             first = i
         if best is None or est.total < made[best].total:
             best = i
-    if best is None:
-        refuse([e for e in resolve(plan) if e.available])
+    if best is None:      # every estimate, those made above not made again (a deferred one is a run of its model)
+        refuse([e for e in (made[i] if i in made else resolve([p])[0] for i, p in enumerate(plan)) if e.available])
         raise AssertionError("refuse() must raise")      # pragma: no cover
     known = {i: made.get(i, None if isinstance(p, Deferred) else p) for i, p in enumerate(plan)}
     candidates = tuple(Candidate(p.rung, p.order, p.free_wobble, p.rotation_scale, known[i], costs[i],
