@@ -1,7 +1,8 @@
 """Answers that caches can keep: an ``ETag``, ``Cache-Control`` and ``304 Not Modified`` for every GET answer.
 
 A GET answer of the service (the ``/v1`` routes, the figures, the web pages, the docs) is a pure function of
-the request's path and query, the package version, the data the library reads and the service's settings;
+the request's path and query, the package version and its code, the data the library reads and the service's
+settings;
 the web pages also print the address they were asked at (their curl and URL lines use the base URL). So the
 answer's ETag is a hash of those, known from the request alone: a request whose ``If-None-Match`` holds it
 gets its ``304`` here, before the route, the budget or any computation, and a reverse proxy or a CDN in front
@@ -71,6 +72,27 @@ _DIGEST_BYTES = 16
 #: the characters a canonical query writes as they are: printable ASCII but the query's own syntax
 _RAW = "".join(sorted(set(map(chr, range(0x21, 0x7F))) - set("%&+#")))
 _RAW_IN_NAME = _RAW.replace("=", "")
+
+
+#: the files of the code whose bytes enter every tag: a deployment of changed code under the same version number
+#: must not have caches serve the old answers (compiled bytecode is left out: it differs between machines)
+CODE_SUFFIXES = (".py", ".html", ".css", ".js", ".toml", ".md")
+
+
+def code_digest(roots=None) -> bytes:
+    """A digest of the library's and the service's code as shipped (:data:`CODE_SUFFIXES` under ``roots``, by
+    default the ``ephem`` and ``service`` packages), the same on every replica of one build."""
+    h = hashlib.blake2b(digest_size=_DIGEST_BYTES)
+    if roots is None:
+        roots = (Path(ephem.__file__).resolve().parent, Path(__file__).resolve().parent)
+    for root in map(Path, roots):
+        for path in sorted(p for p in root.rglob("*") if p.suffix in CODE_SUFFIXES and "__pycache__" not in p.parts
+                           and p.is_file()):
+            data = path.read_bytes()
+            name = f"{root.name}/{path.relative_to(root).as_posix()}".encode()
+            h.update(b"%d:%s%d:" % (len(name), name, len(data)))
+            h.update(data)
+    return h.digest()
 
 
 def tree_digest(root: Path) -> bytes:
@@ -191,7 +213,7 @@ class ConditionalGet:
         data = tree_digest(api.data_dir() if data_root is None else data_root)
         # what every key shares, hashed once: later keys copy this state and add the request's part
         self._base = hashlib.blake2b(digest_size=_DIGEST_BYTES)
-        for part in (version.encode(), data, fingerprint.encode()):
+        for part in (version.encode(), code_digest(), data, fingerprint.encode()):
             self._base.update(b"%d:%s" % (len(part), part))
         self.user_datasets = UserDatasets(api.user_catalogue_dir())
 

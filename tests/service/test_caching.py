@@ -293,3 +293,20 @@ def test_the_canonical_query():
     assert q(b"a=1&b=2") == q(b"b=2&a=1") == q(b"b=2&a=%31") != q(b"a=2&b=1")
     assert q(b"a=x+y") == q(b"a=x%20y") and q(b"a=&b=1") != q(b"b=1")
     assert q(b"a=1%26b%3D2") != q(b"a=1&b=2")                        # an encoded & stays a value
+
+
+def test_the_code_enters_the_tags(tmp_path):
+    """A deployment of changed code under the same version must not have caches serve the old answers: the code's
+    digest (every source file of the packages, compiled bytecode left out) changes with any source byte."""
+    from service.caching import code_digest
+
+    pkg = tmp_path / "pkg"
+    (pkg / "__pycache__").mkdir(parents=True)
+    (pkg / "mod.py").write_text("X = 1\n")
+    (pkg / "page.html").write_text("<p>1</p>\n")
+    before = code_digest([pkg])
+    (pkg / "__pycache__" / "mod.cpython-311.pyc").write_bytes(b"\x00compiled")
+    assert code_digest([pkg]) == before                        # bytecode differs between machines: not hashed
+    (pkg / "page.html").write_text("<p>2</p>\n")
+    assert code_digest([pkg]) != before
+    assert code_digest() == code_digest()                       # the shipped packages: stable within a build
