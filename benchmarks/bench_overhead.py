@@ -41,7 +41,6 @@ import inspect
 import json
 import os
 import shutil
-import signal
 import statistics
 import subprocess
 import sys
@@ -497,15 +496,7 @@ def gunicorn_server(tree: Path, workers: int):
                 raise SystemExit(f"gunicorn has {len(pids)} workers, expected {workers}")
             yield base, pids, " ".join(["gunicorn", *cmd[1:]])
         finally:
-            proc.terminate()
-            try:
-                proc.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                with contextlib.suppress(ProcessLookupError):
-                    os.killpg(proc.pid, signal.SIGKILL)
-                proc.wait(timeout=10)
-            with contextlib.suppress(ProcessLookupError):     # stray workers, if any: only this server's group
-                os.killpg(proc.pid, signal.SIGKILL)
+            bs.stop_server(proc, 30)
 
 
 def http_run(tree: Path, kind: str, connections: int, duration: float, warm_s: float) -> dict:

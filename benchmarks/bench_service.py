@@ -244,16 +244,21 @@ def running_server(workers: int, extra: list[str]):
             _wait_healthy(proc, log, f"http://127.0.0.1:{port}")
             yield f"http://127.0.0.1:{port}", " ".join(["python", *cmd[1:]])
         finally:
-            # SIGTERM to the supervisor (it stops its workers), SIGKILL to its own process group if it hangs
-            proc.terminate()
-            try:
-                proc.wait(timeout=15)
-            except subprocess.TimeoutExpired:
-                with contextlib.suppress(ProcessLookupError):
-                    os.killpg(proc.pid, signal.SIGKILL)
-                proc.wait(timeout=10)
-            with contextlib.suppress(ProcessLookupError):  # stray workers, if any: only this server's group
-                os.killpg(proc.pid, signal.SIGKILL)
+            stop_server(proc, 15)
+
+
+def stop_server(proc: subprocess.Popen, timeout: float) -> None:
+    """SIGTERM to a server's supervisor (it stops its workers), SIGKILL to its own process group if it hangs past
+    ``timeout`` seconds, and to any stray worker of that group after."""
+    proc.terminate()
+    try:
+        proc.wait(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait(timeout=10)
+    with contextlib.suppress(ProcessLookupError):  # stray workers, if any: only this server's group
+        os.killpg(proc.pid, signal.SIGKILL)
 
 
 def _wait_healthy(proc: subprocess.Popen, log, base: str) -> None:
