@@ -157,7 +157,10 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
         no_order(self.body, order)
 
     def choice_cost(self, start: float, stop: float, count: int) -> Cost:
-        return Cost((cost.lunisolar_answer(),))
+        """The request and its answer, the estimates of both models (the series kept since start-up) and, while the
+        process does not keep it, the body's first-order model its description reads."""
+        built = () if cached_model.cached(self.body, None) else (cost.model_build(self.body.orbit.e),)
+        return Cost((cost.track_answer(count), cost.lunisolar_estimates(len(self.models))) + built)
 
     def track_cost(self, model, order, start, stop, count, free_wobble, rotation_scale=False) -> Cost:
         parts = (cost.lunisolar_sum(count),) + ((cost.nonrigid_sum(count),) if model == "nonrigid" else ())

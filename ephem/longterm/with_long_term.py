@@ -95,12 +95,12 @@ class WithLongTerm(SpinAxisTheory, SpectrumExport):
     # --- cost
 
     def choice_cost(self, start, stop, count) -> Cost:
-        """The family's: the long-term estimate is charged when it is made (:meth:`_estimate`, only when a
-        tolerance chooses among the models), so a track that names its model pays nothing for it."""
+        """The family's: the long-term estimate is charged when it is made (:meth:`_estimate`, when a tolerance
+        reaches the model or it is named), so a track that names another model pays nothing for it."""
         try:
             return self.inner.choice_cost(start, stop, count)
-        except NotApplicableError:
-            return cost.FREE         # the family serves none of these epochs: the long-term model alone is tried
+        except NotApplicableError:      # the family serves none of these epochs: the long-term model alone is tried
+            return Cost((cost.track_answer(count),))
 
     def _cost(self, start: float, stop: float, count: int, in_years: bool = False) -> Cost:
         """The long-term model's cost over [start, stop] (JD TDB, or Julian years from J2000 ``in_years``)."""

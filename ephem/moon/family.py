@@ -172,12 +172,15 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         return (cost.synchronous_estimates(),) + (() if series_built(self.body) else (cost.libration_series(),))
 
     def choice_cost(self, start: float, stop: float, count: int) -> Cost:
-        return Cost(self._setup_cost())
+        """The request and its answer, the estimates, and the libration series while it is not kept."""
+        return Cost((cost.track_answer(count),) + self._setup_cost())
 
     def track_cost(self, model, order, start, stop, count, free_wobble, rotation_scale=False) -> Cost:
+        """The model's own track (the estimates and the series are the choice's): the Cassini pole at every epoch,
+        with the libration terms (``librations``), or integrated (``integration``)."""
         model = model or self.default_model(order)
-        terms = 0 if model == "cassini" else self._terms_kept()
-        parts = self._setup_cost() + (cost.synchronous_track(count, terms),)
+        terms = self._terms_kept() if model == "librations" else 0
+        parts = (cost.synchronous_track(count, terms),)
         if model == "integration":
             t0 = self.body.pole.epoch_jd_tdb
             parts += (cost.synchronous_integration(max(stop, t0) - min(start, t0), count),)

@@ -29,7 +29,9 @@ its orbit normal), through its Earth encounters.
 from __future__ import annotations
 
 import math
+import threading
 import warnings
+from collections import OrderedDict
 from functools import lru_cache
 from operator import mul
 
@@ -443,8 +445,38 @@ def sun_path(body, start_jd_tdb: float, stop_jd_tdb: float) -> SunPath:
     return _cached_path(body.name, body.naif_id, body.orbit, *_snap(start_jd_tdb, stop_jd_tdb))
 
 
-@lru_cache(maxsize=8)   # a 150-year path holds ~6 MB
+def path_kept(body, start_jd_tdb: float, stop_jd_tdb: float) -> bool:
+    """Whether :func:`sun_path` keeps the path of ``body`` over [start, stop] (TDB JD) from an earlier call: the
+    real-orbit rung's price charges the orbit's integration only while it does not (ephem.theory.cost)."""
+    return (body.name, body.naif_id, body.orbit, *_snap(start_jd_tdb, stop_jd_tdb)) in _PATHS
+
+
+#: the paths kept, least recently used first (at most :data:`PATHS_KEPT`; a 150-year path holds ~6 MB)
+_PATHS: OrderedDict = OrderedDict()
+_PATHS_LOCK = threading.Lock()
+PATHS_KEPT = 8
+
+
 def _cached_path(name: str, naif_id, orbit, start: float, stop: float) -> SunPath:
+    """:func:`_build_path`, kept per body and span (the last :data:`PATHS_KEPT`), asked by :func:`path_kept`."""
+    key = (name, naif_id, orbit, start, stop)
+    with _PATHS_LOCK:
+        if key in _PATHS:
+            _PATHS.move_to_end(key)
+            return _PATHS[key]
+    path = _build_path(name, naif_id, orbit, start, stop)     # outside the lock: two threads may both build it
+    with _PATHS_LOCK:
+        _PATHS[key] = path
+        _PATHS.move_to_end(key)
+        while len(_PATHS) > PATHS_KEPT:
+            _PATHS.popitem(last=False)
+    return path
+
+
+_cached_path.cache_clear = _PATHS.clear
+
+
+def _build_path(name: str, naif_id, orbit, start: float, stop: float) -> SunPath:
     if naif_id in DE421_BODIES:
         # Planet centres (Mars: 499, 0.2 m from the Mars barycentre 4). DE421
         # gives the Earth about the Earth-Moon barycentre in 4-day records, a

@@ -148,25 +148,22 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
     # --- the precession and nutation answers
 
     def answer_cost(self, order: int | None, nutation: bool = False, tolerance: bool = False) -> Cost:
-        """The Hansen coefficients, the nutation's extremes, and the propagation of the inputs' σ (each input
-        with a σ re-evaluates the model twice); ``tolerance``: the truncation bounds of the e-orders."""
+        """The body's models (while the process does not keep them), the nutation's extremes, and the propagation
+        of the inputs' σ (once per body and order: kept); ``tolerance``: the truncation bounds of the e-orders."""
         b = self.body
         check_domain(b, order)                   # not applicable (too slow a rotation, e -> 1): before any cost
         e = b.orbit.e
         if order is not None and e > LAPLACE_LIMIT:
             return cost.FREE      # refused by model_for before any work
-        build = cost.hansen_build(e, None)
-        parts = [build] if order is None else [build, cost.hansen_build(e, order)]
+        parts = [cost.hansen_build(e, o) for o in ((None,) if order is None else (None, order))
+                 if not cached_model.cached(b, o)]
         if nutation:
             parts.append(cost.half_peak_to_peak(e, order, cost.body_harmonics(b, order)))
         if tolerance:
             parts.append(cost.truncation_bounds(e))
         with_sigma = sum(1 for v in input_sigmas(b).values() if v is not None)
-        if with_sigma:
-            half = cost.half_peak_to_peak(e, order, cost.body_harmonics(b, order))
-            parts.append(cost.Part("the catalogue's uncertainties", f"propagating {with_sigma} input uncertainties",
-                                   2 * with_sigma * parts[1 if order is not None else 0].cpu_s + 2 * half.cpu_s,
-                                   build.memory_mb))
+        if with_sigma and not propagated.cached(b, order):
+            parts.append(cost.propagation(with_sigma))
         return Cost(tuple(parts))
 
     def order_for_tolerance(self, tolerance: float | None, order: int | None) -> int | None:

@@ -79,8 +79,8 @@ from ..theory.choice import choose
 from ..theory.interface import refuse
 from ..theory.results import Estimate
 from ..theory.tracks import check_axis, check_tolerance, check_wobble_axis, pole_vectors, with_free_wobble
-from .bounds import MAX_LADDER_ORDER, Window, cached_tables, cached_theory, tables_built, theory_terms
-from .rungs import RUNGS, EstimateInputs, TrackPrice, epoch_span, rung_named
+from .bounds import Window, cached_tables, cached_theory, tables_built, theory_terms
+from .rungs import RUNGS, EstimateInputs, TrackPrice, epoch_span, real_orbit_kept, rung_named
 
 
 @dataclass(frozen=True)
@@ -204,39 +204,46 @@ class Ladder:
     def cost(self, rung: str | None, start: float, stop: float, count: int, order: int | None = None,
              free_wobble: bool = False, rotation_scale: bool = False) -> Cost:
         """What a track of ``count`` epochs from ``start`` to ``stop`` (JD TDB) will cost (:meth:`price`), kept per
-        question (a choice by tolerance prices every model and variant, ~20 us each)."""
-        return _cached_cost(self, rung, start, stop, count, order, free_wobble, rotation_scale,
-                            tables_built(self.body))
+        question and state of the body's caches (a choice by tolerance prices every model and variant, ~20 us
+        each)."""
+        b = self.body
+        kept = (cached_model.cached(b, None), cached_theory.cached(b), tables_built(b),
+                rung == "real_orbit" and real_orbit_kept(b, start, stop))
+        return _cached_cost(self, rung, start, stop, count, order, free_wobble, rotation_scale, kept)
 
     def price(self, rung: str | None, start: float, stop: float, count: int, order: int | None = None,
               free_wobble: bool = False, rotation_scale: bool = False) -> Cost:
         """What a track of ``count`` epochs from ``start`` to ``stop`` (JD TDB) will cost (:mod:`ephem.theory.cost`),
-        from the body's parameters alone, before anything is built. ``rung`` None: the estimates that
-        choose a rung by tolerance (the chosen rung's own cost is charged once it is known)."""
+        from the body's parameters alone, before anything is built. ``rung`` None: what every track pays, named or
+        chosen by tolerance: the request and its answer, every rung's estimate, and what the estimates read that the
+        process keeps once built (the body's model, second-order theory and tables: charged while they are not
+        kept); a rung: its own track (the chosen rung's is charged once it is known). The rung's price holds no
+        cache's state, so that a choice by cost is the same in a worker that has served the body and in one that
+        has not (save the real orbit's path, built once per span)."""
         b = self.body
         check_domain(b)                       # not applicable: refused before any cost
         e = b.orbit.e
-        n = mean_motion_rad_per_day(b.orbit.a_au, b.orbit.center)
-        span = max(abs(stop - b.pole.epoch_jd_tdb), abs(start - b.pole.epoch_jd_tdb))
-        orbits = span * n / (2.0 * math.pi)
         k = cost.body_harmonics(b)
-        build = cost.hansen_build(e, None)
-        # every track reports the estimates, which read the body's tables over one orbit (built once per process)
-        tables = [] if tables_built(b) else [cost.estimate_tables(e)]
         if rung is None:
-            parts = [build, cost.half_peak_to_peak(e, None, k),     # the second-order theory's components
-                     cost.harmonic_sum(count, min(k, MAX_LADDER_ORDER + 2), "step_days", "the truncation bounds"),
-                     *tables]
+            parts = [cost.track_answer(count), cost.ladder_estimates(count, k)]
+            if not cached_model.cached(b, None):
+                parts.append(cost.model_build(e))
+            if not cached_theory.cached(b):
+                parts.append(cost.theory_build(k))
+            if not tables_built(b):
+                parts.append(cost.estimate_tables(e))
             if free_wobble:
                 parts.append(cost.free_rotation("exact", count, 0.0))
             return Cost(tuple(parts))
-        price = TrackPrice(b, order, start, stop, count, k, orbits)
-        parts = [build, *rung_named(rung, b.name).cost(price)]
-        parts += tables
+        # the numerical rungs integrate from the pole epoch to the farthest epoch on each side of it
+        t0 = b.pole.epoch_jd_tdb
+        orbits = (max(stop, t0) - min(start, t0)) * mean_motion_rad_per_day(b.orbit.a_au, b.orbit.center) \
+            / (2.0 * math.pi)
+        parts = list(rung_named(rung, b.name).cost(TrackPrice(b, order, start, stop, count, k, orbits)))
         if free_wobble:
             parts.append(cost.free_rotation("exact", count, 0.0))
-        if rotation_scale:   # the rung again from the mean pole, and the closed-form terms at every epoch
-            parts += [build, cost.harmonic_sum(count, 8, "step_days", "the rotation-scale terms")]
+        if rotation_scale:   # the rung from the mean pole (its model built), and the closed-form terms at every epoch
+            parts += [cost.model_build(e), cost.harmonic_sum(count, 8, "step_days", "the rotation-scale terms")]
         return Cost(tuple(parts))
 
     def choose(self, jd_tdb, tolerance: float) -> Estimate:
@@ -324,5 +331,5 @@ def _cached_estimates(ladder: Ladder, t: np.ndarray) -> tuple[Estimate, ...]:
 
 
 @bytes_bounded      # a pure function of its arguments (the tables' state among them): ~1 kB an entry, counted
-def _cached_cost(ladder: Ladder, rung, start, stop, count, order, free_wobble, rotation_scale, built: bool) -> Cost:
+def _cached_cost(ladder: Ladder, rung, start, stop, count, order, free_wobble, rotation_scale, built: tuple) -> Cost:
     return ladder.price(rung, start, stop, count, order, free_wobble, rotation_scale)

@@ -31,7 +31,7 @@ from ..forced.integration import integrate_spin_axis
 from ..forced.kinoshita import eccentricity_factor
 from ..forced.precession_nutation import PrecessionNutation, Track, cached_model
 from ..forced.second_order import SecondOrderTheory
-from ..orbit.de421 import DE421_BODIES, de421_span, sun_path, tdb_date
+from ..orbit.de421 import DE421_BODIES, de421_span, path_kept, sun_path, tdb_date
 from ..orbit.hansen import LAPLACE_LIMIT
 from ..orbit.relativity import geodesic_angle
 from ..theory import cost
@@ -262,24 +262,35 @@ def _real_orbit_estimates(ladder, x: EstimateInputs) -> list:
     return [Estimate("real_orbit", None, {}, available=False, why_not=why)]
 
 
+def real_orbit_kept(body: Body, start: float, stop: float) -> bool:
+    """Whether the real orbit a track from ``start`` to ``stop`` (JD TDB) integrates along (:func:`sun_path_for`) is
+    kept from an earlier request (its price then leaves the orbit's integration out)."""
+    t0 = body.pole.epoch_jd_tdb
+    return path_kept(body, min(start, t0), max(stop, t0))
+
+
 def _real_orbit_cost(p: TrackPrice) -> list:
-    # integrated from the elements' epoch through the pole's and the track's
-    epochs_jd = (p.start, p.stop, p.body.pole.epoch_jd_tdb, p.body.orbit.epoch_jd_tdb)
-    return [cost.second_order(p.count, p.harmonics), cost.spin_integration(p.orbits, p.e, p.count),
-            cost.orbit_integration(max(epochs_jd) - min(epochs_jd))]
+    parts = [cost.integrated_track(p.count), cost.spin_integration(p.orbits, p.e, p.count, real_orbit=True)]
+    t0 = p.body.pole.epoch_jd_tdb
+    if not real_orbit_kept(p.body, p.start, p.stop):
+        # integrated from the elements' epoch through the pole's and the track's (once per span: kept)
+        epochs_jd = (p.start, p.stop, t0, p.body.orbit.epoch_jd_tdb)
+        parts.append(cost.orbit_integration(max(epochs_jd) - min(epochs_jd)))
+    return parts
 
 
 #: The rungs, cheapest first.
 RUNGS: tuple[Rung, ...] = (
     Rung("secular", "precession only: no nutation", ("no nutation", FIXED_ORBIT),
-         lambda p: [cost.harmonic_sum(p.count, 0, "step_days", "the secular track")],
+         lambda p: [cost.secular_track(p.count)],
          lambda ladder, m, t, order: secular_track(m, t),
          lambda ladder, x: [rung_estimate("secular", None, {"nutation_omitted": x.theory["nutation_omitted"],
                                                             "second_order": x.theory["second_order"],
                                                             "geodesic": x.theory["geodesic"]}, x.physics)]),
     Rung("series", "Kinoshita-Cayley nutation, Hansen coefficients as e-power series truncated at e^order",
          ("first order in the torque", "Hansen coefficients truncated at a power of e", FIXED_ORBIT),
-         lambda p: [cost.hansen_build(p.e, p.order), cost.harmonic_sum(p.count, p.order + 2, "step_days", "the track")],
+         lambda p: [*([cost.hansen_build(p.e, p.order)] if p.order > cost.SHARED_SERIES_ORDER else []),  # once, above
+                    cost.harmonic_sum(p.count, p.order + 2, "step_days", "the track")],
          lambda ladder, m, t, order: cached_model(ladder.body, order).track(t),
          _series_estimates),
     Rung("hansen", "Kinoshita-Cayley nutation with exact Hansen coefficients (first order in the torque)",
@@ -308,7 +319,7 @@ RUNGS: tuple[Rung, ...] = (
     # the numerical rungs: the second-order mean track is subtracted from the integrated pole
     Rung("numerical", "rotation-averaged torque integrated numerically along the fixed Keplerian orbit",
          (FIXED_ORBIT,),
-         lambda p: [cost.second_order(p.count, p.harmonics), cost.spin_integration(p.orbits, p.e, p.count)],
+         lambda p: [cost.integrated_track(p.count), cost.spin_integration(p.orbits, p.e, p.count)],
          _numerical_track, _numerical_estimates),
     Rung("real_orbit", "rotation-averaged torque integrated along the real orbit (DE421 and planetary perturbations)",
          ("orbit from DE421 (planets) or integrated under the DE421 planets (asteroids)",),

@@ -5,11 +5,17 @@ integration span), before any work: :class:`Cost` is a sum of named :class:`Part
 tied to the request parameter that drives it, so a refusal can say which parameter to change.
 :mod:`ephem.base.budget` charges these costs against a request's budget.
 
-The unit costs in ``data/cost_model.toml`` were measured on the project's reference machine
-(2 cores, CPython 3.11, numpy 2.4, one BLAS thread) and set about twice the measurement;
-``benchmarks/bench_cost.py`` prints each prediction against the measured time and memory
-(``benchmarks/RESULTS_cost.md``). They are upper estimates there, some by much more than 2x
-(the integrations' dense output, the second-order theory), not promises: the deadline of
+A prediction is the work this request will do: what a process keeps after the first request (a body's model,
+second-order theory, estimate tables, the pole's stepped models, a real orbit) is charged only while it is not
+kept, so that a worker's first request for a body (cold) and the next ones (warm) are each predicted as they run;
+the families ask the caches (``tables_built``, ``cached(...)``, :func:`kept`) before pricing.
+
+The unit costs in ``data/cost_model.toml`` are what they measure on the project's reference machine (2 cores,
+CPython 3.11, numpy 2.4, one BLAS thread), each with its measurement in a comment: the goal is a prediction within
+0.5-2x of the measured CPU, warm and cold, for every model and size from 10 to 10^6 epochs.
+``benchmarks/bench_calibration.py`` holds the requests to that goal over a grid of bodies, spans, sizes and models
+(``benchmarks/RESULTS_calibration.md``); ``benchmarks/bench_cost.py`` prints each predictor against the library call
+it stands for, with the memory (``benchmarks/RESULTS_cost.md``). They are predictions, not bounds: the deadline of
 :mod:`ephem.base.budget` is the backstop when a machine or an input is slower than predicted.
 """
 from __future__ import annotations
@@ -17,6 +23,7 @@ from __future__ import annotations
 import math
 from functools import lru_cache
 
+from ..base import memo
 from ..base.budget import FREE, Cost, Part  # noqa: F401  (FREE, Cost: re-exported with the predictors)
 from ..base.paths import data_dir
 from ..orbit.hansen import decay_rate, fft_length
@@ -39,6 +46,29 @@ def unit_costs() -> dict:
 
 def _u(key: str) -> float:
     return float(unit_costs()[key])
+
+
+def kept(function: str, *args) -> bool:
+    """Whether the per-body cache ``function`` (the module and name of a :func:`ephem.base.memo.bytes_bounded`
+    function, e.g. ``ephem.forced.pole_uncertainty.cached_pole_sensitivity``) holds its value for ``args`` (all its
+    arguments, in order): how a predictor asks whether a request will build it without importing the layer that
+    keeps it (``tests/theory/test_cost_model.py`` holds the names to the caches)."""
+    return (function, tuple(args)) in memo.POOL
+
+
+#: the caches :func:`pole_uncertainty` asks (see :func:`kept`)
+POLE_SENSITIVITY = "ephem.forced.pole_uncertainty.cached_pole_sensitivity"
+PROPAGATED = "ephem.forced.uncertainty.propagated"
+
+
+# --- what every track answer costs beside its models ----------------------------------------------
+
+def track_answer(epochs: int) -> Part:
+    """A track request's own work beside its models': the checks of its inputs, the family's description of the
+    model and the answer's arrays in their units at every epoch (:func:`ephem.answers.render.track`): a fixed part
+    (``request_base_s``) and a part per epoch (``answer_epoch_s``)."""
+    return Part("step_days", f"the request and its answer's {epochs} epochs in their units",
+                _u("request_base_s") + epochs * _u("answer_epoch_s"), epochs * _u("track_bytes_per_epoch") / MB)
 
 
 # --- the pieces every model is made of ------------------------------------------------------------
@@ -83,10 +113,45 @@ def hansen_fft_s(n: int) -> float:
 def hansen_build(e: float, order: int | None) -> Part:
     """The Hansen coefficients: an N-point FFT (exact) or the rational series (order)."""
     n, k = harmonics(e, order)
-    if order is not None:
-        return Part("order", f"the e^{order} Hansen series", _u("series_s") * (1 + order) ** 2, 1.0)
+    if order is not None:      # the rational series, built once (above SHARED_SERIES_ORDER: the lower are cut from it)
+        return Part("order", f"the e^{order} Hansen series", _u("series_s") * (1 + order) ** 4, 1.0)
     return Part("orbit.e", f"exact Hansen coefficients (a {n}-point FFT, e = {e:.4g})",
                 _u("base_s") + hansen_fft_s(n), _u("fft_bytes_per_sample") * n / MB)
+
+
+#: the rational e-power series are built at start-up up to this order (``ephem.api.warm_up``), the lower orders cut
+#: from it; a higher order is built on its first use (``series_s``), then kept (:func:`ephem.orbit.hansen.hansen_series`)
+SHARED_SERIES_ORDER = 20
+
+
+def model_build(e: float, order: int | None = None) -> Part:
+    """A body's first-order model (:func:`ephem.forced.precession_nutation.build_model`): the exact Hansen
+    coefficients (an N-point FFT, recomputed by the passes that settle the nutation at the pole epoch) or the
+    e-power series cut at ``order`` (from the rational series of :func:`ephem.orbit.hansen.hansen_series`, kept once
+    built: :data:`SHARED_SERIES_ORDER`), and the nutation series over their harmonics."""
+    if order is not None:
+        return Part("order", f"the body's model with the e^{order} Hansen series",
+                    _u("model_base_s") + _u("series_term_s") * (order + 2) ** 2, 1.0)
+    n, _ = harmonics(e, None)
+    return Part("orbit.e", f"the body's model (exact Hansen coefficients: a {n}-point FFT, e = {e:.4g})",
+                _u("model_base_s") + _u("model_s_per_n_log_n") * n * math.log2(n), _u("fft_bytes_per_sample") * n / MB)
+
+
+def theory_build(k: int) -> Part:
+    """The body's second-order theory (:func:`ephem.forced.second_order.second_order_theory`, which every rung's
+    estimate reads): products of the nutation's ``k`` harmonics, ~k^2."""
+    return Part("orbit.e", f"the body's second-order theory ({k} harmonics)",
+                _u("theory_base_s") + _u("theory_harmonic2_s") * k * k, 0.5 + 16.0 * k * k / MB)
+
+
+def ladder_estimates(epochs: int, k: int) -> Part:
+    """Every rung's error estimate over the epochs (:meth:`ephem.sun.ladder.Ladder.estimates`): a fixed part (the
+    theory terms from the body's tables, the truncation bound of each e-order, the geodesic and interior terms) and
+    a pass over the epochs (the orbit's motion, the rotation averaging: Kepler's equation at each, slower as the
+    eccentricity, and with it the ``k`` harmonics, grows)."""
+    return Part("step_days", f"the error estimates of every model at {epochs} epochs",
+                _u("estimates_base_s") + epochs * (_u("estimates_epoch_s") + k * _u("estimates_harmonic_s")),
+                epochs * _u("track_bytes_per_epoch") / MB)
 
 
 def harmonic_work_mb(epochs: int, k: int) -> float:
@@ -101,14 +166,28 @@ def half_peak_to_peak(e: float, order: int | None, k: int | None = None) -> Part
     (``k`` harmonics; default all the Hansen coefficients')."""
     k = harmonics(e, order)[1] if k is None else k
     return Part("orbit.e", f"the nutation's extremes over one orbit ({k} harmonics on a {64 * k}-point grid)",
-                _u("harmonic_s") * 64.0 * k * k, 0.5 + harmonic_work_mb(64 * k, k))
+                _u("extrema_harmonic_s") * 64.0 * k * k, 0.5 + harmonic_work_mb(64 * k, k))
+
+
+#: the most harmonics a track sums by one matrix product per block (:data:`ephem.orbit.harmonics.MAX_POWER_BASIS_TERMS`,
+#: every catalogue body's series); more are summed by Chebyshev recurrences, at ``harmonic_s`` each
+POWER_BASIS_HARMONICS = 48
 
 
 def harmonic_sum(epochs: int, k: int, parameter: str, what: str) -> Part:
-    """A nutation series of ``k`` harmonics summed at ``epochs`` epochs (Chebyshev blocks)."""
-    return Part(parameter, f"{what}: {epochs} epochs x {k} harmonics",
-                epochs * (_u("epoch_s") + _u("harmonic_s") * k),
+    """A nutation series of ``k`` harmonics summed at ``epochs`` epochs, and the track's angles from it (the blocked
+    kernel of :mod:`ephem.forced.precession_nutation`): up to :data:`POWER_BASIS_HARMONICS` one matrix product per
+    block (``harmonic_grid_s`` a harmonic), beyond it Chebyshev recurrences (``harmonic_s``)."""
+    per = _u("harmonic_grid_s") if k <= POWER_BASIS_HARMONICS else _u("harmonic_s")
+    return Part(parameter, f"{what}: {epochs} epochs x {k} harmonics", _u("base_s") + epochs * (_u("epoch_s") + per * k),
                 epochs * _u("track_bytes_per_epoch") / MB + harmonic_work_mb(epochs, k))
+
+
+def secular_track(epochs: int) -> Part:
+    """The secular rung's track (:func:`ephem.sun.rungs.secular_track`): the precessing mean pole's angles at every
+    epoch, no nutation."""
+    return Part("step_days", f"the secular track at {epochs} epochs", epochs * _u("secular_epoch_s"),
+                epochs * _u("track_bytes_per_epoch") / MB)
 
 
 def estimate_tables(e: float) -> Part:
@@ -123,15 +202,25 @@ def estimate_tables(e: float) -> Part:
 
 
 def second_order(epochs: int, k: int) -> Part:
+    """The second-order theory's track (:func:`ephem.sun.rungs.second_order_track`): its mean track (a fixed part)
+    and the re-phased nutation of ``k`` harmonics at every epoch."""
     return Part("step_days", f"the second-order theory at {epochs} epochs x {k} harmonics",
-                _u("base_s") + epochs * (_u("second_order_epoch_s") + _u("second_order_harmonic_s") * k),
+                _u("second_order_base_s") + epochs * (_u("second_order_epoch_s") + _u("second_order_harmonic_s") * k),
                 epochs * _u("track_bytes_per_epoch") / MB + harmonic_work_mb(epochs, k))
 
 
-def spin_integration(orbits: float, e: float, epochs: int) -> Part:
-    """DOP853 through every orbit from the pole epoch (:mod:`ephem.forced.integration`): the steps per
-    orbit grow toward pericentre, measured as (1 - e)^(-1/2)."""
-    per_orbit = _u("spin_orbit_s") / math.sqrt(1.0 - e)
+def integrated_track(epochs: int) -> Part:
+    """The numerical rungs' track from the integrated pole vectors (:func:`ephem.sun.rungs.track_from_vectors`):
+    the second-order mean track to read the nutation off (a fixed part) and the angles at every epoch."""
+    return Part("step_days", f"the track from the integrated pole at {epochs} epochs",
+                _u("second_order_base_s") + epochs * _u("vectors_epoch_s"), epochs * _u("track_bytes_per_epoch") / MB)
+
+
+def spin_integration(orbits: float, e: float, epochs: int, real_orbit: bool = False) -> Part:
+    """DOP853 through every orbit from the pole epoch to the epochs, both sides of it counted
+    (:mod:`ephem.forced.integration`): the steps per orbit grow toward pericentre, measured as (1 - e)^(-1/2);
+    ``real_orbit``: along the real Sun path, whose interpolation each step reads (``spin_orbit_real_s``)."""
+    per_orbit = _u("spin_orbit_real_s" if real_orbit else "spin_orbit_s") / math.sqrt(1.0 - e)
     return Part("stop", f"the spin axis integrated through {orbits:.4g} orbits",
                 _u("base_s") + orbits * per_orbit + epochs * _u("dense_output_s"),
                 epochs * _u("track_bytes_per_epoch") / MB + orbits * _u("spin_bytes_per_orbit") / MB)
@@ -158,7 +247,15 @@ def free_rotation(method: str, epochs: int, rotations: float) -> Part:
                 epochs * per_bytes / MB)
 
 
+def lunisolar_estimates(models: int = 1) -> Part:
+    """The Earth's track estimates (:func:`ephem.earth.estimates.estimates`) of ``models`` models: each its terms
+    against IAU 2006/2000A over the span from the kept series (a fixed part: the epochs enter through their span)."""
+    return Part("step_days", f"the error estimates of {models} model{'s' if models != 1 else ''}",
+                models * _u("lunisolar_estimates_s"), 1.0)
+
+
 def lunisolar_sum(epochs: int) -> Part:
+    """The Earth's lunisolar series at ``epochs`` epochs (the Delaunay arguments, the term products)."""
     return Part("step_days", f"the lunisolar series at {epochs} epochs", epochs * _u("lunisolar_epoch_s"),
                 epochs * _u("track_bytes_per_epoch") / MB)
 
@@ -171,9 +268,9 @@ def nonrigid_sum(epochs: int) -> Part:
 
 
 def synchronous_estimates() -> Part:
-    """A synchronous rotator's Cassini state, its free modes and its libration series' bounds: a root, a few
-    closed forms and a small table, once per body (:mod:`ephem.moon.family`)."""
-    return Part("body", "the Cassini state and its estimates", _u("synchronous_base_s"), 2.0)
+    """A synchronous rotator's estimates from its Cassini state, free modes and libration series' bounds (kept once
+    per body: the Moon's at start-up, :mod:`ephem.moon.family`)."""
+    return Part("body", "the Cassini state's estimates", _u("synchronous_base_s"), 2.0)
 
 
 def synchronous_track(epochs: int, terms: int = 0) -> Part:
@@ -181,7 +278,7 @@ def synchronous_track(epochs: int, terms: int = 0) -> Part:
     rotation to the ICRF (erfa.ecm06) at each."""
     return Part("step_days", f"the Cassini-state pole at {epochs} epochs"
                 + (f" with {terms} libration terms" if terms else ""),
-                _u("base_s") + epochs * (_u("synchronous_epoch_s") + terms * _u("libration_term_epoch_s")),
+                epochs * (_u("synchronous_epoch_s") + terms * _u("libration_term_epoch_s")),
                 epochs * (_u("track_bytes_per_epoch") + terms * _u("libration_bytes_per_term_epoch")) / MB)
 
 
@@ -194,11 +291,12 @@ def libration_series() -> Part:
 
 def synchronous_integration(span_days: float, epochs: int) -> Part:
     """The rigid Moon on its real orbit (:func:`ephem.moon.rigid_integration.integrate_synchronous`) over ``span_days``
-    (from the pole epoch to the farthest epoch, both sides): the orbit's table and the integration per year."""
+    (from the pole epoch to the farthest epoch, both sides): the orbit's table and the integration per year, and the
+    integrated pole at every epoch (dense output, the ecliptic of date)."""
     years = span_days / 365.25
     return Part("stop", f"the rigid Moon integrated over {years:.4g} years",
                 _u("base_s") + years * (_u("moon_table_s_per_year") + _u("moon_integration_s_per_year"))
-                + epochs * _u("dense_output_s"), years * _u("moon_mb_per_year") + epochs * _u("track_bytes_per_epoch") / MB)
+                + epochs * _u("moon_epoch_s"), years * _u("moon_mb_per_year") + epochs * _u("track_bytes_per_epoch") / MB)
 
 
 def spin_history(span_years: float, epochs: int, steps_per_sample: int = 1) -> Part:
@@ -256,13 +354,32 @@ def cassini_history(epochs: int) -> Part:
 
 
 def pole_uncertainty(body, inputs_with_sigma: int, epochs: int, order: int | None = None) -> Cost:
-    """The pole's 1-σ along a track (:func:`ephem.forced.uncertainty.pole_uncertainty`): two first-order models and
-    tracks per input with a σ."""
+    """The pole's 1-σ along a track (:func:`ephem.forced.pole_uncertainty.pole_uncertainty`): the 2m first-order
+    models stepped by each of the m inputs with a σ, built once per body and order (while
+    :func:`~ephem.forced.pole_uncertainty.cached_pole_sensitivity` does not keep them), evaluated together at every
+    epoch over their harmonics; and the catalogue's σ propagated to the mean obliquity (once per body and order:
+    :func:`ephem.forced.uncertainty.propagated`, which a track reports beside it)."""
     if inputs_with_sigma == 0:
         return FREE
-    k = body_harmonics(body, order)
-    one = (hansen_build(body.orbit.e, order), harmonic_sum(epochs, k, "step_days", "a perturbed track"))
-    return Cost(one * (2 * inputs_with_sigma))
+    rows, k = 2 * inputs_with_sigma, body_harmonics(body, order)
+    parts = [Part("step_days", f"the pole's 1-sigma at {epochs} epochs ({rows} stepped models x {k} harmonics)",
+                  _u("pole_sigma_base_s") + epochs * rows * (_u("pole_sigma_row_epoch_s")
+                                                             + k * _u("pole_sigma_row_harmonic_s")),
+                  epochs * rows * 48.0 / MB)]
+    if not kept(POLE_SENSITIVITY, body, order):
+        build = model_build(body.orbit.e, order)
+        parts.append(Part("body", f"the pole's {rows} stepped models (once per body and order)",
+                          rows * (build.cpu_s + _u("pole_sigma_model_s")), build.memory_mb))
+    if not kept(PROPAGATED, body, order):
+        parts.append(propagation(inputs_with_sigma))
+    return Cost(tuple(parts))
+
+
+def propagation(inputs_with_sigma: int) -> Part:
+    """The catalogue's σ propagated to the answers' values (:func:`ephem.forced.uncertainty.propagated`: central
+    differences of the model over every input with a σ, once per body and order, kept after)."""
+    return Part("body", f"the catalogue's {inputs_with_sigma} input uncertainties propagated (once per body and "
+                        "order)", _u("propagation_s"), 1.0)
 
 
 #: how an answer is written out: the unit cost of one value

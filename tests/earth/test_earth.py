@@ -289,9 +289,11 @@ def test_a_cut_is_for_the_lunisolar_series_only():
 
 def test_free_wobble_for_the_lunisolar_earth():
     near = dict(free_wobble_phase_deg=30.0, free_wobble_epoch="2020-01-15")
-    plain = api.track_arrays("earth", "2020-01-01", "2020-02-01", 1.0)
     wob = api.track_arrays("earth", "2020-01-01", "2020-02-01", 1.0, tolerance_mas=500, **near)
-    assert wob["model"]["name"] == "lunisolar" and wob["model"]["free_wobble"]["J_arcsec"] == 1.0
+    # over 32 epochs the rigid and the non-rigid tracks cost alike (data/cost_model.toml): a tie the more accurate
+    # may win (ephem.theory.choice); the wobble is the same on either
+    assert wob["model"]["name"] in ("lunisolar", "nonrigid") and wob["model"]["free_wobble"]["J_arcsec"] == 1.0
+    plain = api.track_arrays("earth", "2020-01-01", "2020-02-01", 1.0, model=wob["model"]["name"])
     assert wob["model"]["estimated_error_mas"] <= 500 and "free_wobble_model" in wob["model"]["error_terms_mas"]
     shift = np.hypot((wob["pole_ra_deg"] - plain["pole_ra_deg"]) * np.cos(np.radians(plain["pole_dec_deg"])),
                      wob["pole_dec_deg"] - plain["pole_dec_deg"]) * 3600.0

@@ -129,14 +129,17 @@ def test_long_numeric_free_motion_is_over_budget_naming_stop(client):
     assert "rotations" in body["detail"]
 
 
-def test_real_orbit_over_150_years_is_over_budget(client):
-    r = client.get("/v1/bodies/itokawa/track?start=1900-01-01&stop=2050-01-01&step_days=100&model=real_orbit")
-    body = _problem(r, 422, "over-budget")
-    assert body["estimated_cpu_s"] > body["budget_cpu_s"]
-    post = client.post("/v1/precession-nutation", json=_user(track={"start": "1900-01-01", "stop": "2050-01-01",
-                                                                     "step_days": 10, "model": "real_orbit"}))
-    body = _problem(post, 422, "over-budget")
-    assert body["errors"][0]["field"].startswith("track.")
+def test_real_orbit_over_150_years_is_over_budget():
+    # the orbit integrated over 150 years and the spin along it: predicted ~3.5 s, measured 4.7 s cold
+    # (benchmarks/RESULTS_calibration.md), over a budget of 2 s
+    with TestClient(create_app(Settings(warm_up=False, max_request_cpu_s=2.0)), raise_server_exceptions=False) as c:
+        r = c.get("/v1/bodies/itokawa/track?start=1900-01-01&stop=2050-01-01&step_days=100&model=real_orbit")
+        body = _problem(r, 422, "over-budget")
+        assert body["estimated_cpu_s"] > body["budget_cpu_s"]
+        post = c.post("/v1/precession-nutation", json=_user(track={"start": "1900-01-01", "stop": "2050-01-01",
+                                                                  "step_days": 10, "model": "real_orbit"}))
+        body = _problem(post, 422, "over-budget")
+        assert body["errors"][0]["field"].startswith("track.")
 
 
 def test_a_larger_budget_lets_the_same_request_through():
@@ -197,11 +200,12 @@ def test_the_predicted_cost_grows_with_what_drives_it():
                              dynamical_ellipticity=0.1))
     t0 = 2451545.0
     # the estimates' tables are the first request's, once per body: charged until built, then not
-    first = ladder.cost("hansen", t0, t0 + 3650, 100)
+    first = ladder.cost(None, t0, t0 + 3650, 100)
     assert any("tables" in p.what for p in first.parts)
     cached_tables(ladder.body)
+    later = ladder.cost(None, t0, t0 + 3650, 100)
+    assert not any("tables" in p.what for p in later.parts) and later.cpu_s < first.cpu_s
     small = ladder.cost("hansen", t0, t0 + 3650, 100)
-    assert not any("tables" in p.what for p in small.parts) and small.cpu_s < first.cpu_s
     many = ladder.cost("hansen", t0, t0 + 3650, 100_000)
     assert many.cpu_s > 10 * small.cpu_s and many.memory_mb > 10 * small.memory_mb
     short = ladder.cost("numerical", t0, t0 + 365, 100)
@@ -286,7 +290,8 @@ def test_the_supervisor_restarts_a_killed_worker():
 # --- large requests take turns (service/guards.py HeavySlots): a per-request budget alone let four clients
 # looping on a track just under it take both cores from everyone else (benchmarks/RESULTS_load.md)
 
-LARGE_TRACK = "/v1/bodies/vesta/track?start=2451545&stop=2551544&step_days=1"     # 10^5 epochs, ~0.18 s estimated
+# 10^5 epochs integrated over 75 orbits: ~0.48 s estimated (a 10^5-epoch hansen track is ~0.06 s, under the threshold)
+LARGE_TRACK = "/v1/bodies/vesta/track?start=2451545&stop=2551544&step_days=1&model=numerical"
 
 
 def _hold_slot(lock_dir: str, index: int = 0):
@@ -323,7 +328,7 @@ def test_a_large_request_finds_the_slot_taken_by_another_worker_and_is_told_when
             r = c.get(LARGE_TRACK)
             assert r.headers["retry-after"].isdigit() and int(r.headers["retry-after"]) >= 1
             assert body["estimated_cpu_s"] > body["heavy_request_cpu_s"] == settings.heavy_request_cpu_s
-            medium = LARGE_TRACK.replace("2551544", "2521544")   # 7e4 epochs: large too (~0.13 s), quicker to answer
+            medium = LARGE_TRACK.replace("2551544", "2521544")   # 7e4 epochs: large too (~0.34 s)
             _problem(c.get(medium), 503, "busy")
             assert large_steps == [], large_steps
             # small requests are not rationed
@@ -398,10 +403,10 @@ def test_the_harmonic_work_table_the_cost_model_allows_is_the_one_harmonics_caps
 
 
 def test_a_csv_track_is_charged_for_its_slower_serialisation():
-    """10^5 epochs: ~0.18 s estimated as JSON, ~0.8 s as CSV (a float's repr each: measured ~470 ns a value
-    against ~20 ns in JSON); a budget of 0.5 s admits the one and refuses the other, naming the parameter."""
+    """10^5 epochs: ~0.09 s estimated as JSON, ~0.4 s as CSV (a float's repr each: measured ~460 ns a value
+    against ~15 ns in JSON); a budget of 0.2 s admits the one and refuses the other, naming the parameter."""
     path = "/v1/bodies/vesta/track?start=2451545&stop=2551544&step_days=1"
-    with TestClient(create_app(Settings(warm_up=False, max_request_cpu_s=0.5)), raise_server_exceptions=False) as c:
+    with TestClient(create_app(Settings(warm_up=False, max_request_cpu_s=0.2)), raise_server_exceptions=False) as c:
         assert c.get(path).status_code == 200
         body = _problem(c.get(path + "&format=csv"), 422, "over-budget")
         assert body["errors"][0]["field"] == "step_days"
