@@ -275,7 +275,7 @@ def _real_orbit_cost(p: TrackPrice) -> list:
     if not real_orbit_kept(p.body, p.start, p.stop):
         # integrated from the elements' epoch through the pole's and the track's (once per span: kept)
         epochs_jd = (p.start, p.stop, t0, p.body.orbit.epoch_jd_tdb)
-        parts.append(cost.orbit_integration(max(epochs_jd) - min(epochs_jd)))
+        parts.append(cost.orbit_integration(max(epochs_jd) - min(epochs_jd), p.body.naif_id not in DE421_BODIES))
     return parts
 
 

@@ -120,7 +120,8 @@ def hansen_build(e: float, order: int | None) -> Part:
 
 
 #: the rational e-power series are built at start-up up to this order (``ephem.api.warm_up``), the lower orders cut
-#: from it; a higher order is built on its first use (``series_s``), then kept (:func:`ephem.orbit.hansen.hansen_series`)
+#: from it; a higher order is built on its first use (``series_s``), then kept
+#: (:func:`ephem.orbit.hansen.hansen_series`)
 SHARED_SERIES_ORDER = 20
 
 
@@ -179,7 +180,8 @@ def harmonic_sum(epochs: int, k: int, parameter: str, what: str) -> Part:
     kernel of :mod:`ephem.forced.precession_nutation`): up to :data:`POWER_BASIS_HARMONICS` one matrix product per
     block (``harmonic_grid_s`` a harmonic), beyond it Chebyshev recurrences (``harmonic_s``)."""
     per = _u("harmonic_grid_s") if k <= POWER_BASIS_HARMONICS else _u("harmonic_s")
-    return Part(parameter, f"{what}: {epochs} epochs x {k} harmonics", _u("base_s") + epochs * (_u("epoch_s") + per * k),
+    return Part(parameter, f"{what}: {epochs} epochs x {k} harmonics",
+                _u("base_s") + epochs * (_u("epoch_s") + per * k),
                 epochs * _u("track_bytes_per_epoch") / MB + harmonic_work_mb(epochs, k))
 
 
@@ -226,9 +228,12 @@ def spin_integration(orbits: float, e: float, epochs: int, real_orbit: bool = Fa
                 epochs * _u("track_bytes_per_epoch") / MB + orbits * _u("spin_bytes_per_orbit") / MB)
 
 
-def orbit_integration(span_days: float) -> Part:
-    """The real orbit (:mod:`ephem.orbit.de421`): the body integrated under the DE421 planets."""
+def orbit_integration(span_days: float, integrated: bool = True) -> Part:
+    """The real orbit (:mod:`ephem.orbit.de421`): the body integrated under the DE421 planets over ``span_days``, or,
+    not ``integrated`` (a planet DE421 gives), its path read from the kernel's pieces."""
     years = span_days / 365.25
+    if not integrated:
+        return Part("start", f"the real orbit read from DE421 over {years:.4g} years", _u("path_de421_s"), 5.0)
     return Part("start", f"the real orbit integrated over {years:.4g} years",
                 _u("path_base_s") + years * _u("path_s_per_year"), _u("path_mb_per_year") * years + 5.0)
 
@@ -278,7 +283,8 @@ def synchronous_track(epochs: int, terms: int = 0) -> Part:
     rotation to the ICRF (erfa.ecm06) at each."""
     return Part("step_days", f"the Cassini-state pole at {epochs} epochs"
                 + (f" with {terms} libration terms" if terms else ""),
-                epochs * (_u("synchronous_epoch_s") + terms * _u("libration_term_epoch_s")),
+                (_u("base_s") if terms else 0.0)
+                + epochs * (_u("synchronous_epoch_s") + terms * _u("libration_term_epoch_s")),
                 epochs * (_u("track_bytes_per_epoch") + terms * _u("libration_bytes_per_term_epoch")) / MB)
 
 
@@ -296,7 +302,8 @@ def synchronous_integration(span_days: float, epochs: int) -> Part:
     years = span_days / 365.25
     return Part("stop", f"the rigid Moon integrated over {years:.4g} years",
                 _u("base_s") + years * (_u("moon_table_s_per_year") + _u("moon_integration_s_per_year"))
-                + epochs * _u("moon_epoch_s"), years * _u("moon_mb_per_year") + epochs * _u("track_bytes_per_epoch") / MB)
+                + epochs * _u("moon_epoch_s"),
+                years * _u("moon_mb_per_year") + epochs * _u("track_bytes_per_epoch") / MB)
 
 
 def spin_history(span_years: float, epochs: int, steps_per_sample: int = 1) -> Part:
