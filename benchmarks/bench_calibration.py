@@ -306,6 +306,9 @@ def main(argv=None) -> int:
     ap.add_argument("--max-seconds", type=float, default=1200.0, help="start no cell after this many seconds")
     ap.add_argument("--out", default=str(HERE / "RESULTS_calibration.md"), help="the Markdown report")
     ap.add_argument("--json", default=None, help="also write every cell as JSON here")
+    ap.add_argument("--compare", default=None, help="an earlier run's --json (the checkout before a change, say): its "
+                                                    "summary and table by body and model beside this run's")
+    ap.add_argument("--compare-label", default="the earlier run", help="what --compare was run on")
     args = ap.parse_args(argv)
     bodies = (args.bodies.split(",") if args.bodies else
               ["ceres", "steins", "earth", "moon"] if args.quick else list(BODIES))
@@ -376,6 +379,9 @@ def main(argv=None) -> int:
     ]
     if not_run:
         report += ["## Not run (over --max-seconds)", "", *[f"- {c.label}" for c in not_run], ""]
+    if args.compare:
+        report[report.index("## Outside the goal (warm)"):report.index("## Outside the goal (warm)")] = \
+            compared(args.compare, args.compare_label)
     text = "\n".join(report)
     out = Path(args.out)
     out.write_text(text, encoding="utf-8")
@@ -384,6 +390,17 @@ def main(argv=None) -> int:
         Path(args.json).write_text(json.dumps([{**asdict(c), "warm_ratio": c.warm_ratio, "cold_ratio": c.cold_ratio}
                                                for c in cells], indent=1))
     return 0
+
+
+def compared(path: str, label: str) -> list[str]:
+    """The summary and the table by body and model of an earlier run (its --json), to set beside this one's."""
+    names = {f for f in Cell.__dataclass_fields__}
+    before = [Cell(**{k: v for k, v in row.items() if k in names}) for row in json.loads(Path(path).read_text())]
+    before = [c for c in before if c.refused is None and not math.isnan(c.meas_warm_ms)]
+    return [f"## Before: {label}", "",
+            f"Warm, predicted / measured: {summary(before, 'warm_ratio')[0]}; "
+            f"cold: {summary(before, 'cold_ratio')[0]}.",
+            "", *by_model(before), ""]
 
 
 def versions() -> dict:
