@@ -108,11 +108,10 @@ MB = 1024.0 * 1024.0
 WHY_MODEL = ("ephem.forced.precession_nutation.build_model iterates the nutation at the pole epoch three times, and each pass calls "
              "kinoshita.nutation_series, which recomputes hansen_exact(e): three FFTs (plus the series' evaluation), "
              "while cost.hansen_build charges one.")
-WHY_SERIES = ("hansen.hansen_series(order < 20) cuts the order-20 series (_SHARED_ORDER), built on first use, while "
-              "cost.hansen_build(e, order) charges series_s (1 + order)^2; and every track (named rung or tolerance) "
-              "computes the ladder's estimates, whose truncation bounds of the e-orders 0-19 need that order-20 "
-              "series, charged by neither Ladder.cost(None) nor cost.truncation_bounds. Paid once per worker "
-              "(lru_cache); measured here from cold caches.")
+WHY_SERIES = ("hansen.hansen_series(order < 20) cuts the order-20 series (_SHARED_ORDER), which ephem.api.warm_up "
+              "builds at the service's start-up (0.1-0.27 s once per process, charged to no request): cold() empties "
+              "it with every other cache, so these cases pay that build, which cost.hansen_build(e, order), a cut, "
+              "does not charge. Orders above 20 are built on first use and charged (series_s (1 + order)^4).")
 WHY_BLOCK = ("harmonics.evaluate_harmonics sums in blocks whose work table is up to BLOCK_BYTES = 32 MB whatever "
              "the epochs: cost.harmonic_work_mb charges it (capped at harmonic_block_mb).")
 WHY_CSV = ("service.app._csv_rows formats every float with repr (Python), ~20x slower than orjson: api.track_arrays "
@@ -504,7 +503,7 @@ def build_cases() -> list[Case]:
     for rung, quick in (("secular", False), ("series", True), ("hansen", True), ("second_order", False),
                         ("numerical", True), ("real_orbit", True), (None, True)):
         what = (f"model={rung}" + (", order=4" if rung == "series" else "") if rung
-                else "axis=angular_momentum, tolerance_mas=1000 (chooses real_orbit)")
+                else "axis=angular_momentum, tolerance_mas=1000 (the model predicted cheapest within it)")
         request(f"track Eros 2000-2010 daily (3654 epochs), {what}",
                 lambda rung=rung: api.track_arrays("eros", J2000, J2000 + 3653, 1.0, model=rung,
                                                    order=4 if rung == "series" else None,
