@@ -303,9 +303,10 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     t_end = t0 + step * (count - 1)
     output = cost.Cost((cost.serialised(count, len(TRACK_KEYS), output),))
     # the estimates, and the named model's own cost, charged before anything is built
-    charge(theory.choice_cost(t0, t_end, count)
-           + (cost.FREE if tol is not None else theory.track_cost(name, order, t0, t_end, count, wobble is not None, phase is not None)
-              + output), b.name)
+    charge((theory.choice_cost(t0, t_end, count) if tol is not None
+            else theory.named_estimate_cost(name, t0, t_end, count)
+            + theory.track_cost(name, order, t0, t_end, count, wobble is not None, phase is not None) + output),
+           b.name)
     t = t0 + step * np.arange(count)
     choice = None
     if tol is not None:

@@ -51,7 +51,7 @@ from ..base.errors import InvalidInputError, NotApplicableError, count_text
 from ..orbit.geometry import angle_between
 from .averaged_spin import MEANINGFUL_LIMIT, ORBIT_SAMPLE_YEARS, SpinHistory, outward_max
 from .nbody_orbit import (SHIPPED_ASTEROIDS, SHIPPED_BODIES, SHIPPED_PLANETS, load_metadata, nbody_cost_seconds,
-                          nbody_orbit_history, shipped_orbit_history, shipped_sample_noise)
+                          nbody_orbit_history, shipped_loaded, shipped_orbit_history, shipped_sample_noise)
 from .orbit_selection import (DEFAULT_RULE, NAMED_RULE, OrbitCandidate, OrbitSelection, RunEstimate, ms_text,
                               why_chosen)
 from .secular_orbit import planet_secular_history, secular_orbit_history
@@ -153,6 +153,12 @@ SPLINE_POINT_S = 4.0e-7         # the shipped orbit's spline at one epoch (the p
 SECULAR_POINT_S = 1.2e-6        # the secular orbit at one epoch (its modes summed for the pole, a and e): 0.56-0.58 us
 
 
+def _shipped_read(orbit_body: str) -> float:
+    """CPU of reading the shipped N-body history of ``orbit_body``: :data:`SHIPPED_READ_S` the first time in a
+    process, nothing once it is held (every request of a worker priced it before)."""
+    return 0.0 if shipped_loaded(orbit_body) else SHIPPED_READ_S
+
+
 def _part(what: str, seconds: float) -> cost.Part:
     """A part of an orbit model's price (its memory: small arrays, 1 MB)."""
     return cost.Part("orbit_model", what, seconds, 1.0)
@@ -166,9 +172,10 @@ def secular_choice(b: Body, orbit_body: str, lo: float, hi: float) -> OrbitChoic
         orbit = secular_orbit(b, orbit_body)
     except NotApplicableError as exc:
         return OrbitChoice("secular", why_not=exc.reason)
+    read = _shipped_read(orbit_body)
     shipped = _shipped(b, orbit_body)
     if shipped is not None and shipped.span_years[0] <= lo and hi <= shipped.span_years[1]:
-        error = _part("its error: the shipped N-body orbit read", SHIPPED_READ_S)
+        error = _part("its error: the shipped N-body orbit read", read)
     else:
         kind = "planet" if _is_planet(b, orbit_body) else "small body"
         error = _part(f"its error: the envelope of the shipped {kind} orbits' (once per process)", ENVELOPE_S[kind])
@@ -179,11 +186,12 @@ def secular_choice(b: Body, orbit_body: str, lo: float, hi: float) -> OrbitChoic
 def nbody_choice(b: Body, orbit_body: str, lo: float, hi: float, on_demand: bool = True) -> OrbitChoice:
     """The ``nbody`` model of :func:`orbit_choices`: the shipped orbit where it covers [lo, hi] years, else one run on
     request (``on_demand``), else unavailable with the reason."""
+    read = _shipped_read(orbit_body)
     shipped = _shipped(b, orbit_body)
     if shipped is not None:
         first, last = shipped.span_years
         if first <= lo and hi <= last:
-            return OrbitChoice("nbody", shipped, cost.Cost((_part("the shipped N-body orbit read", SHIPPED_READ_S),)),
+            return OrbitChoice("nbody", shipped, cost.Cost((_part("the shipped N-body orbit read", read),)),
                                shipped=True)
         return OrbitChoice("nbody", why_not=f"the shipped N-body orbit of {orbit_body} covers "
                            f"[{first:g}, {last:g}] years from J2000.0, not [{lo:g}, {hi:g}]")

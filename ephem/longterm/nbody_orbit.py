@@ -353,8 +353,21 @@ def _shipped_name(body_name: str) -> str:
     return "Earth" if name == "Moon" else name
 
 
+#: the shipped histories this process has loaded (:func:`shipped_loaded`: a price charges the read only once)
+_LOADED: set[str] = set()
+
+
+def shipped_loaded(body_name: str) -> bool:
+    """Whether this process holds the shipped history of ``body_name`` already (False for a body without one)."""
+    try:
+        return _shipped_name(body_name) in _LOADED
+    except (InvalidInputError, NotApplicableError):
+        return False
+
+
 @lru_cache(maxsize=None)
 def _load_shipped(name: str) -> OrbitHistory:
+    _LOADED.add(name)
     meta = load_metadata()
     entry = meta["body"][name]
     z = _shipped_arrays(name)

@@ -20,6 +20,7 @@ from ..base.errors import NotApplicableError
 from ..base.memo import bytes_bounded
 from .history import DESCRIPTIONS as ORBIT_DESCRIPTIONS
 from .history import long_term_run, long_term_cost
+from .nbody_orbit import shipped_loaded
 from ..forced.precession_nutation import Track
 from ..theory.choice import Deferred
 from ..theory.interface import SpectrumExport, SpinAxisTheory
@@ -37,11 +38,12 @@ def _years(jd_tdb) -> np.ndarray:
     return (np.asarray(jd_tdb, dtype=float) - J2000_JD) / JULIAN_YEAR_DAYS
 
 
-@bytes_bounded(key=lambda inner, body, perturbers, lo, hi, count: (type(inner), body, perturbers, lo, hi, count))
+@bytes_bounded(key=lambda inner, body, perturbers, lo, hi, count: (type(inner), body, perturbers, lo, hi, count,
+                                                                   shipped_loaded(body.name)))
 def _long_term_cost(inner: SpinAxisTheory, body, perturbers, lo: float, hi: float, count: int) -> Cost:
     """The long-term model's price over [lo, hi] years (FREE where the family has no secular spin): it reads the
-    body's secular orbit and spin, so it is kept per family, body and span, as every choice by tolerance prices
-    it."""
+    body's secular orbit and spin, so it is kept per family, body and span (and whether the shipped orbit is held
+    yet: its first read is priced), as every choice by tolerance prices it."""
     try:
         return long_term_cost(body, inner.secular_spin(), lo, hi, count)
     except NotApplicableError:
@@ -101,6 +103,14 @@ class WithLongTerm(SpinAxisTheory, SpectrumExport):
             return self.inner.choice_cost(start, stop, count)
         except NotApplicableError:      # the family serves none of these epochs: the long-term model alone is tried
             return Cost((cost.track_answer(count),))
+
+    def named_estimate_cost(self, model, start, stop, count) -> Cost:
+        """The long-term model's estimate is a run of its history, charged when it is made (:meth:`_estimate`): a
+        track that names it makes none of the family's estimates, and pays its own request's work (as
+        :meth:`choice_cost` does where the family serves none of the epochs); any other model's is the family's."""
+        if model == NAME:
+            return Cost((cost.track_answer(count),))       # the request's own work, as the families' include it
+        return self.inner.named_estimate_cost(model, start, stop, count)
 
     def _cost(self, start: float, stop: float, count: int, in_years: bool = False) -> Cost:
         """The long-term model's cost over [start, stop] (JD TDB, or Julian years from J2000 ``in_years``)."""

@@ -117,6 +117,11 @@ class Pricing(ABC):
     def choice_cost(self, start: float, stop: float, count: int) -> Cost:
         """The cost of the estimates that choose a model by tolerance over ``count`` epochs in [start, stop]."""
 
+    def named_estimate_cost(self, model: str | None, start: float, stop: float, count: int) -> Cost:
+        """The cost of the estimate of one named model (``model`` None: the default) over ``count`` epochs: the
+        family's estimates, which it makes together (:meth:`choice_cost`), unless a family says otherwise."""
+        return self.choice_cost(start, stop, count)
+
     @abstractmethod
     def track_cost(self, model: str | None, order: int | None, start: float, stop: float, count: int,
                    free_wobble: bool, rotation_scale: bool = False) -> Cost:
