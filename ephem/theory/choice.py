@@ -23,6 +23,9 @@ from .results import Estimate
 
 #: predicted costs within this fraction of the cheapest eligible one are a tie: the more accurate model wins
 TIE = 0.01
+#: estimates within this fraction of each other count as equal in a tie (then the cheaper wins): far above the last
+#: bits a CPU's SIMD kernels move them by (~1e-15), far below any difference in accuracy worth a choice
+SAME_ESTIMATE = 1e-9
 
 RULE = (f"the model predicted cheapest for these epochs among those whose estimate meets the tolerance (costs within "
         f"{TIE:.0%} of each other: the smaller estimate); models are estimated in order of predicted cost and the "
@@ -94,7 +97,7 @@ def choose(plan: list, price: Callable[[Estimate | Deferred], Cost], tolerance: 
     costs = [price(p) if p.available else None for p in plan]
     order = sorted((i for i, c in enumerate(costs) if c is not None), key=lambda i: (costs[i].cpu_s, i))
     made: dict[int, Estimate] = {}
-    first, best = None, None
+    first, tied = None, []
     for i in order:
         if first is not None and costs[i].cpu_s > costs[first].cpu_s * (1.0 + TIE):
             break
@@ -103,8 +106,13 @@ def choose(plan: list, price: Callable[[Estimate | Deferred], Cost], tolerance: 
             continue
         if first is None:
             first = i
-        if best is None or est.total < made[best].total:
-            best = i
+        tied.append(i)
+    best = None
+    if tied:
+        # the most accurate of the tie, estimates within SAME_ESTIMATE of the smallest counted equal (e-orders past
+        # convergence differ in their last bits, which a CPU's SIMD kernels change): then the cheaper, as ordered
+        least = min(made[i].total for i in tied)
+        best = next(i for i in tied if made[i].total <= least * (1.0 + SAME_ESTIMATE))
     if best is None:      # every estimate, those made above not made again (a deferred one is a run of its model)
         refuse([e for e in (made[i] if i in made else resolve([p])[0] for i, p in enumerate(plan)) if e.available])
         raise AssertionError("refuse() must raise")      # pragma: no cover

@@ -105,3 +105,14 @@ def test_no_eligible_model_is_predicted_cheaper_than_the_chosen_one(body, span, 
     tied = [m for m in eligible if m["estimated_cpu_ms"] <= cheapest * (1.0 + TIE)]
     assert chosen["estimated_error_mas"] == min(m["estimated_error_mas"] for m in tied)
     assert math.isfinite(chosen["estimated_cpu_ms"]) and chosen["why"].startswith("chosen: ")
+
+
+@pytest.mark.parametrize("nudge", [-1e-13, 1e-13])
+def test_estimates_equal_but_for_their_last_bits_do_not_decide_a_tie(nudge):
+    """Two e-orders past convergence have the same estimate but for bits a CPU's SIMD kernels move: the tie in cost
+    then goes to the cheaper, whichever last bit is smaller (the choice must not flip on a last bit)."""
+    total = 101.0 * MAS
+    plan = [Estimate("a", None, {"x": total}), Estimate("b", None, {"x": total * (1.0 + nudge)})]
+    price = {"a": 1.0, "b": 1.0 + TIE / 2}
+    got = choose(plan, lambda e: _cost(price[e.rung]), 200 * MAS, _refuse)
+    assert got.chosen.rung == "a"
