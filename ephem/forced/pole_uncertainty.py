@@ -39,8 +39,9 @@ def _perturbed_body(b: Body, inputs: list[CatalogueInput], x: np.ndarray) -> Bod
                                values={}, **inertia)
 
 
-#: epochs per block of :meth:`PoleSensitivity.sigma` (its work arrays are (2 inputs, epochs) per harmonic)
-_SIGMA_BLOCK = 4096
+#: epochs per block of :meth:`PoleSensitivity.sigma`: its work arrays are (2 inputs, harmonics, epochs), ~2 MB a
+#: block for the catalogue's (14 rows, ~20 harmonics)
+_SIGMA_BLOCK = 1024
 
 
 @dataclass(frozen=True)
@@ -82,21 +83,14 @@ class PoleSensitivity:
                    np.stack([m.icrf_from_orbit for m in models]))
 
     def poles(self, t: np.ndarray) -> np.ndarray:
-        """The 2m tracks' ICRF pole vectors at the epochs ``t`` (1-D): (2m, epochs, 3). The harmonics by the
-        angle-addition recurrence from cos M, sin M (its rounding grows like k ulp of the coefficients: 1e-19 rad
-        for the catalogue's, against the differences' h of 1e-8 rad and more)."""
+        """The 2m tracks' ICRF pole vectors at the epochs ``t`` (1-D): (2m, epochs, 3), the harmonics summed at once
+        over rows, multiples and epochs (sin and cos of k M, as the models' plain path takes them)."""
         m = self.mean_anomaly[:, None] + self.mean_motion[:, None] * (t[None, :] - self.orbit_epoch[:, None])
-        c1, s1 = np.cos(m), np.sin(m)
-        ck, sk = np.ones_like(m), np.zeros_like(m)
-        dpsi, deps = np.zeros_like(m), np.zeros_like(m)
-        lon_s, lon_c, obl_s, obl_c = (self.coefficients[i][:, :, None] for i in range(4))
-        k_prev = 0
-        for j, k in enumerate(self.multiple.astype(int)):
-            for _ in range(k - k_prev):       # cos, sin of (k_prev + 1) M ... k M
-                ck, sk = ck * c1 - sk * s1, sk * c1 + ck * s1
-            k_prev = k
-            dpsi += lon_s[:, j] * sk + lon_c[:, j] * ck
-            deps += obl_s[:, j] * sk + obl_c[:, j] * ck
+        km = self.multiple[None, :, None] * m[:, None, :]                               # (2m, K, epochs)
+        sk, ck = np.sin(km), np.cos(km)
+        lon_s, lon_c, obl_s, obl_c = self.coefficients
+        dpsi = np.einsum("rk,rke->re", lon_s, sk) + np.einsum("rk,rke->re", lon_c, ck)
+        deps = np.einsum("rk,rke->re", obl_s, sk) + np.einsum("rk,rke->re", obl_c, ck)
         psi = self.rate[:, None] * (t[None, :] - self.pole_epoch[:, None]) + dpsi
         eps = self.obliquity[:, None] + deps
         se = np.sin(eps)

@@ -156,6 +156,14 @@ class WithLongTerm(SpinAxisTheory, SpectrumExport):
         except NotApplicableError:
             return self.estimates(jd_tdb)            # the family serves none of the epochs: as estimates() says
 
+    def plan_costs(self, plan, start, stop, count) -> list:
+        """The family's models priced together by the family, the long-term model by its own price."""
+        own = [i for i, p in enumerate(plan) if p.rung == NAME]
+        inner = self.inner.plan_costs([p for p in plan if p.rung != NAME], start, stop, count)
+        out = iter(inner)
+        return [(self._cost(start, stop, count) if p.available else None) if i in own else next(out)
+                for i, p in enumerate(plan)]
+
     def named(self, jd_tdb, model, order):
         if model != NAME:
             return self.inner.named(jd_tdb, model, order)

@@ -206,10 +206,21 @@ class Ladder:
         """What a track of ``count`` epochs from ``start`` to ``stop`` (JD TDB) will cost (:meth:`price`), kept per
         question and state of the body's caches (a choice by tolerance prices every model and variant, ~20 us
         each)."""
+        return _cached_cost(self, rung, start, stop, count, order, free_wobble, rotation_scale,
+                            self._kept(start, stop, rung == "real_orbit"))
+
+    def _kept(self, start: float, stop: float, real_orbit: bool) -> tuple:
+        """What of the body's caches a price reads (the model, the second-order theory, the estimates' tables, and
+        for the real orbit its path over the span): part of a price memo's key."""
         b = self.body
-        kept = (cached_model.cached(b, None), cached_theory.cached(b), tables_built(b),
-                rung == "real_orbit" and real_orbit_kept(b, start, stop))
-        return _cached_cost(self, rung, start, stop, count, order, free_wobble, rotation_scale, kept)
+        return (cached_model.cached(b, None), cached_theory.cached(b), tables_built(b),
+                real_orbit and real_orbit_kept(b, start, stop))
+
+    def costs(self, variants: tuple, start: float, stop: float, count: int) -> tuple[Cost, ...]:
+        """:meth:`cost` of each ``(rung, order, free_wobble, rotation_scale)`` of ``variants``, kept together per
+        question and state of the body's caches (a choice by tolerance prices some 40 variants)."""
+        return _cached_costs(self, variants, start, stop, count,
+                             self._kept(start, stop, any(v[0] == "real_orbit" for v in variants)))
 
     def price(self, rung: str | None, start: float, stop: float, count: int, order: int | None = None,
               free_wobble: bool = False, rotation_scale: bool = False) -> Cost:
@@ -333,3 +344,8 @@ def _cached_estimates(ladder: Ladder, t: np.ndarray) -> tuple[Estimate, ...]:
 @bytes_bounded      # a pure function of its arguments (the tables' state among them): ~1 kB an entry, counted
 def _cached_cost(ladder: Ladder, rung, start, stop, count, order, free_wobble, rotation_scale, built: tuple) -> Cost:
     return ladder.price(rung, start, stop, count, order, free_wobble, rotation_scale)
+
+
+@bytes_bounded
+def _cached_costs(ladder: Ladder, variants: tuple, start, stop, count, built: tuple) -> tuple[Cost, ...]:
+    return tuple(ladder.cost(rung, start, stop, count, order, wobble, scale) for rung, order, wobble, scale in variants)

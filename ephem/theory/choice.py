@@ -89,12 +89,13 @@ def _label(c) -> str:
     return what
 
 
-def choose(plan: list, price: Callable[[Estimate | Deferred], Cost], tolerance: float,
+def choose(plan: list, price: Callable[[Estimate | Deferred], Cost] | list, tolerance: float,
            refuse: Callable[[list[Estimate]], None]) -> Choice:
     """The model of ``plan`` (estimates and :class:`Deferred` ones, in the family's order) predicted cheapest by
-    ``price`` among those whose estimate is within ``tolerance`` (radians); ``refuse`` (given every estimate, made)
-    raises when none is."""
-    costs = [price(p) if p.available else None for p in plan]
+    ``price`` (a function of a plan's item, or the costs already made: a list in the plan's order, None where a
+    model is unavailable) among those whose estimate is within ``tolerance`` (radians); ``refuse`` (given every
+    estimate, made) raises when none is."""
+    costs = list(price) if isinstance(price, list) else [price(p) if p.available else None for p in plan]
     order = sorted((i for i, c in enumerate(costs) if c is not None), key=lambda i: (costs[i].cpu_s, i))
     made: dict[int, Estimate] = {}
     first, tied = None, []

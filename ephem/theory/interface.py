@@ -227,10 +227,15 @@ class SpinAxisTheory(Pricing):
         the one predicted cheapest (:meth:`track_cost`) among those estimated within it
         (:func:`ephem.theory.choice.choose`, a :class:`~ephem.theory.choice.Choice`)."""
         wobble = getattr(self, "wobble", None) is not None
-        return choose(self.estimate_plan(jd_tdb),
-                      lambda e: self.track_cost(e.rung, e.order, start, stop, count, e.free_wobble,
-                                                e.rotation_scale is not None),
-                      tolerance, lambda made: refuse(made, tolerance, self.body.name, wobble))
+        plan = self.estimate_plan(jd_tdb)
+        return choose(plan, self.plan_costs(plan, start, stop, count), tolerance,
+                      lambda made: refuse(made, tolerance, self.body.name, wobble))
+
+    def plan_costs(self, plan: list, start: float, stop: float, count: int) -> list:
+        """The predicted cost of each model of a plan (:meth:`estimate_plan`) over ``count`` epochs from ``start`` to
+        ``stop``, None where it is unavailable: :meth:`track_cost` of each (a family may price them together)."""
+        return [self.track_cost(p.rung, p.order, start, stop, count, p.free_wobble, p.rotation_scale is not None)
+                if p.available else None for p in plan]
 
     @abstractmethod
     def named(self, jd_tdb, model: str | None, order: int | None) -> Estimate | None:

@@ -18,6 +18,7 @@ selection) are the family's own words and travel as they are (``description``).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Mapping
 
 from ..bodies.catalogue import Body
@@ -71,7 +72,7 @@ class Estimate:
     #: the track adds the rotation-scale terms (:mod:`ephem.forced.rotation_scale`): "oppolzer" or "all"; None: not
     rotation_scale: str | None = None
 
-    @property
+    @cached_property            # the terms are not changed once estimated (a new Estimate carries new terms)
     def total(self) -> float:
         return float(sum(self.terms.values()))
 

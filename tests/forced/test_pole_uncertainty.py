@@ -57,7 +57,7 @@ def test_the_stacked_evaluation_is_the_built_models_sigma(name, order):
 
 
 def test_blocks_join_and_the_body_is_kept():
-    """More epochs than a block (4096) give the σ of each block alone; the stepped models are built once per body
+    """More epochs than a block (1024) give the σ of each block alone; the stepped models are built once per body
     and order (a second question hits the cache) and a body without any σ has none."""
     b = get_body("eros")
     t = b.pole.epoch_jd_tdb + np.arange(9000) * 3.0
