@@ -65,19 +65,19 @@ class ChoiceCandidate(BaseModel):
     free_wobble: bool = Field(description="the variant follows the free wobble")
     rotation_scale: Optional[Literal["oppolzer", "all"]] = Field(description="the variant adds these rotation-scale "
                                                                            "terms, or null")
-    estimated_error_mas: Optional[float] = Field(description="its estimate over the epochs, mas; null where the "
-                                                             "choice stopped before a model estimated by running it")
-    estimated_cpu_ms: Optional[float] = Field(description="its predicted CPU time for these epochs, ms (null: it "
-                                                          "cannot serve them)")
-    estimated_memory_mb: Optional[float] = Field(description="its predicted peak memory, MB")
-    eligible: Optional[bool] = Field(description="its estimate meets the tolerance (null: not estimated)")
+    estimated_error_mas: float = Field(description="its estimate over the epochs, mas (within the tolerance)")
+    estimated_cpu_ms: float = Field(description="its predicted CPU time for these epochs, ms")
+    estimated_memory_mb: float = Field(description="its predicted peak memory, MB")
     chosen: bool
 
 
 class Choice(BaseModel):
     rule: str = Field(description="how a tolerance chooses: the model predicted cheapest among those within it")
-    reason: str = Field(description="why the chosen model won, in words")
-    candidates: list[ChoiceCandidate] = Field(description="every model and variant in the family's order")
+    reason: str = Field(description="why the chosen model won, in words (naming the cheaper models estimated beyond "
+                                    "the tolerance and the dearer ones not run for an estimate)")
+    eligible: list[ChoiceCandidate] = Field(description="every model and variant whose estimate met the tolerance, "
+                                                        "in the family's order (every model: GET "
+                                                        "/v1/bodies/{body}/track/models)")
 
 
 class ModelInfo(BaseModel):

@@ -252,16 +252,15 @@ def free_motion(r: FreeMotion) -> dict:
 
 
 def choice(c: Choice) -> dict:
-    """A track's ``model.choice``: the rule, why the chosen model won, and every model as the choice saw it in the
-    family's order (its estimate in mas where the choice made it, null where it stopped before: dearer than the
-    chosen one; its predicted CPU ms and MB; whether it meets the tolerance)."""
-    return {"rule": CHOICE_RULE, "reason": c.reason, "candidates": [{
+    """A track's ``model.choice``: the rule, why the chosen model won, and what was eligible: every model whose
+    estimate met the tolerance, in the family's order, with its estimate (mas), predicted CPU ms and MB and whether
+    it was chosen (the models estimated beyond the tolerance are named in ``reason``; every model, eligible or not,
+    is in the comparison, ``GET .../track/models``)."""
+    return {"rule": CHOICE_RULE, "reason": c.reason, "eligible": [{
         "name": k.rung, "order": k.order, "free_wobble": k.free_wobble, "rotation_scale": k.rotation_scale,
-        "estimated_error_mas": None if k.estimate is None or not k.estimate.available else k.estimate.total / MAS,
-        "estimated_cpu_ms": None if k.cost is None else 1e3 * k.cost.cpu_s,
-        "estimated_memory_mb": None if k.cost is None else k.cost.memory_mb,
-        "eligible": k.eligible, "chosen": k.estimate is c.chosen,
-    } for k in c.candidates]}
+        "estimated_error_mas": k.estimate.total / MAS, "estimated_cpu_ms": 1e3 * k.cost.cpu_s,
+        "estimated_memory_mb": k.cost.memory_mb, "chosen": k.estimate is c.chosen,
+    } for k in c.candidates if k.eligible]}
 
 
 def _why(e, c, chosen, tolerance: float | None) -> str:
