@@ -363,15 +363,11 @@ def track_models(body: str | int | Body, start, stop, step_days: float, dataset:
     t_end = t0 + step * (count - 1)
     charge(theory.choice_cost(t0, t_end, count), b.name)
     estimates = theory.estimates(t0 + step * np.arange(count))      # every one: the comparison is asked for
-
-    def price(e):
-        return theory.track_cost(e.rung, e.order, t0, t_end, count, e.free_wobble, e.rotation_scale is not None)
-
-    costs = [price(e) if e.available else None for e in estimates]
+    costs = theory.plan_costs(estimates, t0, t_end, count)           # the prices a track's choice ranks
     choice = None
     if tol is not None:
-        try:       # the track's own rule on the same estimates (nothing deferred here): the same model
-            choice = choose(estimates, price, tol, lambda made: refuse(made, tol, b.name, False))
+        try:       # the track's own rule on the same estimates and prices (nothing deferred here): the same model
+            choice = choose(estimates, costs, tol, lambda made: refuse(made, tol, b.name, False))
         except NotApplicableError:
             choice = None
     return render.track_models(b, theory, estimates, costs, choice, tol, (t0, t_end, count), per)

@@ -95,10 +95,9 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
         return self.ladder.estimates(jd_tdb)
 
     def plan_costs(self, plan, start, stop, count) -> list:
-        """Every rung and variant priced at once (:meth:`Ladder.costs`: one look-up for a question asked before)."""
-        variants = tuple((p.rung, p.order, p.free_wobble, p.rotation_scale is not None) for p in plan if p.available)
-        costs = iter(self.ladder.costs(variants, start, stop, count))
-        return [next(costs) if p.available else None for p in plan]
+        """Every rung and variant priced at once (:meth:`Ladder.plan_costs`: one look-up for a question asked
+        before)."""
+        return self.ladder.plan_costs(plan, start, stop, count)
 
     def named(self, jd_tdb, model, order):
         rung = model or self.default_model(order)

@@ -216,11 +216,13 @@ class Ladder:
         return (cached_model.cached(b, None), cached_theory.cached(b), tables_built(b),
                 real_orbit and real_orbit_kept(b, start, stop))
 
-    def costs(self, variants: tuple, start: float, stop: float, count: int) -> tuple[Cost, ...]:
-        """:meth:`cost` of each ``(rung, order, free_wobble, rotation_scale)`` of ``variants``, kept together per
-        question and state of the body's caches (a choice by tolerance prices some 40 variants)."""
-        return _cached_costs(self, variants, start, stop, count,
-                             self._kept(start, stop, any(v[0] == "real_orbit" for v in variants)))
+    def plan_costs(self, plan: list, start: float, stop: float, count: int) -> list:
+        """:meth:`cost` of each available estimate of ``plan`` (None for the unavailable ones), priced together and
+        kept per question and state of the body's caches (a choice by tolerance prices some 40 variants)."""
+        variants = tuple((p.rung, p.order, p.free_wobble, p.rotation_scale is not None) for p in plan if p.available)
+        costs = iter(_cached_costs(self, variants, start, stop, count,
+                                   self._kept(start, stop, any(v[0] == "real_orbit" for v in variants))))
+        return [next(costs) if p.available else None for p in plan]
 
     def price(self, rung: str | None, start: float, stop: float, count: int, order: int | None = None,
               free_wobble: bool = False, rotation_scale: bool = False) -> Cost:
@@ -266,9 +268,9 @@ class Ladder:
         check_tolerance(tolerance, self.body.name)
         t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
         start, stop = (float(t.min()), float(t.max())) if t.size else (self.body.pole.epoch_jd_tdb,) * 2
-        return choose(self.estimates(t), lambda e: self.cost(e.rung, start, stop, t.size, e.order, e.free_wobble,
-                                                             e.rotation_scale is not None),
-                      tolerance, lambda made: refuse(made, tolerance, self.body.name, self.wobble is not None)).chosen
+        plan = self.estimates(t)
+        return choose(plan, self.plan_costs(plan, start, stop, t.size), tolerance,
+                      lambda made: refuse(made, tolerance, self.body.name, self.wobble is not None)).chosen
 
     def track(self, rung: str, jd_tdb, order: int | None = None, free_wobble: bool = False,
               rotation_scale: bool = False) -> Track:

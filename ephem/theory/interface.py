@@ -226,10 +226,9 @@ class SpinAxisTheory(Pricing):
         """The model chosen by ``tolerance`` (radians) for ``count`` epochs ``jd_tdb`` from ``start`` to ``stop``:
         the one predicted cheapest (:meth:`track_cost`) among those estimated within it
         (:func:`ephem.theory.choice.choose`, a :class:`~ephem.theory.choice.Choice`)."""
-        wobble = getattr(self, "wobble", None) is not None
         plan = self.estimate_plan(jd_tdb)
         return choose(plan, self.plan_costs(plan, start, stop, count), tolerance,
-                      lambda made: refuse(made, tolerance, self.body.name, wobble))
+                      lambda made: refuse(made, tolerance, self.body.name, self.wobble is not None))
 
     def plan_costs(self, plan: list, start: float, stop: float, count: int) -> list:
         """The predicted cost of each model of a plan (:meth:`estimate_plan`) over ``count`` epochs from ``start`` to
