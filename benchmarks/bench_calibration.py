@@ -21,7 +21,7 @@ and, for each cell, compares
 Warm: the same call repeated once the caches it fills are built (median of the repetitions: until 0.2 s of CPU or
 5 of them), the memos of an identical question (the ladder's estimates kept per epochs) emptied before each, so that
 each repetition does what a new question about a body already served does; the identical question with its memos
-is measured apart, for information. Cold: the cell's first call, after every per-body cache is emptied
+is measured apart (its price sees the memo: the ladder keeps the grid's digest by its ends and count). Cold: the cell's first call, after every per-body cache is emptied
 (``bench_cost.body_caches``: the first request for the body in a worker that ran the service's start-up,
 ``api.warm_up``: the Earth's lunisolar series, the Moon's libration series, the rational Hansen series and DE421 stay
 built, and the start-up's requests for the Earth and the Moon are made again), up to 10^5 epochs (``--cold-all``:
@@ -346,15 +346,15 @@ def main(argv=None) -> int:
         f"**Warm, predicted / measured: {warm_line}.**", "",
         f"Cold (the body's first request in a worker), predicted / measured: {cold_line}.", "",
         f"The identical question repeated (the ladder's estimates kept for the same epochs), predicted warm / "
-        f"measured: {repeat_line} (not a goal: see below).", "",
+        f"measured: {repeat_line}.", "",
         "Predicted: what `ephem.api.track_arrays` charges its budget (`ephem.base.budget`; `ephem.theory.cost` with "
         "`data/cost_model.toml`), less the answer's serialisation, which the caller does. Measured: the call's CPU "
         "(`time.process_time`, one BLAS thread). Warm: the same call again, its caches built (median of "
         f"the repetitions: until {WARM_CPU_S:g} s or {WARM_REPS} of them), the memos of an identical question (the "
         "ladder's estimates, kept per epochs) emptied before each, so that each repetition does the request's work "
         "as a new question about a body already served does; the identical question repeated with its memos is "
-        f"measured apart (calls under {REPEAT_MAX_MS:g} ms of at most {MEMO_MAX_EPOCHS} epochs; a price cannot see "
-        "that memo, which is keyed by the epochs' digest, so it is over-predicted there by the estimates' work).",
+        f"measured apart (calls under {REPEAT_MAX_MS:g} ms of at most {MEMO_MAX_EPOCHS} epochs), its price the "
+        "memo's look-up where the ladder keeps the same grid's estimates (by the grid's ends and count).",
         "",
         "Cold: the cell's first call with every per-body cache emptied (the model, the second-order theory, the "
         "estimates' tables, the uncertainties and the pole's 1-sigma, the real orbit, the Hansen coefficients, the "

@@ -193,7 +193,8 @@ def bytes_bounded(func: Callable | None = None, *, name: str | None = None, grow
                   pool: BytePool = POOL, key: Callable | None = None):
     """Memoise ``func`` (of hashable arguments) in ``pool``: as ``functools.lru_cache``, with ``cache_clear``
     and ``cache_info`` (a :class:`CacheInfo`), but bounded by the pool's bytes rather than a count of entries.
-    ``func.cached(*args, **kwargs)`` tells whether a call would find its value stored. ``grows``: the values
+    ``func.cached(*args, **kwargs)`` tells whether a call would find its value stored, ``func.holds(k)`` the same
+    by the key ``k`` that ``key`` gives. ``grows``: the values
     fill themselves in as they are used (see :meth:`BytePool.put`). ``key``: a function of the call's arguments
     giving the hashable key that stands for them (an array's digest, say), where they are not hashable
     themselves; it must tell apart every two calls whose values differ."""
@@ -240,6 +241,7 @@ def bytes_bounded(func: Callable | None = None, *, name: str | None = None, grow
     wrapper.cache_info = cache_info
     wrapper.cache_clear = cache_clear
     wrapper.cached = lambda *args, **kwargs: key_of(args, kwargs) in pool
+    wrapper.holds = lambda k: (label, k) in pool        # by the key itself (``key``'s value), the arguments gone
     return wrapper
 
 

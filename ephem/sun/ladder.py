@@ -62,7 +62,7 @@ from functools import cached_property
 import numpy as np
 
 from ..base.budget import Cost
-from ..base.memo import bytes_bounded, epochs_digest
+from ..base.memo import POOL, bytes_bounded, epochs_digest
 from ..base.constants import ARCSEC, ROUNDING
 from ..base.errors import InvalidInputError
 from ..bodies.catalogue import Body
@@ -160,7 +160,20 @@ class Ladder:
         t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
         if t.size > MEMO_EPOCHS:
             return self._estimates(t)
+        if t.size:     # which epochs (first, last, count) stood for, so that the price of the same question sees the memo
+            POOL.put((GRIDS, (self, float(t[0]), float(t[-1]), t.size)), epochs_digest(t))
         return list(_cached_estimates(self, t))
+
+    def _estimates_kept(self, start: float, stop: float, count: int) -> bool:
+        """Whether the estimates of the grid of ``count`` epochs from ``start`` to ``stop`` (as a track builds it) are
+        kept from the same question asked before: its estimates then cost a look-up. The grid's last asked epochs
+        are looked up by (first, last, count): another array of the same ends and count would be priced as kept
+        and estimated in full (a price's error, never an answer's)."""
+        try:
+            digest = POOL.get((GRIDS, (self, start, stop, count)))
+        except KeyError:
+            return False
+        return _cached_estimates.holds((self, digest))
 
     def _estimates(self, t: np.ndarray) -> list[Estimate]:
         m, th = self.model, self.theory
@@ -207,21 +220,21 @@ class Ladder:
         question and state of the body's caches (a choice by tolerance prices every model and variant, ~20 us
         each)."""
         return _cached_cost(self, rung, start, stop, count, order, free_wobble, rotation_scale,
-                            self._kept(start, stop, rung == "real_orbit"))
+                            self._kept(start, stop, count, rung == "real_orbit"))
 
-    def _kept(self, start: float, stop: float, real_orbit: bool) -> tuple:
-        """What of the body's caches a price reads (the model, the second-order theory, the estimates' tables, and
-        for the real orbit its path over the span): part of a price memo's key."""
+    def _kept(self, start: float, stop: float, count: int, real_orbit: bool) -> tuple:
+        """What of the body's caches a price reads (the model, the second-order theory, the estimates' tables, the
+        estimates of the same epochs, and for the real orbit its path over the span): part of a price memo's key."""
         b = self.body
         return (cached_model.cached(b, None), cached_theory.cached(b), tables_built(b),
-                real_orbit and real_orbit_kept(b, start, stop))
+                self._estimates_kept(start, stop, count), real_orbit and real_orbit_kept(b, start, stop))
 
     def plan_costs(self, plan: list, start: float, stop: float, count: int) -> list:
         """:meth:`cost` of each available estimate of ``plan`` (None for the unavailable ones), priced together and
         kept per question and state of the body's caches (a choice by tolerance prices some 40 variants)."""
         variants = tuple((p.rung, p.order, p.free_wobble, p.rotation_scale is not None) for p in plan if p.available)
         costs = iter(_cached_costs(self, variants, start, stop, count,
-                                   self._kept(start, stop, any(v[0] == "real_orbit" for v in variants))))
+                                   self._kept(start, stop, count, any(v[0] == "real_orbit" for v in variants))))
         return [next(costs) if p.available else None for p in plan]
 
     def price(self, rung: str | None, start: float, stop: float, count: int, order: int | None = None,
@@ -238,7 +251,8 @@ class Ladder:
         e = b.orbit.e
         k = cost.body_harmonics(b)
         if rung is None:
-            parts = [cost.track_answer(count), cost.ladder_estimates(count, k)]
+            parts = [cost.track_answer(count), cost.ladder_estimates_kept(count) if self._estimates_kept(start, stop, count)
+                     else cost.ladder_estimates(count, k)]
             if not cached_model.cached(b, None):
                 parts.append(cost.model_build(e))
             if not cached_theory.cached(b):
@@ -336,6 +350,10 @@ class Ladder:
 #: requests of at most this many epochs keep their estimates (:meth:`Ladder.estimates`); beyond, the estimates are a
 #: small part of the track's cost and the epochs' digest would cost more than it saves
 MEMO_EPOCHS = 65536
+
+
+#: the memo's entries that give, for a ladder and a grid's (first, last, count), the digest of the epochs last estimated
+GRIDS = "ephem.sun.ladder.estimated_grids"
 
 
 @bytes_bounded(key=lambda ladder, t: (ladder, epochs_digest(t)))

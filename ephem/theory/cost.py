@@ -155,6 +155,13 @@ def ladder_estimates(epochs: int, k: int) -> Part:
                 epochs * _u("track_bytes_per_epoch") / MB)
 
 
+def ladder_estimates_kept(epochs: int) -> Part:
+    """Every rung's error estimate over epochs whose estimates the ladder keeps from the same question asked before
+    (:func:`ephem.sun.ladder._cached_estimates`): the epochs' digest and a look-up."""
+    return Part("step_days", f"the error estimates of every model at {epochs} epochs, kept from the same question",
+                _u("estimates_kept_s"), 0.0)
+
+
 def harmonic_work_mb(epochs: int, k: int) -> float:
     """The work table of a harmonic sum: two float64 rows per harmonic over a block of at most 16 384 epochs (the
     track kernel's, :mod:`ephem.forced.precession_nutation`; :func:`ephem.orbit.harmonics.evaluate_harmonics`

@@ -101,6 +101,27 @@ def test_the_estimates_price_what_the_process_does_not_keep_yet():
     assert {p.what for p in warm.parts} <= {p.what for p in cold.parts}
 
 
+def test_the_same_question_asked_again_is_priced_at_its_kept_estimates():
+    """The ladder keeps a question's estimates per epochs (issue 39's identical question, over-predicted by the whole
+    estimates' work before): the price of the same grid then charges a look-up; another grid, or the memo emptied,
+    the estimates in full."""
+    from ephem.sun import ladder as ladder_module
+    ladder = Ladder(_body())
+    t0, step, count = J2000 + 0.25, 10.0, 37
+    t = t0 + step * np.arange(count)                         # as ephem.answers.requests.track_arrays builds it
+    t_end = t0 + step * (count - 1)
+    estimates = lambda c: next(p for p in c.parts if p.what.startswith("the error estimates"))   # noqa: E731
+    first = ladder.cost(None, t0, t_end, count)
+    assert "kept" not in estimates(first).what
+    ladder.estimates(t)
+    again = ladder.cost(None, t0, t_end, count)
+    assert "kept from the same question" in estimates(again).what
+    assert estimates(again).cpu_s < estimates(first).cpu_s / 100
+    assert "kept" not in estimates(ladder.cost(None, t0, t_end + step, count + 1)).what       # another grid
+    ladder_module._cached_estimates.cache_clear()
+    assert "kept" not in estimates(ladder.cost(None, t0, t_end, count)).what
+
+
 @pytest.mark.parametrize("rung, order", [("secular", None), ("series", 2), ("series", 15), ("hansen", None),
                                          ("second_order", None), ("numerical", None)])
 def test_a_rungs_price_holds_no_caches_state(rung, order):
