@@ -45,6 +45,7 @@ from pydantic import ValidationError
 
 from ephem import api
 
+from . import docs_pages
 from .batch_input import csv_batch_rows
 from .schemas import UserBody
 
@@ -144,6 +145,7 @@ def _status(problem: dict | None) -> int:
 
 def install(app: FastAPI) -> None:
     """The page's routes on ``app`` (outside the OpenAPI document)."""
+    docs_pages.install(app, _page)
 
     @app.get("/", include_in_schema=False, response_class=HTMLResponse)
     async def index(request: Request, dataset: str = api.DEFAULT_DATASET):
@@ -210,7 +212,6 @@ def install(app: FastAPI) -> None:
             keys = api.TRACK_KEYS
             rows = [[float(result[k][i]) for k in keys] for i in range(min(count, TRACK_ROWS_SHOWN))]
         name = result["body"] if result else body
-        plot_params = {k: form[k] for k in ("start", "stop", "step_days", "tolerance_mas", "model", "order", "dataset")}
         models_query = urlencode({k: form[k] for k in ("start", "stop", "step_days", "tolerance_mas", "axis", "dataset")
                                   if form[k] not in (None, "")})
         return _page("track.html", _status(problem), body=name, form=form, result=result, problem=problem,
@@ -218,7 +219,8 @@ def install(app: FastAPI) -> None:
                      models_svg_url=f"/v1/bodies/{quote(name)}/track/models.svg?{models_query}",
                      rows=rows, count=count, keys=api.TRACK_KEYS, models=api.MODELS, axes=api.AXES,
                      csv_url=_api_url(request, f"/v1/bodies/{name}/track", {**params, "format": "csv"}),
-                     plot_url=_api_url(request, f"/v1/bodies/{name}/track.png", plot_params),
+                     # every parameter of the track reaches its figure (the figure of this track, not a default's)
+                     plot_url=_api_url(request, f"/v1/bodies/{name}/track.svg", params),
                      snippets=_snippets(request, f"/v1/bodies/{name}/track", params,
                                     _python_call("api.track", name, {**params, "step_days": _maybe_float(step_days),
                                                                      "tolerance_mas": _maybe_float(tolerance_mas),

@@ -93,7 +93,8 @@ _PER_ORBIT = 100
 _PER_CYCLE = 64
 #: Fewer samples per cycle than this alias the free wobble's cone: refused.
 _MIN_PER_CYCLE = 8
-_TRACK_OPTIONS = ("tolerance_mas", "model", "order")
+_TRACK_OPTIONS = ("tolerance_mas", "model", "order", "axis", "free_wobble_phase_deg", "free_wobble_J_arcsec",
+                  "free_wobble_epoch")
 _WOBBLE_OPTIONS = ("J_arcsec", "method")
 _HISTORY_OPTIONS = ("step_years", "orbit_model", "perturbers")
 #: ``obliquity-history``: the default step aims at about this many epochs ...
@@ -115,7 +116,8 @@ def _check_options(kind: str, options: dict) -> None:
     if kind == HISTORY_KIND:
         if options.get("step_days") is not None:
             raise InvalidInputError("step_days", f"{HISTORY_KIND} samples in Julian years: give step_years")
-        wrong = [k for k in ("model", "order", "J_arcsec", "method") if options.get(k) not in (None, "auto")]
+        wrong = [k for k in ("model", "order", "J_arcsec", "method", *_TRACK_OPTIONS[3:])
+                 if options.get(k) not in (None, "auto", "figure")]
         if wrong:
             raise InvalidInputError(wrong[0], f"does not apply to kind {HISTORY_KIND} (its options: tolerance_mas, "
                                     "orbit_model, perturbers, step_years)")
@@ -124,7 +126,7 @@ def _check_options(kind: str, options: dict) -> None:
     if wrong:
         raise InvalidInputError(wrong[0], f"applies to kind {HISTORY_KIND}, not to {kind}")
     if kind == "free-wobble":
-        wrong = [k for k in _TRACK_OPTIONS if options.get(k) is not None]
+        wrong = [k for k in _TRACK_OPTIONS if options.get(k) not in (None, "figure")]
         if wrong:
             raise InvalidInputError(wrong[0], "applies to the track kinds (precession, nutation-loop, obliquity), "
                                     "not to free-wobble")
@@ -278,14 +280,18 @@ def _history_data(body, start, stop, step_years, dataset: str, tolerance_mas, or
 def data(kind: str, body, start, stop, step_days: float | None = None, dataset: str = DEFAULT_DATASET, *,
          tolerance_mas: float | None = None, model: str | None = None, order: int | None = None,
          J_arcsec: float | None = None, method: str = "auto", step_years: float | None = None,
-         orbit_model: str | None = None, perturbers=None) -> dict:
+         orbit_model: str | None = None, perturbers=None, axis: str = "figure",
+         free_wobble_phase_deg: float | None = None, free_wobble_J_arcsec: float | None = None,
+         free_wobble_epoch=None) -> dict:
     """The arrays a plot draws: :func:`ephem.answers.requests.track_arrays` for the track kinds,
     :func:`ephem.answers.requests.free_motion_arrays` for ``free-wobble``, :func:`ephem.answers.requests.history` for
     ``obliquity-history`` (same arguments as :func:`figure`)."""
     _check_kind(kind)
     _check_options(kind, {"tolerance_mas": tolerance_mas, "model": model, "order": order,
                           "J_arcsec": J_arcsec, "method": method, "step_days": step_days,
-                          "step_years": step_years, "orbit_model": orbit_model, "perturbers": perturbers})
+                          "step_years": step_years, "orbit_model": orbit_model, "perturbers": perturbers,
+                          "axis": axis, "free_wobble_phase_deg": free_wobble_phase_deg,
+                          "free_wobble_J_arcsec": free_wobble_J_arcsec, "free_wobble_epoch": free_wobble_epoch})
     if kind == HISTORY_KIND:
         return _history_data(body, start, stop, step_years, dataset, tolerance_mas, orbit_model, perturbers)
     b = resolve_body(body, dataset)
@@ -304,7 +310,9 @@ def data(kind: str, body, start, stop, step_days: float | None = None, dataset: 
                                      max_samples=MAX_PLOT_POINTS)
     else:
         ans = answers.track_arrays(b, start, stop, step_days, dataset=dataset, order=order,
-                               max_samples=MAX_PLOT_POINTS, tolerance_mas=tolerance_mas, model=model)
+                               max_samples=MAX_PLOT_POINTS, tolerance_mas=tolerance_mas, model=model, axis=axis,
+                               free_wobble_phase_deg=free_wobble_phase_deg,
+                               free_wobble_J_arcsec=free_wobble_J_arcsec, free_wobble_epoch=free_wobble_epoch)
     if np.size(ans["jd_tdb"]) < 2:
         raise InvalidInputError("step_days", f"a step of {step_days:.6g} d leaves a single epoch between start and "
                                 "stop; a plot needs at least two", b.name)
@@ -314,14 +322,17 @@ def data(kind: str, body, start, stop, step_days: float | None = None, dataset: 
 def figure(kind: str, body, start, stop, step_days: float | None = None, dataset: str = DEFAULT_DATASET, *,
            tolerance_mas: float | None = None, model: str | None = None, order: int | None = None,
            J_arcsec: float | None = None, method: str = "auto", step_years: float | None = None,
-           orbit_model: str | None = None, perturbers=None):
+           orbit_model: str | None = None, perturbers=None, axis: str = "figure",
+           free_wobble_phase_deg: float | None = None, free_wobble_J_arcsec: float | None = None,
+           free_wobble_epoch=None):
     """A :class:`matplotlib.figure.Figure` (Agg canvas, no pyplot state) of one kind of plot.
 
     ``kind``: one of :data:`KINDS` (module docstring: what each draws, its units and the paper
     figure it reproduces). ``start``/``stop``: ISO 8601 strings (UTC unless a scale is named) or
     JD TDB numbers. ``step_days``: sampling step in days, or None for :func:`default_step_days`;
-    at most :data:`MAX_PLOT_POINTS` epochs. Track kinds take ``tolerance_mas``, ``model`` and
-    ``order`` as :func:`ephem.answers.requests.track_arrays`; ``free-wobble`` takes ``J_arcsec`` (required for
+    at most :data:`MAX_PLOT_POINTS` epochs. Track kinds take ``tolerance_mas``, ``model``, ``order``,
+    ``axis`` and the free wobble's ``free_wobble_phase_deg``, ``free_wobble_J_arcsec`` and ``free_wobble_epoch``
+    as :func:`ephem.answers.requests.track_arrays` (the figure of a track is drawn from that track); ``free-wobble`` takes ``J_arcsec`` (required for
     a body without a published amplitude: only Earth, Moon, Mars and Eros have one) and ``method``
     as :func:`ephem.answers.requests.free_motion_arrays`.
 
@@ -337,7 +348,8 @@ def figure(kind: str, body, start, stop, step_days: float | None = None, dataset
     """
     ans = data(kind, body, start, stop, step_days, dataset, tolerance_mas=tolerance_mas, model=model,
                order=order, J_arcsec=J_arcsec, method=method, step_years=step_years, orbit_model=orbit_model,
-               perturbers=perturbers)
+               perturbers=perturbers, axis=axis, free_wobble_phase_deg=free_wobble_phase_deg,
+               free_wobble_J_arcsec=free_wobble_J_arcsec, free_wobble_epoch=free_wobble_epoch)
     fig = new_figure(kind)
     if kind == HISTORY_KIND:
         draw_obliquity_history(fig, ans)
@@ -389,7 +401,8 @@ def render(kind: str, body, start, stop, step_days: float | None = None, fmt: st
            dataset: str = DEFAULT_DATASET, *, dpi: float = DEFAULT_DPI, tolerance_mas: float | None = None,
            model: str | None = None, order: int | None = None, J_arcsec: float | None = None,
            method: str = "auto", step_years: float | None = None, orbit_model: str | None = None,
-           perturbers=None) -> bytes:
+           perturbers=None, axis: str = "figure", free_wobble_phase_deg: float | None = None,
+           free_wobble_J_arcsec: float | None = None, free_wobble_epoch=None) -> bytes:
     """The plot :func:`figure` draws, as ``fmt`` bytes: "png" (``image/png``, ``dpi`` dots per inch,
     30-300, default 100: 800 x 600 px for ``precession``) or "svg" (``image/svg+xml``).
     :data:`CONTENT_TYPES` maps the format to its media type."""
@@ -397,7 +410,8 @@ def render(kind: str, body, start, stop, step_days: float | None = None, fmt: st
     _check_dpi(dpi)
     fig = figure(kind, body, start, stop, step_days, dataset, tolerance_mas=tolerance_mas, model=model,
                  order=order, J_arcsec=J_arcsec, method=method, step_years=step_years, orbit_model=orbit_model,
-                 perturbers=perturbers)
+                 perturbers=perturbers, axis=axis, free_wobble_phase_deg=free_wobble_phase_deg,
+                 free_wobble_J_arcsec=free_wobble_J_arcsec, free_wobble_epoch=free_wobble_epoch)
     return figure_bytes(fig, fmt, dpi)
 
 

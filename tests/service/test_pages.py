@@ -154,11 +154,13 @@ def test_a_track_page_shows_the_apis_track_and_its_model(client):
     rows = list(csv.DictReader(io.StringIO(client.get(parts.path + "?" + parts.query).text)))
     assert len(rows) == count
     assert float(rows[0]["pole_ra_deg"]) == pytest.approx(want["pole_ra_deg"][0], rel=1e-12)
-    # the plot is the API's figure of the same track
+    # the plot is the API's figure of the same track (SVG: it scales with the page)
     (img,) = p.images
     src = urlsplit(img["src"])
+    assert src.path == "/v1/bodies/Vesta/track.svg"
+    assert parse_qs(src.query) == {k: v for k, v in parse_qs(parts.query).items() if k != "format"}   # every parameter
     r = client.get(src.path + "?" + src.query)
-    assert r.status_code == 200 and r.headers["content-type"] == "image/png"
+    assert r.status_code == 200 and r.headers["content-type"] == "image/svg+xml"
     _accessible(p)
 
 
