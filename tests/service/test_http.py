@@ -95,9 +95,10 @@ def test_swagger_ui_asks_no_online_validator(client):
 
 
 def test_docs_accuracy_serves_the_accuracy_documentation(client):
-    r = client.get("/docs/accuracy")
+    r = client.get("/docs/accuracy.md")             # the source; /docs/accuracy is it as HTML (tests/service/test_docs_pages.py)
     assert r.status_code == 200 and r.headers["content-type"].startswith("text/markdown")
     assert r.content == (ROOT / "docs" / "accuracy.md").read_bytes()
+    assert client.get("/docs/accuracy").headers["content-type"].startswith("text/html")
 
 
 def test_the_packaged_copy_of_the_accuracy_documentation_is_current():

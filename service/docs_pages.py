@@ -1,0 +1,166 @@
+"""The project's documentation on the web page: ``docs/<name>.md`` rendered as HTML (markdown-it-py, CommonMark with
+tables), in the page's layout, with its charts and figures served beside it.
+
+Routes (pages, not in the OpenAPI document):
+
+- ``GET /docs/{name}``: the document as HTML: its first heading the page's title, every heading an ``id`` as GitHub
+  makes it (so ``accuracy.md#the-rotation-scale-terms`` works here as there), its links to other documents turned
+  into this route's (``free_motion.md#x`` -> ``/docs/free_motion#x``), its images and data files into
+  ``/docs/charts/…`` and ``/docs/figures/…``; a link to a file of the repository outside ``docs/`` is shown as its
+  path (the service does not serve the repository); each table scrolls in its own box;
+- ``GET /docs/{name}.md``: the Markdown source, as written;
+- ``/docs/charts/…``, ``/docs/figures/…``: the documents' charts and their data (static files).
+
+The documents are read from the repository's ``docs/`` (where ``make serve`` runs); an installed package, which has
+no ``docs/``, serves ``docs/accuracy.md`` from its copy (``service/static/accuracy.md``, kept identical by
+tests/service/test_http.py) and answers 404 for the others and for the charts.
+"""
+from __future__ import annotations
+
+import html
+import pathlib
+import re
+import unicodedata
+from functools import lru_cache
+
+from fastapi import FastAPI
+from fastapi.responses import Response
+from fastapi.staticfiles import StaticFiles
+from markdown_it import MarkdownIt
+
+SERVICE = pathlib.Path(__file__).resolve().parent
+#: the repository's documentation (absent from an installed package)
+DOCS_DIR = SERVICE.parent / "docs"
+#: the copies an installed package carries, by document name
+PACKAGED = {"accuracy": SERVICE / "static" / "accuracy.md"}
+#: the folders of ``docs/`` served as files (the documents' charts, figures and their data)
+ASSET_DIRS = ("charts", "figures")
+_NAME = re.compile(r"[a-z0-9_]+")
+
+
+def doc_path(name: str) -> pathlib.Path | None:
+    """The Markdown file of document ``name`` (``accuracy``), None if there is none."""
+    if not _NAME.fullmatch(name):
+        return None
+    path = DOCS_DIR / f"{name}.md"
+    if path.is_file():
+        return path
+    packaged = PACKAGED.get(name)
+    return packaged if packaged is not None and packaged.is_file() else None
+
+
+def slug(text: str, seen: dict[str, int]) -> str:
+    """A heading's anchor as GitHub writes it: lower case, punctuation dropped (letters, digits, '-' and '_' kept),
+    spaces as '-'; a repeated one gets '-1', '-2', ..."""
+    base = "".join(ch for ch in text.strip().lower()
+                   if ch in " -_" or unicodedata.category(ch)[0] in "LN").replace(" ", "-")
+    n = seen.get(base, 0)
+    seen[base] = n + 1
+    return base if n == 0 else f"{base}-{n}"
+
+
+def _href(href: str) -> str | None:
+    """A document's link as the web page serves it; None for a file of the repository outside ``docs/``."""
+    if re.match(r"^[a-z][a-z0-9+.-]*:", href, re.I) or href.startswith("#") or href.startswith("/"):
+        return href
+    path, hash_, fragment = href.partition("#")
+    if path.startswith("../"):
+        return None
+    if path.endswith(".md") and "/" not in path:
+        return f"/docs/{path[:-3]}" + (f"#{fragment}" if hash_ else "")
+    if path.split("/", 1)[0] in ASSET_DIRS:
+        return f"/docs/{href}"
+    return None
+
+
+_md = MarkdownIt("commonmark", {"html": False}).enable("table")
+
+
+def _table_open(self, tokens, idx, options, env):
+    return '<div class="table-scroll">' + self.renderToken(tokens, idx, options, env)
+
+
+def _table_close(self, tokens, idx, options, env):
+    return self.renderToken(tokens, idx, options, env) + "</div>"
+
+
+def _repo_link_open(self, tokens, idx, options, env):
+    return f'<span class="repo-path" title="a file of the repository: {html.escape(tokens[idx].meta["href"])}">'
+
+
+def _repo_link_close(self, tokens, idx, options, env):
+    return "</span>"
+
+
+_md.add_render_rule("table_open", _table_open)
+_md.add_render_rule("table_close", _table_close)
+_md.add_render_rule("repo_link_open", _repo_link_open)
+_md.add_render_rule("repo_link_close", _repo_link_close)
+
+
+@lru_cache(maxsize=64)
+def _render_cached(text: str) -> tuple[str, str]:
+    tokens = _md.parse(text)
+    seen: dict[str, int] = {}
+    title = ""
+    drop = None
+    for i, tok in enumerate(tokens):
+        if tok.type == "heading_open":
+            words = "".join(c.content for c in tokens[i + 1].children or () if c.type in ("text", "code_inline"))
+            tok.attrSet("id", slug(words, seen))
+            if tok.tag == "h1" and not title:
+                title, drop = words, i          # the page's own <h1>
+        elif tok.type == "inline":
+            stack = []
+            for child in tok.children or ():
+                if child.type == "link_open":
+                    target = _href(child.attrGet("href") or "")
+                    stack.append(target is None)
+                    if target is None:
+                        child.type, child.meta = "repo_link_open", {"href": child.attrGet("href")}
+                    else:
+                        child.attrSet("href", target)
+                elif child.type == "link_close" and stack and stack.pop():
+                    child.type = "repo_link_close"
+                elif child.type == "image":
+                    target = _href(child.attrGet("src") or "")
+                    if target is not None:
+                        child.attrSet("src", target)
+                    child.attrSet("loading", "lazy")
+    if drop is not None:
+        del tokens[drop:drop + 3]
+    return title, _md.renderer.render(tokens, _md.options, {})
+
+
+def render(text: str) -> tuple[str, str]:
+    """(title, HTML) of a Markdown document: its first level-1 heading, and the rest rendered."""
+    return _render_cached(text)
+
+
+def install(app: FastAPI, page) -> None:
+    """The documentation routes on ``app``; ``page(template, status, **context)`` renders the page's layout."""
+
+    @app.get("/docs/{name}.md", include_in_schema=False)
+    def doc_source(name: str):
+        path = doc_path(name)
+        if path is None:
+            return page("doc.html", 404, title="No such document", body_html="",
+                        problem={"title": "Not found", "status": 404,
+                                 "detail": f"there is no document {name!r} (the documents: /docs/accuracy, …)"})
+        return Response(path.read_bytes(), media_type="text/markdown; charset=utf-8",
+                        headers={"content-disposition": f'inline; filename="{name}.md"'})
+
+    @app.get("/docs/{name}", include_in_schema=False)
+    def doc_page(name: str):
+        path = doc_path(name)
+        if path is None:
+            return page("doc.html", 404, title="No such document", body_html="",
+                        problem={"title": "Not found", "status": 404,
+                                 "detail": f"there is no document {name!r} here (the documents are docs/*.md of the "
+                                           "repository; an installed package carries docs/accuracy.md only)"})
+        title, body = render(path.read_text(encoding="utf-8"))
+        return page("doc.html", 200, title=title or name, body_html=body, source=f"/docs/{name}.md")
+
+    for folder in ASSET_DIRS:
+        app.mount(f"/docs/{folder}", StaticFiles(directory=DOCS_DIR / folder, check_dir=False),
+                  name=f"docs-{folder}")
