@@ -82,7 +82,8 @@ TRACK_FIELDS = ("start", "stop", "step_days", "tolerance_mas", "model", "order",
                 "free_wobble_J_arcsec", "dataset")
 TABLE_DOWNLOADS = (("csv", "CSV"), ("markdown", "Markdown"), ("latex", "LaTeX"))
 #: the nutation tables' layouts (Petit et al. Tables 5-8 and 9-10)
-TABLE_LAYOUTS = (("sin-cos", "Sin, Cos, Amp (arcsec), period in years"), ("amp-period", "Amp (mas), period in days"))
+TABLE_LAYOUTS = (("sin-cos", "Sin, Cos and Amp in arcseconds, periods in years (Petit et al. Tables 5-8)"),
+                 ("amp-period", "Amp in milliarcseconds, periods in days (Tables 9-10)"))
 
 _env = Environment(loader=FileSystemLoader(str(TEMPLATES)), autoescape=select_autoescape(["html"]),
                    trim_blocks=True, lstrip_blocks=True)

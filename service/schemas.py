@@ -264,11 +264,13 @@ class NutationTerm(BaseModel):
     period_days_uncertainty: Optional[float] = Sigma
     longitude_sin_arcsec_uncertainty: Optional[float] = Sigma
     longitude_cos_arcsec_uncertainty: Optional[float] = Sigma
-    longitude_amplitude_arcsec: float = Field(description="the paper's Amp: (Sin² + Cos²)^½ sin ε")
+    longitude_amplitude_arcsec: float = Field(description="the amplitude of the pole's displacement in longitude, "
+                                              "the paper's Amp: Δψ sin ε = (Sin² + Cos²)^½ sin ε, or Δψ where Δψ is "
+                                              "one already (the Moon's σ); the answer's amplitude_quantities names it")
     longitude_amplitude_arcsec_uncertainty: Optional[float] = Sigma
     obliquity_sin_arcsec_uncertainty: Optional[float] = Sigma
     obliquity_cos_arcsec_uncertainty: Optional[float] = Sigma
-    obliquity_amplitude_arcsec: float = Field(description="the paper's Amp: (Sin² + Cos²)^½")
+    obliquity_amplitude_arcsec: float = Field(description="the paper's Amp: Δε = (Sin² + Cos²)^½")
     obliquity_amplitude_arcsec_uncertainty: Optional[float] = Sigma
     longitude_sin_rate_arcsec_per_century: Optional[float] = Field(
         None, description="lunisolar terms: the coefficient's rate (Poisson term), arcsec per Julian century")
@@ -286,6 +288,12 @@ class Nutation(BaseModel):
     mean_motion_deg_per_day: float
     obliquity_deg: float
     terms: list[NutationTerm]
+    amplitude_quantities: dict[str, str] = Field(
+        description="the quantity each term's amplitude key is, by key: longitude_amplitude_arcsec is Δψ sin ε (the "
+                    "pole's displacement, Δψ running along the ecliptic) or Δψ (the Moon's σ, a displacement "
+                    "already); obliquity_amplitude_arcsec is Δε. The tables' Amp columns (format=csv, markdown, "
+                    "latex) are the same quantities and say so in their headers",
+        examples=[{"longitude_amplitude_arcsec": "Δψ sin ε", "obliquity_amplitude_arcsec": "Δε"}])
     delta_psi_half_peak_to_peak_arcsec: float
     delta_epsilon_half_peak_to_peak_arcsec: float
     delta_psi_half_peak_to_peak_arcsec_uncertainty: Optional[float] = Sigma

@@ -127,6 +127,9 @@ def nutation(r: NutationResult) -> dict:
         "mean_motion_deg_per_day": math.degrees(r.mean_motion),
         "obliquity_deg": math.degrees(r.obliquity),
         "terms": [_term(t, r.longitude_amplitude_factor) for t in r.terms],
+        # what the amplitudes are: a factor of 1 is a Δψ that is the pole's displacement already (the Moon's σ)
+        "amplitude_quantities": {"longitude_amplitude_arcsec": "Δψ" if r.longitude_amplitude_factor == 1.0
+                                 else "Δψ sin ε", "obliquity_amplitude_arcsec": "Δε"},
         "delta_psi_half_peak_to_peak_arcsec": half_psi / ARCSEC,
         "delta_epsilon_half_peak_to_peak_arcsec": half_eps / ARCSEC,
         "delta_psi_half_peak_to_peak_arcsec_uncertainty": _arcsec(sigma_psi),

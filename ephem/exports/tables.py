@@ -3,9 +3,14 @@
 Two layouts, each a pair of tables (longitude, obliquity):
 
 * ``sin-cos`` (the paper's Tables 5-8): Sin, Cos, Amp (arcsec), Period (years), Arg. As in the
-  paper the longitude's Amp is sqrt(Sin² + Cos²) · sin ε (the pole's displacement on the sky) and
-  the obliquity's is sqrt(Sin² + Cos²).
+  paper Amp is the amplitude of the pole's displacement on the sky, the answer's ``*_amplitude_arcsec``: in
+  longitude sqrt(Sin² + Cos²) · sin ε (Δψ sin ε, where Δψ runs along the ecliptic) or sqrt(Sin² + Cos²) where
+  the theory's Δψ is already a displacement (the Moon's σ: Δψ), in obliquity sqrt(Sin² + Cos²) (Δε).
 * ``amp-period`` (Tables 9-10): Amp (mas) and Period (days), the same amplitudes.
+
+Every header names its quantity (``Δψ Sin (")``, ``Amp Δψ sin ε (mas)``, ``Amp Δε (mas)``), and the CSV and JSON
+rows say it in ``amp_of`` (the answer's ``amplitude_quantities``), so that a table and the answer it came from are
+compared quantity for quantity.
 
 Arg is the multiple of the body's mean anomaly M; for the Earth's lunisolar series (terms with
 ``delaunay_multipliers``) it is their integer combination of the Delaunay arguments, written "2F−2D+2Ω"
@@ -34,12 +39,17 @@ EXTENSIONS = {"csv": "csv", "markdown": "md", "latex": "tex", "json": "json"}
 LAYOUTS = ("sin-cos", "amp-period")
 COMPONENTS = ("longitude", "obliquity")
 
-#: (key, header, LaTeX header, unit) of each layout's numeric columns, then the argument
+#: (key, header, LaTeX header) of each layout's numeric columns, then the argument; ``{sym}`` is the component's
+#: symbol (Δψ, Δε) and ``{amp}`` the quantity its Amp is (Δψ sin ε, Δψ, Δε), each in its table's own script
 _COLUMNS = {
-    "sin-cos": [("sin_arcsec", "Sin (\")", r"Sin ($''$)"), ("cos_arcsec", "Cos (\")", r"Cos ($''$)"),
-                ("amp_arcsec", "Amp (\")", r"Amp ($''$)"), ("period_years", "Period (year)", "Period (year)")],
-    "amp-period": [("amp_mas", "Amp (mas)", "Amp (mas)"), ("period_days", "Per (days)", "Per (days)")],
+    "sin-cos": [("sin_arcsec", "{sym} Sin (\")", r"{sym} Sin ($''$)"), ("cos_arcsec", "{sym} Cos (\")", r"{sym} Cos ($''$)"),
+                ("amp_arcsec", "Amp {amp} (\")", r"Amp {amp} ($''$)"), ("period_years", "Period (year)", "Period (year)")],
+    "amp-period": [("amp_mas", "Amp {amp} (mas)", "Amp {amp} (mas)"), ("period_days", "Per (days)", "Per (days)")],
 }
+#: each component's symbol, and the quantity its amplitude is unless the answer says otherwise
+SYMBOLS = {"longitude": "Δψ", "obliquity": "Δε"}
+DEFAULT_AMPLITUDE_OF = {"longitude": "Δψ sin ε", "obliquity": "Δε"}
+_LATEX_SYMBOLS = (("Δψ", r"$\Delta\psi$"), ("Δε", r"$\Delta\varepsilon$"), ("sin ε", r"$\sin\varepsilon$"))
 _PAPER_TABLES = {"sin-cos": "Tables 5-8", "amp-period": "Tables 9-10"}
 #: digits after the decimal point, as printed in the paper
 _DIGITS = {"sin-cos": 4, "amp-period": {"amp_mas": 2, "period_days": 4}}
@@ -75,6 +85,22 @@ def delaunay_arg(multipliers, latex: bool = False) -> str:
     return f"${text}$" if latex else text
 
 
+def amplitude_of(answer: dict, comp: str) -> str:
+    """The quantity the component's Amp is ("Δψ sin ε", "Δψ", "Δε"): the answer's ``amplitude_quantities`` (the
+    theory's own word), else the paper's."""
+    return (answer.get("amplitude_quantities") or {}).get(f"{comp}_amplitude_arcsec", DEFAULT_AMPLITUDE_OF[comp])
+
+
+def headers(answer: dict, comp: str, layout: str, latex: bool = False) -> list[str]:
+    """The numeric columns' headers of one table, each naming its quantity (``Δψ Sin (")``, ``Amp Δψ sin ε (mas)``)."""
+    sym, amp = SYMBOLS[comp], amplitude_of(answer, comp)
+    if latex:
+        for plain, tex in _LATEX_SYMBOLS:
+            sym, amp = sym.replace(plain, tex), amp.replace(plain, tex)
+        amp = amp.replace("$ $", " ")           # "$\Delta\psi$ $\sin\varepsilon$" reads as one product
+    return [(tex if latex else label).format(sym=sym, amp=amp) for _, label, tex in _COLUMNS[layout]]
+
+
 def _is_delaunay(answer: dict) -> bool:
     return any(t.get("delaunay_multipliers") is not None for t in answer["terms"])
 
@@ -89,14 +115,17 @@ def table_rows(answer: dict, layout: str = "sin-cos") -> list[dict]:
     for comp in COMPONENTS:
         for t in answer["terms"]:
             s, c = t[f"{comp}_sin_arcsec"], t[f"{comp}_cos_arcsec"]
-            scale = abs(sin_eps) if comp == "longitude" else 1.0
-            amp = math.hypot(s, c) * scale
+            # the pole's displacement as the theory gives it (the Moon's Δψ = σ is one already), else the paper's
+            amp = t.get(f"{comp}_amplitude_arcsec")
+            if amp is None:
+                amp = math.hypot(s, c) * (abs(sin_eps) if comp == "longitude" else 1.0)
             if t.get("delaunay_multipliers") is not None:
                 k = [int(v) for v in t["delaunay_multipliers"]]
                 row = {"component": comp, "arg": delaunay_arg(k), **dict(zip(DELAUNAY_NAMES, k))}
             else:
                 row = {"component": comp, "multiple": int(t["multiple"]), "arg": _arg(int(t["multiple"]))}
             sig_amp = t.get(f"{comp}_amplitude_arcsec_uncertainty")
+            row["amp_of"] = amplitude_of(answer, comp)
             if layout == "sin-cos":
                 row.update(sin_arcsec=s, cos_arcsec=c, amp_arcsec=amp, period_years=t["period_years"])
                 for key in ("sin", "cos"):
@@ -115,13 +144,15 @@ def table_rows(answer: dict, layout: str = "sin-cos") -> list[dict]:
 def caption(answer: dict, comp: str, layout: str = "sin-cos", sigma: bool = False) -> str:
     """The table's caption: what, which body and dataset, ε, how Amp is formed."""
     what = "longitude" if comp == "longitude" else "obliquity"
+    quantity = amplitude_of(answer, comp)
+    formed = "(Sin² + Cos²)^½ sin ε" if quantity.endswith("sin ε") else "(Sin² + Cos²)^½"
+    shift = "" if quantity != "Δψ" else ", Δψ being already the pole's displacement"
     if layout == "sin-cos":
-        amp = "Amp = (Sin² + Cos²)^½ sin ε" if comp == "longitude" else "Amp = (Sin² + Cos²)^½"
+        amp = f"Amp = {quantity} = {formed}{shift}"
         lead = f"Nutation in {what}"
     else:
-        amp = "periods in days"
-        lead = "Amplitude of the nutation in longitude Δψ sin ε" if comp == "longitude" else \
-            "Amplitude of the nutation in obliquity Δε"
+        amp = f"Amp {quantity} = {formed}{shift}; periods in days"
+        lead = f"Amplitude of the nutation in {what} {quantity}"
     return (f"{lead} for {answer['body']} ({answer['dataset']} dataset, ε = {answer['obliquity_deg']:.4f}°; "
             f"{amp}; argument: "
             + ("integer combinations of the Delaunay arguments l, l′, F, D, Ω (IERS 2010 eq. 5.43); "
@@ -187,6 +218,7 @@ def render_nutation(answer: dict, fmt: str, digits: int | None = None, layout: s
             keys.append(key)
             if _has_sigma(rows, key):
                 keys.append(f"{key}_uncertainty")
+        keys.append("amp_of")           # the quantity each row's amp is (Δψ sin ε, Δε)
         buf = io.StringIO()
         writer = csv.DictWriter(buf, fieldnames=keys, lineterminator="\n", extrasaction="ignore")
         writer.writeheader()
@@ -205,12 +237,12 @@ def render_nutation(answer: dict, fmt: str, digits: int | None = None, layout: s
         latex = fmt == "latex"
         cells = [[_cell(r, key, _digits(layout, key, digits), latex) for key, *_ in columns] for r in part]
         if fmt == "markdown":
-            head = [label for _, label, _ in columns] + ["Arg"]
+            head = headers(answer, comp, layout) + ["Arg"]
             lines = [f"**{caption(answer, comp, layout, sigma)}**", "", "| " + " | ".join(head) + " |",
                      "|" + "---:|" * len(columns) + ":---|"]
             lines += ["| " + " | ".join(c + [r["arg"]]) + " |" for c, r in zip(cells, part)]
         else:
-            head = [tex for _, _, tex in columns] + ["Arg"]
+            head = headers(answer, comp, layout, latex=True) + ["Arg"]
             lines = [r"\begin{table}", r"\centering", rf"\caption{{{_latex_caption(answer, comp, layout, sigma)}}}",
                      r"\begin{tabular}{" + "r" * len(columns) + "l}", r"\toprule", " & ".join(head) + r" \\",
                      r"\midrule"]

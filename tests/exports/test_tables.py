@@ -170,7 +170,9 @@ def test_route_serves_both_layouts(client_factory=None):
     assert r.json()["layout"] == "amp-period" and r.json()["tables"][0]["rows"][1]["amp_mas"] == pytest.approx(
         1715.42, abs=0.05 + 2e-4 * 1715.42)
     tex = c.get("/v1/bodies/vesta/nutation?format=latex&layout=amp-period").text
-    assert latex_problems(tex) == [] and "Amp (mas)" in tex
+    # each Amp header names its quantity (issue 41): the pole's displacement, Δψ sin ε in longitude, Δε in obliquity
+    assert latex_problems(tex) == [] and r"Amp $\Delta\psi \sin\varepsilon$ (mas)" in tex
+    assert r"Amp $\Delta\varepsilon$ (mas)" in tex
     assert c.get("/v1/bodies/vesta/nutation?format=latex&layout=wide").status_code == 422
 
 
