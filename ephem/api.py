@@ -42,6 +42,7 @@ _NAMES = {
     "OverBudgetError": (".base.budget", "OverBudgetError"),
     "budget": (".base.budget", "budget"),
     "charge": (".base.budget", "charge"),
+    "current_budget": (".base.budget", "current"),
     "AXES": (".base.constants", "AXES"),
     "GM_CENTER": (".base.constants", "GM_CENTER"),
     "EphemError": (".base.errors", "EphemError"),
@@ -113,7 +114,7 @@ __all__ = [
     # errors
     "EphemError", "InvalidInputError", "NotApplicableError", "UnknownBodyError",
     # bounded work (a host, as the service, sets the budget and the caches)
-    "Budget", "budget", "charge", "BusyError", "DeadlineExceededError", "OverBudgetError", "memo",
+    "Budget", "budget", "charge", "current_budget", "BusyError", "DeadlineExceededError", "OverBudgetError", "memo",
 ]
 
 

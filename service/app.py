@@ -23,6 +23,7 @@ from ephem.api import (AXES, DEFAULT_DATASET, FORMATS, MODELS,
 from . import caching, guards, pages, problems, schemas
 from .batch_input import batch_rows
 from .limits import BodySizeLimit
+from .fast_routes import OnePassRoute, one_pass
 from .offload import compute
 from .openapi_rules import document_rules
 from .settings import Settings
@@ -119,6 +120,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                   lifespan=lifespan, docs_url=None, redoc_url=None,
                   dependencies=[Depends(problems.single_query_values)])     # every route: no repeated parameter
     app.state.settings = settings
+    app.router.route_class = OnePassRoute       # the endpoints marked one_pass: their parameters validated in one pass
     memo.set_budget_mb(settings.model_cache_mb)      # the process's per-body caches (one app per worker process)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     problems.install(app)
@@ -229,6 +231,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                       "tolerance_mas": 1000.0, "cost_ms": 1.9}}},
             "text/csv": {"example": "jd_tdb,psi_arcsec,delta_psi_arcsec,delta_epsilon_arcsec,obliquity_deg,"
                                     "pole_ra_deg,pole_dec_deg\n"}}}})
+    @one_pass
     async def track(body: BodyPath,
               start: Annotated[str, Query(description="ISO 8601 (UTC unless a scale follows) or JD TDB",
                                           examples=["2040-01-01"])],

@@ -20,7 +20,8 @@ def _int_env(name: str, default: int, minimum: int = 1) -> int:
     return value
 
 
-def _float_env(name: str, default: float) -> float:
+def _float_env(name: str, default: float, zero: bool = False) -> float:
+    """A number from the environment: positive and finite (``zero``: or 0)."""
     raw = os.environ.get(name)
     if raw is None or raw.strip() == "":
         return default
@@ -28,8 +29,8 @@ def _float_env(name: str, default: float) -> float:
         value = float(raw)
     except ValueError:
         raise SystemExit(f"{name} must be a number, got {raw!r}") from None
-    if not math.isfinite(value) or value <= 0:
-        raise SystemExit(f"{name} must be a positive finite number, got {raw!r}")
+    if not math.isfinite(value) or value < 0 or (value == 0 and not zero):
+        raise SystemExit(f"{name} must be a {'non-negative' if zero else 'positive'} finite number, got {raw!r}")
     return value
 
 
@@ -87,6 +88,10 @@ class Settings:
     #: 304 when unchanged; service/caching.py). An answer is a pure function of the request, the version and
     #: the data, so a day is safe: a new version or new data change every ETag
     cache_max_age_s: int = 86_400
+    #: a request predicted to need at most this much CPU, ms, is answered on the worker's event loop, without the hop
+    #: to the thread pool and back (~0.1 ms of CPU each way); beyond, the thread pool (service/offload.py). The
+    #: loop is held at most about this long by one request. 0: every request in the thread pool
+    inline_cpu_ms: float = 5.0
 
     @classmethod
     def from_env(cls) -> "Settings":
@@ -104,4 +109,5 @@ class Settings:
                    supervised=_bool_env("EPHEM_SUPERVISED", cls.supervised),
                    max_batch_rows=_int_env("EPHEM_MAX_BATCH_ROWS", cls.max_batch_rows),
                    model_cache_mb=_float_env("EPHEM_MODEL_CACHE_MB", cls.model_cache_mb),
-                   cache_max_age_s=_int_env("EPHEM_CACHE_MAX_AGE_S", cls.cache_max_age_s, minimum=0))
+                   cache_max_age_s=_int_env("EPHEM_CACHE_MAX_AGE_S", cls.cache_max_age_s, minimum=0),
+                   inline_cpu_ms=_float_env("EPHEM_INLINE_CPU_MS", cls.inline_cpu_ms, zero=True))

@@ -3,6 +3,7 @@ process over loopback, and a bounded schemathesis run against /openapi.json."""
 import csv
 import io
 import json
+import math
 import os
 import socket
 import subprocess
@@ -88,7 +89,7 @@ def test_nutation_tables_in_the_paper_layout(client, fmt, media):
         first = rows[0]
         assert first["arg"] == "M" and float(first["amp_arcsec"]) == pytest.approx(1.1027, abs=3e-4)  # Table 5
     elif fmt == "markdown":
-        assert "| Sin (\") | Cos (\") | Amp (\") | Period (year) | Arg |" in text and "| 2M |" in text
+        assert "| Δψ Sin (\") | Δψ Cos (\") | Amp Δψ sin ε (\") | Period (year) | Arg |" in text and "| 2M |" in text
     else:
         assert text.count(r"\begin{tabular}") == 2 and text.count(r"\end{tabular}") == 2
         assert r"\toprule" in text and r"\bottomrule" in text
@@ -286,6 +287,13 @@ def test_non_finite_numbers_are_never_sent():
     bad = finite_json({"a": np.array([1.0, np.nan])})
     assert bad.status_code == 500 and bad.media_type == PROBLEM and b"NaN" not in bad.body
     assert finite_json({"x": float("inf")}).status_code == 500
+    # anywhere in the nesting, in every float type; the largest finite numbers and the ints pass
+    for hidden in ({"m": {"choice": {"eligible": [{"e": 1.0}, {"e": -math.inf}]}}}, {"t": (1, [2.0, (math.nan,)])},
+                   {"s": np.float64("nan")}, {"s": [np.float32("inf")]}, {"c": np.array([1 + 1j, complex(1, math.nan)])}):
+        assert finite_json(hidden).status_code == 500, hidden
+    fine = {"big": [1.7976931348623157e308, -1.7976931348623157e308], "tiny": 5e-324, "n": 2 ** 62,
+            "none": None, "flag": True, "text": "nan", "ints": np.arange(3), "f": np.float64(2.5)}
+    assert finite_json(fine).status_code == 200
 
 
 def test_track_with_a_tolerance_reports_the_chosen_model(client):
