@@ -163,7 +163,9 @@ def install(app: FastAPI) -> None:
         result, problem = await _answer(request, compute)
         name = result["record"]["name"] if result else body
         params = {"dataset": dataset}
+        facts, why_notes = _facts(result["record"]) if result else ([], [])
         return _page("body.html", _status(problem), body=name, dataset=dataset, result=result, problem=problem,
+                     facts=facts, why_notes=why_notes,
                      form={**TRACK_DEFAULTS, "dataset": dataset}, models=api.MODELS, axes=api.AXES,
                      history_form={**HISTORY_DEFAULTS, "tolerance_mas": "", "orbit_model": "", "dataset": dataset},
                      orbit_models=ORBIT_MODELS,
@@ -327,6 +329,20 @@ def install(app: FastAPI) -> None:
         return _page("batch.html", _status(problem), result=result, problem=problem, form=form,
                      max_rows=_max_rows(request), download=download, shown=TRACK_ROWS_SHOWN,
                      filename=name, snippets=snippets, title="A batch of bodies")
+
+
+def _facts(record: dict) -> tuple[list[dict], list[tuple[list[str], str]]]:
+    """The body's catalogue values as the key facts table's rows, each without a 1σ pointing to its reason by number,
+    and the reasons, one line each with the values it applies to (six orbit elements share one: one line)."""
+    rows, notes = [], {}
+    for key, v in record["values"].items():
+        note = None
+        if v.get("uncertainty") is None and v.get("no_uncertainty"):
+            keys = notes.setdefault(v["no_uncertainty"], [])
+            keys.append(key)
+            note = list(notes).index(v["no_uncertainty"]) + 1
+        rows.append({"key": key, **v, "note": note})
+    return rows, [(keys, reason) for reason, keys in notes.items()]
 
 
 def _float(text: str, field: str) -> float:

@@ -196,6 +196,13 @@ class UncertaintyInfo(BaseModel):
     no_uncertainty_reasons: dict[str, str] = Field(
         description="for each unpropagated input, why it has no uncertainty (the catalogue record's reason)")
     assumptions: list[str]
+    lower_bounds: Optional[dict[str, str]] = Field(
+        None, description="for each value given a 1-sigma that an input without one also moves (its sigma is then a "
+                          "lower bound), which inputs have a sigma and which have none, by the value's key ('terms': "
+                          "the nutation terms'): 'only the rotation period has a σ; the orbit, the pole and C/MR² "
+                          "have none'",
+        examples=[{"precession_rate_arcsec_per_year": "only the rotation period has a σ; the orbit, the pole and "
+                                                      "C/MR² have none"}])
 
 
 Sigma = Field(None, description="1-sigma uncertainty from the catalogue's, same unit; null when no input with a "

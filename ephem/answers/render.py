@@ -63,6 +63,70 @@ def _cassini(c: CassiniSummary) -> dict:
     }
 
 
+#: the catalogue inputs (by key prefix) that move each value: where one of them has no σ, the value's σ is a lower
+#: bound (it covers only the inputs that have one)
+_ORBIT_SHAPE, _ORBIT_PLANE = ("orbit.a", "orbit.e"), ("orbit.i", "orbit.node")
+_ALL_INPUTS = (*_ORBIT_SHAPE, *_ORBIT_PLANE, "orbit.peri", "pole.", "rotation.", "inertia.")
+_MOVED_BY = {"obliquity_deg": (*_ORBIT_PLANE, "pole."), "dynamical_ellipticity": ("inertia.",),
+             "scaling_factor_arcsec_per_year": (*_ORBIT_SHAPE, "rotation.", "inertia."),
+             "precession_rate_arcsec_per_year": (*_ORBIT_SHAPE, *_ORBIT_PLANE, "pole.", "rotation.", "inertia."),
+             "delta_psi_half_peak_to_peak_arcsec": _ALL_INPUTS, "delta_epsilon_half_peak_to_peak_arcsec": _ALL_INPUTS,
+             "terms": _ALL_INPUTS}
+_MOVED_BY["observable_precession_rate_arcsec_per_year"] = _MOVED_BY["precession_rate_arcsec_per_year"]
+#: the inputs' names in a sentence, by key prefix (the first that matches), and the measurements moments derive from
+_INPUT_NAMES = (("orbit.", "the orbit"), ("pole.", "the pole"), ("rotation.", "the rotation period"),
+                ("inertia.dynamical_ellipticity", "H_d"), ("inertia.", "the moments of inertia"))
+_DERIVED_NAMES = {"polar_moment": "C/MR²", "mean_moment": "(A+B+C)/3MR²", "beta": "β", "gamma": "γ"}
+_PLURAL = ("the moments of inertia",)
+
+
+def _names(b: Body, keys: list[str], without: bool) -> list[str]:
+    names: list[str] = []
+    for key in keys:
+        name = next(n for prefix, n in _INPUT_NAMES if key.startswith(prefix))
+        if name == "the moments of inertia" and without:   # the measurement they derive from that has no σ
+            lacking = [k.rsplit(".", 1)[1] for k, v in b.values.items()
+                       if k.startswith("inertia.derived_from.") and v.uncertainty is None]
+            if lacking:
+                names += [n for n in (_DERIVED_NAMES.get(k, k) for k in lacking) if n not in names]
+                continue
+        if name not in names:
+            names.append(name)
+    return names
+
+
+def _listed(names: list[str]) -> str:
+    """'a', 'a and b', 'a, b and c', with the verb's number: ('the pole', 'has')."""
+    text = names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+    return f"{text} {'has' if len(names) == 1 and names[0] not in _PLURAL else 'have'}"
+
+
+def lower_bounds(b: Body, uncertainty: dict, sigmas: dict) -> dict:
+    """{value key: why its 1σ is a lower bound} for each value given a σ that an input without one also moves:
+    "only the rotation period has a σ; the orbit, the pole and C/MR² have none" (``sigmas``: the values' σ, None
+    where unknown; ``terms`` for the nutation terms')."""
+    missing = set(uncertainty.get("unpropagated_inputs") or ())
+    inputs = [k for k in b.values if not k.endswith(".epoch") and not k.startswith("inertia.derived_from.")
+              and k.startswith(_ALL_INPUTS)]
+    if "inertia.dynamical_ellipticity" in b.values:      # H_d given: the moments are not what sets it
+        inputs = [k for k in inputs if k not in ("inertia.A", "inertia.B", "inertia.C")]
+    out = {}
+    for key, sigma in sigmas.items():
+        if sigma is None:
+            continue
+        moved = [k for k in inputs if k.startswith(_MOVED_BY[key])]
+        without = [k for k in moved if k in missing]
+        if not without:
+            continue
+        having = [k for k in moved if k not in missing and b.values[k].uncertainty is not None]
+        dominant = (uncertainty.get("dominant_input") or {}).get(key)
+        if not having and dominant:
+            having = [dominant]
+        have, lack = _names(b, having, False), _names(b, without, True)
+        out[key] = (f"only {_listed(have)} a σ; " if have else "") + f"{_listed(lack)} none"
+    return out
+
+
 def precession(r: PrecessionResult) -> dict:
     """The precession answer: obliquity (deg), H_d, K and ψ̇ (arcsec/yr), each with its 1σ (null: unknown),
     the Cassini state of a synchronous satellite, the uncertainty's method and the ``model`` object."""
@@ -87,7 +151,9 @@ def precession(r: PrecessionResult) -> dict:
         ans["precession_rate_arcsec_per_year_uncertainty"]
     if r.cassini is not None:
         ans["cassini"] = _cassini(r.cassini)
-    ans["uncertainty"] = r.uncertainty
+    ans["uncertainty"] = {**r.uncertainty, "lower_bounds": lower_bounds(
+        b, r.uncertainty, {k: ans.get(f"{k}_uncertainty") for k in (*RATE_KEYS,
+                                                                    "observable_precession_rate_arcsec_per_year")})}
     ans["model"] = _model(r.description, r.selection)
     return ans
 
@@ -134,7 +200,10 @@ def nutation(r: NutationResult) -> dict:
         "delta_epsilon_half_peak_to_peak_arcsec": half_eps / ARCSEC,
         "delta_psi_half_peak_to_peak_arcsec_uncertainty": _arcsec(sigma_psi),
         "delta_epsilon_half_peak_to_peak_arcsec_uncertainty": _arcsec(sigma_eps),
-        "uncertainty": r.uncertainty,
+        "uncertainty": {**r.uncertainty, "lower_bounds": lower_bounds(b, r.uncertainty, {
+            "delta_psi_half_peak_to_peak_arcsec": sigma_psi, "delta_epsilon_half_peak_to_peak_arcsec": sigma_eps,
+            "terms": next((x for t in r.terms for x in (t.longitude_amplitude_sigma, t.obliquity_amplitude_sigma)
+                           if x is not None), None)})},
         "model": _model(r.description, r.selection),
     }
 

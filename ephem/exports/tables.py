@@ -157,8 +157,15 @@ def caption(answer: dict, comp: str, layout: str = "sin-cos", sigma: bool = Fals
             f"{amp}; argument: "
             + ("integer combinations of the Delaunay arguments l, l′, F, D, Ω (IERS 2010 eq. 5.43); "
                if _is_delaunay(answer) else "multiples of the mean anomaly M; ")
-            + ("± 1σ from the catalogue's uncertainties, where it gives them; " if sigma else "")
+            + (f"± 1σ from the catalogue's uncertainties, where it gives them{_lower_bound(answer)}; " if sigma else "")
             + f"layout of Petit et al. 2014 {_PAPER_TABLES[layout]})")
+
+
+def _lower_bound(answer: dict) -> str:
+    """Where the terms' σ leave out inputs without one (the answer's ``uncertainty.lower_bounds``): that they are
+    lower bounds, and why."""
+    why = ((answer.get("uncertainty") or {}).get("lower_bounds") or {}).get("terms")
+    return f", lower bounds ({why})" if why else ""
 
 
 def _digits(layout: str, key: str, digits: int | None) -> int:
@@ -198,7 +205,7 @@ def latex_escape(text: str) -> str:
 
 def _latex_caption(answer: dict, comp: str, layout: str, sigma: bool) -> str:
     text = latex_escape(caption(answer, comp, layout, sigma)).replace("±", r"$\pm$").replace("σ", r"$\sigma$")
-    for plain, tex in (("ε", r"$\varepsilon$"), ("°", r"$^\circ$"), ("l′", r"$l'$"), ("Ω", r"$\Omega$"), ("Δψ", r"$\Delta\psi$"), ("Δε", r"$\Delta\varepsilon$"),
+    for plain, tex in (("MR²", r"MR$^2$"), ("ε", r"$\varepsilon$"), ("°", r"$^\circ$"), ("l′", r"$l'$"), ("Ω", r"$\Omega$"), ("Δψ", r"$\Delta\psi$"), ("Δε", r"$\Delta\varepsilon$"),
                        ("(Sin² + Cos²)\\textasciicircum{}½", r"$(\mathrm{Sin}^2 + \mathrm{Cos}^2)^{1/2}$")):
         text = text.replace(plain, tex)
     return text

@@ -240,7 +240,7 @@ def test_the_history_form_submitted_gives_the_apis_history(server, browser, arti
     from selenium.webdriver.common.by import By
 
     browser.get(server + "/bodies/ceres")
-    for field, value in (("start_year", "-20000"), ("stop_year", "0"), ("step_years", "500")):
+    for field, value in (("history-start_year", "-20000"), ("history-stop_year", "0"), ("history-step_years", "500")):
         box = browser.find_element(By.ID, field)
         box.clear()
         box.send_keys(value)
