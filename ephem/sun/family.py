@@ -10,6 +10,7 @@ from functools import cached_property
 import numpy as np
 
 from ..base.budget import charge
+from ..base.memo import bytes_bounded
 from ..base.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from ..base.errors import InvalidInputError, NotApplicableError
 from ..bodies.catalogue import Body, is_centre_alone
@@ -128,14 +129,9 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
         return info
 
     def secular_spin(self) -> SpinConstants:
-        """The first-order theory's mean pole and precession constant (K/2) f(e) (Petit et al. eq. 25)."""
-        m = cached_model(self.body)
-        half_psi, half_eps = m.nutation.semi_peak_to_peak()
-        return spin_constants(self.body, m.pole_epoch, m.icrf_from_orbit, m.obliquity,
-                              0.5 * m.scaling_factor * eccentricity_factor(m.eccentricity), 0.0,
-                              math.hypot(half_psi * math.sin(m.obliquity), half_eps),
-                              "Kinoshita's first-order theory (Petit et al. 2014 eq. 25): the precession constant "
-                              "(K/2)(1 - e^2)^(-3/2), K = 3 n^2 H_d / omega")
+        """The first-order theory's mean pole and precession constant (K/2) f(e) (Petit et al. eq. 25), kept per
+        body (:func:`cached_secular_spin`)."""
+        return cached_secular_spin(self.body)
 
     def spectrum(self, aim_mas: float, mid_centuries: float, jd_tdb=None, psi=None) -> Spectrum:
         m = cached_model(self.body)
@@ -291,3 +287,16 @@ def rate_sigmas(unc: dict) -> RateSigmas:
                           unc["precession_rate_arcsec_per_year_uncertainty"])
     return RateSigmas(None if obliquity is None else math.radians(obliquity), unc["dynamical_ellipticity_uncertainty"],
                       None if k is None else k * per_day, None if rate is None else rate * per_day)
+
+
+@bytes_bounded      # a pure function of the body; its nutation's extremes take ~0.5 ms, and a long-term track asks 3 times
+def cached_secular_spin(body: Body) -> SpinConstants:
+    """:meth:`SunLadder.secular_spin` of ``body``: the first-order model's mean pole, its precession constant and the
+    half amplitude of its nutation (the long-term model's inputs)."""
+    m = cached_model(body)
+    half_psi, half_eps = m.nutation.semi_peak_to_peak()
+    return spin_constants(body, m.pole_epoch, m.icrf_from_orbit, m.obliquity,
+                          0.5 * m.scaling_factor * eccentricity_factor(m.eccentricity), 0.0,
+                          math.hypot(half_psi * math.sin(m.obliquity), half_eps),
+                          "Kinoshita's first-order theory (Petit et al. 2014 eq. 25): the precession constant "
+                          "(K/2)(1 - e^2)^(-3/2), K = 3 n^2 H_d / omega")
