@@ -61,6 +61,7 @@ import numpy as np
 # the answers through their module, as tests patch them there (tests/answers/test_figures.py)
 from . import requests as answers
 from ..base.errors import InvalidInputError, count_text
+from ..base.grids import SAFE_SPACINGS, resolution
 from ..base.times import to_jd_tdb
 from ..bodies.catalogue import DEFAULT_DATASET, resolve_body
 from ..longterm.history import MAX_SPAN_YEARS
@@ -142,6 +143,10 @@ def _span(start, stop) -> tuple[float, float]:
         raise InvalidInputError("stop", f"stop (JD {t1}) is before start (JD {t0})")
     if t1 == t0:
         raise InvalidInputError("stop", "a plot needs a time span: stop equals start")
+    least = SAFE_SPACINGS * resolution(t0, t1)
+    if t1 - t0 < least:
+        raise InvalidInputError("stop", f"a plot needs a time span float64 Julian dates resolve into two epochs: "
+                                f"stop is {t1 - t0:.4g} d after start, at least {least:.4g} d is needed")
     return t0, t1
 
 
@@ -187,11 +192,11 @@ def default_step_days(kind: str, body, start, stop, dataset: str = DEFAULT_DATAS
                 raise InvalidInputError("stop", f"a span of {span:.6g} d cannot be drawn within {MAX_PLOT_POINTS} "
                                         f"points at {_MIN_PER_CYCLE} per {period_text(fast)} cycle of the free "
                                         f"wobble; use a span of at most {longest:.6g} d", b.name)
-        return step
+        return max(step, SAFE_SPACINGS * resolution(t0, t1))    # a step the span's dates resolve
     step = min(span / _TARGET_POINTS, _orbital_period_days(b) / _PER_ORBIT)
     if span / step + 1 > MAX_PLOT_POINTS:
         step = span / (MAX_PLOT_POINTS - 1)
-    return step
+    return max(step, SAFE_SPACINGS * resolution(t0, t1))
 
 
 def _year(value, field: str) -> float:

@@ -66,10 +66,11 @@ from datetime import UTC, datetime
 from pathlib import Path
 
 from ..base.errors import InvalidInputError
+from ..base.grids import SAFE_SPACINGS, resolution
 from ..base.times import to_jd_tdb
 from ..base.units import in_unit
 from ..bodies.catalogue import DEFAULT_DATASET, Body, resolve_body
-from ..exports.pck_fit import DEFAULT_MAX_ANGLES, SPICE_MAX_ANGLES, fit_body
+from ..exports.pck_fit import CHECK_DENSITY, DEFAULT_MAX_ANGLES, MIN_FIT_SAMPLES, SPICE_MAX_ANGLES, fit_body
 from ..exports.pck_kernel import PckResult, angles_owner
 from ..exports.pck_text import ascii_text, comment_lines, data_block, time_text
 from ..families import theory_for
@@ -108,6 +109,11 @@ def write_pck(bodies, start, stop, dataset: str = DEFAULT_DATASET, tolerance_mas
     t1 = to_jd_tdb(stop, "stop")
     if not t1 > t0:
         raise InvalidInputError("stop", f"stop (JD {t1} TDB) must be after start (JD {t0} TDB)")
+    least = SAFE_SPACINGS * resolution(t0, t1) * CHECK_DENSITY * (MIN_FIT_SAMPLES - 1)
+    if t1 - t0 < least:     # the check grid's step would be finer than the span's Julian dates resolve
+        raise InvalidInputError("stop", f"stop is {t1 - t0:.4g} d after start: a kernel's fit samples the span at "
+                                f"{CHECK_DENSITY * (MIN_FIT_SAMPLES - 1)} steps at least, which float64 Julian dates "
+                                f"resolve over a span of at least {least:.4g} d")
     if isinstance(bodies, (str, int, Body)):
         bodies = [bodies]
     try:

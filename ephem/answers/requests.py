@@ -31,6 +31,7 @@ from . import render
 from ..forced.catalogue_sigmas import input_sigmas
 from ..forced.pole_uncertainty import pole_uncertainty
 from ..forced.uncertainty import propagated
+from ..base.grids import check_step
 from ..base.times import to_jd_tdb
 from ..base.units import in_unit, with_units
 
@@ -228,7 +229,9 @@ def history(body: str | int | Body, start_year, stop_year, step_years, dataset: 
 def epoch_grid(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPLES) -> tuple[float, float, int]:
     """(first JD TDB, step in days, count) of the evenly spaced epochs from start to stop.
 
-    stop is included when it falls on the grid.
+    stop is included when it falls on the grid. Every grid of the library's tracks, figures and kernels is made
+    here: a step finer than the span's Julian dates resolve (:func:`ephem.base.grids.check_step`) is refused naming
+    ``step_days``, never computed.
     """
     t0 = to_jd_tdb(start, "start")
     t1 = to_jd_tdb(stop, "stop")
@@ -247,6 +250,7 @@ def epoch_grid(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPL
     if count > max_samples:
         raise InvalidInputError("step_days", f"{count} samples exceed the cap of {max_samples}; "
                                 "use a larger step or a shorter span")
+    check_step("step_days", t0, t1, float(step_days), count)     # epochs a float64 JD tells apart, or refused
     return t0, float(step_days), count
 
 

@@ -54,13 +54,25 @@ def _iso(jd: float) -> str:
         return Time(jd, format="jd", scale="tdb").isot[:16].replace("T", " ")
 
 
+#: a track shorter than this many days (~14 min) is drawn in s, ms, µs or ns since its first epoch
+SHORT_SPAN_DAYS = 0.01
+
+
 def time_axis(jd_tdb: np.ndarray) -> tuple[np.ndarray, str]:
     """(x values, axis label) for epochs: Julian epoch (TDB, years) over a span of a Julian year or
     more, otherwise days since the first epoch."""
     jd = np.asarray(jd_tdb, dtype=float)
-    if jd[-1] - jd[0] >= JULIAN_YEAR_DAYS:
+    span = float(jd[-1] - jd[0])
+    if span >= JULIAN_YEAR_DAYS:
         return 2000.0 + (jd - J2000_JD) / JULIAN_YEAR_DAYS, "Julian epoch (TDB) [yr]"
-    return jd - jd[0], f"days since {_iso(float(jd[0]))} TDB (JD {jd[0]:.5f})"
+    since = f"since {_iso(float(jd[0]))} TDB (JD {jd[0]:.5f})"
+    if span >= SHORT_SPAN_DAYS:
+        return jd - jd[0], f"days {since}"
+    # seconds down to nanoseconds (a span of a few float64 spacings of a JD: 4.66e-10 d is 40 µs), so that the ticks
+    # read 0, 100, 200 rather than 0.0000000005
+    unit, scale = next(((u, k) for u, k in (("s", 1.0), ("ms", 1e-3), ("µs", 1e-6)) if span * 86400.0 >= 10.0 * k),
+                       ("ns", 1e-9))
+    return (jd - jd[0]) * (86400.0 / scale), f"{unit} {since}"
 
 
 def arcsec_scale(values_arcsec) -> tuple[float, str]:
@@ -259,8 +271,18 @@ def history_time_axis(years) -> tuple[float, str]:
     2 kyr, years below."""
     y = np.asarray(years, dtype=float)
     span = float(y[-1] - y[0]) if y.size else 0.0
+    if 0.0 < span < 1.0:    # a history within a year: years since its first epoch, in a power of ten of a year
+        factor = 10.0 ** math.floor(math.log10(span))
+        return factor, f"years since {float(y[0])!r} from J2000.0 (TDB) [{factor:g} yr]"
     factor, unit = (1e6, "Myr") if span >= 1e6 else (1e3, "kyr") if span >= 2e3 else (1.0, "yr")
     return factor, f"years from J2000.0 (TDB) [{unit}]"
+
+
+def _history_origin(years) -> float:
+    """Where :func:`history_time_axis`'s x is 0 (years from J2000.0): J2000.0, or the first epoch of a span within
+    a year."""
+    y = np.asarray(years, dtype=float)
+    return float(y[0]) if y.size and 0.0 < float(y[-1] - y[0]) < 1.0 else 0.0
 
 
 def _fmt_mas_or_deg(mas: float) -> str:
@@ -294,7 +316,8 @@ def meaningless_spans(ans: dict) -> list[tuple[float, float]]:
 def draw_obliquity_history(fig, ans: dict) -> None:
     years = np.asarray(ans["year"], dtype=float)
     factor, xlabel = history_time_axis(years)
-    x = years / factor
+    origin = _history_origin(years)
+    x = (years - origin) / factor
     eps = np.asarray(ans["obliquity_deg"], dtype=float)
     err = np.asarray(ans["obliquity_error_deg"], dtype=float)
     inc = np.asarray(ans["orbit_inclination_deg"], dtype=float)
@@ -318,7 +341,7 @@ def draw_obliquity_history(fig, ans: dict) -> None:
     top.set_ylim(ymin - pad, ymax + pad)
     for i, (a, b) in enumerate(spans):
         for ax in (top, middle, bottom):
-            ax.axvspan(a / factor, b / factor, facecolor="0.88", edgecolor="0.55", hatch="///", lw=0.0, zorder=0,
+            ax.axvspan((a - origin) / factor, (b - origin) / factor, facecolor="0.88", edgecolor="0.55", hatch="///", lw=0.0, zorder=0,
                        label=(f"history not meaningful: neighbouring solutions or orbits part by > "
                               f"{math.degrees(MEANINGFUL_LIMIT):g}°") if i == 0 and ax is top else None)
     top.set_ylabel("obliquity ε [deg]")
@@ -330,6 +353,6 @@ def draw_obliquity_history(fig, ans: dict) -> None:
     for ax in (top, middle, bottom):
         _plain_ticks(ax)
         ax.grid(True, lw=0.4, alpha=0.5)
-    unit = xlabel[xlabel.rindex("[") + 1:-1]
-    fig.suptitle(f"{ans['body']} ({ans['dataset']} dataset): obliquity history, {x[0]:g} to {x[-1]:g} {unit} "
-                 f"from J2000.0\n{_history_model_line(ans)}", fontsize="medium")
+    unit = xlabel[xlabel.rindex("[") + 1:-1] if factor >= 1.0 else "yr"
+    fig.suptitle(f"{ans['body']} ({ans['dataset']} dataset): obliquity history, {years[0] / max(factor, 1.0):g} to "
+                 f"{years[-1] / max(factor, 1.0):g} {unit} from J2000.0\n{_history_model_line(ans)}", fontsize="medium")

@@ -242,6 +242,8 @@ NEXT_ORDER_MOMENTUM = 0.75
 PHASE_FACTOR = 0.04
 #: Beyond this many orbits the estimate uses orientation-free bounds instead of sampling the span.
 MAX_SAMPLED_ORBITS = 20.0
+#: The least span the estimate samples (days, ~14 min): 65 epochs over it are 3e4 float64 spacings of a JD apart.
+MIN_SAMPLED_SPAN_DAYS = 0.01
 #: Pole azimuths (ψ, evenly over a turn) at which a long span's drift rate is sampled: the rate's orbit mean
 #: depends on where the pole leans relative to the pericentre, through harmonics 1 and 2 of ψ.
 LONG_SPAN_AZIMUTHS = 24
@@ -268,6 +270,14 @@ def samples_per_orbit(e: float) -> int:
     every factor 10 in q^k needs ~ln 10/|ln q| harmonics more: 64 + 512 e, i.e. 72 for the Earth, 112 for Mars,
     525 at e = 0.9 (the 512 used throughout before)."""
     return int(64 + 512 * e)
+
+
+def sampled_epochs(e: float, orbits: float) -> int:
+    """The epochs at which :func:`error_terms` samples a span of ``orbits`` orbits (eccentricity ``e``): 65 at least,
+    :func:`samples_per_orbit` an orbit; none beyond :data:`MAX_SAMPLED_ORBITS`, where its bounds take no samples."""
+    if orbits > MAX_SAMPLED_ORBITS:
+        return 0
+    return max(65, int(samples_per_orbit(e) * orbits) + 2)
 
 
 def _drift_rate(model, moments, s: np.ndarray, sun: SunGeometry) -> np.ndarray:
@@ -384,7 +394,11 @@ def error_terms(model, moments, span_days: float, axis: str = "figure",
     first = rotation_terms(mom, w, s0, sun0)
     o0, r0 = float(np.linalg.norm(first.oppolzer[0])), float(first.semi_diurnal_radius[0])
     if orbits <= MAX_SAMPLED_ORBITS:
-        t = _span_grid(model, span, max(65, int(samples_per_orbit(e) * orbits) + 2))
+        # a span within minutes of t₀ (a track at the pole's epoch: zero, or a few float64 spacings of a JD) is
+        # sampled over MIN_SAMPLED_SPAN_DAYS on its side: the largest rate and change over a longer span bound those
+        # of the shorter one, where a grid of 65 equal or crowded epochs gave the rate 0/0 (NaN)
+        sampled = math.copysign(max(abs(span), MIN_SAMPLED_SPAN_DAYS), span)
+        t = _span_grid(model, sampled, sampled_epochs(e, orbits))
         sun = SunGeometry.at(model, t)
         psi, _, _, eps = model.angles(t)
         s = model.pole_orbit_frame(psi, eps)

@@ -160,6 +160,8 @@ class SpinHistory:
 #: 1000 years (dropping half the osculating samples' short-period noise) by up to 150″. A C² interpolant keeps
 #: DOP853's steps long (a C¹ one, Catmull–Rom, took 3x more)
 ORBIT_SAMPLE_YEARS = 500.0
+#: the least spacing of the orbit's knots (years, ~32 s): a shorter span is sampled on knots this far apart
+MIN_KNOT_YEARS = 1e-6
 
 
 class _SampledOrbit:
@@ -170,7 +172,11 @@ class _SampledOrbit:
     def __init__(self, orbit, spin: SpinConstants, lo: float, hi: float):
         # samples on [lo, hi] only (the orbit may end there), at most ORBIT_SAMPLE_YEARS apart
         intervals = max(int(math.ceil((hi - lo) / ORBIT_SAMPLE_YEARS)), 3)
-        t = np.linspace(lo, hi, intervals + 1) if hi > lo else lo + np.arange(4.0)
+        # a span too short for knots MIN_KNOT_YEARS apart (a history within seconds of the spin's epoch): knots that
+        # far apart, the orbit held at hi beyond it (it moves by ~1e-12 rad in 1e-6 years), not knots that float64
+        # cannot tell apart or a spline that divides by a subnormal spacing
+        short = not hi - lo >= intervals * MIN_KNOT_YEARS
+        t = lo + MIN_KNOT_YEARS * np.arange(4.0) if short else np.linspace(lo, hi, intervals + 1)
         n = orbit.pole_at(np.minimum(t, hi))
         alpha, gp = spin.constants(orbit.semi_major_axis_at(np.minimum(t, hi)), orbit.eccentricity_at(np.minimum(t, hi)))
         self.t0 = float(t[0])

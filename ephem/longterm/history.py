@@ -48,6 +48,7 @@ from ..base.budget import charge, checkpoint
 from ..bodies.catalogue import DEFAULT_DATASET, Body, load_catalogue
 from ..base.constants import MAS
 from ..base.errors import InvalidInputError, NotApplicableError, count_text
+from ..base.grids import check_step
 from ..orbit.geometry import angle_between
 from .averaged_spin import MEANINGFUL_LIMIT, ORBIT_SAMPLE_YEARS, SpinHistory, outward_max
 from .nbody_orbit import (SHIPPED_ASTEROIDS, SHIPPED_BODIES, SHIPPED_PLANETS, load_metadata, nbody_cost_seconds,
@@ -74,7 +75,11 @@ PLANETS = ("Mercury", "Venus", "Earth", "Mars", "Jupiter", "Saturn", "Uranus", "
 
 
 def history_grid(start_year, stop_year, step_years, max_samples: int = MAX_HISTORY_SAMPLES) -> np.ndarray:
-    """The requested epochs (Julian years from J2000.0), validated: each field named in its error."""
+    """The requested epochs (Julian years from J2000.0), validated: each field named in its error.
+
+    Any span after start_year within :data:`MAX_SPAN_YEARS` is served, however short (a span shorter than the step
+    is its one epoch, start_year); a step finer than float64 years resolve there is refused
+    (:func:`ephem.base.grids.check_step`)."""
     values = {}
     for name, v in (("start_year", start_year), ("stop_year", stop_year), ("step_years", step_years)):
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
@@ -94,6 +99,7 @@ def history_grid(start_year, stop_year, step_years, max_samples: int = MAX_HISTO
                                 f"most {max_samples} (a step of at least {(stop - start) / (max_samples - 1):.4g} "
                                 "years)")
     count = int(math.floor(steps)) + 1
+    check_step("step_years", start, stop, step, count, "years", "years from J2000.0")
     return start + step * np.arange(count)
 
 
@@ -323,7 +329,8 @@ def history_cost(spin, choice: OrbitChoice, lo: float, hi: float, count: int) ->
     500 years (its pole, a and e) and at the epochs (twice: the spin's frame and the orbit's error)."""
     t0 = getattr(spin, "epoch_years", 0.0)
     span = float(max(lo, hi, t0) - min(lo, hi, t0))
-    points = 2 * (int(math.ceil(span / ORBIT_SAMPLE_YEARS)) + 1 + count)
+    own = getattr(spin, "orbit_points", None)      # a spin whose own price counts its reads of the orbit says how many
+    points = own(span, count) if own is not None else 2 * (int(math.ceil(span / ORBIT_SAMPLE_YEARS)) + 1 + count)
     per = SECULAR_POINT_S if choice.name == "secular" else SPLINE_POINT_S
     return choice.cost + cost.Cost((cost.Part("step_years", f"the {choice.name} orbit at {points} epochs",
                                               points * per, points * 56.0 / cost.MB),     # 7 float64 a point
