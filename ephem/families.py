@@ -34,7 +34,8 @@ class Family:
 
 #: the families, most specific first
 FAMILIES: tuple[Family, ...] = (
-    Family("ephem.moon.family", "SynchronousTheory", ("cassini", "librations", "integration"), is_synchronous),
+    Family("ephem.moon.family", "SynchronousTheory", ("cassini", "librations", "integration", "de421"),
+           is_synchronous),
     Family("ephem.earth.family", "LunisolarTheory", ("lunisolar", "nonrigid"), is_lunisolar),
     Family("ephem.sun.family", "SunLadder", ("secular", "series", "hansen", "second_order", "nonrigid",
                                              "numerical", "real_orbit"), is_centre_alone),
@@ -57,7 +58,12 @@ def theory_for(body: Body, perturbers: tuple[str, ...], axis: str = "figure"):
     (:class:`~ephem.longterm.with_long_term.WithLongTerm`)."""
     for family in FAMILIES:
         if family.serves(body, perturbers):
-            return WithLongTerm(family.load()(body, perturbers, axis))
+            cls = family.load()
+            if axis not in cls.axes:
+                raise NotApplicableError(body.name, f"{cls.summary} follows the axes {', '.join(cls.axes)}, not "
+                                         f"{axis}" + ("" if axis != "mean_rotation" else
+                                                      ": the mean rotation axis is a synchronous body's"))
+            return WithLongTerm(cls(body, perturbers, axis))
     raise NotApplicableError(body.name, f"no theory here models {body.name} under {', '.join(perturbers)}")
 
 

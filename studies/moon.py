@@ -81,10 +81,11 @@ def cassini_circle(jd_tdb: np.ndarray, inclination_deg: float = CIRCLE_I_DEG) ->
 
 
 def route_pole(start: float, stop: float, step: float, **request) -> tuple[np.ndarray, np.ndarray, dict]:
-    """The library's Moon pole: (JD TDB, ICRF unit vectors, the answer's ``model`` object)."""
+    """The library's Moon pole, its mean rotation axis (the IAU's is the mean-Earth frame's pole) unless the request
+    names another: (JD TDB, ICRF unit vectors, the answer's ``model`` object)."""
     from ephem import api
 
-    ans = api.track_arrays("moon", start, stop, step, **request)
+    ans = api.track_arrays("moon", start, stop, step, **{"axis": "mean_rotation", **request})
     return np.asarray(ans["jd_tdb"]), iau.unit_vectors(ans["pole_ra_deg"], ans["pole_dec_deg"]), ans["model"]
 
 

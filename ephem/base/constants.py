@@ -37,10 +37,12 @@ CENTER_HILL_AU = {"Sun": 2.3e5, "Earth": 0.0100}
 #: Julian dates accepted anywhere (times and epochs alike), open interval: 4713 BC to AD 22666.
 JD_RANGE = (0.0, 1e7)
 #: The poles a spin-axis track can follow: the figure axis (the body's axis of largest inertia, which circles the
-#: angular momentum by the free wobble), the angular momentum, or the figure axis's forced motion
+#: angular momentum by the free wobble), the angular momentum, the figure axis's forced motion
 #: (``forced_figure``: the figure axis without its free wobble, which is then not an error: the analogue of the IERS's
-#: celestial intermediate pole, whose free wobble is polar motion).
-AXES = ("figure", "angular_momentum", "forced_figure")
+#: celestial intermediate pole, whose free wobble is polar motion), or a synchronous body's mean rotation axis
+#: (``mean_rotation``: the pole of its mean-Earth/rotation frame, the IAU's lunar pole; its figure axis is turned from
+#: it by the degree-3 field, 78.56″ for the Moon). Each family says which it follows (``SpinAxisTheory.axes``).
+AXES = ("figure", "angular_momentum", "forced_figure", "mean_rotation")
 #: The pole whose free wobble is left to polar motion (:data:`AXES`)
 FORCED_FIGURE = "forced_figure"
 

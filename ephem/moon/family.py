@@ -8,22 +8,35 @@ the Moon's; a user's satellite has the bare Cassini state only):
 * ``librations``: plus the forced physical librations (:mod:`ephem.moon.physical_librations`), terms above
   :data:`~ephem.moon.model.LIBRATION_CUT`;
 * ``integration``: the full rigid Moon (:mod:`ephem.moon.rigid_integration`) on the real orbit, started at t0 on the
-  librations' state through the catalogue pole.
+  librations' state (the Moon: with the effective moments, from the ``librations`` model's frame);
+* ``de421`` (the Moon, inside 1900-2050, where the package shipping the kernel is installed): JPL's DE421 lunar
+  orientation itself, read from its binary PCK (:mod:`ephem.moon.lunar_kernel`), the analogue of a fast rotator's
+  ``real_orbit``.
 
-The mean pole is the catalogue pole with the libration series' displacement at t0 removed (every model shares
-it). Each estimate is measured against the next model up (docs/moon.md):
+Two axes (:data:`AXES`): ``mean_rotation``, the pole of the mean-Earth/rotation frame (the IAU's and DE421's ME pole),
+and ``figure``, the principal axis of largest inertia (DE421's PA pole), that frame turned by DE421's constant PA–ME
+rotation (:mod:`ephem.moon.orientation`). For the Moon every model's mean pole is the Cassini state at the observed
+inclination, lagging behind the moving ecliptic (:mod:`ephem.moon.orientation`); a user's satellite keeps the
+catalogue pole with the libration series' displacement at t0 removed, and its two axes coincide. The Moon's
+estimates, by term (docs/moon.md; each checked against DE421 in tests/moon/test_against_de421_moon.py):
 
 * ``librations`` (``cassini``): every forced libration left out, the sum of the series' pole amplitudes;
+* ``free_modes``: the free wobble (``cassini``: its amplitude, left out; ``librations``: its measurement) and the free
+  libration in latitude (0.025″, left out by all);
 * ``truncation`` (``librations``): the terms below the cut, the sum of their amplitudes;
-* ``ecliptic_motion`` (``cassini``, ``librations``): the series put the pole on the moving ecliptic of date, the
-  real pole lags it by up to v/ω_lat (the ecliptic pole's speed over the free libration in latitude's frequency;
-  1.8″): twice, as the catalogue pole at t0 holds that instant's lag;
-* ``start`` (``integration``): the rigid body's own Cassini state (the series' I for these moments) against the
-  mean pole it starts from: the free libration in latitude that start excites swings the pole by twice the gap;
+* ``inclination``: the observed mean inclination's distance from DE421's (data/moon_orientation.toml);
+* ``ecliptic_motion``: the lag behind the moving ecliptic, modelled to first order in the small tilts: a twentieth of
+  it (DE421's is 3 % from the model's);
+* ``start`` (``integration``): it starts on the ``librations`` state and carries that state's error terms; the free
+  modes that error excites turn it in space, 2δ sin(ωΔt/2) ≤ min(2, ωΔt) δ over Δt from t0 (ω the faster of the
+  free wobble and the free precession, ~74 years);
 * ``moments`` (``librations``, ``integration``): the series with the catalogue's moments against those that give
   the observed I and free longitude period (:data:`ephem.moon.physical_librations.EFFECTIVE_BETA_GAMMA`);
-* ``physics`` (every model, twice: at t and in the mean pole at t0): what a rigid degree-2 body leaves out, the
-  degree-3 field's pole terms (1.15″) and the dissipation's offset (0.26″, Williams et al. 2001).
+* ``physics``: what a rigid degree-2 body leaves out, the degree-3 field's periodic pole terms (1.15″) and the
+  dissipation's offset (0.26″, Williams et al. 2001) (a user's satellite: twice, at t and in its catalogue pole);
+* ``pa_offset`` (``figure``): the rounding of DE421's PA–ME angles to 0.01″;
+* ``ephemeris`` (``de421``): DE421's own accuracy, the change from DE418 the frame kernel measures (0.45 µrad in the
+  principal axes, 0.27 µrad in the ME frame, over 2000-2020).
 
 Here too: the Cassini state carried over millennia (:class:`CassiniHistory`), the precession and nutation results,
 the spectrum the kernel writer fits. Radians and days unless a name says otherwise.
@@ -41,7 +54,7 @@ from ..theory import cost
 from ..base.budget import Cost, charge
 from .cassini import free_librations, moment_ratios
 from ..bodies.catalogue import Body, is_synchronous
-from ..base.constants import J2000_JD, JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS, MAS, ROUNDING
+from ..base.constants import ARCSEC, J2000_JD, JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS, MAS, ROUNDING
 from ..base.errors import InvalidInputError, NotApplicableError
 from ..orbit.lunar import MIN_CUT_MAS, check_cut, lunisolar_data
 from ..orbit.relativity import geodesic_precession_rate
@@ -57,7 +70,11 @@ from ..longterm.averaged_spin import history_arrays
 from ..orbit.lunar import delaunay_arguments, delaunay_rates
 from ..base.units import in_unit
 from .model import (CIRCLE_SIDEBANDS, INTEGRATION_ERROR, LIBRATION_CUT, PHYSICS_OMITTED, SynchronousModel, check_body,
-                    ecliptic_lag, integrate_track, libration_series, moments_bound, series_built, synchronous_model)
+                    ecliptic_lag, integrate_axes, integrate_track, libration_series, moments_bound, series_built,
+                    synchronous_model)
+from . import lunar_kernel
+from .kernel_rung import PA_ROUNDING, kernel_estimate, kernel_track
+from .orientation import ecliptic_lag_vector, mean_inclination, pa_offset_angle
 
 
 THEORY = ("Cassini state of a synchronous rotator (ephem.moon.cassini): the spin axis, the orbit normal and the Laplace "
@@ -69,7 +86,31 @@ DESCRIPTIONS = {
                   "the rigid Moon's response to its orbit's periodic terms, terms above 0.01″)",
     "integration": "the full rigid Moon integrated on the real orbit (ephem.moon.rigid_integration: Euler's equations, "
                    "the Earth's and the Sun's torques), started on the librations' state at the pole epoch",
+    "de421": "JPL's DE421 lunar orientation, fitted to lunar laser ranging, read from its binary PCK "
+             "(moon_pa_de421_1900-2050.bpc; the mean-Earth frame by the frame kernel moon_080317.tf's constant "
+             "rotation): the Moon inside 1900-2050 only",
 }
+#: the axes a synchronous rotator's track follows (:data:`ephem.base.constants.AXES`)
+AXES = ("figure", "mean_rotation")
+AXIS_ASSUMPTIONS = {
+    "figure": "axis figure: the principal axis of largest inertia (DE421's PA frame +Z for the Moon): the mean-Earth/"
+              "rotation frame turned by DE421's constant PA-to-ME rotation (frame kernel moon_080317.tf: 67.92, 78.56, "
+              "0.30 arcsec about Z, Y, X), which puts it 78.56 arcsec from the mean rotation axis, toward the mean Earth "
+              "(a monthly circle in space)",
+    "mean_rotation": "axis mean_rotation: the pole of the mean-Earth/mean-rotation frame (the IAU's and DE421's ME "
+                     "frame +Z): the rotation axis the libration theory follows, with the free wobble as DE421's ME "
+                     "frame has it (a constant rotation of its principal axes)",
+}
+#: the free libration in latitude, rad (Yang et al. 2017: 0.025″ in DE430; Rambaux & Williams 2011 find it as small in
+#: DE421), which no model carries
+FREE_LATITUDE = 0.025 * ARCSEC
+#: the free wobble's measurement: its fit over 1970-2010 against one over 1900-2050 (0.03″; tools/
+#: derive_moon_free_wobble.py) and the period's uncertainty over the span, rounded up
+WOBBLE_MEASUREMENT = 0.1 * ARCSEC
+#: the lag behind the moving ecliptic is first order in the tilts and folds the Sun into ω_p: a twentieth of it stands
+#: for what is left out (DE421: 7.56″ against 7.33″ modelled, 3 %)
+LAG_MODEL_SHARE = 0.05
+
 ASSUMPTIONS = [
     "rigid synchronous body, rotation locked to the orbit (long axis toward the primary)",
     "the orbit's node regresses uniformly on the Laplace plane (the Moon: the mean node of Meeus 1998 eq. 47.7 on "
@@ -106,6 +147,11 @@ class CassiniHistory:
         """The Cassini pole at ``epochs`` epochs and the node's quadrature (:func:`ephem.theory.cost.cassini_history`)."""
         return cost.cassini_history(epochs)
 
+    def orbit_points(self, span_years: float, epochs: int) -> int:
+        """The orbit's points a history reads beside :meth:`cost`: none, its price was measured with the orbit's
+        spline read at its quadrature's points and its epochs (:func:`ephem.longterm.history.history_cost`)."""
+        return 0
+
     def history(self, orbit, years, progress=None):
         m = self.model
         years = np.asarray(years, dtype=float)
@@ -138,8 +184,9 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
     """A synchronous rotator (the Moon) under its primary: the Cassini state and its ladder."""
 
     summary = "the Cassini-state theory of a synchronous rotator (the Moon)"
-    models = ("cassini", "librations", "integration")
+    models = ("cassini", "librations", "integration", "de421")
     descriptions = DESCRIPTIONS
+    axes = AXES
 
     @classmethod
     def serves(cls, body: Body, perturbers: tuple[str, ...]) -> bool:
@@ -159,12 +206,17 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
     def check_request(self, model: str | None, order: int | None) -> None:
         check_body(self.body)
         no_order(self.body, order)
-        if self.axis != "figure":
-            raise NotApplicableError(self.body.name, "the Cassini-state theory serves the figure axis (the pole of "
-                                     "a synchronous body); its angular momentum differs from it by the precession's "
-                                     "own angular velocity, not modelled: ask for axis=figure")
+        if self.axis not in AXES:
+            raise NotApplicableError(self.body.name, refused_axis(self.requested_axis))
         if model in ("librations", "integration") and self.body.orbit.theory is None:
             raise NotApplicableError(self.body.name, no_orbit_theory(model))
+        if model == "de421" and not self.model.llr:
+            raise NotApplicableError(self.body.name, NOT_THE_MOON)
+
+    @property
+    def figure(self) -> bool:
+        """Whether the principal axis is asked for (else the mean rotation axis)."""
+        return self.axis == "figure"
 
     # --- cost: known before the work (data/cost_model.toml, benchmarks/bench_cost.py)
 
@@ -179,6 +231,8 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         """The model's own track (the estimates and the series are the choice's): the Cassini pole at every epoch,
         with the libration terms (``librations``), or integrated (``integration``)."""
         model = model or self.default_model(order)
+        if model == "de421":
+            return Cost((cost.lunar_kernel(count, lunar_kernel.kept()),))
         terms = self._terms_kept() if model == "librations" else 0
         parts = (cost.synchronous_track(count, terms),)
         if model == "integration":
@@ -203,7 +257,10 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
             why = no_orbit_theory("librations")
             return [Estimate("cassini", None, {"rounding": ROUNDING}, unestimated=("librations",)),
                     Estimate("librations", None, {}, available=False, why_not=why),
-                    Estimate("integration", None, {}, available=False, why_not=no_orbit_theory("integration"))]
+                    Estimate("integration", None, {}, available=False, why_not=no_orbit_theory("integration")),
+                    Estimate("de421", None, {}, available=False, why_not=NOT_THE_MOON)]
+        if m.llr:
+            return self._llr_estimates(jd_tdb)
         physics, ecliptic = 2.0 * PHYSICS_OMITTED, 2.0 * ecliptic_lag(m)
         moments = moments_bound(self.body)
         return [
@@ -214,6 +271,38 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
             Estimate("integration", None, {"start": 2.0 * abs(m.inclination - m.series.equator_inclination),
                                            "moments": moments, "integration": INTEGRATION_ERROR, "physics": physics,
                                            "rounding": ROUNDING}),
+            Estimate("de421", None, {}, available=False, why_not=NOT_THE_MOON),
+        ]
+
+    def _llr_estimates(self, jd_tdb) -> list[Estimate]:
+        """The Moon's estimates (module docstring): the mean pole's terms (the observed I, the lag's model, the free
+        latitude libration, the degree-3 field and dissipation), the librations' and the free wobble's."""
+        m = self.model
+        t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+        ends = np.array([t.min(), t.max()]) if t.size else np.array([m.pole_epoch])
+        lag = float(np.max(np.linalg.norm(ecliptic_lag_vector(ends, m.orbit.node_rate, m.lag_ratio), axis=1)))
+        common = {"inclination": mean_inclination()[1], "ecliptic_motion": LAG_MODEL_SHARE * lag,
+                  "physics": PHYSICS_OMITTED}
+        if self.figure:
+            common["pa_offset"] = PA_ROUNDING
+        common["rounding"] = ROUNDING
+        wobble = max(m.wobble.amplitudes)
+        moments = moments_bound(self.body)
+        librations = {"truncation": m.series.omitted_bound(LIBRATION_CUT)[0], "moments": moments,
+                      "free_modes": WOBBLE_MEASUREMENT + FREE_LATITUDE}
+        # the integration starts on the librations' state: its error there, and the free modes it excites, which turn
+        # it in space (the free wobble and the free precession, the faster ~74 years): 2δ sin(ωΔt/2) ≤ min(2, ωΔt) δ
+        delta = sum(librations.values()) + common["inclination"] + common["ecliptic_motion"]
+        far = float(np.max(np.abs(ends - m.pole_epoch)))
+        free = free_librations(m.orbit, m.body.moments, m.state)
+        swing = min(2.0, 2.0 * math.pi * far / min(free.wobble_days, free.precession_space_days))
+        return [
+            Estimate("cassini", None, {"librations": float(m.series.pole_amplitudes.sum()),
+                                       "free_modes": wobble + FREE_LATITUDE, **common}),
+            Estimate("librations", None, {**librations, **common}),
+            Estimate("integration", None, {**librations, **common, "start": swing * delta,
+                                           "integration": INTEGRATION_ERROR}),
+            kernel_estimate(t, self.figure),
         ]
 
     def named(self, jd_tdb, model, order):
@@ -227,6 +316,15 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         m = self.model
         model = model or self.default_model(order)
         t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+        if model == "de421":
+            return kernel_track(m, t, self.figure)
+        if m.llr:
+            if model == "integration":
+                axes = integrate_axes(m, t, self.figure)
+            else:
+                lib = model == "librations"
+                return m.track_of_poles(t, m.poles(t, librations=lib, wobble=lib, figure=self.figure))
+            return m.track_of_poles(t, axes[:, :, 2])
         if model == "cassini":
             return m.track(t)
         if model == "librations":
@@ -240,8 +338,15 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         warnings = []
         if m.series is None:
             warnings.append(no_orbit_theory("librations"))
+        assumptions = list(ASSUMPTIONS)
+        if m.llr:
+            assumptions[2] = MOON_MEAN_POLE
+            assumptions.append(AXIS_ASSUMPTIONS[self.axis])
+        elif self.axis == "figure" or self.axis == "mean_rotation":
+            assumptions.append("the figure and mean rotation axes coincide: no offset of the principal axes from the "
+                               "mean rotation frame (a degree-3 field) is known for this body")
         return {
-            "theory": THEORY, "eccentricity_order": None, "assumptions": list(ASSUMPTIONS), "warnings": warnings,
+            "theory": THEORY, "eccentricity_order": None, "assumptions": assumptions, "warnings": warnings,
             "spin_orbit_ratio": b.spin_rate_rad_per_day / mean_motion_rad_per_day(b.orbit.a_au, b.orbit.center),
             "min_spin_orbit_ratio": 0.0, "pole_epoch_jd_tdb": m.pole_epoch, "orbit_epoch_jd_tdb": b.orbit.epoch_jd_tdb,
         }
@@ -254,7 +359,9 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
             raise NotApplicableError(self.body.name, "the long-term Cassini state follows the primary's orbit plane, "
                                      "whose history is shipped for the Earth only (the Moon's primary)")
         cassini = next(e for e in self.estimates(np.array([self.model.pole_epoch])) if e.rung == "cassini")
-        return CassiniHistory(self.model, cassini.total)
+        # the history carries the mean rotation axis: the figure axis's monthly circle about it is an error there
+        circle = pa_offset_angle() if self.figure and self.model.llr else 0.0
+        return CassiniHistory(self.model, cassini.total + circle)
 
     def spectrum(self, aim_mas: float, mid_centuries: float, jd_tdb=None, psi=None) -> Spectrum:
         """The node's circle (a base at 0 with the precession's sidebands: the circle's projection on RA and Dec,
@@ -356,6 +463,22 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
 
 #: terms of the Moon's series above :data:`LIBRATION_CUT` (the cost before it is built)
 LIBRATION_TERMS_KEPT = 60
+NOT_THE_MOON = ("DE421's lunar orientation is the Moon's: a user's synchronous satellite has the Cassini state "
+                "(model=cassini)")
+MOON_MEAN_POLE = ("the Moon's mean pole: the Cassini state at the observed mean inclination I = 1.54242 deg (Eckhardt "
+                  "1981, Meeus 1998 ch. 53; not the catalogue's IAU pole), its node at the Delaunay node + 90 deg, "
+                  "displaced by its lag behind the moving ecliptic (ephem.moon.orientation: 7.3 arcsec) and, with the "
+                  "librations, by the free wobble measured in DE421")
+
+
+def refused_axis(axis: str) -> str:
+    """Why a synchronous rotator's track does not follow ``axis``."""
+    return (f"the Cassini-state theory follows the figure axis (the principal axis of largest inertia) and the mean "
+            f"rotation axis (axis=mean_rotation, the mean-Earth frame's pole), not {axis}: a synchronous body's "
+            "angular momentum differs from its rotation axis by the precession's own angular velocity, not modelled, "
+            "and its free wobble is part of both axes")
+
+
 
 
 def no_orbit_theory(model: str) -> str:

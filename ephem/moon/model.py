@@ -12,8 +12,15 @@ served: the physics solved is within about 1 % of the observed inclination, the 
 Track angles: ψ = −Ω̇ (t − t0) with Ω̇ the node's inertial rate (the precession about the Laplace pole, positive
 retrograde as the Earth's), Δψ and Δε the librations' displacement of the pole in longitude (times sin I: an angle
 on the sky) and in inclination, the obliquity θ = i + I + Δε to the orbit of date. The ``integration`` model's
-track is :func:`integrate_track` (the full rigid Moon, :mod:`ephem.moon.rigid_integration`). Radians and days
-unless a name says otherwise.
+track is :func:`integrate_track` (the full rigid Moon, :mod:`ephem.moon.rigid_integration`).
+
+The Moon (a body with a theory of its orbit's periodic terms) carries what lunar laser ranging adds
+(:mod:`ephem.moon.orientation`): its mean pole is the Cassini state at the observed inclination (not the catalogue's
+IAU pole, 9″ off), lagging behind the moving ecliptic as the physics makes it; ``librations`` adds the free wobble;
+and each model computes the whole body frame (:meth:`SynchronousModel.axes`), the mean-Earth/rotation frame, whose
+pole is the ``mean_rotation`` axis, and the principal axes turned from it by DE421's constant rotation, whose pole is
+the ``figure`` axis. A user's satellite keeps its catalogue pole, and its two axes coincide (no degree-3 field is
+known for it). Radians and days unless a name says otherwise.
 """
 from __future__ import annotations
 
@@ -31,11 +38,14 @@ from ..base.constants import (ARCSEC, AU_M, DAY_S, GENERAL_PRECESSION_ARCSEC_PER
 from ..base.errors import NotApplicableError
 from ..orbit.geometry import carry, icrf_to_ecliptic_matrix, lon_lat, unit_vector
 from ..orbit.kepler import mean_motion_rad_per_day
+from ..orbit.lunar import delaunay_arguments
 from ..forced.precession_nutation import Track
+from .libration_frames import rodrigues
 from .libration_series import shipped_series
+from .orientation import ecliptic_lag_vector, free_wobble, lag_ratio, lag_rotation, me_to_pa, mean_inclination
 from .physical_librations import EFFECTIVE_MOMENTS, moon_physical_librations
 from .rigid_integration import integrate_synchronous
-from ..forced.rigid_numerics import quaternion_from_matrix
+from ..forced.rigid_numerics import quaternion_from_matrix, rotation_matrices
 
 
 #: The Sun's mean orbit seen from a body of the Earth's neighbourhood: 1 AU, e = 0.0167 (Simon et al. 1994)
@@ -112,6 +122,14 @@ class SynchronousModel:
     hd: float = field(default=0.0)
     #: the forced physical librations (the Moon's), or None where the orbit has no theory of its periodic terms
     series: object = field(default=None, repr=False)
+    #: the Moon's orientation beyond the rigid degree-2 theory (:mod:`ephem.moon.orientation`), or None (a user's
+    #: satellite): the spin pole's lag behind the moving ecliptic over the orbit normal's (:func:`lag_ratio`)
+    lag_ratio: float | None = None
+    #: the free wobble (:class:`~ephem.moon.orientation.FreeWobble`), or None
+    wobble: object = field(default=None, repr=False)
+    #: ME → PA coordinates (3, 3) (:func:`~ephem.moon.orientation.me_to_pa`), or None: the principal axes taken as the
+    #: mean rotation frame
+    me_to_pa: object = field(default=None, repr=False)
 
     @property
     def obliquity(self) -> float:
@@ -133,6 +151,72 @@ class SynchronousModel:
 
     def node(self, jd_tdb) -> np.ndarray:
         return self.node_at_pole_epoch + self.node_rate_of_frame * (np.asarray(jd_tdb, dtype=float) - self.pole_epoch)
+
+    @property
+    def llr(self) -> bool:
+        """Whether the model carries the Moon's lunar-laser-ranging orientation (:mod:`ephem.moon.orientation`)."""
+        return self.lag_ratio is not None
+
+    def axes(self, jd_tdb, librations: bool = True, wobble: bool = True, figure: bool = False) -> np.ndarray:
+        """The body axes (N, 3, 3; columns X toward the mean Earth, Y, Z the pole) in the mean ecliptic and equinox
+        of date (the Moon's model, :attr:`llr`): the Cassini frame Rz(Ω + π) Rx(I) Rz(F) displaced by the libration
+        series' ρ, σ, τ (``librations``; 3-1-3 Euler angles φ = Ω + π + σ / sin I, θ = I + ρ, ψ = F + τ − σ / sin I,
+        Ω and F the Delaunay arguments), moved in space by the lag behind the moving ecliptic, turned in the body by
+        the free wobble (``wobble``): the mean-Earth/rotation frame; with ``figure``, the principal axes, that frame
+        turned by the constant PA–ME rotation."""
+        t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+        axes = self._forced_axes(t, librations)
+        if self.lag_ratio:
+            axes = lag_rotation(ecliptic_lag_vector(t, self.orbit.node_rate, self.lag_ratio)) @ axes
+        if wobble and self.wobble is not None:
+            axes = self.wobble.apply(axes, t)
+        if figure and self.me_to_pa is not None:
+            axes = axes @ self.me_to_pa.T
+        return axes
+
+    def poles(self, jd_tdb, librations: bool = True, wobble: bool = True, figure: bool = False) -> np.ndarray:
+        """The pole (N, 3) of :meth:`axes` in the ecliptic and equinox of date, computed as the forced axes times the
+        pole's body vector (the wobble and the PA–ME rotation act on that vector alone) and moved by the lag to first
+        order (|δ|²/2 < 1e-9 rad): a third of the work of the whole frame."""
+        t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+        u = np.broadcast_to(np.array([0.0, 0.0, 1.0]) if not figure or self.me_to_pa is None else self.me_to_pa[2],
+                            (t.size, 3))
+        if wobble and self.wobble is not None:
+            u = u + np.cross(self.wobble.rotation(t), u)          # exp([w×]) u, |w| < 1e-4: second order 1e-9 rad
+        pole = np.einsum("nij,nj->ni", self._forced_axes(t, librations), u)
+        if self.lag_ratio:
+            r = np.cross(np.array([0.0, 0.0, 1.0]), ecliptic_lag_vector(t, self.orbit.node_rate, self.lag_ratio))
+            pole = pole + np.cross(r, pole)
+        return pole
+
+    def _forced_axes(self, t: np.ndarray, librations: bool) -> np.ndarray:
+        """The Cassini frame displaced by the libration series (``librations``), (N, 3, 3): :meth:`axes` without
+        the lag and the wobble."""
+        args = delaunay_arguments(t)
+        I = self.inclination
+        if librations and self.series is not None:
+            rho, sigma, tau = self.series.truncated(LIBRATION_CUT).angles(t)
+        else:
+            rho = sigma = tau = np.zeros(t.shape)
+        dphi = sigma / math.sin(I)
+        phi, theta, psi = args[:, 4] + math.pi + dphi, I + rho, args[:, 2] + tau - dphi
+        cp, sp, ct, st, cs, ss = np.cos(phi), np.sin(phi), np.cos(theta), np.sin(theta), np.cos(psi), np.sin(psi)
+        return np.stack([np.stack([cp * cs - sp * ct * ss, -cp * ss - sp * ct * cs, sp * st], axis=-1),
+                         np.stack([sp * cs + cp * ct * ss, -sp * ss + cp * ct * cs, -cp * st], axis=-1),
+                         np.stack([st * ss, st * cs, ct], axis=-1)], axis=-2)
+
+    def track_of_poles(self, jd_tdb, poles) -> Track:
+        """The track of pole vectors (N, 3) in the orbit's frame of date: Δψ (the displacement along the Laplace
+        plane's longitude from the mean pole at Ω + 90°, times sin I) and Δε (in inclination from I)."""
+        t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+        lon, lat = lon_lat(poles)
+        deps = 0.5 * math.pi - lat - self.inclination
+        dpsi = np.remainder(lon - self.node(t) - 0.5 * math.pi - self.longitude_offset + math.pi,
+                            2.0 * math.pi) - math.pi
+        ra, dec = lon_lat(np.einsum("nij,nj->ni", _frame_matrices(self.frame, t), poles))
+        psi = self.precession_rate * (t - self.pole_epoch)
+        return Track(t, psi, dpsi * math.sin(self.inclination), deps, self.orbit.inclination + 0.5 * math.pi - lat,
+                     ra, dec)
 
     def track(self, jd_tdb, dpsi=None, deps=None) -> Track:
         """The pole at JD TDB: the mean pole turned with the node, displaced by the librations (Δψ: along the
@@ -196,6 +280,14 @@ def synchronous_model(body: Body) -> SynchronousModel:
     node0 = math.radians(o.node_deg) + frame_rate * (t0 - o.epoch_jd_tdb)
     lon, colat = _laplace_lon_lat(body)
     series = libration_series(body)
+    if series is not None and o.frame == "ecliptic_of_date":
+        # the Moon: the Cassini state at the observed I, its node at Ω + 90° (Cassini's third law), the lag and the
+        # free wobble, and the principal axes turned from the mean rotation frame (ephem.moon.orientation)
+        colat = mean_inclination()[0]
+        free = free_librations(orbit, body.moments, state)
+        ratio = lag_ratio(colat, orbit.inclination, orbit.node_rate, free.precession_space_days)
+        return SynchronousModel(body, orbit, state, colat, 0.0, node0, frame_rate, t0, o.frame, body.hd, series,
+                                ratio, free_wobble(), me_to_pa())
     if series is not None:
         rho0, sigma0, _ = series.angles(np.array([t0]))
         colat -= float(rho0[0])
@@ -253,3 +345,28 @@ def integrate_track(m: SynchronousModel, jd_tdb) -> Track:
     deps = 0.5 * math.pi - lat - m.inclination
     dpsi = np.remainder(lon - m.node(t) - 0.5 * math.pi - m.longitude_offset + math.pi, 2.0 * math.pi) - math.pi
     return m.track(t, dpsi * math.sin(m.inclination), deps)
+
+
+def integrate_axes(m: SynchronousModel, jd_tdb, figure: bool = False) -> np.ndarray:
+    """The Moon's ``integration`` model (:attr:`SynchronousModel.llr`): the rigid Moon with the effective moments
+    (:data:`~ephem.moon.physical_librations.EFFECTIVE_MOMENTS`, whose Cassini state lies at the observed I) on its real
+    orbit, started at the pole epoch on the ``librations`` model's frame (the lag and the free wobble included) and
+    angular velocity; its body axes (N, 3, 3) in the ecliptic and equinox of date, the mean rotation frame, or with
+    ``figure`` the principal axes (:meth:`SynchronousModel.axes`)."""
+    import erfa
+
+    t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+    t0 = m.pole_epoch
+    start = np.array([t0])
+    to_j2000 = erfa.ecm06(J2000_JD, 0.0) @ erfa.ecm06(t0, 0.0).T
+    omega = m.series.angular_velocity(start, inertial=True)[0]
+    if m.wobble is not None:     # a free wobble moves the axes, not the rotation: ω held in space, in the new axes
+        omega = rodrigues(m.wobble.rotation(start).T)[0][:, :, 0].T @ omega
+    y0 = np.concatenate([omega / m.orbit.mean_motion, quaternion_from_matrix(to_j2000 @ m.axes(start)[0])])
+    run = integrate_synchronous(EFFECTIVE_MOMENTS, m.orbit, t0, t, real_moon=True, y0=y0, rtol=INTEGRATION_RTOL,
+                                atol=INTEGRATION_RTOL * 1e-3)
+    # body -> J2000 ecliptic -> ICRF -> ecliptic of date
+    axes = erfa.ecm06(t, np.zeros_like(t)) @ icrf_to_ecliptic_matrix().T @ rotation_matrices(run.quaternion)
+    if figure and m.me_to_pa is not None:
+        axes = axes @ m.me_to_pa.T
+    return axes

@@ -313,6 +313,16 @@ def synchronous_integration(span_days: float, epochs: int) -> Part:
                 years * _u("moon_mb_per_year") + epochs * _u("track_bytes_per_epoch") / MB)
 
 
+def lunar_kernel(epochs: int, kept: bool) -> Part:
+    """DE421's lunar orientation read from its binary PCK (:mod:`ephem.moon.lunar_kernel`) at ``epochs`` epochs: the
+    Chebyshev pieces and the axes at each, the ecliptic of date's rotation, and the file's first mapping while the
+    process does not keep it open (``kept``)."""
+    return Part("step_days", f"DE421's lunar orientation at {epochs} epochs",
+                (0.0 if kept else _u("lunar_kernel_open_s")) + epochs * (_u("lunar_kernel_epoch_s")
+                                                                          + _u("synchronous_epoch_s")),
+                epochs * _u("track_bytes_per_epoch") / MB)
+
+
 def spin_history(span_years: float, epochs: int, steps_per_sample: int = 1) -> Part:
     """The averaged spin equation integrated over ``span_years`` (both sides of the epoch together) with its
     neighbours (:func:`ephem.longterm.averaged_spin.integrate`'s splitting), then the requested epochs. The steps

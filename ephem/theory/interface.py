@@ -171,6 +171,9 @@ class SpinAxisTheory(Pricing):
     #: a rotation phase
     models_rotation_scale: ClassVar[bool] = False
 
+    #: the axes (:data:`ephem.base.constants.AXES`) the family's tracks follow; another is not applicable
+    axes: ClassVar[tuple[str, ...]] = ("figure", "angular_momentum", "forced_figure")
+
     def __init__(self, body: Body, perturbers: tuple[str, ...], axis: str = "figure", wobble=None,
                  rotation_phase: float | None = None):
         self.body = body

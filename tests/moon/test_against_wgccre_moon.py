@@ -156,7 +156,7 @@ def test_each_model_is_within_its_estimate_of_the_iau_pole(model):
 def test_the_model_a_tolerance_picks_is_within_it_of_the_iau_pole():
     # the IAU's own error as the tolerance: the served model within it of the truth, the truth within it of the IAU
     jd, vec, info = _route(QUOTED, tolerance_mas=moon.TOLERANCE_MAS)
-    assert info["name"] == "librations"
+    assert info["name"] in ("librations", "de421")        # the cheaper within it (DE421's kernel inside 1900-2050)
     assert (_angle(vec, iau.pole_vectors(jd)) / ARCSEC).max() <= 2.0 * moon.IAU_ERROR_ARCSEC
 
 
