@@ -27,6 +27,8 @@ from .fast_routes import OnePassRoute, one_pass
 from .offload import compute
 from .openapi_rules import document_rules
 from .settings import Settings
+from .json_body import UniqueJsonKeys
+from .unexpected import UnexpectedErrors
 
 
 # the names the library knows, one source each: datasets (data/catalogue), models (ephem.families), axes
@@ -122,12 +124,14 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.settings = settings
     app.router.route_class = OnePassRoute       # the endpoints marked one_pass: their parameters validated in one pass
     memo.set_budget_mb(settings.model_cache_mb)      # the process's per-body caches (one app per worker process)
+    app.add_middleware(UniqueJsonKeys)     # inside the size limit, which reads the body whole: a key twice is a 422
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     problems.install(app)
     guards.install(app, settings)
     caching.install(app, settings)  # ETag, Cache-Control; a 304 before the budget and the route (outermost)
     _install_docs(app)
     pages.install(app)              # the web page for a person (service/pages.py)
+    app.add_middleware(UnexpectedErrors)    # outside all: a bug's 500 problem, the keep-alive connection kept
 
     def health_response() -> JSONResponse:
         return JSONResponse({"status": "ok", "version": ephem.__version__, "datasets": available_datasets()})

@@ -10,6 +10,8 @@ import orjson
 
 from ephem.api import InvalidInputError
 
+from .json_body import duplicate_reason, first_duplicate
+
 
 def batch_rows(raw: bytes, content_type: str) -> tuple[list, dict | None]:
     """The rows (and history) of a POST /v1/batch body: a JSON array of row objects, a JSON object {rows, history},
@@ -21,6 +23,9 @@ def batch_rows(raw: bytes, content_type: str) -> tuple[list, dict | None]:
         doc = orjson.loads(raw)
     except orjson.JSONDecodeError as exc:
         raise InvalidInputError("body", f"not JSON: {exc}") from None
+    repeated = first_duplicate(raw)     # orjson keeps the last of a key given twice: the page's upload is refused
+    if repeated is not None:
+        raise InvalidInputError(repeated[0], duplicate_reason(repeated[1]))
     if isinstance(doc, dict):
         extra = sorted(set(doc) - {"rows", "history"})
         if extra:     # a misspelt "history" would otherwise be dropped without a word

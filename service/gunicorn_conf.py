@@ -29,7 +29,8 @@ _own_lock_dir = "EPHEM_LOCK_DIR" not in os.environ
 os.environ.setdefault("EPHEM_LOCK_DIR", tempfile.mkdtemp(prefix="ephem-service-"))
 _settings = Settings.from_env()
 
-worker_class = "uvicorn_worker.UvicornWorker"
+# uvicorn's worker with the request head capped at EPHEM_MAX_HEADER_BYTES (431 beyond: service/server.py)
+worker_class = "service.server.Worker"
 # a worker silent this long is killed and replaced: the deadline plus the watchdog's grace, plus slack
 timeout = int(_settings.request_deadline_s + _settings.hard_kill_after_s + 15)
 graceful_timeout = 20

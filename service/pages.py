@@ -103,15 +103,35 @@ def _number(value, digits: int = 10) -> str:
 _env.filters["num"] = _number
 
 
-def _api_url(request: Request, path: str, params: dict) -> str:
+def _api_url(request: Request, path: str, params: dict, absolute: bool = False) -> str:
+    """The API's URL for ``path`` and ``params``: under the configured public base URL (EPHEM_PUBLIC_BASE_URL), else
+    relative (a link the browser resolves against the page's own address), or with ``absolute`` (a curl line) under
+    the address the connection reached, the server's own socket. Never the request's Host header: a client could
+    write any name there, and the page would hand it to the next reader (issue 42)."""
     query = urlencode({k: v for k, v in params.items() if v not in (None, "")})
-    return f"{str(request.base_url).rstrip('/')}{path}" + (f"?{query}" if query else "")
+    return _api_base(request, absolute) + path + (f"?{query}" if query else "")
+
+
+def _api_base(request: Request, absolute: bool) -> str:
+    configured = request.app.state.settings.public_base_url
+    root = request.scope.get("root_path", "").rstrip("/")
+    if configured:
+        return configured + root
+    server = request.scope.get("server")
+    if not absolute or not server:
+        return root
+    host, port = server[0], server[1]
+    host = f"[{host}]" if ":" in str(host) else str(host)          # an IPv6 address
+    scheme = request.scope.get("scheme", "http")
+    default = {"http": 80, "https": 443}.get(scheme)
+    return f"{scheme}://{host}" + ("" if port in (None, default) else f":{port}") + root
 
 
 def _snippets(request: Request, path: str, params: dict, call: str) -> dict:
-    """The equivalent API URL, a curl line and a Python call for a result."""
-    url = _api_url(request, path, params)
-    return {"url": url, "curl": f"curl -s {shlex.quote(url)}", "python": f"from ephem import api\n{call}"}
+    """The equivalent API URL (``href`` the page's link to it), a curl line and a Python call for a result."""
+    url = _api_url(request, path, params, absolute=True)
+    return {"url": url, "href": _api_url(request, path, params), "curl": f"curl -s {shlex.quote(url)}",
+            "python": f"from ephem import api\n{call}"}
 
 
 def _python_call(function: str, body: str, params: dict) -> str:
@@ -284,8 +304,10 @@ def install(app: FastAPI) -> None:
         return _page("my_body.html", _status(problem), body=form["name"] or "your body", form=form, result=result,
                      problem=problem, fields=MY_BODY_FIELDS, groups=MY_BODY_GROUPS, centers=tuple(api.GM_CENTER),
                      precession_code={
-                         "url": _api_url(request, "/v1/precession-nutation", {}),
-                         "curl": f"curl -s -X POST {shlex.quote(_api_url(request, '/v1/precession-nutation', {}))} "
+                         "url": _api_url(request, "/v1/precession-nutation", {}, absolute=True),
+                         "href": _api_url(request, "/v1/precession-nutation", {}),
+                         "curl": f"curl -s -X POST "
+                                 f"{shlex.quote(_api_url(request, '/v1/precession-nutation', {}, absolute=True))} "
                                  f"-H 'content-type: application/json' -d {shlex.quote(json.dumps(doc))}",
                          "python": "from ephem import api\n" + _python_body(doc)},
                      title="A body of your own")
@@ -319,9 +341,9 @@ def install(app: FastAPI) -> None:
             writer.writerows([["" if r.get(c) is None else r.get(c) for c in result["columns"]] for r in result["rows"]])
             download = "data:text/csv;charset=utf-8," + quote(out.getvalue())
         history = {k: v for k, v in form.items() if v}
-        url = _api_url(request, "/v1/batch", history)
+        url = _api_url(request, "/v1/batch", history, absolute=True)
         name = file.filename or "bodies.csv"
-        snippets = {"url": url,
+        snippets = {"url": url, "href": _api_url(request, "/v1/batch", history),
                     "curl": f"curl -s -X POST {shlex.quote(url)} -H 'content-type: text/csv' --data-binary @{shlex.quote(name)}",
                     "python": "import csv\nfrom ephem import api\n"
                               f"rows = list(csv.DictReader(open({name!r}, newline='')))\n"

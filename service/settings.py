@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
+from urllib.parse import urlsplit
 
 
 def _int_env(name: str, default: int, minimum: int = 1) -> int:
@@ -46,6 +47,18 @@ def _bool_env(name: str, default: bool) -> bool:
     raise SystemExit(f"{name} must be one of 1/0, true/false, yes/no, on/off; got {raw!r}")
 
 
+def _url_env(name: str) -> str | None:
+    """An absolute http(s) URL without query or fragment (its trailing slash dropped), or None when unset."""
+    raw = (os.environ.get(name) or "").strip()
+    if not raw:
+        return None
+    parts = urlsplit(raw)
+    if parts.scheme not in ("http", "https") or not parts.netloc or parts.query or parts.fragment:
+        raise SystemExit(f"{name} must be an absolute http(s) URL without query or fragment "
+                         f"(https://ephem.example.org), got {raw!r}")
+    return raw.rstrip("/")
+
+
 @dataclass(frozen=True)
 class Settings:
     #: largest number of epochs in one track (422 beyond): 10^5 is 12 MB of JSON, ~0.05 s of one core; at
@@ -54,6 +67,13 @@ class Settings:
     max_track_samples: int = 100_000
     #: largest request body in bytes (413 beyond)
     max_body_bytes: int = 65_536
+    #: largest request head (the request line and the headers) in bytes, as received: 431 beyond (service/server.py;
+    #: nginx's default is four 8 KiB buffers). Read by the server (gunicorn's worker), not by the app
+    max_header_bytes: int = 32_768
+    #: the address the pages' API links and curl lines start with (``https://ephem.example.org``, a path prefix
+    #: allowed), for a service behind a proxy; None: the links are relative and the curl lines use the address the
+    #: connection reached (the server's own socket, never the client's Host header)
+    public_base_url: str | None = None
     #: build the Earth's lunisolar series at start-up (~2 s) rather than in the first Earth request
     warm_up: bool = True
     #: a request's predicted CPU time, seconds of one core (422 beyond, before any work)
@@ -97,6 +117,8 @@ class Settings:
     def from_env(cls) -> "Settings":
         return cls(max_track_samples=_int_env("EPHEM_MAX_TRACK_SAMPLES", cls.max_track_samples),
                    max_body_bytes=_int_env("EPHEM_MAX_BODY_BYTES", cls.max_body_bytes),
+                   max_header_bytes=_int_env("EPHEM_MAX_HEADER_BYTES", cls.max_header_bytes, minimum=1024),
+                   public_base_url=_url_env("EPHEM_PUBLIC_BASE_URL"),
                    warm_up=_bool_env("EPHEM_WARM_UP", cls.warm_up),
                    max_request_cpu_s=_float_env("EPHEM_MAX_REQUEST_CPU_S", cls.max_request_cpu_s),
                    max_request_memory_mb=_float_env("EPHEM_MAX_REQUEST_MEMORY_MB", cls.max_request_memory_mb),
