@@ -248,9 +248,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                                                  "with the Moon its lunisolar model")] = None,
               axis: Annotated[Axis, Query(description="the pole to follow: the figure axis (the body's axis of "
                                                       "largest inertia, which circles the angular momentum by the "
-                                                      "free wobble, counted as an error), the angular momentum, or "
+                                                      "free wobble, counted as an error), the angular momentum, "
                                                       "forced_figure (the figure axis's forced motion, as the IAU's "
-                                                      "CIP: the free wobble is polar motion)")] = Axis("figure"),
+                                                      "CIP: the free wobble is polar motion), or mean_rotation (a "
+                                                      "synchronous body's mean rotation axis: the Moon's mean-Earth "
+                                                      "pole, the IAU's; its figure axis is 78.56″ from it)")]
+              = Axis("figure"),
               free_wobble_phase_deg: Annotated[Optional[float], Query(
                   description="the figure axis's position angle about the angular momentum at free_wobble_epoch, "
                               "from the ICRF north through east, deg: lets the track add the free wobble when the "

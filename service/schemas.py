@@ -104,8 +104,9 @@ class ModelInfo(BaseModel):
     tolerance_mas: Optional[float] = Field(description="the tolerance that chose the rung, if one was given")
     cost_ms: float = Field(description="wall time of the computation, ms")
     axis: Optional[AxisName] = Field(None, description="tracks: the pole followed, the figure axis (default), the "
-                                                       "angular momentum or the figure axis's forced motion "
-                                                       "(forced_figure, the CIP's analogue)")
+                                                       "angular momentum, the figure axis's forced motion "
+                                                       "(forced_figure, the CIP's analogue) or a synchronous body's "
+                                                       "mean rotation axis (mean_rotation)")
     free_wobble: Optional[FreeWobbleInfo] = Field(None, description="tracks: the free wobble added to the figure "
                                                                     "axis, or null when it is left out")
     rotation_scale: Optional[RotationScaleInfo] = Field(None, description="tracks: the rotation-scale terms added "
@@ -493,8 +494,11 @@ class TrackIn(BaseModel):
                                                                    "within this many mas of the truth")
     model: Optional[RungName] = Field(None, description="use this rung of the ladder (not with tolerance_mas)")
     axis: AxisName = Field("figure", description="the pole to follow: the figure axis (its free wobble counted as an "
-                                                 "error), the angular momentum, or forced_figure (the figure axis's "
-                                                 "forced motion, as the IAU's CIP: the free wobble is polar motion)")
+                                                 "error), the angular momentum, forced_figure (the figure axis's "
+                                                 "forced motion, as the IAU's CIP: the free wobble is polar motion), "
+                                                 "or mean_rotation (a synchronous body's mean rotation axis: the "
+                                                 "Moon's mean-Earth pole, the IAU's; its figure axis is 78.56″ from "
+                                                 "it)")
     free_wobble_phase_deg: Optional[float] = Angle("the figure axis's position angle about the angular momentum at "
                                                    "free_wobble_epoch (north through east), deg: lets the track add "
                                                    "the free wobble", None)

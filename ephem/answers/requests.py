@@ -423,7 +423,9 @@ def track(body: str | int | Body, start, stop, step_days: float, dataset: str = 
     ``axis``: "figure" (default; the body's axis of largest inertia, which circles the angular
     momentum by the free wobble, counted as an error unless followed), "angular_momentum", or "forced_figure" (the
     figure axis's forced motion, as the IAU's celestial intermediate pole: the free wobble is polar motion, neither
-    added nor an error). ``free_wobble_phase_deg`` (the figure
+    added nor an error), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's mean-Earth pole, the
+    IAU's, whose figure axis, DE421's principal axis, is 78.56″ from it; other families refuse it).
+    ``free_wobble_phase_deg`` (the figure
     axis's position angle about the angular momentum at ``free_wobble_epoch``, default the pole
     epoch, from the ICRF north through east, with the angular momentum in the body's b2-b3 plane
     then) lets the track add the free wobble when the tolerance needs it (or always, with a named

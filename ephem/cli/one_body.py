@@ -130,11 +130,15 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
           model: Optional[str] = typer.Option(None, "--model", help="A rung of the fidelity ladder: "
                                               "secular, series, hansen, second_order, nonrigid (Mars' liquid "
                                               "core), numerical, real_orbit; lunisolar or nonrigid for the Earth "
-                                              "with the Moon (lunisolar its default)."),
+                                              "with the Moon (lunisolar its default); cassini, librations (its "
+                                              "default), integration or de421 (DE421's kernel, 1900-2050) for the "
+                                              "Moon."),
           axis: str = typer.Option("figure", "--axis", help="The pole to follow: figure (the axis of largest "
                                    "inertia, which circles the angular momentum by the free wobble, counted as "
-                                   "an error), angular_momentum, or forced_figure (the figure axis's forced "
-                                   "motion, as the IAU's CIP: the free wobble is polar motion, not an error)."),
+                                   "an error), angular_momentum, forced_figure (the figure axis's forced "
+                                   "motion, as the IAU's CIP: the free wobble is polar motion, not an error), or "
+                                   "mean_rotation (a synchronous body's mean rotation axis: the Moon's mean-Earth "
+                                   "pole, the IAU's; its figure axis is 78.56\" from it)."),
           wobble_phase: Optional[float] = typer.Option(None, "--free-wobble-phase-deg", help="Position angle of "
                                                        "the figure axis about the angular momentum at the wobble "
                                                        "epoch (north through east): lets the track add the free "

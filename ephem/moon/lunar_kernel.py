@@ -85,10 +85,15 @@ def _segment():
     return segments[0]
 
 
+#: whether this process has read the kernel's coefficients (jplephem maps them on the first evaluation)
+_read = [False]
+
+
 def kept() -> bool:
-    """Whether this process holds the kernel open (its first read maps the file: the cost model charges it until
-    then)."""
-    return _segment.cache_info().currsize > 0
+    """Whether this process has read the kernel's coefficients once (the first read maps the file and loads its
+    segment: the cost model charges it until then; opening it for its span, as the estimates do, reads only the
+    summary)."""
+    return _read[0]
 
 
 @lru_cache(maxsize=1)
@@ -103,7 +108,9 @@ def euler_angles(jd_tdb) -> np.ndarray:
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     day = np.floor(t)
     with _lock:               # jplephem loads the segment's coefficients on first use
-        return np.asarray(_segment().compute(day, t - day, False), dtype=float).reshape(3, -1)
+        out = np.asarray(_segment().compute(day, t - day, False), dtype=float).reshape(3, -1)
+        _read[0] = True
+        return out
 
 
 def pa_axes_icrf(jd_tdb) -> np.ndarray:
