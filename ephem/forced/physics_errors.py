@@ -45,11 +45,11 @@ import numpy as np
 from ..bodies.catalogue import Body
 from ..base.paths import data_dir
 from ..base.constants import ARCSEC, MAS
-from ..orbit.kepler import solve_kepler, true_anomaly
+from ..orbit.kepler import mean_motion_rad_per_day, solve_kepler, true_anomaly
 from .kinoshita import eccentricity_factor, pole_displacements
 from .precession_nutation import PrecessionNutation, cached_model
 from .rigid_numerics import body_moments
-from .rotation_scale import error_terms
+from .rotation_scale import error_terms, sampled_epochs
 from ..orbit.de421 import sun_path
 from .integration import integrate_spin_axis
 
@@ -427,8 +427,25 @@ def rotation_averaging_bound(body: Body, model: PrecessionNutation, jd_tdb, axis
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     if t.size == 0:
         return 0.0
-    after, before = float(t.max()) - model.pole_epoch, float(t.min()) - model.pole_epoch
-    sides = ([after] if after > 0.0 else []) + ([before] if before < 0.0 else []) or [0.0]
     moments = body_moments(body, model)
     which = "figure" if axis == "figure" else "momentum"
-    return max(sum(error_terms(model, moments, s, which, modelled, pole).values()) for s in sides)
+    return max(sum(error_terms(model, moments, s, which, modelled, pole).values())
+               for s in _averaging_sides(model.pole_epoch, float(t.min()), float(t.max())))
+
+
+def _averaging_sides(pole_epoch: float, first: float, last: float) -> list[float]:
+    """The spans (days, signed) from t₀ (``pole_epoch``) to the farthest epoch on each side of it that [first, last]
+    reaches."""
+    after, before = last - pole_epoch, first - pole_epoch
+    return ([after] if after > 0.0 else []) + ([before] if before < 0.0 else []) or [0.0]
+
+
+def rotation_averaging_samples(body: Body, first: float, last: float) -> int:
+    """The epochs :func:`rotation_averaging_bound` samples for epochs spanning [first, last] (JD TDB), in each of its
+    calls (:func:`ephem.forced.rotation_scale.sampled_epochs` on each side of t₀): what its cost grows with, from
+    the body's parameters alone (a price made before its model is built)."""
+    if body.hd == 0.0:
+        return 0
+    n = mean_motion_rad_per_day(body.orbit.a_au, body.orbit.center)
+    return sum(sampled_epochs(body.orbit.e, abs(s) * n / (2.0 * math.pi))
+               for s in _averaging_sides(body.pole.epoch_jd_tdb, first, last))

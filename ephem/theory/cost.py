@@ -145,14 +145,18 @@ def theory_build(k: int) -> Part:
                 _u("theory_base_s") + _u("theory_harmonic2_s") * k * k, 0.5 + 16.0 * k * k / MB)
 
 
-def ladder_estimates(epochs: int, k: int) -> Part:
+def ladder_estimates(epochs: int, k: int, averaging_samples: int = 0) -> Part:
     """Every rung's error estimate over the epochs (:meth:`ephem.sun.ladder.Ladder.estimates`): a fixed part (the
-    theory terms from the body's tables, the truncation bound of each e-order, the geodesic and interior terms) and
-    a pass over the epochs (the orbit's motion, the rotation averaging: Kepler's equation at each, slower as the
-    eccentricity, and with it the ``k`` harmonics, grows)."""
-    return Part("step_days", f"the error estimates of every model at {epochs} epochs",
-                _u("estimates_base_s") + epochs * (_u("estimates_epoch_s") + k * _u("estimates_harmonic_s")),
-                epochs * _u("track_bytes_per_epoch") / MB)
+    theory terms from the body's tables, the truncation bound of each e-order, the geodesic and interior terms), a
+    pass over the epochs (the orbit's motion: Kepler's equation at each, slower as the eccentricity, and with it the
+    ``k`` harmonics, grows) and the rotation averaging's samples of the span from the pole epoch
+    (``averaging_samples``: :func:`ephem.forced.physics_errors.rotation_averaging_samples`, up to ~4000 for 20
+    orbits; none beyond, where its bounds take no samples)."""
+    return Part("step_days", f"the error estimates of every model at {epochs} epochs"
+                + (f" ({averaging_samples} samples of the span for the rotation averaging)" if averaging_samples else ""),
+                _u("estimates_base_s") + epochs * (_u("estimates_epoch_s") + k * _u("estimates_harmonic_s"))
+                + averaging_samples * _u("estimates_averaging_sample_s"),
+                max(epochs, averaging_samples) * _u("track_bytes_per_epoch") / MB)
 
 
 def ladder_estimates_kept(epochs: int) -> Part:
@@ -371,9 +375,10 @@ def population(rows: int, sigma_inputs: int = 0, groups=(), differenced: int | N
 
 def cassini_history(epochs: int) -> Part:
     """A synchronous rotator's Cassini state carried along its primary's orbit history (:class:`ephem.moon.family.
-    CassiniHistory`): the orbit's spline, the node's quadrature on 4001 points and the pole at each epoch."""
+    CassiniHistory`): a fixed part (the node's quadrature on 4001 points of the orbit's spline, vectorised) and the
+    pole carried to each epoch."""
     return Part("step_years", f"the Cassini state along the orbit at {epochs} epochs",
-                _u("base_s") + _u("spin_history_base_s") + (epochs + 4001) * _u("cassini_history_point_s"),
+                _u("base_s") + _u("cassini_history_base_s") + epochs * _u("cassini_history_point_s"),
                 _u("spin_history_base_mb") + (epochs + 4001) * _u("history_bytes_per_epoch") / MB)
 
 
