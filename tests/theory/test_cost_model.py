@@ -194,3 +194,20 @@ def test_the_answer_cost_drops_what_is_kept():
     uncertainty.propagated(b, None)
     warm = theory.answer_cost(None)
     assert warm.cpu_s < cold.cpu_s and len(warm.parts) < len(cold.parts)
+
+
+@pytest.mark.parametrize("body, years", [("steins", (-50, 50)), ("ceres", (0, 1)), ("eros", (0, 30)),
+                                         ("mars", (-500, 500)), ("vesta", (10, 20))])
+def test_the_estimates_are_priced_for_the_samples_the_rotation_averaging_takes(body, years, monkeypatch):
+    """The price counts the epochs rotation_averaging_bound samples (ephem.forced.physics_errors.
+    rotation_averaging_samples, from the body alone): the same number as the bound's grids hold, each call (a long
+    span's orbit-mean drift, sampled once per body and kept, is built first)."""
+    from ephem.forced import physics_errors, rotation_scale
+    b = get_body(body)
+    first, last = J2000 + 365.25 * years[0], J2000 + 365.25 * years[1]
+    physics_errors.rotation_averaging_bound(b, cached_model(b), np.array([first, last]))
+    sampled = []
+    real = rotation_scale._span_grid
+    monkeypatch.setattr(rotation_scale, "_span_grid", lambda m, span, count: sampled.append(count) or real(m, span, count))
+    physics_errors.rotation_averaging_bound(b, cached_model(b), np.array([first, last]))
+    assert physics_errors.rotation_averaging_samples(b, first, last) == sum(sampled)
