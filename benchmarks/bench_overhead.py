@@ -274,7 +274,9 @@ def child_floor(n: int) -> dict:
             finally:
                 api.track_arrays = real
         stats = pstats.Stats(loop_prof)
-        stats.add(thread_prof)
+        thread_prof.create_stats()
+        if thread_prof.stats:          # a route answered on the event loop (service/offload.py) makes no hop
+            stats.add(thread_prof)
         out["layers"] = _layers(stats, reps)
 
     asyncio.run(main())
@@ -349,6 +351,7 @@ _LAYER_FUNCS = {
     "solve": ("fastapi/dependencies/utils.py", "solve_dependencies"),
     "params": ("fastapi/dependencies/utils.py", "request_params_to_args"),
     "sqv": ("service/problems.py", "single_query_values"),
+    "one_pass": ("service/fast_routes.py", "handler"),
     "hop": ("anyio/_backends/_asyncio.py", "run_sync_in_worker_thread"),
     "endpoint": ("service/app.py", "track"),
     "finite_json": ("service/app.py", "finite_json"),
@@ -378,9 +381,13 @@ def _layers(stats, reps: int) -> list[tuple[str, float]]:
         ("… routing (Starlette's router, route matching)", g("router")),
         ("… FastAPI's solve_dependencies (query parsing and validation, the dependency)", g("solve")),
         ("… … request_params_to_args (the route's query parameters validated)", g("params")),
-        ("… … service/problems.py single_query_values (in a worker thread)", g("sqv")),
-        ("… thread-pool hops, event-loop side (the dependency and the route: 2 per request)", g("hop")),
-        ("… the route's body with the answer precomputed (service/app.py track, in a worker thread)", g("endpoint")),
+        ("… the route served in one pass (service/fast_routes.py: its parameters, the dependency, the route)",
+         g("one_pass")),
+        ("… … the parameters and the dependency (one pass)", diff("one_pass", "endpoint")),
+        ("… … service/problems.py single_query_values", g("sqv")),
+        ("… thread-pool hops, event-loop side", g("hop")),
+        ("… the route's body with the answer precomputed (service/app.py track; on the event loop when cheap)",
+         g("endpoint")),
         ("… … finite_json: the finiteness walk + orjson", g("finite_json")),
         ("… … … _all_finite (the finiteness walk)", g("all_finite")),
         ("… … … orjson.dumps", g("orjson")),
