@@ -101,8 +101,7 @@ AXIS_ASSUMPTIONS = {
                      "frame +Z): the rotation axis the libration theory follows, with the free wobble as DE421's ME "
                      "frame has it (a constant rotation of its principal axes)",
 }
-#: the free libration in latitude, rad (Yang et al. 2017: 0.025″ in DE430; Rambaux & Williams 2011 find it as small in
-#: DE421), which no model carries
+#: the free libration in latitude, rad (Yang et al. 2017: 0.025″ in DE430), which no model carries
 FREE_LATITUDE = 0.025 * ARCSEC
 #: the free wobble's measurement: its fit over 1970-2010 against one over 1900-2050 (0.03″; tools/
 #: derive_moon_free_wobble.py) and the period's uncertainty over the span, rounded up

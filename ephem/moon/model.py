@@ -301,8 +301,10 @@ def synchronous_model(body: Body) -> SynchronousModel:
 
 @lru_cache(maxsize=64)     # the model's alone (its free librations: ~5 ms), the models kept as synchronous_model keeps them
 def ecliptic_lag(m: SynchronousModel) -> float:
-    """v/ω_lat (rad): how far the real pole lags a Laplace plane moving at v (the ecliptic of date's pole, IAU
-    2006's π_A rate), its free libration in latitude turning at ω_lat in the node's frame; 0 on a fixed plane."""
+    """v/ω_lat (rad): a user's satellite's bound on how far the real pole lags a Laplace plane moving at v (the
+    ecliptic of date's pole, IAU 2006's π_A rate), its free libration in latitude turning at ω_lat in the node's frame;
+    0 on a fixed plane. The Moon's model carries the lag itself, 7.3″ (:func:`ephem.moon.orientation.lag_ratio`: the
+    free precession in space, slower than ω_lat, sets it)."""
     if m.frame != "ecliptic_of_date":
         return 0.0
     v = ECLIPTIC_POLE_ARCSEC_PER_CENTURY * ARCSEC / JULIAN_CENTURY_DAYS

@@ -123,9 +123,10 @@ What the series leave out
   the free mode); none here.
 * The planetary terms of the orbit and its terms below Meeus's cut (1e-6° printing, ~1″ smallest longitude term):
   τ's 0.00396° sin K1 and 0.00023° sin K2 (Venus, 270 yr and 1800 yr), 0.00011° sin 2(l − l' − D).
-* The ecliptic's own motion (π_A, 47″/cy): the series put the pole on the ecliptic of date; the rigid Moon lags
-  behind the moving plane by up to v/ω_lat ≈ 2″ (v the ecliptic pole's speed, ω_lat the free latitude mode's
-  frequency), a slowly varying offset of the mean pole, not a periodic term.
+* The ecliptic's own motion (π_A, 47″/cy): the series put the pole on the ecliptic of date; the Moon lags behind
+  the moving plane, a slowly varying offset of the mean pole, not a periodic term: 7.3″ in steady state
+  (:mod:`ephem.moon.orientation`, which the Moon's model adds; DE421: 7.56″), where a start on the series grows by
+  the ecliptic pole's displacement (1.9″ after 4 years, below).
 * The secular change of the Delaunay rates (the series' frequencies are J2000's): Ω̇'s 2 × 7.47″/cy² moves I by
   ~1.3 I ΔΩ̇/Ω̇, 0.0006″ in 4 years.
 
