@@ -3,7 +3,8 @@
 A GET answer of the service (the ``/v1`` routes, the figures, the web pages, the docs) is a pure function of
 the request's path and query, the package version and its code, the data the library reads and the service's
 settings;
-the web pages also print the address they were asked at (their curl and URL lines use the base URL). So the
+the web pages also print the server's address (their curl lines: the server's own socket, or the configured
+EPHEM_PUBLIC_BASE_URL; never the client's Host header). So the
 answer's ETag is a hash of those, known from the request alone: a request whose ``If-None-Match`` holds it
 gets its ``304`` here, before the route, the budget or any computation, and a reverse proxy or a CDN in front
 of several replicas (which compute the same tags: nothing of the process enters them) can keep one copy of
@@ -54,7 +55,7 @@ from .settings import Settings
 NO_STORE_PATHS = frozenset({"/healthz"})
 #: path prefixes left alone: StaticFiles sends its own validators
 UNTOUCHED_PREFIXES = ("/static/",)
-#: the API's answers do not print the address they were asked at; every other page may (service/pages.py)
+#: the API's answers do not print the server's address; every other page may (service/pages.py)
 ADDRESS_FREE_PREFIX = "/v1/"
 #: settings that change no answer: where the workers' locks live, and how long caches keep the answers
 _SETTINGS_OUTSIDE_KEY = frozenset({"lock_dir", "cache_max_age_s"})
@@ -193,13 +194,6 @@ def _accepted_codings(headers) -> set[str]:
     return codings
 
 
-def _header(headers, name: bytes) -> bytes | None:
-    for k, v in headers:
-        if k.lower() == name:
-            return v
-    return None
-
-
 class ConditionalGet:
     """ASGI middleware: the ETag and Cache-Control of every GET answer, ``no-store`` on everything else, and
     ``304 Not Modified`` for a GET whose If-None-Match holds the answer's ETag, sent before the application
@@ -223,11 +217,10 @@ class ConditionalGet:
         path = scope["path"].encode("utf-8", "surrogateescape")
         query = canonical_query(scope.get("query_string", b""))
         where = scope.get("root_path", "").encode("utf-8", "surrogateescape")
-        if not scope["path"].startswith(ADDRESS_FREE_PREFIX):       # the pages print their base URL
-            host = _header(scope.get("headers") or [], b"host")
-            if host is None and scope.get("server"):
-                host = ("%s:%s" % tuple(scope["server"])).encode()
-            where = scope.get("scheme", "http").encode() + b"://" + (host or b"") + where
+        if not scope["path"].startswith(ADDRESS_FREE_PREFIX):       # the pages print their curl lines' address:
+            server = scope.get("server")       # the server's own (service/pages.py), never the client's Host header
+            host = ("%s:%s" % tuple(server)).encode() if server else b""
+            where = scope.get("scheme", "http").encode() + b"://" + host + where
         users = self.user_datasets.digest()
         h.update(b"%d:%s%d:%s%d:%s%d:%s" % (len(path), path, len(query), query, len(where), where, len(users), users))
         return h.hexdigest()

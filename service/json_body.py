@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import json
 
-from .problems import PROBLEM, TYPE_BASE
+from .problems import problem
 
 
 class _Repeated(dict):
@@ -101,13 +101,9 @@ class UniqueJsonKeys:
         if found is not None:
             field, count = found
             reason = duplicate_reason(count)
-            body = json.dumps({"type": TYPE_BASE + "invalid-input", "title": "Invalid input", "status": 422,
-                               "detail": f"{field}: {reason}", "errors": [{"field": field, "reason": reason}]}
-                              ).encode()
-            await send({"type": "http.response.start", "status": 422,
-                        "headers": [(b"content-type", PROBLEM.encode()), (b"content-length", str(len(body)).encode())]})
-            await send({"type": "http.response.body", "body": body})
-            return
+            refusal = problem(422, "invalid-input", "Invalid input", f"{field}: {reason}",
+                              errors=[{"field": field, "reason": reason}])
+            return await refusal(scope, receive, send)
         pending = list(messages)
 
         async def replayed():

@@ -31,8 +31,8 @@ LINGER_S = 2.0
 
 def _refusal(limit: int) -> bytes:
     body = json.dumps({"type": TYPE_BASE + "http", "title": "Request header fields too large", "status": 431,
-                       "detail": f"the request's line and headers exceed {limit} bytes (EPHEM_MAX_HEADER_BYTES)"}
-                      ).encode()
+                       "detail": f"the request's line and headers exceed {limit} bytes (EPHEM_MAX_HEADER_BYTES)"},
+                      separators=(",", ":")).encode()
     return (b"HTTP/1.1 431 Request Header Fields Too Large\r\ncontent-type: " + PROBLEM.encode()
             + b"\r\ncontent-length: " + str(len(body)).encode() + b"\r\nconnection: close\r\n\r\n" + body)
 

@@ -131,10 +131,14 @@ def test_an_imported_dataset_changes_the_tags(client, tmp_path, monkeypatch):
 
 
 def test_the_pages_tags_follow_the_address_they_print(client):
-    """A page prints its base URL (its curl line): asked at another host it is another page; the API's answers
-    print none, and keep one tag at every host (replicas behind one proxy share them)."""
-    assert client.get("/", headers={"host": "a.example"}).headers["etag"] != \
+    """A page prints its curl lines' address, the server's own (or EPHEM_PUBLIC_BASE_URL, a setting the tag hashes),
+    never the client's Host header (issue 42): one tag at any Host, another at another server address; the API's
+    answers print none, and keep one tag at every address (replicas behind one proxy share them)."""
+    assert client.get("/", headers={"host": "a.example"}).headers["etag"] == \
         client.get("/", headers={"host": "b.example"}).headers["etag"]
+    with TestClient(client.app, base_url="http://other.example:8000") as other:
+        assert other.get("/").headers["etag"] != client.get("/").headers["etag"]
+        assert other.get(PRECESSION).headers["etag"] == client.get(PRECESSION).headers["etag"]
     assert client.get(PRECESSION, headers={"host": "a.example"}).headers["etag"] == \
         client.get(PRECESSION, headers={"host": "b.example"}).headers["etag"]
 
