@@ -13,9 +13,10 @@ the Moon's; a user's satellite has the bare Cassini state only):
   orientation itself, read from its binary PCK (:mod:`ephem.moon.lunar_kernel`), the analogue of a fast rotator's
   ``real_orbit``.
 
-Two axes (:data:`AXES`): ``mean_rotation``, the pole of the mean-Earth/rotation frame (the IAU's and DE421's ME pole),
+The axes (:data:`AXES`): ``mean_rotation``, the pole of the mean-Earth/rotation frame (the IAU's and DE421's ME pole),
 and ``figure``, the principal axis of largest inertia (DE421's PA pole), that frame turned by DE421's constant PA–ME
-rotation (:mod:`ephem.moon.orientation`). For the Moon every model's mean pole is the Cassini state at the observed
+rotation (:mod:`ephem.moon.orientation`); ``forced_figure``, the figure axis without its free wobble, which is then
+not an error (no ``de421`` there: DE421's axes carry it). For the Moon every model's mean pole is the Cassini state at the observed
 inclination, lagging behind the moving ecliptic (:mod:`ephem.moon.orientation`); a user's satellite keeps the
 catalogue pole with the libration series' displacement at t0 removed, and its two axes coincide. The Moon's
 estimates, by term (docs/moon.md; each checked against DE421 in tests/moon/test_against_de421_moon.py):
@@ -91,7 +92,7 @@ DESCRIPTIONS = {
              "rotation): the Moon inside 1900-2050 only",
 }
 #: the axes a synchronous rotator's track follows (:data:`ephem.base.constants.AXES`)
-AXES = ("figure", "mean_rotation")
+AXES = ("figure", "forced_figure", "mean_rotation")
 AXIS_ASSUMPTIONS = {
     "figure": "axis figure: the principal axis of largest inertia (DE421's PA frame +Z for the Moon): the mean-Earth/"
               "rotation frame turned by DE421's constant PA-to-ME rotation (frame kernel moon_080317.tf: 67.92, 78.56, "
@@ -100,6 +101,8 @@ AXIS_ASSUMPTIONS = {
     "mean_rotation": "axis mean_rotation: the pole of the mean-Earth/mean-rotation frame (the IAU's and DE421's ME "
                      "frame +Z): the rotation axis the libration theory follows, with the free wobble as DE421's ME "
                      "frame has it (a constant rotation of its principal axes)",
+    "forced_figure": "axis forced_figure: the figure axis's forced motion, without the free wobble (8.2 x 3.3 arcsec, "
+                     "74.6 years), which is then not an error",
 }
 #: the free libration in latitude, rad (Yang et al. 2017: 0.025″ in DE430), which no model carries
 FREE_LATITUDE = 0.025 * ARCSEC
@@ -205,7 +208,7 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
     def check_request(self, model: str | None, order: int | None) -> None:
         check_body(self.body)
         no_order(self.body, order)
-        if self.axis not in AXES:
+        if self.requested_axis not in AXES:
             raise NotApplicableError(self.body.name, refused_axis(self.requested_axis))
         if model in ("librations", "integration") and self.body.orbit.theory is None:
             raise NotApplicableError(self.body.name, no_orbit_theory(model))
@@ -285,10 +288,13 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         if self.figure:
             common["pa_offset"] = PA_ROUNDING
         common["rounding"] = ROUNDING
-        wobble = max(m.wobble.amplitudes)
+        # the free modes: left out (cassini) or measured (librations); not errors of the forced figure axis
+        free_modes = self.counts_free_wobble
+        wobble = max(m.wobble.amplitudes) + FREE_LATITUDE if free_modes else 0.0
         moments = moments_bound(self.body)
-        librations = {"truncation": m.series.omitted_bound(LIBRATION_CUT)[0], "moments": moments,
-                      "free_modes": WOBBLE_MEASUREMENT + FREE_LATITUDE}
+        librations = {"truncation": m.series.omitted_bound(LIBRATION_CUT)[0], "moments": moments}
+        if free_modes:
+            librations["free_modes"] = WOBBLE_MEASUREMENT + FREE_LATITUDE
         # the integration starts on the librations' state: its error there, and the free modes it excites, which turn
         # it in space (the free wobble and the free precession, the faster ~74 years): 2δ sin(ωΔt/2) ≤ min(2, ωΔt) δ
         delta = sum(librations.values()) + common["inclination"] + common["ecliptic_motion"]
@@ -297,11 +303,12 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         swing = min(2.0, 2.0 * math.pi * far / min(free.wobble_days, free.precession_space_days))
         return [
             Estimate("cassini", None, {"librations": float(m.series.pole_amplitudes.sum()),
-                                       "free_modes": wobble + FREE_LATITUDE, **common}),
+                                       **({"free_modes": wobble} if free_modes else {}), **common}),
             Estimate("librations", None, {**librations, **common}),
             Estimate("integration", None, {**librations, **common, "start": swing * delta,
                                            "integration": INTEGRATION_ERROR}),
-            kernel_estimate(t, self.figure),
+            kernel_estimate(t, self.figure) if free_modes else
+            Estimate("de421", None, {}, available=False, why_not=KERNEL_WOBBLES),
         ]
 
     def named(self, jd_tdb, model, order):
@@ -316,13 +323,16 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         model = model or self.default_model(order)
         t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
         if model == "de421":
+            if not self.counts_free_wobble:
+                raise NotApplicableError(self.body.name, KERNEL_WOBBLES)
             return kernel_track(m, t, self.figure)
         if m.llr:
             if model == "integration":
-                axes = integrate_axes(m, t, self.figure)
+                axes = integrate_axes(m, t, self.figure, self.counts_free_wobble)
             else:
                 lib = model == "librations"
-                return m.track_of_poles(t, m.poles(t, librations=lib, wobble=lib, figure=self.figure))
+                return m.track_of_poles(t, m.poles(t, librations=lib, wobble=lib and self.counts_free_wobble,
+                                                   figure=self.figure))
             return m.track_of_poles(t, axes[:, :, 2])
         if model == "cassini":
             return m.track(t)
@@ -340,7 +350,7 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         assumptions = list(ASSUMPTIONS)
         if m.llr:
             assumptions[2] = MOON_MEAN_POLE
-            assumptions.append(AXIS_ASSUMPTIONS[self.axis])
+            assumptions.append(AXIS_ASSUMPTIONS[self.requested_axis])
         elif self.axis == "figure" or self.axis == "mean_rotation":
             assumptions.append("the figure and mean rotation axes coincide: no offset of the principal axes from the "
                                "mean rotation frame (a degree-3 field) is known for this body")
@@ -462,6 +472,8 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
 
 #: terms of the Moon's series above :data:`LIBRATION_CUT` (the cost before it is built)
 LIBRATION_TERMS_KEPT = 60
+KERNEL_WOBBLES = ("DE421's principal axes carry the free wobble, which the forced figure axis leaves out: ask for "
+                  "axis=figure")
 NOT_THE_MOON = ("DE421's lunar orientation is the Moon's: a user's synchronous satellite has the Cassini state "
                 "(model=cassini)")
 MOON_MEAN_POLE = ("the Moon's mean pole: the Cassini state at the observed mean inclination I = 1.54242 deg (Eckhardt "

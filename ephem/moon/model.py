@@ -349,12 +349,13 @@ def integrate_track(m: SynchronousModel, jd_tdb) -> Track:
     return m.track(t, dpsi * math.sin(m.inclination), deps)
 
 
-def integrate_axes(m: SynchronousModel, jd_tdb, figure: bool = False) -> np.ndarray:
+def integrate_axes(m: SynchronousModel, jd_tdb, figure: bool = False, wobble: bool = True) -> np.ndarray:
     """The Moon's ``integration`` model (:attr:`SynchronousModel.llr`): the rigid Moon with the effective moments
     (:data:`~ephem.moon.physical_librations.EFFECTIVE_MOMENTS`, whose Cassini state lies at the observed I) on its real
     orbit, started at the pole epoch on the ``librations`` model's frame (the lag and the free wobble included) and
     angular velocity; its body axes (N, 3, 3) in the ecliptic and equinox of date, the mean rotation frame, or with
-    ``figure`` the principal axes (:meth:`SynchronousModel.axes`)."""
+    ``figure`` the principal axes (:meth:`SynchronousModel.axes`); without ``wobble``, started without the free wobble
+    (the forced figure axis's)."""
     import erfa
 
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
@@ -362,9 +363,10 @@ def integrate_axes(m: SynchronousModel, jd_tdb, figure: bool = False) -> np.ndar
     start = np.array([t0])
     to_j2000 = erfa.ecm06(J2000_JD, 0.0) @ erfa.ecm06(t0, 0.0).T
     omega = m.series.angular_velocity(start, inertial=True)[0]
-    if m.wobble is not None:     # a free wobble moves the axes, not the rotation: ω held in space, in the new axes
+    if wobble and m.wobble is not None:     # a free wobble moves the axes, not the rotation: ω held in space
         omega = rodrigues(m.wobble.rotation(start).T)[0][:, :, 0].T @ omega
-    y0 = np.concatenate([omega / m.orbit.mean_motion, quaternion_from_matrix(to_j2000 @ m.axes(start)[0])])
+    y0 = np.concatenate([omega / m.orbit.mean_motion,
+                         quaternion_from_matrix(to_j2000 @ m.axes(start, wobble=wobble)[0])])
     run = integrate_synchronous(EFFECTIVE_MOMENTS, m.orbit, t0, t, real_moon=True, y0=y0, rtol=INTEGRATION_RTOL,
                                 atol=INTEGRATION_RTOL * 1e-3)
     # body -> J2000 ecliptic -> ICRF -> ecliptic of date
