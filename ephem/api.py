@@ -67,6 +67,7 @@ _NAMES = {
     "BatchFailed": (".batch.distributed", "BatchFailed"),
     "run_batch": (".batch.distributed", "run"),
     "HistorySpec": (".batch.population", "HistorySpec"),
+    "shipped_orbit_span": (".longterm.nbody_orbit", "shipped_span"),
     "import_catalogue": (".bodies.importer", "import_catalogue"),
     "write_pck": (".answers.kernels", "write_pck"),
     "write_pck_file": (".answers.kernels", "write_pck_file"),
@@ -110,7 +111,7 @@ __all__ = [
     "render_nutation", "write_tables", "FORMATS", "LAYOUTS", "DELAUNAY_NAMES", "render_plot", "PLOT_KINDS",
     "HISTORY_PLOT_KIND", "PLOT_DPI_RANGE", "track_models_chart", "models_chart", "track_models_rows",
     "PLOT_CONTENT_TYPES", "MAX_PLOT_POINTS", "write_pck", "write_pck_file", "import_catalogue", "run_batch", "BatchFailed",
-    "HistorySpec",
+    "HistorySpec", "shipped_orbit_span",
     # errors
     "EphemError", "InvalidInputError", "NotApplicableError", "UnknownBodyError",
     # bounded work (a host, as the service, sets the budget and the caches)

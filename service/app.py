@@ -20,7 +20,7 @@ from ephem import api
 from ephem.api import (AXES, DEFAULT_DATASET, FORMATS, MODELS,
                        available_datasets, icrf_to_ecliptic_matrix, load_catalogue, memo, render_nutation)
 
-from . import caching, guards, pages, problems, schemas
+from . import caching, downloads, guards, pages, problems, schemas
 from .batch_input import batch_rows
 from .limits import BodySizeLimit
 from .fast_routes import OnePassRoute, one_pass
@@ -222,7 +222,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         if format is TableFormat.json:
             return ans
         fmt = "json" if format is TableFormat.table_json else format.value
-        return PlainTextResponse(render_nutation(ans, fmt, layout=layout.value), media_type=FORMATS[fmt])
+        return PlainTextResponse(render_nutation(ans, fmt, layout=layout.value), media_type=FORMATS[fmt],
+                                 headers=downloads.disposition(downloads.filename(
+                                     ans["body"], ans["dataset"], "nutation", layout.value, fmt=format.value)))
 
     @app.get("/v1/bodies/{body}/track", response_model=schemas.Track, tags=["theory"], responses={
         **ERRORS, 200: {"content": {"application/json": {"example": {
@@ -276,7 +278,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                       perturbers=perturbers, output=format.value,
                                       rotation_phase_deg=rotation_phase_deg)
             if format is TrackFormat.csv:
-                return StreamingResponse(_csv_rows(arrays), media_type="text/csv; charset=utf-8")
+                return StreamingResponse(_csv_rows(arrays), media_type="text/csv; charset=utf-8",
+                                         headers=downloads.disposition(downloads.filename(
+                                             arrays["body"], arrays["dataset"], "track", fmt="csv")))
             return finite_json(arrays)      # its serialisation is charged with the track (on the loop only if cheap)
         return await compute(settings.inline_cpu_ms, answer)
 
@@ -329,7 +333,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             "precession_angle_deg": [-5432.1], "pole_ra_deg": [291.4], "pole_dec_deg": [66.8],
             "orbit_inclination_deg": [10.1], "estimated_error_deg": [0.4], "meaningful_from_year": None,
             "meaningful_to_year": None,
-            "model": {"name": "nbody", "estimated_error_mas": 1440000.0, "cost_ms": 2100.0}}}}}})
+            "model": {"name": "nbody", "estimated_error_mas": 1440000.0, "cost_ms": 2100.0}}},
+            "text/csv": {"example": ",".join(downloads.HISTORY_CSV_KEYS) + "\n"}}}})
     def history(body: BodyPath,
                 start_year: Annotated[float, Query(description="Julian years (365.25 d) from J2000.0 TDB; negative "
                                                                "is the past", examples=[-3000000])],
@@ -343,12 +348,19 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                 "it covers the span, else the secular one")] = None,
                 perturbers: Annotated[Optional[str], Query(
                     description="the torquing bodies (default the catalogue's)", examples=["sun", "moon,sun"],
-                    max_length=100)] = None):
+                    max_length=100)] = None,
+                format: Annotated[TrackFormat, Query(description="json, or csv: the arrays, one row per epoch "
+                                                                 "(the model in the JSON only)")] = TrackFormat.json):
         """The spin axis over millennia and millions of years (ephem.longterm.history): obliquity, precession angle, pole
         and the orbit's inclination, with the estimate at each epoch and where the history stops meaning
         anything."""
-        return finite_json(api.history(body, start_year, stop_year, step_years, dataset.value, tolerance_mas,
-                                       orbit_model, perturbers, settings.max_track_samples))
+        answer = api.history(body, start_year, stop_year, step_years, dataset.value, tolerance_mas, orbit_model,
+                             perturbers, settings.max_track_samples)
+        if format is TrackFormat.csv and _all_finite(answer):
+            return Response(downloads.history_csv(answer), media_type="text/csv; charset=utf-8",
+                            headers=downloads.disposition(downloads.filename(answer["body"], answer["dataset"],
+                                                                             "history", fmt="csv")))
+        return finite_json(answer)
 
     def plot_route(ext: str):
         def plot(body: BodyPath,
@@ -518,7 +530,8 @@ def _install_docs(app: FastAPI) -> None:
     def redoc(request: Request):
         root = request.scope.get("root_path", "").rstrip("/")
         return get_redoc_html(openapi_url=root + app.openapi_url, title=app.title + " - ReDoc",
-                              redoc_js_url=f"{root}/static/redoc/redoc.standalone.js",
+                              # the vendored bundle with its CDN logo replaced (service/docs_pages.py)
+                              redoc_js_url=f"{root}/redoc/redoc.standalone.js",
                               redoc_favicon_url=f"{root}/static/swagger-ui/favicon-32x32.png",
                               with_google_fonts=False)
     # /docs/accuracy (and every docs/*.md) as HTML, its source at /docs/accuracy.md: service/docs_pages.py

@@ -9,7 +9,11 @@ Routes (pages, not in the OpenAPI document):
   ``/docs/charts/…`` and ``/docs/figures/…``; a link to a file of the repository outside ``docs/`` is shown as its
   path (the service does not serve the repository); each table scrolls in its own box;
 - ``GET /docs/{name}.md``: the Markdown source, as written;
-- ``/docs/charts/…``, ``/docs/figures/…``: the documents' charts and their data (static files).
+- ``/docs/charts/…``, ``/docs/figures/…``: the documents' charts and their data (static files);
+- ``GET /redoc/redoc.standalone.js``: the vendored ReDoc bundle (``service/static/redoc``, kept verbatim) with the one
+  image it would fetch from the network, Redocly's logo on its CDN, replaced by an empty ``data:`` image (ReDoc
+  then hides it): the API reference loads nothing from outside the service;
+- ``GET /favicon.ico``: the page's icon (``service/static/page/favicon.svg``).
 
 The documents are read from the repository's ``docs/`` (where ``make serve`` runs); an installed package, which has
 no ``docs/``, serves ``docs/accuracy.md`` from its copy (``service/static/accuracy.md``, kept identical by
@@ -36,6 +40,22 @@ PACKAGED = {"accuracy": SERVICE / "static" / "accuracy.md"}
 #: the folders of ``docs/`` served as files (the documents' charts, figures and their data)
 ASSET_DIRS = ("charts", "figures")
 _NAME = re.compile(r"[a-z0-9_]+")
+#: the vendored ReDoc bundle, and what it would fetch from the network -> what it gets instead
+REDOC_JS = SERVICE / "static" / "redoc" / "redoc.standalone.js"
+REDOC_OFFLINE = {b'src:"https://cdn.redoc.ly/redoc/logo-mini.svg"': b'src:"data:,"'}
+FAVICON = SERVICE / "static" / "page" / "favicon.svg"
+
+
+@lru_cache(maxsize=1)
+def redoc_offline() -> bytes:
+    """The ReDoc bundle with its network images replaced (each replacement must find its text: a new ReDoc
+    release that moves it fails here, not in a browser)."""
+    js = REDOC_JS.read_bytes()
+    for online, offline in REDOC_OFFLINE.items():
+        if online not in js:
+            raise RuntimeError(f"the vendored ReDoc no longer holds {online!r}: update REDOC_OFFLINE")
+        js = js.replace(online, offline)
+    return js
 
 
 def doc_path(name: str) -> pathlib.Path | None:
@@ -126,7 +146,6 @@ def _render_cached(text: str) -> tuple[str, str]:
                     target = _href(child.attrGet("src") or "")
                     if target is not None:
                         child.attrSet("src", target)
-                    child.attrSet("loading", "lazy")
     if drop is not None:
         del tokens[drop:drop + 3]
     return title, _md.renderer.render(tokens, _md.options, {})
@@ -160,6 +179,14 @@ def install(app: FastAPI, page) -> None:
                                            "repository; an installed package carries docs/accuracy.md only)"})
         title, body = render(path.read_text(encoding="utf-8"))
         return page("doc.html", 200, title=title or name, body_html=body, source=f"/docs/{name}.md")
+
+    @app.get("/redoc/redoc.standalone.js", include_in_schema=False)
+    def redoc_js():
+        return Response(redoc_offline(), media_type="text/javascript; charset=utf-8")
+
+    @app.get("/favicon.ico", include_in_schema=False)
+    def favicon():
+        return Response(FAVICON.read_bytes(), media_type="image/svg+xml")
 
     for folder in ASSET_DIRS:
         app.mount(f"/docs/{folder}", StaticFiles(directory=DOCS_DIR / folder, check_dir=False),

@@ -35,19 +35,21 @@ import re
 import shlex
 from urllib.parse import quote, urlencode
 
+from typing import Annotated, Literal, Optional
+
 import anyio
 from fastapi import FastAPI, File, Form, Request, UploadFile
-from fastapi.responses import HTMLResponse
+from fastapi.responses import HTMLResponse, Response
 from jinja2 import Environment, FileSystemLoader, select_autoescape
 
 from fastapi.exceptions import RequestValidationError
-from pydantic import ValidationError
+from pydantic import Field, ValidationError
 
 from ephem import api
 
-from . import docs_pages
+from . import docs_pages, downloads
 from .batch_input import csv_batch_rows
-from .schemas import UserBody
+from .schemas import HistoryIn, TrackIn, UserBody
 
 TEMPLATES = pathlib.Path(__file__).resolve().parent / "templates"
 #: rows of a track shown on the page (the CSV download holds them all)
@@ -60,17 +62,25 @@ HISTORY_FIELDS = ("start_year", "stop_year", "step_years", "tolerance_mas", "orb
 HISTORY_KEYS = ("year", "obliquity_deg", "precession_angle_deg", "pole_ra_deg", "pole_dec_deg",
                 "orbit_inclination_deg", "estimated_error_deg")
 ORBIT_MODELS = ("secular", "nbody")
+#: the rule of an angle that may turn (a longitude), as the API states and applies it; a latitude or an inclination
+#: is bounded instead (its label says so): one rule per kind of angle, the API's
+_TURNS = "; any number of turns, taken modulo 360"
+#: the fields holding such an angle: a value outside [0, 360) is shown as read (500 is 140)
+TURNING_ANGLES = ("orbit.node_deg", "orbit.peri_deg", "orbit.mean_anomaly_deg", "pole.ra_deg")
 #: a body of the user's own: the POST /v1/precession-nutation fields by their paths, with a label each; the
 #: form starts from the POST's own example (an asteroid like Vesta)
 MY_BODY_FIELDS = (
     ("name", "Name"), ("rotation_period_hours", "Rotation period (hours)"),
     ("dynamical_ellipticity", "Dynamical ellipticity H_d (or the moments below)"),
     ("order", "e-order of the Hansen coefficients (empty: exact)"),
-    ("orbit.a_au", "a (AU)"), ("orbit.e", "e"), ("orbit.i_deg", "i (deg, to the ecliptic J2000)"),
-    ("orbit.node_deg", "Ω, the ascending node (deg)"), ("orbit.peri_deg", "ω, the argument of perihelion (deg)"),
-    ("orbit.mean_anomaly_deg", "M, the mean anomaly (deg)"), ("orbit.epoch_jd_tdb", "Epoch of the elements (JD TDB)"),
+    ("orbit.a_au", "a (AU)"), ("orbit.e", "e (0 to 1, 1 excluded)"),
+    ("orbit.i_deg", "i (deg, 0 to 180, to the ecliptic J2000)"),
+    ("orbit.node_deg", f"Ω, the ascending node (deg{_TURNS})"),
+    ("orbit.peri_deg", f"ω, the argument of perihelion (deg{_TURNS})"),
+    ("orbit.mean_anomaly_deg", f"M, the mean anomaly (deg{_TURNS})"),
+    ("orbit.epoch_jd_tdb", "Epoch of the elements (JD TDB)"),
     ("orbit.center", "The body orbited"),
-    ("pole.ra_deg", "Pole right ascension (deg, ICRF)"), ("pole.dec_deg", "Pole declination (deg, ICRF)"),
+    ("pole.ra_deg", f"Pole right ascension (deg, ICRF{_TURNS})"), ("pole.dec_deg", "Pole declination (deg, ICRF, −90 to 90)"),
     ("pole.epoch_jd_tdb", "Epoch of the pole (JD TDB)"),
     ("moments.A", "Moment A (the smallest)"), ("moments.B", "Moment B"), ("moments.C", "Moment C (the largest)"))
 MY_BODY_GROUPS = (("body", "The body"), ("orbit", "Its orbit (osculating, ecliptic and equinox J2000)"),
@@ -118,7 +128,7 @@ def _api_base(request: Request, absolute: bool) -> str:
     if configured:
         return configured + root
     server = request.scope.get("server")
-    if not absolute or not server:
+    if not absolute or not server or server[1] is None:       # a unix socket has no address to print
         return root
     host, port = server[0], server[1]
     host = f"[{host}]" if ":" in str(host) else str(host)          # an IPv6 address
@@ -139,9 +149,11 @@ def _python_call(function: str, body: str, params: dict) -> str:
     return f"{function}({', '.join(args)})"
 
 
-async def _answer(request: Request, compute):
+async def _answer(request: Request, compute, fields=()):
     """``compute()`` in the thread pool under the request's context (its budget), as a sync route runs; an
-    exception becomes the problem the API would send for it: (result, None) or (None, problem)."""
+    exception becomes the problem the API would send for it: (result, None) or (None, problem). ``fields``: the
+    names the page's form shows; the problem's ``marked`` says whether one of its fields stands among them (the
+    page then says "at the field marked below", and only then)."""
     ctx = contextvars.copy_context()
     try:
         return await anyio.to_thread.run_sync(ctx.run, compute), None
@@ -153,6 +165,7 @@ async def _answer(request: Request, compute):
         response = await handler(request, exc)
         problem = json.loads(response.body)
         problem["fields"] = {e["field"]: e["reason"] for e in problem.get("errors", [])}
+        problem["marked"] = any(f in fields for f in problem["fields"])
         return None, problem
 
 
@@ -190,9 +203,11 @@ def install(app: FastAPI) -> None:
                      history_form={**HISTORY_DEFAULTS, "tolerance_mas": "", "orbit_model": "", "dataset": dataset},
                      orbit_models=ORBIT_MODELS,
                      downloads=[(layout_label, [(label, _api_url(request, f"/v1/bodies/{name}/nutation",
-                                                                 {**params, "format": fmt, "layout": layout}))
+                                                                 {**params, "format": fmt, "layout": layout}),
+                                                 downloads.filename(name, dataset, "nutation", layout, fmt=fmt))
                                                 for fmt, label in TABLE_DOWNLOADS])
                                 for layout, layout_label in TABLE_LAYOUTS],
+                     orbit_span=api.shipped_orbit_span(name),
                      precession_code=_snippets(request, f"/v1/bodies/{name}/precession", params,
                                                _python_call("api.precession", name, params)),
                      nutation_code=_snippets(request, f"/v1/bodies/{name}/nutation", params,
@@ -211,6 +226,7 @@ def install(app: FastAPI) -> None:
         params = {k: form[k] for k in TRACK_FIELDS}
 
         def compute():
+            _check_form(_TrackForm, form)       # every field as the API's query checks it: all the errors at once
             # the API's own parsing: the query's text as the route would get it
             step, tol = _float(step_days, "step_days"), _float(tolerance_mas, "tolerance_mas") if tolerance_mas else None
             track = api.track_arrays(body, start, stop, step, dataset,
@@ -228,7 +244,7 @@ def install(app: FastAPI) -> None:
             return {**track, "models": models, "models_chart": chart,
                     "model_rows": api.track_models_rows(models)}
 
-        result, problem = await _answer(request, compute)
+        result, problem = await _answer(request, compute, TRACK_FIELDS)
         rows, count = [], 0
         if result is not None:
             count = len(result["jd_tdb"])
@@ -242,6 +258,7 @@ def install(app: FastAPI) -> None:
                      models_svg_url=f"/v1/bodies/{quote(name)}/track/models.svg?{models_query}",
                      rows=rows, count=count, keys=api.TRACK_KEYS, models=api.MODELS, axes=api.AXES,
                      csv_url=_api_url(request, f"/v1/bodies/{name}/track", {**params, "format": "csv"}),
+                     csv_name=downloads.filename(name, dataset, "track", fmt="csv"),
                      # every parameter of the track reaches its figure (the figure of this track, not a default's)
                      plot_url=_api_url(request, f"/v1/bodies/{name}/track.svg", params),
                      snippets=_snippets(request, f"/v1/bodies/{name}/track", params,
@@ -263,22 +280,29 @@ def install(app: FastAPI) -> None:
         params = {k: form[k] for k in HISTORY_FIELDS}
 
         def compute():
+            _check_form(_HistoryForm, form)     # every field as the API's query checks it: all the errors at once
             return api.history(body, _float(start_year, "start_year"), _float(stop_year, "stop_year"),
                                _float(step_years, "step_years"), dataset,
                                tolerance_mas=_float(tolerance_mas, "tolerance_mas") if tolerance_mas else None,
                                orbit_model=orbit_model or None,
                                max_samples=request.app.state.settings.max_track_samples)
 
-        result, problem = await _answer(request, compute)
-        rows, count = [], 0
+        result, problem = await _answer(request, compute, HISTORY_FIELDS)
+        rows, count, largest = [], 0, None
         if result is not None:
             count = len(result["year"])
             rows = [[float(result[k][i]) for k in HISTORY_KEYS] for i in range(min(count, TRACK_ROWS_SHOWN))]
+            # the estimate in the unit of the answer's own per-epoch estimates (deg): one unit for the error
+            largest = max(float(x) for x in result["estimated_error_deg"])
         name = result["body"] if result else body
         plot_params = {k: form[k] for k in HISTORY_FIELDS}
         return _page("history.html", _status(problem), body=name, form=form, result=result, problem=problem,
-                     rows=rows, count=count, keys=HISTORY_KEYS, orbit_models=ORBIT_MODELS,
-                     plot_url=_api_url(request, f"/v1/bodies/{name}/history.png", plot_params),
+                     rows=rows, count=count, keys=HISTORY_KEYS, orbit_models=ORBIT_MODELS, largest_error_deg=largest,
+                     orbit_span=api.shipped_orbit_span(name), fallback=_fallback(result, orbit_model),
+                     csv_url=_api_url(request, f"/v1/bodies/{name}/history", {**params, "format": "csv"}),
+                     csv_name=downloads.filename(name, dataset, "history", fmt="csv"),
+                     # an SVG: it scales with the page (a phone's width too)
+                     plot_url=_api_url(request, f"/v1/bodies/{name}/history.svg", plot_params),
                      snippets=_snippets(request, f"/v1/bodies/{name}/history", params,
                                         _python_call("api.history", name, {
                                             **params, "start_year": _maybe_float(start_year),
@@ -299,10 +323,12 @@ def install(app: FastAPI) -> None:
                 user = _user_body(form)
                 return api.precession_nutation(user.to_body(), user.order)
 
-            result, problem = await _answer(request, compute)
+            result, problem = await _answer(request, compute,
+                                            [n for n, _ in MY_BODY_FIELDS] + [g for g, _ in MY_BODY_GROUPS])
         doc = _user_document(form)
         return _page("my_body.html", _status(problem), body=form["name"] or "your body", form=form, result=result,
                      problem=problem, fields=MY_BODY_FIELDS, groups=MY_BODY_GROUPS, centers=tuple(api.GM_CENTER),
+                     turned=_turned(form) if result else [],
                      precession_code={
                          "url": _api_url(request, "/v1/precession-nutation", {}, absolute=True),
                          "href": _api_url(request, "/v1/precession-nutation", {}),
@@ -316,15 +342,25 @@ def install(app: FastAPI) -> None:
     @app.get("/batch", include_in_schema=False, response_class=HTMLResponse)
     async def batch_form(request: Request):
         return _page("batch.html", result=None, problem=None, form={}, max_rows=_max_rows(request),
-                     title="A batch of bodies")
+                     template_url=BATCH_TEMPLATE_URL, title="A batch of bodies")
+
+    @app.get(BATCH_TEMPLATE_URL, include_in_schema=False)
+    async def batch_template():
+        """A CSV to start from: the columns of docs/batch_input.md, one row per form of the inertia."""
+        return Response(BATCH_TEMPLATE, media_type="text/csv; charset=utf-8",
+                        headers=downloads.disposition(BATCH_TEMPLATE_NAME))
 
     @app.post("/batch", include_in_schema=False, response_class=HTMLResponse)
-    async def batch_page(request: Request, file: UploadFile = File(...), start_year: str = Form(""),
+    async def batch_page(request: Request, file: Optional[UploadFile] = File(None), start_year: str = Form(""),
                          stop_year: str = Form(""), step_years: str = Form("")):
-        raw = await file.read()
+        # no file chosen: the form again, the problem at its file field (not the framework's raw JSON)
+        raw = await file.read() if file is not None and file.filename else None
         form = {"start_year": start_year, "stop_year": stop_year, "step_years": step_years}
 
         def compute():
+            if raw is None:
+                raise api.InvalidInputError("file", "choose a CSV file of bodies to upload (the columns of "
+                                                    "docs/batch_input.md; the template on this page is one)")
             rows = csv_batch_rows(raw)
             history = None
             if start_year or stop_year or step_years:
@@ -332,7 +368,9 @@ def install(app: FastAPI) -> None:
                            "step_years": _float(step_years, "step_years")}
             return api.batch(rows, history, _max_rows(request), "")
 
-        result, problem = await _answer(request, compute)
+        result, problem = await _answer(request, compute, ("file", "start_year", "stop_year", "step_years"))
+        if problem is not None and problem.get("fields"):
+            problem["marked"] = True                    # every problem of a batch stands at its file field
         download = None
         if result is not None:
             out = io.StringIO()
@@ -342,7 +380,7 @@ def install(app: FastAPI) -> None:
             download = "data:text/csv;charset=utf-8," + quote(out.getvalue())
         history = {k: v for k, v in form.items() if v}
         url = _api_url(request, "/v1/batch", history, absolute=True)
-        name = file.filename or "bodies.csv"
+        name = (file.filename if file is not None else "") or "bodies.csv"
         snippets = {"url": url, "href": _api_url(request, "/v1/batch", history),
                     "curl": f"curl -s -X POST {shlex.quote(url)} -H 'content-type: text/csv' --data-binary @{shlex.quote(name)}",
                     "python": "import csv\nfrom ephem import api\n"
@@ -350,6 +388,8 @@ def install(app: FastAPI) -> None:
                               f"api.batch(rows{', ' + repr({k: float(v) for k, v in history.items()}) if history else ''})"}
         return _page("batch.html", _status(problem), result=result, problem=problem, form=form,
                      max_rows=_max_rows(request), download=download, shown=TRACK_ROWS_SHOWN,
+                     template_url=BATCH_TEMPLATE_URL, download_name=downloads.filename(
+                         name.rsplit(".", 1)[0], "batch", "answers", fmt="csv"),
                      filename=name, snippets=snippets, title="A batch of bodies")
 
 
@@ -365,6 +405,67 @@ def _facts(record: dict) -> tuple[list[dict], list[tuple[list[str], str]]]:
             note = list(notes).index(v["no_uncertainty"]) + 1
         rows.append({"key": key, **v, "note": note})
     return rows, [(keys, reason) for reason, keys in notes.items()]
+
+
+class _TrackForm(TrackIn):
+    """The track form's fields as the API's query takes them (TrackIn: the POST's track object, the same rules),
+    with the e-order and the dataset."""
+    order: Optional[Annotated[int, Field(ge=0, le=api.MAX_ORDER)]] = None
+    dataset: Literal[tuple(api.available_datasets())] = api.DEFAULT_DATASET
+
+
+class _HistoryForm(HistoryIn):
+    """The history form's fields as the API's query takes them."""
+    dataset: Literal[tuple(api.available_datasets())] = api.DEFAULT_DATASET
+
+
+def _check_form(model, form: dict) -> None:
+    """Every field of a GET form checked at once, as the API's query is (text parsed as the query's: "10" is a
+    number, "abc" is not), so that the page shows every error of a submission, not the first: a 422 naming them
+    all."""
+    try:
+        model.model_validate({k: v for k, v in form.items() if v not in ("", None)}, strict=False)
+    except ValidationError as exc:
+        raise RequestValidationError([{**e, "loc": ("query",) + tuple(e["loc"])} for e in exc.errors()]) from None
+
+
+def _fallback(result: dict | None, orbit_model: str) -> str | None:
+    """Why the history's orbit is not the shipped N-body one, where the default chose another (a span beyond it):
+    the answer's own words, shown where the result is."""
+    if result is None or orbit_model:
+        return None
+    m = result["model"]
+    if m.get("name") == "nbody":
+        return None
+    why_not = next((c.get("why_not") for c in m.get("candidates") or () if c.get("name") == "nbody"), None)
+    return "; ".join(x for x in (why_not, m.get("why_chosen")) if x) or None
+
+
+def _turned(form: dict) -> list[tuple[str, str, float]]:
+    """The angles given outside [0, 360) that the API takes modulo 360 (as it documents): (field, as given, as
+    read), shown beside the result so that a 500° right ascension is seen to be 140°."""
+    out = []
+    for name in TURNING_ANGLES:
+        try:
+            value = float(form.get(name) or "")
+        except ValueError:
+            continue
+        if math.isfinite(value) and not 0.0 <= value < 360.0:
+            out.append((name, form[name], value % 360.0))
+    return out
+
+
+#: the batch page's template: the columns of docs/batch_input.md, a row for each form of the inertia (values of
+#: Vesta's and Ceres' kind, for the shape of the file only) and a σ column
+BATCH_TEMPLATE_URL = "/batch/template.csv"
+BATCH_TEMPLATE_NAME = "bodies_template.csv"
+BATCH_TEMPLATE = (
+    "name,a_au,e,i_deg,node_deg,peri_deg,mean_anomaly_deg,epoch_jd_tdb,pole_ra_deg,pole_dec_deg,pole_epoch_jd_tdb,"
+    "rotation_period_hours,dynamical_ellipticity,moment_a,moment_b,moment_c,axis_a_km,axis_b_km,axis_c_km,"
+    "pole_dec_deg_sigma\n"
+    "by-ellipticity,2.36,0.089,7.14,103.7,151.7,169.2,2460200.5,309.03,42.23,2451545.0,5.342,0.1689,,,,,,,0.1\n"
+    "by-moments,2.77,0.079,10.6,80.3,73.6,77.4,2460200.5,291.4,66.8,2451545.0,9.074,,0.3433,0.3546,0.42,,,,\n"
+    "by-axes,2.5,0.1,5.0,10.0,20.0,30.0,2460200.5,100.0,20.0,2451545.0,7.5,,,,,290.0,265.0,229.0,\n")
 
 
 def _float(text: str, field: str) -> float:
@@ -440,11 +541,36 @@ def _number_or_text(text: str):
 
 
 def _user_body(form: dict) -> UserBody:
-    """The form validated as the POST validates its body (the same model): an error names the field's path."""
+    """The form validated as the POST validates its body (the same model), then the library's checks of the orbit,
+    the pole and the body each on its own, so that every error of a submission shows at once (the POST stops at
+    the first of these): an error names the field's path (the moments' as ``moments``, their fieldset)."""
     try:
-        return UserBody.model_validate(_user_document(form))      # an integer is a number there, as in JSON
+        user = UserBody.model_validate(_user_document(form))      # an integer is a number there, as in JSON
     except ValidationError as exc:
         raise RequestValidationError([{**e, "loc": ("body",) + tuple(e["loc"])} for e in exc.errors()]) from None
+    example = UserBody.model_validate({k: v for k, v in UserBody.model_config["json_schema_extra"]["examples"][0]
+                                       .items() if k != "track"})
+    errors = []
+
+    def check(make, fallback):
+        try:
+            return make()
+        except api.InvalidInputError as exc:
+            field = exc.field if not exc.field.startswith("inertia") else "moments" + exc.field[len("inertia"):]
+            errors.append({"loc": ("body", *field.split(".")), "msg": exc.reason, "type": "value_error"})
+            return fallback
+
+    # each part checked with the others' example values where they are wrong, so that each error shows
+    orbit = check(lambda: api.Orbit(**user.orbit.model_dump(), body=user.name),
+                  api.Orbit(**example.orbit.model_dump(), body=user.name))
+    pole = check(lambda: api.Pole(**user.pole.model_dump(), body=user.name),
+                 api.Pole(**example.pole.model_dump(), body=user.name))
+    check(lambda: api.Body(name=user.name, orbit=orbit, pole=pole, rotation_period_hours=user.rotation_period_hours,
+                           moments=None if user.moments is None else (user.moments.A, user.moments.B, user.moments.C),
+                           dynamical_ellipticity=user.dynamical_ellipticity), None)
+    if errors:
+        raise RequestValidationError(errors)
+    return user
 
 
 def _python_body(doc: dict) -> str:

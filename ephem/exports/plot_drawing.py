@@ -285,17 +285,22 @@ def _history_origin(years) -> float:
     return float(y[0]) if y.size and 0.0 < float(y[-1] - y[0]) < 1.0 else 0.0
 
 
-def _fmt_mas_or_deg(mas: float) -> str:
-    """mas, arcsec, or degrees from 1000″."""
-    return f"{mas / 3.6e6:.3g}°" if mas is not None and mas >= 1.0e6 else _fmt_mas(mas)
+def _fmt_deg(deg: float | None) -> str:
+    """An estimate in degrees, the unit of the history's own estimates (estimated_error_deg, obliquity_error_deg):
+    one unit for the error on the figure, its axes and the page it stands on."""
+    return "none" if deg is None else f"{deg:.3g}°"
 
 
 def _history_model_line(ans: dict) -> str:
     m = ans["model"]
-    obl = float(np.max(ans["obliquity_error_deg"])) * 3.6e6 if np.size(ans["obliquity_error_deg"]) else None
+    # the pole's: the largest of its per-epoch estimates, or the model's own (mas) in the same unit
+    per_epoch = ans.get("estimated_error_deg")
+    pole = float(np.max(per_epoch)) if per_epoch is not None and np.size(per_epoch) else (
+        None if m.get("estimated_error_mas") is None else m["estimated_error_mas"] / 3.6e6)
+    obl = float(np.max(ans["obliquity_error_deg"])) if np.size(ans["obliquity_error_deg"]) else None
     by = ans.get("perturbers")
     return (f"model: averaged spin along the {m.get('name')} orbit, estimated error "
-            f"{_fmt_mas_or_deg(m.get('estimated_error_mas'))} (pole), {_fmt_mas_or_deg(obl)} (obliquity)"
+            f"{_fmt_deg(pole)} (pole), {_fmt_deg(obl)} (obliquity)"
             + (f"; torqued by {', '.join(by)}" if by else ""))
 
 

@@ -366,6 +366,18 @@ def shipped_loaded(body_name: str) -> bool:
 
 
 @lru_cache(maxsize=None)
+def shipped_span(body_name: str) -> tuple[float, float] | None:
+    """The span (Julian years from J2000.0) the shipped N-body orbit of a catalogue body covers (the Moon: the
+    Earth's), from the metadata, without loading the orbit; None for a body without one. A history within it follows
+    that orbit by default (:func:`ephem.answers.requests.history`), one beyond it the secular orbit."""
+    try:
+        name = _shipped_name(body_name)
+    except (InvalidInputError, NotApplicableError):
+        return None
+    lo, hi = load_metadata()["body"][name]["data_span_years"]
+    return float(lo), float(hi)
+
+
 def _load_shipped(name: str) -> OrbitHistory:
     _LOADED.add(name)
     meta = load_metadata()

@@ -313,3 +313,64 @@ def test_the_dataset_chooser_submitted(server, browser):
     names = {b["name"] for b in _api(server, "/v1/bodies?dataset=petit2014")}
     links = {a.text for a in browser.find_elements(By.XPATH, "//table//th[@scope='row']/a")}
     assert links == names
+
+
+#: the phone of issue 41 (CSS px): the body and track pages were 1,035-1,141 px wide there
+PHONE = {"width": 390, "height": 844, "deviceScaleFactor": 3, "mobile": True}
+PHONE_PAGES = ("/bodies/vesta", "/bodies/earth", "/bodies/moon",
+               "/bodies/earth/track?start=2000-01-01&stop=2030-01-01&step_days=3650&tolerance_mas=10"
+               "&axis=forced_figure",
+               "/bodies/ceres/history?start_year=-20000&stop_year=0&step_years=500", "/batch", "/my-body",
+               "/docs/accuracy")
+
+
+def test_a_phone_never_scrolls_sideways(server, browser, artifacts):
+    """At 390 px the page is as wide as the screen: a wide table scrolls inside its own box (and on the body and
+    track pages one does, so the check bites), a figure scales down (SVG), long words wrap."""
+    browser.execute_cdp_cmd("Emulation.setDeviceMetricsOverride", PHONE)
+    try:
+        for path in PHONE_PAGES:
+            browser.get(server + path)
+            width = browser.execute_script("return document.documentElement.clientWidth")
+            scroll = browser.execute_script("return document.documentElement.scrollWidth")
+            assert width <= PHONE["width"] and scroll <= PHONE["width"], (path, scroll, width)
+            boxes = browser.execute_script(
+                "return [...document.querySelectorAll('.table-scroll')].map(b => [b.scrollWidth, b.clientWidth])")
+            if path.startswith("/bodies/") and "/history" not in path:
+                assert any(s > c for s, c in boxes), (path, boxes)     # a table wider than the phone, boxed
+            for img in browser.find_elements("css selector", "figure img"):
+                shown = browser.execute_script("const r = arguments[0].getBoundingClientRect(); "
+                                               "return [r.width, arguments[0].naturalWidth, arguments[0].currentSrc]",
+                                               img)
+                assert 0 < shown[0] <= width and shown[1] > 0, (path, shown)   # loaded, and scaled to the page
+                assert ".svg" in shown[2], (path, shown)
+            browser.save_screenshot(str(artifacts / f"phone_{path.strip('/').split('?')[0].replace('/', '_')}.png"))
+    finally:
+        browser.execute_cdp_cmd("Emulation.clearDeviceMetricsOverride", {})
+
+
+def test_the_docs_and_redoc_load_nothing_from_outside(server, browser):
+    """The accuracy document renders with its six charts (each decoded by the browser), and ReDoc's page, which
+    fetched Redocly's logo from a CDN, reaches nothing but the service (Chromium's network log)."""
+    from selenium.webdriver.common.by import By
+
+    browser.get_log("performance")                        # drop what came before
+    browser.get(server + "/docs/accuracy")
+    charts = browser.find_elements(By.CSS_SELECTOR, "img[src^='/docs/charts/']")
+    assert len(charts) == 6
+    from selenium.webdriver.support.ui import WebDriverWait
+    WebDriverWait(browser, 60).until(lambda b: all(b.execute_script(
+        "return arguments[0].complete && arguments[0].naturalWidth > 0", i) for i in charts))
+    assert not _axe_violations(browser)
+    browser.get(server + "/redoc")
+    # the menu, whose foot held the logo, mounted and drawn: "API docs by Redocly" is its last line
+    WebDriverWait(browser, 120).until(lambda b: "API docs by Redocly" in b.find_element(By.TAG_NAME, "body").text)
+    urls = []
+    for entry in browser.get_log("performance"):
+        message = json.loads(entry["message"])["message"]
+        if message.get("method") == "Network.requestWillBeSent":
+            urls.append(message["params"]["request"]["url"])
+    assert any(u.endswith("/redoc/redoc.standalone.js") for u in urls), urls
+    # ReDoc's search worker is a blob of the service's own origin
+    outside = [u for u in urls if not (u.startswith((server + "/", f"blob:{server}/", "data:")) or u == "about:blank")]
+    assert not outside, outside

@@ -220,6 +220,9 @@ SPECS: dict[tuple[str, str], Spec] = {
     ("GET", "/docs/{name}.md"): Spec(url="/docs/accuracy.md", media=("text/markdown",)),
     ("MOUNT", "/docs/charts"): Spec(url="/docs/charts/work_precision.png", media=("image/png",)),
     ("MOUNT", "/docs/figures"): Spec(url="/docs/figures/earth_free_wobble.png", media=("image/png",)),
+    # ReDoc's bundle with its CDN logo replaced, and the page's icon (service/docs_pages.py)
+    ("GET", "/redoc/redoc.standalone.js"): Spec(media=("text/javascript",)),
+    ("GET", "/favicon.ico"): Spec(media=("image/svg+xml",)),
     ("MOUNT", "/static"): Spec(url="/static/swagger-ui/swagger-ui.css", media=("text/css",)),
     # the web page (service/pages.py): every body's page and a track of it, each a whole HTML document
     ("GET", "/"): Spec(media=("text/html",)),
@@ -230,6 +233,7 @@ SPECS: dict[tuple[str, str], Spec] = {
                                             media=("text/html",)),
     ("GET", "/my-body"): Spec(media=("text/html",)),
     ("GET", "/batch"): Spec(media=("text/html",)),
+    ("GET", "/batch/template.csv"): Spec(media=("text/csv",)),
     ("POST", "/batch"): Spec(("user_asteroid",), files=lambda case: {"file": ("bodies.csv", _batch_csv(), "text/csv")},
                              media=("text/html",)),
 }
@@ -393,7 +397,8 @@ def check_csv(case: Case, r) -> None:
     assert all(len(row) == len(header) for row in body), case.id
     cells = [c for row in body for c in row]
     assert not [c for c in cells if c.strip().lower() in ("nan", "inf", "-inf", "infinity")], case.id
-    example = operation(case.method, case.path)["responses"]["200"]["content"]["text/csv"].get("example", "")
+    op = operation(case.method, case.path)          # None for a page's file (the batch template)
+    example = op["responses"]["200"]["content"]["text/csv"].get("example", "") if op else ""
     if example:
         assert header[0] == example.split(",", 1)[0], (case.id, header[0])   # the documented first column
     if case.path.endswith("/track"):
@@ -465,9 +470,13 @@ def check_css(case: Case, r) -> None:
     assert "{" in r.text and "}" in r.text, case.id
 
 
+def check_js(case: Case, r) -> None:
+    assert "function" in r.text and 'src:"https://' not in r.text, case.id      # nothing fetched from outside
+
+
 CHECKS = {"application/json": check_json, "text/csv": check_csv, "text/markdown": check_markdown,
           "application/x-latex": check_latex, "image/png": check_png, "image/svg+xml": check_svg,
-          "text/html": check_html, "text/css": check_css}
+          "text/html": check_html, "text/css": check_css, "text/javascript": check_js}
 
 
 def call(client, case: Case):
