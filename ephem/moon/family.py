@@ -75,7 +75,7 @@ from .model import (CIRCLE_SIDEBANDS, INTEGRATION_ERROR, LIBRATION_CUT, PHYSICS_
                     synchronous_model)
 from . import lunar_kernel
 from .kernel_rung import PA_ROUNDING, kernel_estimate, kernel_track
-from .orientation import ecliptic_lag_vector, mean_inclination, pa_offset_angle
+from .orientation import ecliptic_lag_vector, mean_inclination, orientation_data, pa_offset_angle
 
 
 THEORY = ("Cassini state of a synchronous rotator (ephem.moon.cassini): the spin axis, the orbit normal and the Laplace "
@@ -107,8 +107,11 @@ AXIS_ASSUMPTIONS = {
 #: the free libration in latitude, rad (Yang et al. 2017: 0.025″ in DE430), which no model carries
 FREE_LATITUDE = 0.025 * ARCSEC
 #: the free wobble's measurement: its fit over 1970-2010 against one over 1900-2050 (0.03″; tools/
-#: derive_moon_free_wobble.py) and the period's uncertainty over the span, rounded up
-WOBBLE_MEASUREMENT = 0.1 * ARCSEC
+#: derive_moon_free_wobble.py), rounded up
+WOBBLE_MEASUREMENT = 0.05 * ARCSEC
+#: the wobble period's uncertainty, days: DE430's (Yang et al. 2017, 27262.99 d) against DE421's (Rambaux & Williams
+#: 2011, 27257.27 d) stands for it; the phase it loses grows with the distance from the fit
+WOBBLE_PERIOD_SIGMA_DAYS = 5.72
 #: the lag behind the moving ecliptic is first order in the tilts and folds the Sun into ω_p: a twentieth of it stands
 #: for what is left out (DE421: 7.56″ against 7.33″ modelled, 3 %)
 LAG_MODEL_SHARE = 0.05
@@ -294,7 +297,7 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         moments = moments_bound(self.body)
         librations = {"truncation": m.series.omitted_bound(LIBRATION_CUT)[0], "moments": moments}
         if free_modes:
-            librations["free_modes"] = WOBBLE_MEASUREMENT + FREE_LATITUDE
+            librations["free_modes"] = wobble_measurement(m, ends) + FREE_LATITUDE
         # the integration starts on the librations' state: its error there, and the free modes it excites, which turn
         # it in space (the free wobble and the free precession, the faster ~74 years): 2δ sin(ωΔt/2) ≤ min(2, ωΔt) δ
         delta = sum(librations.values()) + common["inclination"] + common["ecliptic_motion"]
@@ -480,6 +483,17 @@ MOON_MEAN_POLE = ("the Moon's mean pole: the Cassini state at the observed mean 
                   "1981, Meeus 1998 ch. 53; not the catalogue's IAU pole), its node at the Delaunay node + 90 deg, "
                   "displaced by its lag behind the moving ecliptic (ephem.moon.orientation: 7.3 arcsec) and, with the "
                   "librations, by the free wobble measured in DE421")
+
+
+def wobble_measurement(m: SynchronousModel, ends: np.ndarray) -> float:
+    """The free wobble's error (rad) at epochs reaching ``ends``: its fit (:data:`WOBBLE_MEASUREMENT`) and the phase
+    its period's uncertainty loses from the fit's middle, 2 A sin(Δφ/2) ≤ A min(2, Δφ), Δφ = 2π Δt σ_P / P²: 0.01″ a
+    century, growing with the span as the theory's other terms do not."""
+    w = m.wobble
+    span = orientation_data()["free_wobble"]["fit_span_jd_tdb"]
+    far = float(np.max(np.abs(np.asarray(ends, dtype=float) - 0.5 * (span[0] + span[1]))))
+    drift = 2.0 * math.pi * far * WOBBLE_PERIOD_SIGMA_DAYS / w.period_days**2
+    return WOBBLE_MEASUREMENT + max(w.amplitudes) * min(2.0, drift)
 
 
 def refused_axis(axis: str) -> str:
