@@ -192,9 +192,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             "application/json": {"example": {"terms": [{
                 "multiple": 2, "period_days": 662.69, "period_years": 1.8143, "longitude_sin_arcsec": -2.6118,
                 "longitude_cos_arcsec": -2.6478, "obliquity_sin_arcsec": -1.3763, "obliquity_cos_arcsec": 1.4318}]}},
-            "text/csv": {"example": "component,multiple,arg,sin_arcsec,cos_arcsec,amp_arcsec,period_years\n"
-                                    "longitude,1,M,2.3784,0.2431,1.1025,3.6287\n"},
-            "text/markdown": {"example": "| Sin (\") | Cos (\") | Amp (\") | Period (year) | Arg |\n"},
+            "text/csv": {"example": "component,multiple,arg,sin_arcsec,cos_arcsec,amp_arcsec,period_years,amp_of\n"
+                                    "longitude,1,M,2.3784,0.2431,1.1025,3.6287,Δψ sin ε\n"},
+            "text/markdown": {"example": "| Δψ Sin (\") | Δψ Cos (\") | Amp Δψ sin ε (\") | Period (year) | Arg |\n"},
             "application/x-latex": {"example": "\\begin{tabular}{rrrrl}\n\\toprule\n"}}}})
     def nutation(body: BodyPath, dataset: DatasetQuery = DEFAULT_DATASET_VALUE, order: OrderQuery = None,
                  tolerance_mas: ToleranceQuery = None,
