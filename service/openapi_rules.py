@@ -64,7 +64,9 @@ def _rule_texts(settings: Settings) -> dict[str, str]:
                  f"February); UT1 is accepted from {lo} through {hi} only, the span of the IERS tables bundled "
                  "with astropy (UT1 - UTC is not known beyond).",
         "grid": f"stop must not be before start; step_days > 0, and the epochs start, start + step_days, ... up to "
-                f"stop number at most {settings.max_track_samples} (EPHEM_MAX_TRACK_SAMPLES).",
+                f"stop number at most {settings.max_track_samples} (EPHEM_MAX_TRACK_SAMPLES); step_days is one the "
+                "span's Julian dates resolve in float64 (at least the spacing of doubles at its largest date: "
+                "4.657e-10 d near J2000), else its epochs would repeat.",
         "tolerance": "tolerance_mas lets the fidelity ladder choose the model: give it or order, not both.",
         "tolerance_model": "tolerance_mas lets the fidelity ladder choose the model: give it, or model and "
                            "order, not both. order goes with model=series, which needs one (order alone means "
@@ -87,24 +89,27 @@ def _rule_texts(settings: Settings) -> dict[str, str]:
         "plot": "stop must be after start; J_arcsec applies to kind free-wobble only, and tolerance_mas, model and "
                 "order to the other kinds; a figure draws at most "
                 f"{MAX_PLOT_POINTS} epochs: step_days (default: chosen for the span) must leave from 2 to that many "
-                "epochs in the span and, for the free wobble, sample its period; J_arcsec is needed for a body "
+                "epochs in the span, which float64 Julian dates resolve, and, for the free wobble, sample its "
+                "period; J_arcsec is needed for a body "
                 "without a published wobble amplitude (Earth, Moon, Mars and Eros have one).",
         "user": "orbit: a_au > 0, 0 <= e < 1, 0 <= i_deg <= 180, and a bound orbit clear of the Sun: the "
                 "pericentre a(1 - e) outside the Sun's radius and a inside its Hill sphere; pole: -90 <= dec_deg <= "
                 f"90; angles (node_deg, peri_deg, mean_anomaly_deg, ra_deg, the track's phases) within "
                 f"±{MAX_ANGLE_DEG:g} deg; rotation_period_hours >= {MIN_ROTATION_PERIOD_HOURS:g} (0.36 s); give "
                 "moments (0 < A <= B <= C <= A + B) or dynamical_ellipticity in (0, 0.5]; epochs are Julian dates "
-                "in (0, 1e7); track as GET /v1/bodies/{body}/track.",
+                "in (0, 1e7); track as GET /v1/bodies/{body}/track; each key of a JSON object is given once.",
         "history": "stop_year must be after start_year, within 2e7 years of it; step_years must be positive and "
-                   "leave at most 100001 epochs in the span (a plot: 2 to 100000); give orbit_model or "
+                   "leave at most 100001 epochs in the span (a plot: 2 to 100000), at least the spacing of float64 "
+                   "doubles at the span's largest year (else its epochs would repeat); give orbit_model or "
                    "tolerance_mas, not both; nbody for a body without a shipped orbit is run on request within the "
                    "budget.",
         "batch": f"rows: 1 to {settings.max_batch_rows} objects (EPHEM_MAX_BATCH_ROWS; for more, `ephem batch` on "
                  "Dask), each with only the columns of docs/batch_input.md (a bad value, or a cell that is not a "
                  "number, gets its reason in the row's `error`, with a 200); history, the object's or start_year, "
                  "stop_year and step_years together: finite numbers, start_year < stop_year within 2e7 years, "
-                 "step_years > 0 leaving at most 100001 epochs; the body is JSON (an array of rows, or {rows, "
-                 "history} and nothing else) or CSV (text/csv, UTF-8) with a header of distinct column names and "
+                 "step_years > 0 leaving at most 100001 epochs, at least the spacing of float64 doubles at the "
+                 "span's largest year; the body is JSON (an array of rows, or {rows, history} and nothing else, "
+                 "each key of an object given once) or CSV (text/csv, UTF-8) with a header of distinct column names and "
                  "as many cells on every line. Each row is priced before the work at its own eccentricity (the "
                  "FFT of its Hansen coefficients grows like (1 - e^2)^(-3/2)) and, with a history, at its "
                  "integration from its pole's epoch through the span (docs/batch.md).",
