@@ -62,6 +62,12 @@ REASON_RULES = [
     (r"the pericentre a\(1 - e\) = .* lies inside the|lies beyond the .* Hill sphere", {"user"}),
     (r"must be after start|exceeds 2e\+07 years|epochs over \[|epochs exceed the cap of|"
      r"give either an orbit model or a tolerance|must be positive|leaves a single epoch", {"history"}),
+    (r"is finer than float64 Julian dates resolve|is within rounding of what float64 Julian dates",
+     {"grid", "plot"}),
+    (r"a plot needs a time span float64 Julian dates resolve", {"plot"}),
+    (r"is finer than float64 years from J2000.0 resolve|is within rounding of what float64 years",
+     {"history", "batch"}),
+    (r"given \d+ times in one object of the JSON body", {"user", "batch"}),
     (r"expected \{start_year, stop_year, step_years\}|start_year < stop_year and step_years|rows is more than|"
      r"unknown column|no rows: give|expected a list of objects|^not JSON|^not CSV", {"batch"}),
 ]
