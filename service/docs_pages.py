@@ -97,7 +97,7 @@ _md = MarkdownIt("commonmark", {"html": False}).enable("table")
 
 
 def _table_open(self, tokens, idx, options, env):
-    return '<div class="table-scroll">' + self.renderToken(tokens, idx, options, env)
+    return '<div class="table-scroll" tabindex="0">' + self.renderToken(tokens, idx, options, env)
 
 
 def _table_close(self, tokens, idx, options, env):
@@ -148,7 +148,8 @@ def _render_cached(text: str) -> tuple[str, str]:
                         child.attrSet("src", target)
     if drop is not None:
         del tokens[drop:drop + 3]
-    return title, _md.renderer.render(tokens, _md.options, {})
+    # a code block scrolls sideways on a phone: focusable, so a keyboard scrolls it too (axe's rule)
+    return title, _md.renderer.render(tokens, _md.options, {}).replace("<pre>", '<pre tabindex="0">')
 
 
 def render(text: str) -> tuple[str, str]:

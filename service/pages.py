@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import contextvars
 import csv
+import functools
 import io
 import json
 import math
@@ -339,6 +340,14 @@ def install(app: FastAPI) -> None:
                      title="A body of your own")
 
 
+    @app.get("/about", include_in_schema=False, response_class=HTMLResponse)
+    async def about(request: Request):
+        """The version, how to cite it, the theories the answers rest on, the data sets and every source of their
+        values, the licence: all read from the answers and the catalogue (nothing written twice)."""
+        about, problem = await _answer(request, lambda: _about(request.app.version))
+        return _page("about.html", _status(problem), problem=problem, **(about or {}),
+                     title="About ephem, and how to cite it")
+
     @app.get("/batch", include_in_schema=False, response_class=HTMLResponse)
     async def batch_form(request: Request):
         return _page("batch.html", result=None, problem=None, form={}, max_rows=_max_rows(request),
@@ -466,6 +475,55 @@ BATCH_TEMPLATE = (
     "by-ellipticity,2.36,0.089,7.14,103.7,151.7,169.2,2460200.5,309.03,42.23,2451545.0,5.342,0.1689,,,,,,,0.1\n"
     "by-moments,2.77,0.079,10.6,80.3,73.6,77.4,2460200.5,291.4,66.8,2451545.0,9.074,,0.3433,0.3546,0.42,,,,\n"
     "by-axes,2.5,0.1,5.0,10.0,20.0,30.0,2460200.5,100.0,20.0,2451545.0,7.5,,,,,290.0,265.0,229.0,\n")
+
+
+#: a body of each family, for the theories its answers name: (who they serve, body)
+ABOUT_FAMILIES = (("An asteroid, a dwarf planet or a planet under the Sun's torque", "vesta"),
+                  ("The Earth under the Moon and the Sun", "earth"),
+                  ("The Moon, a synchronous rotator", "moon"))
+#: the distribution whose metadata gives the summary and the licence
+DISTRIBUTION = "ephem-asteroid-pn"
+
+
+@functools.lru_cache(maxsize=4)
+def _about(version: str) -> dict:
+    """The About page's content, from the answers (their model.theory), the catalogue (each dataset's description,
+    each value's reference) and the package's metadata; computed once per process (none of it changes)."""
+    import importlib.metadata
+
+    try:
+        meta = importlib.metadata.metadata(DISTRIBUTION)
+        summary, licence = meta.get("Summary") or "", meta.get("License-Expression") or meta.get("License") or ""
+    except importlib.metadata.PackageNotFoundError:        # pragma: no cover - a source tree not installed
+        summary, licence = "", ""
+    theories = [(who, api.precession(body)["model"]["theory"]) for who, body in ABOUT_FAMILIES]
+    for orbit in ("nbody", "secular"):             # a history's two orbits (its spin: Kinoshita's first order)
+        model = api.history("ceres", -1000.0, 0.0, 500.0, orbit_model=orbit)["model"]
+        theories.append((f"The spin axis over millennia, the {orbit} orbit", f"{model['spin']}; {model['description']}"))
+    sources: dict[tuple, dict] = {}
+    for dataset in api.available_datasets():
+        for entry in api.list_bodies(dataset):
+            record = api.body_record(entry["name"], dataset)
+            for key, value in record["values"].items():
+                ref = value.get("reference") or {}
+                if not ref:
+                    continue
+                ident = (ref.get("authors"), ref.get("year"), ref.get("title"))
+                source = sources.setdefault(ident, {
+                    "citation": ". ".join(str(x).rstrip(".") for x in (ref.get("authors"), ref.get("year"),
+                                                                       ref.get("title"), ref.get("journal")) if x),
+                    "doi": ref.get("doi"), "where": ref.get("where"), "uses": []})
+                use = f"{dataset}: {record['name']} {key}"
+                if use not in source["uses"]:
+                    source["uses"].append(use)
+    bibtex = ("@software{ephem_" + version.replace(".", "_") + ",\n"
+              "  title = {ephem: asteroid precession-nutation ephemeris},\n"
+              f"  version = {{{version}}},\n"
+              f"  note = {{{summary}; cite also the papers its answers rest on}},\n"
+              f"  license = {{{licence}}}\n}}")
+    return {"version": version, "summary": summary, "licence": licence, "bibtex": bibtex, "theories": theories,
+            "datasets": [(name, api.load_catalogue(name).description) for name in api.available_datasets()],
+            "sources": sorted(sources.values(), key=lambda x: x["citation"])}
 
 
 def _float(text: str, field: str) -> float:

@@ -321,7 +321,7 @@ PHONE_PAGES = ("/bodies/vesta", "/bodies/earth", "/bodies/moon",
                "/bodies/earth/track?start=2000-01-01&stop=2030-01-01&step_days=3650&tolerance_mas=10"
                "&axis=forced_figure",
                "/bodies/ceres/history?start_year=-20000&stop_year=0&step_years=500", "/batch", "/my-body",
-               "/docs/accuracy")
+               "/docs/accuracy", "/about")
 
 
 def test_a_phone_never_scrolls_sideways(server, browser, artifacts):
@@ -361,6 +361,8 @@ def test_the_docs_and_redoc_load_nothing_from_outside(server, browser):
     from selenium.webdriver.support.ui import WebDriverWait
     WebDriverWait(browser, 60).until(lambda b: all(b.execute_script(
         "return arguments[0].complete && arguments[0].naturalWidth > 0", i) for i in charts))
+    assert not _axe_violations(browser)
+    browser.get(server + "/about")                       # the sources' table, the BibTeX, the theories
     assert not _axe_violations(browser)
     browser.get(server + "/redoc")
     # the menu, whose foot held the logo, mounted and drawn: "API docs by Redocly" is its last line

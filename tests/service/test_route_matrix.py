@@ -234,6 +234,7 @@ SPECS: dict[tuple[str, str], Spec] = {
     ("GET", "/my-body"): Spec(media=("text/html",)),
     ("GET", "/batch"): Spec(media=("text/html",)),
     ("GET", "/batch/template.csv"): Spec(media=("text/csv",)),
+    ("GET", "/about"): Spec(media=("text/html",)),
     ("POST", "/batch"): Spec(("user_asteroid",), files=lambda case: {"file": ("bodies.csv", _batch_csv(), "text/csv")},
                              media=("text/html",)),
 }
