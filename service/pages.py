@@ -83,11 +83,18 @@ MY_BODY_FIELDS = (
     ("orbit.center", "The body orbited"),
     ("pole.ra_deg", f"Pole right ascension (deg, ICRF{_TURNS})"), ("pole.dec_deg", "Pole declination (deg, ICRF, −90 to 90)"),
     ("pole.epoch_jd_tdb", "Epoch of the pole (JD TDB)"),
-    ("moments.A", "Moment A (the smallest)"), ("moments.B", "Moment B"), ("moments.C", "Moment C (the largest)"))
+    ("moments.A", "Moment A (the smallest)"), ("moments.B", "Moment B"), ("moments.C", "Moment C (the largest)"),
+    ("track.start", "Start (ISO 8601, UTC unless a scale follows, or JD TDB; empty: no track)"),
+    ("track.stop", "Stop"), ("track.step_days", "Step (days)"),
+    ("track.tolerance_mas", "Tolerance (mas; the cheapest model within it)"), ("track.model", "Or a model"),
+    ("track.axis", "Axis"))
 MY_BODY_GROUPS = (("body", "The body"), ("orbit", "Its orbit (osculating, ecliptic and equinox J2000)"),
-                  ("pole", "Its spin pole"), ("moments", "Its principal moments of inertia (any common unit)"))
+                  ("pole", "Its spin pole"), ("moments", "Its principal moments of inertia (any common unit)"),
+                  ("track", "A track of its spin axis (the POST's track object; leave the start empty for none)"))
 #: the text fields of a body of one's own (the rest are numbers)
-_TEXT_FIELDS = ("name", "orbit.center")
+_TEXT_FIELDS = ("name", "orbit.center", "track.start", "track.stop", "track.model", "track.axis")
+#: the select fields of a body of one's own: their options
+_MY_BODY_CHOICES = {"orbit.center": tuple(api.GM_CENTER), "track.model": ("", *api.MODELS), "track.axis": api.AXES}
 #: the track form's fields, in the API's names, and the nutation tables' formats offered for download
 TRACK_FIELDS = ("start", "stop", "step_days", "tolerance_mas", "model", "order", "axis", "free_wobble_phase_deg",
                 "free_wobble_J_arcsec", "dataset")
@@ -322,14 +329,30 @@ def install(app: FastAPI) -> None:
         if query:
             def compute():
                 user = _user_body(form)
-                return api.precession_nutation(user.to_body(), user.order)
+                body = user.to_body()
+                track = None if user.track is None else user.track.model_dump()
+                ans = api.precession_nutation(body, user.order, track, request.app.state.settings.max_track_samples)
+                if track is not None:       # its figure, drawn from the same request (inline SVG: it scales)
+                    ans["track_chart"] = _inline_svg(api.render_plot(
+                        "precession", body, track["start"], track["stop"], track["step_days"], "svg",
+                        tolerance_mas=track["tolerance_mas"], model=track["model"], order=user.order,
+                        axis=track["axis"])).replace("<svg ", '<svg role="img" aria-labelledby="user-track-caption" ', 1)
+                return ans
 
             result, problem = await _answer(request, compute,
                                             [n for n, _ in MY_BODY_FIELDS] + [g for g, _ in MY_BODY_GROUPS])
         doc = _user_document(form)
+        track_rows, track_csv = [], None
+        if result is not None and "track" in result:
+            t = result["track"]
+            track_rows = [[float(t[k][i]) for k in api.TRACK_KEYS] for i in range(min(len(t["jd_tdb"]),
+                                                                                      TRACK_ROWS_SHOWN))]
+            track_csv = "data:text/csv;charset=utf-8," + quote(_track_csv(t))
         return _page("my_body.html", _status(problem), body=form["name"] or "your body", form=form, result=result,
-                     problem=problem, fields=MY_BODY_FIELDS, groups=MY_BODY_GROUPS, centers=tuple(api.GM_CENTER),
-                     turned=_turned(form) if result else [],
+                     problem=problem, fields=MY_BODY_FIELDS, groups=MY_BODY_GROUPS, choices=_MY_BODY_CHOICES,
+                     turned=_turned(form) if result else [], track_rows=track_rows, track_keys=api.TRACK_KEYS,
+                     track_csv=track_csv, track_csv_name=downloads.filename(form["name"] or "user body", "user",
+                                                                            "track", fmt="csv"),
                      precession_code={
                          "url": _api_url(request, "/v1/precession-nutation", {}, absolute=True),
                          "href": _api_url(request, "/v1/precession-nutation", {}),
@@ -631,6 +654,15 @@ def _user_body(form: dict) -> UserBody:
     return user
 
 
+def _track_csv(track: dict) -> str:
+    """A track's arrays as the API's track CSV writes them: its keys, one row per epoch, each number its repr."""
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(api.TRACK_KEYS)
+    writer.writerows([repr(float(track[k][i])) for k in api.TRACK_KEYS] for i in range(len(track["jd_tdb"])))
+    return out.getvalue()
+
+
 def _python_body(doc: dict) -> str:
     orbit = ", ".join(f"{k}={v!r}" for k, v in doc.get("orbit", {}).items())
     pole = ", ".join(f"{k}={v!r}" for k, v in doc.get("pole", {}).items())
@@ -638,7 +670,8 @@ def _python_body(doc: dict) -> str:
                if "moments" in doc else f"dynamical_ellipticity={doc.get('dynamical_ellipticity')!r}")
     return (f"b = api.Body(name={doc.get('name', 'user body')!r}, orbit=api.Orbit({orbit}), pole=api.Pole({pole}),\n"
             f"             rotation_period_hours={doc.get('rotation_period_hours')!r}, {inertia})\n"
-            f"api.precession_nutation(b, {doc.get('order')!r})")
+            f"api.precession_nutation(b, {doc.get('order')!r}"
+            + (f", track={doc['track']!r})" if doc.get("track") else ")"))
 
 
 def _max_rows(request: Request) -> int:
