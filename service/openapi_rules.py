@@ -86,8 +86,9 @@ def _rule_texts(settings: Settings) -> dict[str, str]:
                        f"Eros have one); method=series only in the short-axis mode with δ = 2 sin²(J/2) <= "
                        f"{SERIES_MAX_DELTA} (else 422 not-applicable); a body needs its three principal moments, "
                        "not all equal.",
-        "plot": "stop must be after start; J_arcsec applies to kind free-wobble only, and tolerance_mas, model and "
-                "order to the other kinds; a figure draws at most "
+        "plot": "stop must be after start; J_arcsec applies to kind free-wobble only, and tolerance_mas, model, "
+                "order, axis and the free wobble's phase, amplitude and epoch (as the track's) to the other kinds; "
+                "a figure draws at most "
                 f"{MAX_PLOT_POINTS} epochs: step_days (default: chosen for the span) must leave from 2 to that many "
                 "epochs in the span, which float64 Julian dates resolve, and, for the free wobble, sample its "
                 "period; J_arcsec is needed for a body "
@@ -132,8 +133,8 @@ OPERATION_RULES = {
     ("/v1/bodies/{body}/precession", "get"): ("tolerance", "laplace", "perturbers", "na"),
     ("/v1/bodies/{body}/nutation", "get"): ("tolerance", "laplace", "perturbers", "cut", "na"),
     ("/v1/bodies/{body}/track", "get"): ("times", "grid", "tolerance_model", "laplace", "wobble", "perturbers", "na"),
-    ("/v1/bodies/{body}/track.png", "get"): ("times", "plot", "tolerance_model", "laplace", "na"),
-    ("/v1/bodies/{body}/track.svg", "get"): ("times", "plot", "tolerance_model", "laplace", "na"),
+    ("/v1/bodies/{body}/track.png", "get"): ("times", "plot", "tolerance_model", "laplace", "wobble", "na"),
+    ("/v1/bodies/{body}/track.svg", "get"): ("times", "plot", "tolerance_model", "laplace", "wobble", "na"),
     ("/v1/bodies/{body}/track/models", "get"): ("times", "grid", "perturbers", "na"),
     ("/v1/bodies/{body}/track/models.png", "get"): ("times", "grid", "perturbers", "na"),
     ("/v1/bodies/{body}/track/models.svg", "get"): ("times", "grid", "perturbers", "na"),
