@@ -2,8 +2,9 @@
 # (`-e WORKERS=4` for more worker processes; the limits below can be overridden likewise).
 #
 # Stage 1 builds the project's wheel (hatchling; the wheel carries data/ as ephem/_data, so the
-# installed package needs no EPHEM_DATA_DIR). Stage 2 installs it, as `pip install .` would, and
-# keeps no source tree: the app is imported from site-packages. Both stages install with the
+# installed package needs no EPHEM_DATA_DIR). Stage 2 installs it with every extra (the service, the
+# batch engine, the figures, the N-body rung), as `pip install '.[all]'` would, and keeps no source
+# tree: the app is imported from site-packages. Both stages install with the
 # lock, constraints.txt: pip, the build backend and every dependency at the versions CI tests.
 
 FROM python:3.11-slim AS build
@@ -29,7 +30,7 @@ ENV PYTHONDONTWRITEBYTECODE=1 \
 COPY constraints.txt /tmp/constraints.txt
 COPY --from=build /wheels /wheels
 RUN python -m pip install --constraint /tmp/constraints.txt pip \
-    && python -m pip install --constraint /tmp/constraints.txt /wheels/*.whl \
+    && python -m pip install --constraint /tmp/constraints.txt "$(ls /wheels/*.whl)[all]" \
     && rm -rf /wheels /tmp/constraints.txt \
     && useradd --create-home --uid 10001 --user-group --shell /usr/sbin/nologin ephem
 

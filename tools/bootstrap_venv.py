@@ -3,7 +3,7 @@
 
 `make serve`, `make test` (and every other target that needs the venv) run this first:
 
-    python3 tools/bootstrap_venv.py [--venv .venv] [--lock constraints.txt] [--extras test]
+    python3 tools/bootstrap_venv.py [--venv .venv] [--lock constraints.txt] [--extras all,test]
 
 * **One at a time.** The whole check-and-install runs under an exclusive `fcntl.flock` on
   `<venv>/.bootstrap.lock`. Two `make` commands started together (say `make serve` and
@@ -20,8 +20,9 @@
   (~50 ms); one that does not (constraints.txt or pyproject.toml changed) means pip brings the
   venv up to date in place.
 * **Pinned.** pip is first set to the version pinned in the lock (`pip==X` there), then the
-  project is installed editable with its `test` extra as
-  `pip install -c LOCK --build-constraint LOCK -e '.[test]'`: every dependency, and the build
+  project is installed editable with every extra (`all`: the service, the batch engine, the
+  figures, the N-body rung) and the `test` one as
+  `pip install -c LOCK --build-constraint LOCK -e '.[all,test]'`: every dependency, and the build
   backend used for the editable build (hatchling), at the lock's version.
 
 Needs only Python >= 3.11 (the one that runs it is the one the venv is made from) and pip's
@@ -192,7 +193,7 @@ def main(argv: list[str] | None = None) -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--venv", default=".venv", help="the virtualenv directory (relative to the project root)")
     p.add_argument("--lock", default="constraints.txt", help="the lock: a pip constraints file")
-    p.add_argument("--extras", default="test", help="extras of the project to install ('' for none)")
+    p.add_argument("--extras", default="all,test", help="extras of the project to install ('' for none)")
     p.add_argument("--fresh", action="store_true", help="empty the venv and build it again")
     a = p.parse_args(argv)
     lock = (ROOT / a.lock).resolve()
