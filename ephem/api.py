@@ -42,6 +42,7 @@ _NAMES = {
     "OverBudgetError": (".base.budget", "OverBudgetError"),
     "budget": (".base.budget", "budget"),
     "charge": (".base.budget", "charge"),
+    "prepaid": (".base.budget", "prepaid"),
     "current_budget": (".base.budget", "current"),
     "AXES": (".base.constants", "AXES"),
     "GM_CENTER": (".base.constants", "GM_CENTER"),
@@ -49,7 +50,10 @@ _NAMES = {
     "InvalidInputError": (".base.errors", "InvalidInputError"),
     "NotApplicableError": (".base.errors", "NotApplicableError"),
     "UnknownBodyError": (".base.errors", "UnknownBodyError"),
+    "MissingExtraError": (".base.errors", "MissingExtraError"),
     "TIME_PATTERN_ECMA": (".base.times", "TIME_PATTERN_ECMA"),
+    "CALENDAR_SCALES": (".base.times", "CALENDAR_SCALES"),
+    "calendar_dates": (".base.times", "calendar_dates"),
     "ut1_span": (".base.times", "ut1_span"),
     "DEFAULT_DATASET": (".bodies.catalogue", "DEFAULT_DATASET"),
     "KNOWN_PERTURBERS": (".bodies.catalogue", "KNOWN_PERTURBERS"),
@@ -84,6 +88,10 @@ _NAMES = {
     "LAYOUTS": (".exports.tables", "LAYOUTS"),
     "render_nutation": (".exports.tables", "render_nutation"),
     "write_tables": (".exports.tables", "write_tables"),
+    "ECSV_MEDIA_TYPE": (".exports.qtable", "ECSV_MEDIA_TYPE"),
+    "TABLE_KINDS": (".exports.qtable", "TABLE_KINDS"),
+    "to_ecsv": (".exports.qtable", "to_ecsv"),
+    "to_qtable": (".exports.qtable", "to_qtable"),
     "MODELS": (".families", "MODELS"),
     "MAX_ORDER": (".forced.precession_nutation", "MAX_ORDER"),
     "model_for": (".forced.precession_nutation", "model_for"),
@@ -107,15 +115,18 @@ __all__ = [
     "KNOWN_PERTURBERS", "MAX_ANGLE_DEG", "MIN_ROTATION_PERIOD_HOURS", "GM_CENTER", "icrf_to_ecliptic_matrix",
     # what a request may name, and its limits
     "MODELS", "AXES", "LAPLACE_LIMIT", "MAX_NUMERICAL_ORBITS", "SERIES_MAX_DELTA", "TIME_PATTERN_ECMA", "ut1_span",
+    "CALENDAR_SCALES", "calendar_dates",
+    # astropy's tables: any table-shaped answer as a QTable (units, Time epochs, metadata) or as ECSV text
+    "to_qtable", "to_ecsv", "ECSV_MEDIA_TYPE", "TABLE_KINDS",
     # exports: nutation tables, plots, SPICE kernels; catalogue import; batches of bodies
     "render_nutation", "write_tables", "FORMATS", "LAYOUTS", "DELAUNAY_NAMES", "render_plot", "PLOT_KINDS",
     "HISTORY_PLOT_KIND", "PLOT_DPI_RANGE", "track_models_chart", "models_chart", "track_models_rows",
     "PLOT_CONTENT_TYPES", "MAX_PLOT_POINTS", "write_pck", "write_pck_file", "import_catalogue", "run_batch", "BatchFailed",
     "HistorySpec", "shipped_orbit_span",
     # errors
-    "EphemError", "InvalidInputError", "NotApplicableError", "UnknownBodyError",
+    "EphemError", "InvalidInputError", "NotApplicableError", "UnknownBodyError", "MissingExtraError",
     # bounded work (a host, as the service, sets the budget and the caches)
-    "Budget", "budget", "charge", "current_budget", "BusyError", "DeadlineExceededError", "OverBudgetError", "memo",
+    "Budget", "budget", "charge", "prepaid", "current_budget", "BusyError", "DeadlineExceededError", "OverBudgetError", "memo",
 ]
 
 

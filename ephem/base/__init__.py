@@ -4,6 +4,7 @@
 - :mod:`ephem.base.constants`: Physical and astronomical constants (SI unless the name says otherwise).
 - :mod:`ephem.base.disk_cache`: Arrays built from shipped data, kept on disk between processes.
 - :mod:`ephem.base.errors`: Exceptions raised by the science core.
+- :mod:`ephem.base.extras`: The optional extras of the distribution: which one a feature needs, checked before the feature runs.
 - :mod:`ephem.base.grids`: Even grids of epochs that float64 can hold: the one rule every track, figure, kernel and history grid obeys.
 - :mod:`ephem.base.memo`: Caches of per-body work bounded in bytes, not in entries.
 - :mod:`ephem.base.paths`: Where the shipped data live (the catalogue, the references, the reference tables, the lunar series).

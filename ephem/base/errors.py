@@ -69,3 +69,22 @@ def count_text(count: float) -> str:
     if count < 2.0 ** 53:
         return str(math.floor(count))
     return f"about {count:.3g}"
+
+
+class MissingExtraError(EphemError, ImportError):
+    """A feature needs a package of an optional extra of the distribution that is not installed.
+
+    An :class:`ImportError` (as a missing package would raise) and an :class:`EphemError` (so the CLI prints it as
+    any library error); the message names the extra to install: ``pip install 'ephem-asteroid-pn[plots]'``.
+    ``feature`` is what was asked for, ``module`` the missing package, ``extra`` the extra that brings it.
+    """
+
+    def __init__(self, feature: str, module: str, extra: str, distribution: str = "ephem-asteroid-pn"):
+        self.feature = feature
+        self.module = module
+        self.extra = extra
+        super().__init__(f"{feature} needs {module}, which is not installed: install {distribution}[{extra}] "
+                         f"(pip install '{distribution}[{extra}]')", name=module)
+
+    def __str__(self) -> str:
+        return self.args[0]

@@ -46,6 +46,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..base.errors import EphemError, InvalidInputError
+from ..base.extras import require
 from .cluster import dashboard, dask_client
 from .manifest import locked, prepare
 from .partitions import INPUT_DIR, input_format, open_batches, partition_name
@@ -114,9 +115,11 @@ def run(input_path, out_path, *, scheduler: str | None = None, workers: int | No
     included) once when the tasks start (after the last note) and after each partition; ``log(message)``
     gets the notes (the split, resume, the prediction, the dashboard link). ``fresh`` deletes an earlier batch in ``out_path``.
 
-    Raises :class:`~ephem.base.errors.InvalidInputError` (the field named) before any work for a bad input or
+    Raises :class:`~ephem.base.errors.MissingExtraError` without dask.distributed or pyarrow (the ``batch`` extra),
+    :class:`~ephem.base.errors.InvalidInputError` (the field named) before any work for a bad input or
     setting, and :class:`BatchFailed` after the run when partitions failed even after their retries.
     """
+    require("batch", "a batch on Dask")
     t0 = time.perf_counter()
     log = log or (lambda message: None)
     path, out = Path(input_path).expanduser().absolute(), Path(out_path).expanduser().absolute()

@@ -12,6 +12,7 @@ import warnings
 import numpy as np
 
 from ..base.constants import J2000_JD, JULIAN_YEAR_DAYS
+from ..base.extras import require
 from ..longterm.averaged_spin import MEANINGFUL_LIMIT
 
 #: ``nutation-loop`` is drawn to equal scales unless one component's amplitude exceeds the other's
@@ -95,6 +96,7 @@ def _plain_ticks(ax) -> None:
 
 
 def new_figure(kind: str):
+    require("plots", "a plot")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 

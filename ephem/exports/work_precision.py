@@ -30,6 +30,7 @@ import textwrap
 from xml.sax.saxutils import escape
 
 from ..base.constants import J2000_JD, JULIAN_YEAR_DAYS
+from ..base.extras import require
 
 #: the id of model N's group in the SVG
 POINT_ID = "wp-point-{}"
@@ -302,6 +303,7 @@ def _log_limits(values: list[float], extra: list[float] = ()) -> tuple[float, fl
 def figure(answer: dict):
     """The work-precision chart of a :func:`ephem.answers.requests.track_models` answer, a
     :class:`matplotlib.figure.Figure` on the Agg canvas (no pyplot state)."""
+    require("plots", "the work-precision chart")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D

@@ -48,6 +48,7 @@ from ..base.budget import charge, checkpoint
 from ..bodies.catalogue import DEFAULT_DATASET, Body, load_catalogue
 from ..base.constants import MAS
 from ..base.errors import InvalidInputError, NotApplicableError, count_text
+from ..base.extras import DISTRIBUTION, missing
 from ..base.grids import check_step
 from ..orbit.geometry import angle_between
 from .averaged_spin import MEANINGFUL_LIMIT, ORBIT_SAMPLE_YEARS, SpinHistory, outward_max
@@ -206,6 +207,9 @@ def nbody_choice(b: Body, orbit_body: str, lo: float, hi: float, on_demand: bool
     if not on_demand:
         return OrbitChoice("nbody", why_not=f"no N-body orbit is shipped for {b.name} ({b.dataset} dataset); "
                            "a history (GET .../history, orbit_model=nbody) runs one on request")
+    if missing("nbody") is not None:
+        return OrbitChoice("nbody", why_not=f"no N-body orbit is shipped for {b.name} ({b.dataset} dataset), and "
+                           f"one run on request needs REBOUND, which is not installed: install {DISTRIBUTION}[nbody]")
     span = (min(lo, 0.0), max(hi, 0.0))
     seconds = nbody_cost_seconds(*span)
     return OrbitChoice("nbody", _LazyNbody(b, span), cost.Cost((cost.Part(

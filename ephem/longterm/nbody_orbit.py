@@ -4,6 +4,7 @@ A spin axis integrated over Myr needs its orbit's plane over Myr. The catalogue'
 in ``data/orbit_history/`` (one ``.npz`` per body and ``metadata.toml``), written by
 ``tools/derive_orbit_history.py``; :func:`shipped_orbit_history` reads them, :func:`nbody_orbit_history`
 runs the same integration for a user's own orbit (:func:`nbody_cost_seconds` predicts its wall time first).
+REBOUND is the ``nbody`` extra (``pip install 'ephem-asteroid-pn[nbody]'``): the shipped histories need none of it.
 
 The integration (:func:`planet_simulation`, :func:`asteroid_state_j2000`, :func:`run_history`; one setup
 shared by the tool and the library):
@@ -55,6 +56,7 @@ from ..bodies.catalogue import Orbit, load_catalogue
 from ..base.paths import data_dir
 from ..base.constants import J2000_JD, JULIAN_YEAR_DAYS
 from ..base.errors import InvalidInputError, NotApplicableError
+from ..base.extras import require
 from ..orbit.de421 import barycentric
 from ..orbit.de421_header import GM_DE421, GM_SUN_DE421
 from ..base.disk_cache import cached_arrays, fingerprint, read_toml
@@ -106,6 +108,7 @@ def _massive_states(jd_tdb: float):
 
 
 def _new_simulation(jd_tdb: float, integrator: str, dt_days: float):
+    require("nbody", "an N-body orbit run")
     import rebound
 
     sim = rebound.Simulation()
