@@ -15,10 +15,22 @@
   in compiled code that never reaches a check) ends the worker process, which the supervisor
   (gunicorn) replaces. It is armed only under a supervisor (``EPHEM_SUPERVISED``), never in a bare
   uvicorn or the tests' client, where it would take the service down.
+- And the worker's memory, bounded by ``worker_rss_mb`` (``EPHEM_WORKER_RSS_MB``). What a worker keeps after its
+  requests is its code, the per-body caches (``EPHEM_MODEL_CACHE_MB``, bounded in bytes) and what the C allocator
+  holds freed but not returned to the system: glibc gives each thread of the worker's pool an arena of its own (up
+  to 8 per core) and keeps freed blocks in each, so a worker grew to 500-800 MB over 2,000-8,000 varied requests
+  while its caches held 64 MB (benchmarks/RESULTS_memory_soak.md). Under the supervisor the worker keeps to
+  :data:`MALLOC_ARENAS` arenas (unless ``MALLOC_ARENA_MAX`` is set), the watchdog hands the freed memory back
+  (``malloc_trim``, ~1 ms) about once a second while requests come, and a worker still above the bound when it
+  goes idle is recycled gracefully (SIGTERM: its requests finish, the supervisor starts a fresh one), one worker
+  of the service at a time.
 """
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import fcntl
+import gc
 import logging
 import math
 import os
@@ -111,19 +123,31 @@ class _Admission:
             self.fd = None
 
 
+#: the least time between two checks of an idle worker's memory over its limit, s
+MEMORY_CHECK_S = 5.0
+
+
 class Watchdog:
     """Ends this worker process when a request overstays its deadline by ``grace_s`` (the supervisor starts
-    another), and asks for a graceful restart when the worker's resident memory stays above its ceiling
-    after a request (numpy's freed arenas are not always returned to the system)."""
+    another); hands the allocator's freed memory back to the system every ``trim_interval_s`` while requests
+    finish; and asks for a graceful restart when the worker's resident memory stays above ``rss_limit_mb`` after
+    its requests, freed memory returned (:meth:`check_memory`)."""
 
-    def __init__(self, deadline_s: float, grace_s: float, rss_limit_mb: float | None, interval_s: float = 0.5):
+    def __init__(self, deadline_s: float, grace_s: float, rss_limit_mb: float | None, interval_s: float = 0.5,
+                 trim_interval_s: float = 1.0, recycle: "RecycleTurns | None" = None):
         self.deadline_s = deadline_s
         self.grace_s = grace_s
         self.rss_limit_mb = rss_limit_mb
         self.interval_s = interval_s
+        self.trim_interval_s = trim_interval_s
+        self.recycle = recycle
+        self.recycling = False          # the restart was asked for: not again
         self._running: dict[int, tuple[float, str]] = {}
         self._lock = threading.Lock()
         self._next = 0
+        self._finished = 0              # requests finished, and their count at the last trim
+        self._trimmed = 0
+        self._checked = -math.inf       # when the memory was last checked (time.monotonic)
         self._thread = threading.Thread(target=self._watch, name="ephem-watchdog", daemon=True)
         self._thread.start()
 
@@ -136,27 +160,120 @@ class Watchdog:
     def leave(self, token: int) -> None:
         with self._lock:
             self._running.pop(token, None)
+            self._finished += 1
             idle = not self._running
         # the peak first (one cheap system call): below the limit, the resident memory is too, and the worker's
-        # every request need not read /proc (13 us a request, 1-2 % of a /healthz under gunicorn)
+        # every request need not read /proc (13 us a request, 1-2 % of a /healthz under gunicorn); then at most one
+        # check every MEMORY_CHECK_S (its full collection holds the interpreter ~0.1 s)
         if (idle and self.rss_limit_mb is not None and peak_resident_mb() > self.rss_limit_mb
-                and resident_mb() > self.rss_limit_mb):
-            log.warning("worker %d holds %.0f MB after its requests (limit %.0f MB): restarting it", os.getpid(),
-                        resident_mb(), self.rss_limit_mb)
-            os.kill(os.getpid(), signal.SIGTERM)     # graceful: the supervisor starts a fresh worker
+                and time.monotonic() - self._checked >= MEMORY_CHECK_S):
+            self._checked = time.monotonic()
+            self.check_memory()
+
+    def check_memory(self) -> str:
+        """The decision on an idle worker's memory: ``"ok"`` (resident within the limit), ``"trimmed"`` (within it
+        once the allocator's freed memory, and then the garbage cycles, were returned), ``"recycle"`` (still above:
+        SIGTERM to this worker, which finishes its requests and exits; the supervisor starts a fresh one), or
+        ``"wait"`` (above, but another worker of the service is being replaced: asked again later)."""
+        if self.recycling or self.rss_limit_mb is None or resident_mb() <= self.rss_limit_mb:
+            return "ok"
+        release_free_memory()
+        if resident_mb() <= self.rss_limit_mb:
+            return "trimmed"
+        gc.collect()                # what waits for a full collection (~0.1 s: only here, idle and over the limit)
+        release_free_memory()
+        rss = resident_mb()
+        if rss <= self.rss_limit_mb:
+            return "trimmed"
+        if self.recycle is not None and not self.recycle.take():
+            return "wait"
+        self.recycling = True
+        log.warning("worker %d holds %.0f MB after its requests (limit %.0f MB, EPHEM_WORKER_RSS_MB): restarting it",
+                    os.getpid(), rss, self.rss_limit_mb)
+        os.kill(os.getpid(), signal.SIGTERM)     # graceful: the supervisor starts a fresh worker
+        return "recycle"
 
     def _watch(self) -> None:
+        last_trim = time.monotonic()
         while True:
             time.sleep(self.interval_s)
             now = time.monotonic()
             with self._lock:
                 stuck = [(now - t0, what) for t0, what in self._running.values()
                          if now - t0 > self.deadline_s + self.grace_s]
+                finished = self._finished
             if stuck:
                 age, what = max(stuck)
                 log.error("worker %d: %s has run %.1f s, past its deadline of %.1f s: ending the worker", os.getpid(),
                           what, age, self.deadline_s)
                 os.kill(os.getpid(), signal.SIGKILL)
+            if finished != self._trimmed and now - last_trim >= self.trim_interval_s:
+                release_free_memory()       # ~1 ms: what the requests since the last time freed goes back
+                self._trimmed, last_trim = finished, now
+
+
+class RecycleTurns:
+    """One worker of the service at a time is recycled for its memory: a worker may go when no other went within
+    ``spacing_s`` (the time a fresh worker takes to start, with a margin), read and stamped under an exclusive
+    ``flock`` on a file in ``lock_dir`` shared by the workers. Workers of one age that grow alike would otherwise
+    reach the limit together and leave nothing answering while their replacements start."""
+
+    def __init__(self, lock_dir: str | None, spacing_s: float = 15.0):
+        self.path = os.path.join(lock_dir or tempfile.mkdtemp(prefix="ephem-recycle-"), "recycle.stamp")
+        self.spacing_s = spacing_s
+
+    def take(self) -> bool:
+        """Whether this worker may go now (and if so, the turn is stamped as taken)."""
+        fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o600)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)
+            try:
+                last = float(os.read(fd, 64).decode() or "0")
+            except ValueError:
+                last = 0.0
+            now = time.time()
+            if 0.0 <= now - last < self.spacing_s:
+                return False
+            os.lseek(fd, 0, os.SEEK_SET)
+            os.ftruncate(fd, 0)
+            os.write(fd, repr(now).encode())
+            return True
+        finally:
+            os.close(fd)        # and its lock
+
+
+#: the malloc arenas a supervised worker keeps (glibc's default: 8 per core, one per thread of the pool as it grows)
+MALLOC_ARENAS = 2
+_M_ARENA_MAX = -8               # glibc's mallopt parameter (malloc.h)
+_LIBC = None
+
+
+def _libc():
+    global _LIBC
+    if _LIBC is None:
+        try:
+            _LIBC = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
+            _LIBC.malloc_trim, _LIBC.mallopt   # glibc's: elsewhere (musl, macOS) there is nothing to tune
+        except (OSError, AttributeError):
+            _LIBC = False
+    return _LIBC
+
+
+def limit_malloc_arenas(arenas: int = MALLOC_ARENAS) -> bool:
+    """Keep this process's glibc allocator to ``arenas`` arenas, unless ``MALLOC_ARENA_MAX`` (glibc's own setting,
+    read at the process's start) is set; called before the worker's threads start. False where not glibc."""
+    libc = _libc()
+    if not libc or os.environ.get("MALLOC_ARENA_MAX"):
+        return False
+    return bool(libc.mallopt(_M_ARENA_MAX, int(arenas)))
+
+
+def release_free_memory() -> None:
+    """Return the allocator's free pages to the system (glibc's ``malloc_trim(0)``: every arena, ~1 ms for a few
+    hundred MB); nothing where the C library is not glibc."""
+    libc = _libc()
+    if libc:
+        libc.malloc_trim(0)
 
 
 def resident_mb() -> float:
@@ -176,7 +293,9 @@ def peak_resident_mb() -> float:
 def install(app: FastAPI, settings: Settings) -> None:
     watchdog = None
     if settings.supervised:
-        watchdog = Watchdog(settings.request_deadline_s, settings.hard_kill_after_s, settings.worker_memory_mb * 0.8)
+        limit_malloc_arenas()           # before the worker's thread pool starts (its threads are made on demand)
+        watchdog = Watchdog(settings.request_deadline_s, settings.hard_kill_after_s, settings.worker_rss_mb,
+                            recycle=RecycleTurns(settings.lock_dir))
     heavy = HeavySlots(settings.heavy_request_cpu_s, settings.heavy_slots, settings.lock_dir)
     app.add_middleware(RequestBudget, settings=settings, watchdog=watchdog, heavy=heavy)
 

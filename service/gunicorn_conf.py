@@ -5,7 +5,8 @@ for ``timeout`` seconds (stuck in compiled code holding the interpreter). Each w
 address-space ceiling (``EPHEM_WORKER_MEMORY_MB``): an allocation beyond it raises ``MemoryError``,
 answered 503, instead of the kernel's OOM killer taking the machine's memory first. The service's
 own watchdog (``service/guards.py``, armed here by ``EPHEM_SUPERVISED``) ends a worker whose request
-overstays its deadline, and recycles one that keeps too much memory after its requests.
+overstays its deadline, hands the allocator's freed memory back, and recycles a worker that keeps more
+than ``EPHEM_WORKER_RSS_MB`` after its requests (one at a time).
 
 Bind address and worker count come from the command line (``--bind``, ``--workers``).
 """
@@ -39,8 +40,8 @@ graceful_timeout = 20
 preload_app = False
 # No recycling after a count of requests by default: under steady load the workers reach the count
 # together, and a new worker takes seconds to import and warm up, so the service stopped answering
-# for 7-10 s and dropped keep-alive requests (benchmarks/RESULTS_load.md). Memory that numpy does not
-# return is handled by the watchdog instead, which recycles a worker over 80 % of its ceiling.
+# for 7-10 s and dropped keep-alive requests (benchmarks/RESULTS_load.md). Memory is bounded by the
+# watchdog instead (EPHEM_WORKER_RSS_MB), which recycles one worker at a time, spaced apart.
 # EPHEM_MAX_REQUESTS turns the count on (with a jitter of half of it, so workers recycle apart).
 max_requests = int(os.environ.get("EPHEM_MAX_REQUESTS") or 0)
 max_requests_jitter = max_requests // 2

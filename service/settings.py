@@ -94,6 +94,13 @@ class Settings:
     hard_kill_after_s: float = 10.0
     #: each worker's address-space ceiling, MB (set by service/gunicorn_conf.py; MemoryError beyond: 503)
     worker_memory_mb: float = 3072.0
+    #: the resident memory (RSS) a worker may keep after its requests, MB: above it the watchdog returns the
+    #: allocator's freed memory to the system and, if the worker still holds more, recycles it gracefully, one
+    #: worker at a time (under a supervisor only; service/guards.py). What a worker keeps is ~150 MB of code and
+    #: tables, the per-body caches (model_cache_mb) and the figures' library once used: keep this above ~300 MB +
+    #: model_cache_mb - 64, or the workers recycle again and again. 384: under 400 MB through the memory soak
+    #: (benchmarks/RESULTS_memory_soak.md), where the workers grew to 500-800 MB before
+    worker_rss_mb: float = 384.0
     #: running under a supervisor that restarts workers (gunicorn): arms the watchdog
     supervised: bool = False
     #: the most bodies one POST /v1/batch takes (422 beyond, pointing to `ephem batch`); the body size limit
@@ -128,6 +135,7 @@ class Settings:
                    request_deadline_s=_float_env("EPHEM_REQUEST_DEADLINE_S", cls.request_deadline_s),
                    hard_kill_after_s=_float_env("EPHEM_HARD_KILL_AFTER_S", cls.hard_kill_after_s),
                    worker_memory_mb=_float_env("EPHEM_WORKER_MEMORY_MB", cls.worker_memory_mb),
+                   worker_rss_mb=_float_env("EPHEM_WORKER_RSS_MB", cls.worker_rss_mb),
                    supervised=_bool_env("EPHEM_SUPERVISED", cls.supervised),
                    max_batch_rows=_int_env("EPHEM_MAX_BATCH_ROWS", cls.max_batch_rows),
                    model_cache_mb=_float_env("EPHEM_MODEL_CACHE_MB", cls.model_cache_mb),
