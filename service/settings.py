@@ -101,6 +101,14 @@ class Settings:
     #: model_cache_mb - 64, or the workers recycle again and again. 384: under 400 MB through the memory soak
     #: (benchmarks/RESULTS_memory_soak.md), where the workers grew to 500-800 MB before
     worker_rss_mb: float = 384.0
+    #: the requests one keep-alive connection carries: the last is answered with ``Connection: close`` and the
+    #: connection closed after it (make serve's httptools protocol, service/server.py), so that the client reconnects
+    #: and the kernel spreads the connections over the workers again
+    keepalive_max_requests: int = 1000
+    #: a keep-alive connection's age, seconds, after which its next answer closes it (as above): after a worker was
+    #: killed its clients all went to the survivor and stayed there while the replacement served nothing; with
+    #: this, both workers serve again within a few seconds of the replacement's start (RESULTS_kill_rebalance.md)
+    keepalive_max_s: float = 2.0
     #: running under a supervisor that restarts workers (gunicorn): arms the watchdog
     supervised: bool = False
     #: the most bodies one POST /v1/batch takes (422 beyond, pointing to `ephem batch`); the body size limit
@@ -136,6 +144,8 @@ class Settings:
                    hard_kill_after_s=_float_env("EPHEM_HARD_KILL_AFTER_S", cls.hard_kill_after_s),
                    worker_memory_mb=_float_env("EPHEM_WORKER_MEMORY_MB", cls.worker_memory_mb),
                    worker_rss_mb=_float_env("EPHEM_WORKER_RSS_MB", cls.worker_rss_mb),
+                   keepalive_max_requests=_int_env("EPHEM_KEEPALIVE_MAX_REQUESTS", cls.keepalive_max_requests),
+                   keepalive_max_s=_float_env("EPHEM_KEEPALIVE_MAX_S", cls.keepalive_max_s),
                    supervised=_bool_env("EPHEM_SUPERVISED", cls.supervised),
                    max_batch_rows=_int_env("EPHEM_MAX_BATCH_ROWS", cls.max_batch_rows),
                    model_cache_mb=_float_env("EPHEM_MODEL_CACHE_MB", cls.model_cache_mb),
