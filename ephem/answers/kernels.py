@@ -79,8 +79,8 @@ from . import requests
 
 def _track(*args, **kwargs) -> dict:
     """The fit's track: :func:`ephem.answers.requests.track_arrays`, looked up at each call (the stability tests
-    perturb it there)."""
-    return requests.track_arrays(*args, **kwargs)
+    perturb it there), without the calendar dates (the fit reads jd_tdb)."""
+    return requests.track_arrays(*args, **{"time_scale": None, **kwargs})
 
 
 def write_pck(bodies, start, stop, dataset: str = DEFAULT_DATASET, tolerance_mas: float | None = None,

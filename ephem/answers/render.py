@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from ..base.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
+from ..base.times import calendar_dates
 from ..bodies.catalogue import Body
 from ..rotation.free_motion import FreeMotion
 from ..longterm.history import DESCRIPTIONS as HISTORY_DESCRIPTIONS, HISTORY_ASSUMPTIONS, HistoryResult, total
@@ -28,6 +29,26 @@ _PER_YEAR = JULIAN_YEAR_DAYS / ARCSEC
 
 def _arcsec(x: float | None) -> float | None:
     return None if x is None else x / ARCSEC
+
+
+def calendar_key(time_scale: str) -> str:
+    """The key of an answer's calendar dates in ``time_scale`` (``utc_iso``, ``tt_iso``, ``tdb_iso``): the scale
+    in the name, as a unit is in the others'."""
+    return f"{time_scale}_iso"
+
+
+def _with_dates(ans: dict, time_scale: str | None) -> dict:
+    """``ans`` with its epochs' calendar dates in ``time_scale`` (ISO 8601 to the millisecond,
+    :func:`ephem.base.times.calendar_dates`) right after ``jd_tdb``; unchanged for None (a figure's or a kernel's
+    track, which no person reads)."""
+    if time_scale is None:
+        return ans
+    out = {}
+    for key, value in ans.items():
+        out[key] = value
+        if key == "jd_tdb":
+            out[calendar_key(time_scale)] = calendar_dates(value, time_scale)
+    return out
 
 
 def selection(s: Selection) -> dict:
@@ -229,13 +250,15 @@ def with_perturbers(ans: dict, b: Body, per: tuple[str, ...]) -> dict:
 
 
 def track(b: Body, tr, info: dict, s: Selection, axis: str, wobble, obliquity_sigma_deg: float | None,
-          pole_sigma, cut_mas: float | None = None, rotation_scale: dict | None = None) -> dict:
+          pole_sigma, cut_mas: float | None = None, rotation_scale: dict | None = None,
+          time_scale: str | None = None) -> dict:
     """The track answer shared by every theory: the arrays of ``tr`` (numpy; ψ, Δψ, Δε in arcsec, the
     obliquity and the pole in degrees) and the ``model`` object ``info`` completed with the selection, the
     axis and the free wobble added (``wobble`` or None); the mean obliquity's 1σ (``obliquity_sigma_deg``, as
     :func:`ephem.forced.uncertainty.propagated` gives it) and the pole's at each epoch (``pole_sigma``,
     radians), each None where unknown; ``cut_mas``: the amplitude cut of the track's series (None: not cut by
-    amplitude); ``rotation_scale``: the rotation-scale terms modelled and the phase given."""
+    amplitude); ``rotation_scale``: the rotation-scale terms modelled and the phase given; ``time_scale``: the scale
+    of the calendar dates beside ``jd_tdb`` (``utc_iso`` for UTC; None: none)."""
     if wobble is not None:
         info["warnings"].append("the free wobble added is a rigid body's; its amplitude and phase are yours, "
                                 "and the estimate does not include their uncertainty")
@@ -246,7 +269,7 @@ def track(b: Body, tr, info: dict, s: Selection, axis: str, wobble, obliquity_si
     info["free_wobble"] = None if wobble is None else {
         "J_arcsec": wobble.J_arcsec, "phase_deg": wobble.phase_deg, "epoch_jd_tdb": wobble.epoch_jd_tdb}
     info["cut_mas"] = cut_mas
-    return {
+    return _with_dates({
         "body": b.name, "dataset": b.dataset,
         "jd_tdb": tr.jd_tdb,
         "psi_arcsec": tr.psi / ARCSEC,
@@ -258,7 +281,7 @@ def track(b: Body, tr, info: dict, s: Selection, axis: str, wobble, obliquity_si
         "pole_dec_deg": np.degrees(tr.pole_dec),
         "pole_uncertainty_deg": None if pole_sigma is None else np.degrees(pole_sigma),
         "model": info,
-    }
+    }, time_scale)
 
 
 def history(r: HistoryResult) -> dict:
@@ -308,11 +331,12 @@ def history(r: HistoryResult) -> dict:
     }
 
 
-def free_motion(r: FreeMotion) -> dict:
+def free_motion(r: FreeMotion, time_scale: str | None = None) -> dict:
     """The free-motion answer: the figure axis's offsets from the angular momentum and the angle J (arcsec),
-    Andoyer's ν (deg), the periods (days), the mode and the method (numpy arrays)."""
+    Andoyer's ν (deg), the periods (days), the mode and the method (numpy arrays); with ``time_scale``, the epochs'
+    calendar dates in it beside ``jd_tdb``."""
     b = r.body
-    return {
+    return _with_dates({
         "body": b.name, "dataset": b.dataset, "jd_tdb": r.jd_tdb,
         "figure_axis_offset_x_arcsec": np.ascontiguousarray(r.figure_axis_offsets[:, 0] / ARCSEC),
         "figure_axis_offset_y_arcsec": np.ascontiguousarray(r.figure_axis_offsets[:, 1] / ARCSEC),
@@ -320,7 +344,7 @@ def free_motion(r: FreeMotion) -> dict:
         "wobble_period_days": r.wobble_period_days, "precession_period_days": r.precession_period_days,
         "mode": r.mode, "method": r.method, "J_arcsec": r.J_arcsec,
         "moments_over_C": list(r.moments_over_C), "cost_ms": r.cost_ms,
-    }
+    }, time_scale)
 
 
 def choice(c: Choice) -> dict:

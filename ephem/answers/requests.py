@@ -32,7 +32,7 @@ from ..forced.catalogue_sigmas import input_sigmas
 from ..forced.pole_uncertainty import pole_uncertainty
 from ..forced.uncertainty import propagated
 from ..base.grids import check_step
-from ..base.times import to_jd_tdb
+from ..base.times import check_calendar_scale, to_jd_tdb
 from ..base.units import in_unit, with_units
 
 #: Highest e-power order served: the exact-rational series costs ~0.7 s to build at 30 and grows
@@ -273,12 +273,14 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
                  tolerance_mas: float | None = None, model: str | None = None, axis: str = "figure",
                  free_wobble_phase_deg: float | None = None, free_wobble_J_arcsec: float | None = None,
                  free_wobble_epoch=None, perturbers=None, output: str = "json",
-                 rotation_phase_deg: float | None = None) -> dict:
+                 rotation_phase_deg: float | None = None, time_scale: str | None = "utc") -> dict:
     """As :func:`track`, with numpy arrays instead of lists (for streaming and numerical use).
 
-    ``output``: how the caller will write the answer out (``json`` or ``csv``), which its cost includes."""
+    ``output``: how the caller will write the answer out (``json``, ``csv`` or ``ecsv``), which its cost includes.
+    ``time_scale`` None leaves out the calendar dates (a figure's or a kernel's track, which no person reads)."""
     begin = time.perf_counter()
     b = resolve_body(body, dataset)
+    time_scale = None if time_scale is None else check_calendar_scale(time_scale)
     t0, step, count = epoch_grid(start, stop, step_days, max_samples)
     order, tol, name = check_order(order), _tolerance(tolerance_mas), _rung(model)
     check_axis(axis, b.name)
@@ -305,7 +307,8 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
                                     "scale: leave it out", b.name)
         theory = theory.with_rotation_phase(math.radians(phase))
     t_end = t0 + step * (count - 1)
-    output = cost.Cost((cost.serialised(count, len(TRACK_KEYS), output),))
+    output = cost.Cost((cost.serialised(count, len(TRACK_KEYS) + (time_scale is not None), output),)
+                       + ((cost.calendar_dates(count),) if time_scale is not None else ()))
     # the estimates, and the named model's own cost, charged before anything is built
     charge((theory.choice_cost(t0, t_end, count) if tol is not None
             else theory.named_estimate_cost(name, t0, t_end, count)
@@ -346,7 +349,7 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
         charge(cost.pole_uncertainty(b, with_sigma, count, order), b.name)
         pole_sigma = pole_uncertainty(b, tr.jd_tdb, b.dataset, order)
     ans = render.track(b, tr, info, chosen, axis, wobble if with_wobble else None, sigma, pole_sigma,
-                       theory.track_cut_mas, scale)
+                       theory.track_cut_mas, scale, time_scale)
     return render.with_perturbers(ans, b, per)
 
 
@@ -412,8 +415,14 @@ def track(body: str | int | Body, start, stop, step_days: float, dataset: str = 
           order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES, tolerance_mas: float | None = None,
           model: str | None = None, axis: str = "figure", free_wobble_phase_deg: float | None = None,
           free_wobble_J_arcsec: float | None = None, free_wobble_epoch=None, quantities: bool = False,
-          perturbers=None, rotation_phase_deg: float | None = None) -> dict:
-    """Spin-axis track: ψ, Δψ, Δε (arcsec), obliquity and pole RA/Dec (deg) at each epoch.
+          perturbers=None, rotation_phase_deg: float | None = None, time_scale: str = "utc") -> dict:
+    """Spin-axis track: ψ, Δψ, Δε (arcsec), obliquity and pole RA/Dec (deg) at each epoch, and the epochs as
+    calendar dates beside ``jd_tdb``.
+
+    ``time_scale``: the scale of those dates, "utc" (default; key ``utc_iso``), "tt" (``tt_iso``) or "tdb"
+    (``tdb_iso``): ISO 8601 to the millisecond (:func:`ephem.base.times.calendar_dates`). ``jd_tdb`` stays the
+    epochs' exact value; :func:`ephem.api.to_qtable` gives the answer as an astropy ``QTable`` with ``jd_tdb`` as a
+    TDB ``Time``.
 
     ``tolerance_mas`` lets the fidelity ladder (:mod:`ephem.sun.ladder`) pick the cheapest model
     whose pole is estimated within that many milliarcseconds of the truth at every epoch;
@@ -446,7 +455,7 @@ def track(body: str | int | Body, start, stop, step_days: float, dataset: str = 
     """
     ans = track_arrays(body, start, stop, step_days, dataset, order, max_samples, tolerance_mas, model, axis,
                        free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch, perturbers,
-                       rotation_phase_deg=rotation_phase_deg)
+                       rotation_phase_deg=rotation_phase_deg, time_scale=time_scale)
     if quantities:
         return with_units(ans)
     for key in TRACK_KEYS:
@@ -462,24 +471,32 @@ FREE_MOTION_KEYS = ("jd_tdb", "figure_axis_offset_x_arcsec", "figure_axis_offset
 
 def free_motion_arrays(body: str | int | Body, start, stop, step_days: float, J_arcsec: float | None = None,
                        method: str = "auto", dataset: str = DEFAULT_DATASET,
-                       max_samples: int = MAX_TRACK_SAMPLES) -> dict:
+                       max_samples: int = MAX_TRACK_SAMPLES, time_scale: str | None = "utc",
+                       output: str = "json") -> dict:
     """The torque-free wobble: the figure axis's offsets from the angular momentum (arcsec) over time,
     the angle J and Andoyer's ν, and the periods (see :mod:`ephem.rotation.free_motion`). J defaults to the
-    published amplitude (Lara 2014 Table 1: Earth, Moon, Mars, Eros)."""
+    published amplitude (Lara 2014 Table 1: Earth, Moon, Mars, Eros). ``time_scale``: the scale of the epochs'
+    calendar dates beside ``jd_tdb`` (utc, tt, tdb; None: none), as :func:`track`'s; ``output`` as
+    :func:`track_arrays`'."""
 
     b = resolve_body(body, dataset)
+    time_scale = None if time_scale is None else check_calendar_scale(time_scale)
     t0, step, count = epoch_grid(start, stop, step_days, max_samples)
+    if output not in cost.SERIALISATIONS:
+        raise InvalidInputError("format", f"must be one of {', '.join(cost.SERIALISATIONS)}, got {output!r}", b.name)
     rotations = step * (count - 1) * 24.0 / b.rotation_period_hours
-    charge(cost.Cost((cost.free_rotation(method, count, rotations), cost.serialised(count, len(FREE_MOTION_KEYS)))),
-           b.name)
+    charge(cost.Cost((cost.free_rotation(method, count, rotations),
+                      cost.serialised(count, len(FREE_MOTION_KEYS) + (time_scale is not None), output))
+                     + ((cost.calendar_dates(count),) if time_scale is not None else ())), b.name)
     return render.free_motion(free_motion(b, t0 + step * np.arange(count), in_unit(J_arcsec, "arcsec", "J_arcsec"),
-                                          method))
+                                          method), time_scale)
 
 
 def free_motion_answer(body: str | int | Body, start, stop, step_days: float, J_arcsec: float | None = None,
-                       method: str = "auto", dataset: str = DEFAULT_DATASET, quantities: bool = False) -> dict:
+                       method: str = "auto", dataset: str = DEFAULT_DATASET, quantities: bool = False,
+                       time_scale: str = "utc") -> dict:
     """As :func:`free_motion_arrays`, with lists (or, with ``quantities=True``, Quantity arrays)."""
-    ans = free_motion_arrays(body, start, stop, step_days, J_arcsec, method, dataset)
+    ans = free_motion_arrays(body, start, stop, step_days, J_arcsec, method, dataset, time_scale=time_scale)
     if quantities:
         return with_units(ans)
     for key in FREE_MOTION_KEYS:

@@ -15,6 +15,9 @@ a UT1 time outside that span is refused, naming the span. The leap-second table 
 against the bundled files only (astropy would otherwise download a fresh one once its bundled
 copy nears expiry). Errors name the field, say what was wrong and list the accepted forms; they
 never carry astropy's or ERFA's text.
+
+Out, the other way: :func:`calendar_dates` writes Julian dates TDB as the ISO 8601 calendar dates people read, in
+UTC, TT or TDB (:data:`CALENDAR_SCALES`), vectorised through ERFA (the answers' ``utc_iso`` columns).
 """
 from __future__ import annotations
 
@@ -242,6 +245,108 @@ def _iso_jd_tdb(text: str, scale: str, field: str) -> float:
         raise
     except Exception:      # astropy's and ERFA's messages name their internals, not the user's input
         raise InvalidInputError(field, f"cannot parse {shown!r} as a time; {ACCEPTED}") from None
+
+
+# ---------------------------------------------------------------------------------------------- calendar dates
+
+#: the scales a calendar column is written in (``time_scale``): UTC (civil time, with its leap seconds), TT, TDB
+CALENDAR_SCALES = ("utc", "tt", "tdb")
+#: decimals of the second in a calendar date: milliseconds (a float64 Julian date near J2000 resolves 40 us)
+CALENDAR_DECIMALS = 3
+#: how far the calendar dates may stand from ERFA's full TDB - TT series, seconds (1600-2200; the USNO's
+#: estimate of its own series, which tests/base/test_times_calendar.py checks against ERFA's dtdb)
+TDB_TT_ERROR_S = 1e-5
+
+
+def check_calendar_scale(scale, field: str = "time_scale") -> str:
+    """``scale`` in lower case if it is one of :data:`CALENDAR_SCALES`; InvalidInputError naming ``field`` else."""
+    if isinstance(scale, str) and scale.lower() in CALENDAR_SCALES:
+        return scale.lower()
+    raise InvalidInputError(field, f"must be one of {', '.join(CALENDAR_SCALES)} (the scale of the calendar dates), "
+                                   f"got {scale!r}")
+
+
+def calendar_dates(jd_tdb, scale: str = "utc") -> list[str]:
+    """ISO 8601 calendar dates (``2040-01-01T00:00:00.000``, to the millisecond) of Julian dates TDB, in ``scale``
+    (:data:`CALENDAR_SCALES`): the column a person reads beside ``jd_tdb``.
+
+    Vectorised through ERFA, the chain :func:`to_jd_tdb` runs the other way: TDB to TT, TT to TAI, TAI to UTC (ERFA's
+    leap-second table; a leap second reads ``23:59:60.xxx``; before 1960 UTC is taken as TAI, as ERFA does), then
+    ERFA's ``d2dtf`` rounds to the millisecond. TDB - TT (1.7 ms at most) is the USNO Circular 179 series (eq. 2.6,
+    skyfield's ``tdb_minus_tt``: within :data:`TDB_TT_ERROR_S` of ERFA's full ``dtdb`` over 1600-2200), which costs
+    ~0.2 us an epoch where ``dtdb`` costs 9 us: a 10^5-epoch track's column in ~0.1 s instead of ~1 s. Years outside
+    0000-9999 are written with their sign (``-4712``, ``+10000``), as ISO 8601's expanded years."""
+    import erfa
+    import numpy as np
+    from skyfield.timelib import tdb_minus_tt
+
+    scale = check_calendar_scale(scale)
+    jd = np.asarray(jd_tdb, dtype=float).ravel()
+    day = np.floor(jd)
+    frac = jd - day                     # exact: the split ERFA's two-part dates take
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", erfa.ErfaWarning)   # "dubious year": UTC before 1960 or far in the future
+        if scale != "tdb":
+            frac = frac - tdb_minus_tt(jd) / 86400.0         # TT (the series takes TT or TDB alike, 1.7 ms apart)
+        fields = _utc_fields(*erfa.tttai(day, frac)) if scale == "utc" else \
+            erfa.d2dtf(scale.upper(), CALENDAR_DECIMALS, day, frac)
+    return _iso_texts(*fields)
+
+
+def _utc_fields(day, frac):
+    """ERFA's ``d2dtf`` fields of the UTC dates of TAI two-part Julian dates: as ``taiutc`` then ``d2dtf("UTC")``
+    give them, at a third of their cost. From 1972 TAI - UTC is a whole number of seconds between leap seconds, so
+    away from them (two days) UTC is TAI less the table's offset, on an ordinary day; ERFA's own functions take the
+    rest (a leap second's day, and before 1972, when UTC drifted)."""
+    import erfa
+    import numpy as np
+
+    table = erfa.leap_seconds.get()     # (year, month, TAI - UTC s) from 1960; whole seconds from 1972
+    table = table[table["year"] >= 1972]
+    djm0, djm = erfa.cal2jd(table["year"], table["month"], 1)
+    offsets = np.asarray(table["tai_utc"], dtype=float) / 86400.0
+    changes = djm0 + djm + offsets      # each offset's first instant, TAI
+    tai = day + frac
+    after = np.searchsorted(changes, tai, side="right")          # offsets in force: changes[after - 1] <= tai
+    nearest = np.minimum(np.abs(tai - changes[np.maximum(after - 1, 0)]),
+                         np.abs(changes[np.minimum(after, changes.size - 1)] - tai))
+    slow = (after == 0) | (nearest < 2.0)
+    fast = ~slow
+    year, month, mday = (np.empty(tai.size, dtype=np.int32) for _ in range(3))
+    clock = None
+    for mask, fields in ((fast, lambda: erfa.d2dtf("TAI", CALENDAR_DECIMALS, day[fast],
+                                                   frac[fast] - offsets[after[fast] - 1])),
+                         (slow, lambda: erfa.d2dtf("UTC", CALENDAR_DECIMALS, *erfa.taiutc(day[slow], frac[slow])))):
+        if not mask.any():
+            continue
+        y, m, d, c = fields()
+        if clock is None:
+            clock = np.empty(tai.size, dtype=c.dtype)
+        year[mask], month[mask], mday[mask], clock[mask] = y, m, d, c
+    if clock is None:                   # no dates
+        return erfa.d2dtf("UTC", CALENDAR_DECIMALS, day, frac)
+    return year, month, mday, clock
+
+
+def _iso_texts(year, month, mday, clock) -> list[str]:
+    """``YYYY-MM-DDThh:mm:ss.sss`` of ERFA's ``d2dtf`` fields, the digits placed by numpy (a Python format per date
+    would cost ~0.6 us each); the rare year outside 0000-9999 formatted alone, with its sign."""
+    import numpy as np
+
+    n = year.size
+    text = np.empty((n, 21 + CALENDAR_DECIMALS), dtype=np.uint8)      # each date and a newline
+    for column, char in ((4, "-"), (7, "-"), (10, "T"), (13, ":"), (16, ":"), (19, "."), (-1, "\n")):
+        text[:, column] = ord(char)
+    for column, width, values in ((0, 4, year), (5, 2, month), (8, 2, mday), (11, 2, clock["h"]),
+                                  (14, 2, clock["m"]), (17, 2, clock["s"]), (20, CALENDAR_DECIMALS, clock["f"])):
+        v = np.abs(values.astype(np.int64))
+        for k in range(width - 1, -1, -1):
+            text[:, column + k] = 48 + v % 10
+            v //= 10
+    out = text.tobytes().decode("ascii").split()     # one text, split at the newlines: the cheapest way to n strs
+    for j in np.flatnonzero((year < 0) | (year > 9999)).tolist():
+        out[j] = f"{int(year[j]):+05d}" + out[j][4:]
+    return out
 
 
 # ---------------------------------------------------------------------------------------------- offline

@@ -412,14 +412,23 @@ def propagation(inputs_with_sigma: int) -> Part:
 
 
 #: how an answer is written out: the unit cost of one value
-SERIALISATIONS = {"json": "serialise_s_per_value", "csv": "serialise_csv_s_per_value"}
+SERIALISATIONS = {"json": "serialise_s_per_value", "csv": "serialise_csv_s_per_value",
+                  "ecsv": "serialise_ecsv_s_per_value"}
 
 
 def serialised(epochs: int, columns: int, output: str = "json") -> Part:
     """An answer of ``epochs`` rows of ``columns`` floats, serialised as JSON (orjson, or a figure's
-    points) or CSV (a float's exact repr per value: ~20x the cost of JSON)."""
+    points), CSV (a float's exact repr per value: ~20x the cost of JSON) or ECSV (astropy's writer, through a
+    QTable: ~250x JSON's, benchmarks/RESULTS_calendar.md)."""
     return Part("step_days", f"{epochs} epochs serialised as {output}",
                 epochs * columns * _u(SERIALISATIONS[output]), epochs * columns * _u("serialised_bytes_per_value") / MB)
+
+
+def calendar_dates(epochs: int) -> Part:
+    """The epochs' calendar dates beside ``jd_tdb`` (:func:`ephem.base.times.calendar_dates`: TDB to UTC through
+    ERFA and the ISO text; benchmarks/bench_calendar.py)."""
+    return Part("step_days", f"the calendar dates of {epochs} epochs", epochs * _u("calendar_epoch_s"),
+                epochs * _u("calendar_bytes_per_epoch") / MB)
 
 
 def truncation_bounds(e: float) -> Part:

@@ -1,0 +1,107 @@
+"""The calendar dates beside ``jd_tdb`` (ephem.base.times.calendar_dates, issue 41): ISO 8601 in UTC, TT or TDB, to
+the millisecond, against astropy's ``Time``, which runs ERFA's full chain (its TDB - TT is ERFA's ``dtdb``, ours the
+USNO Circular 179 series: :data:`ephem.base.times.TDB_TT_ERROR_S`).
+
+The error budget of a date: half its last digit (0.5 ms, the rounding), the TDB - TT series' 10 us and a float64
+Julian date's own resolution (2^-52 of 2.5e6 days: 40 us, half of it in the input). A date further than that from
+astropy's is a wrong date; within it, the two texts agree but where astropy's instant sits within the series' 10 us
+of a rounding boundary."""
+from __future__ import annotations
+
+import warnings
+
+import erfa
+import numpy as np
+import pytest
+
+from ephem.base import times
+from ephem.base.errors import InvalidInputError
+
+astropy_time = pytest.importorskip("astropy.time")
+
+#: the budget above, in seconds
+BUDGET_S = 0.5e-3 + times.TDB_TT_ERROR_S + 20e-6
+
+
+def astropy_dates(jd: np.ndarray, scale: str) -> np.ndarray:
+    times._leap_seconds_offline()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        t = getattr(astropy_time.Time(jd, format="jd", scale="tdb"), scale)
+        return t, t.isot
+
+
+@pytest.mark.parametrize("scale", times.CALENDAR_SCALES)
+def test_the_dates_are_astropys_within_their_last_digit(scale):
+    rng = np.random.default_rng(41)
+    jd = rng.uniform(2437300.5, 2488070.0, 4000)         # 1961 to 2100: UTC defined by the leap-second table
+    ours = times.calendar_dates(jd, scale)
+    exact, exact_text = astropy_dates(jd, scale)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        read = astropy_time.Time(ours, format="isot", scale=scale)
+        apart_s = np.abs((read - exact).to_value("s"))
+    assert apart_s.max() < BUDGET_S, apart_s.max()
+    same = np.mean(np.array(ours) == exact_text)
+    assert same > 0.99, same                              # the rest: a rounding boundary within the series' 10 us
+
+
+def test_a_leap_second_reads_sixty():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        t = astropy_time.Time(["2016-12-31T23:59:59.500", "2016-12-31T23:59:60.500", "2017-01-01T00:00:00.500"],
+                              scale="utc").tdb
+    assert times.calendar_dates(t.jd1 + t.jd2, "utc") == ["2016-12-31T23:59:59.500", "2016-12-31T23:59:60.500",
+                                                          "2017-01-01T00:00:00.500"]
+
+
+@pytest.mark.parametrize("text, scale", [("2040-01-01", "utc"), ("2040-01-01T12:34:56.789", "utc"),
+                                         ("2025-06-30T23:59:59.999 TT", "tt"), ("1999-12-31T00:00:00.001 TDB", "tdb")])
+def test_a_date_given_reads_back_as_given(text, scale):
+    iso = text.split(" ")[0]
+    expected = iso if "T" in iso else iso + "T00:00:00.000"
+    assert times.calendar_dates([times.to_jd_tdb(text)], scale) == [expected]
+
+
+def test_the_fast_utc_path_is_erfas_own_chain():
+    """Away from leap seconds and after 1972 UTC is TAI less a whole number of seconds (times._utc_fields); its dates
+    must be those of ERFA's taiutc then d2dtf("UTC"), on every day, leap-second days and the drifting 1960s too."""
+    rng = np.random.default_rng(7)
+    table = erfa.leap_seconds.get()
+    day0, day1 = erfa.cal2jd(table["year"], table["month"], 1)
+    near = np.concatenate([c + np.linspace(-3.0, 3.0, 2001) for c in day0 + day1])
+    jd = np.concatenate([rng.uniform(2415020.5, 2488070.0, 20000), near])
+    day = np.floor(jd)
+    frac = jd - day
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        tai = erfa.tttai(day, frac)
+        reference = times._iso_texts(*erfa.d2dtf("UTC", times.CALENDAR_DECIMALS, *erfa.taiutc(*tai)))
+        assert times._iso_texts(*times._utc_fields(*tai)) == reference
+
+
+def test_the_series_is_within_its_stated_error_of_erfas_dtdb():
+    from skyfield.timelib import tdb_minus_tt
+
+    jd = np.arange(2305447.5, 2524593.5, 3.7)            # 1600-2200
+    full = erfa.dtdb(jd, 0.0, 0.0, 0.0, 0.0, 0.0)
+    assert np.abs(tdb_minus_tt(jd) - full).max() < times.TDB_TT_ERROR_S
+
+
+def test_years_beyond_four_digits_carry_their_sign():
+    year_zero = sum(erfa.cal2jd(0, 6, 1))              # astronomical year 0 (1 BC), proleptic Gregorian
+    dates = times.calendar_dates([100.0, year_zero, 9e6], "tdb")
+    assert dates == ["-4712-03-03T12:00:00.000", "0000-06-01T00:00:00.000", "+19929-01-23T12:00:00.000"]
+    assert times.calendar_dates([], "utc") == []
+
+
+@pytest.mark.parametrize("scale", ["UTC", "Tt", "tdb"])
+def test_the_scale_is_named_in_any_case(scale):
+    assert times.check_calendar_scale(scale) == scale.lower()
+
+
+@pytest.mark.parametrize("scale", ["ut1", "tai", "", None, 3])
+def test_another_scale_is_refused_naming_the_field(scale):
+    with pytest.raises(InvalidInputError) as err:
+        times.check_calendar_scale(scale)
+    assert err.value.field == "time_scale" and "utc, tt, tdb" in err.value.reason
