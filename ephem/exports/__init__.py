@@ -8,6 +8,7 @@ samples) and asks the answers nothing itself; the requests that feed it are :mod
 - :mod:`ephem.exports.pck_kernel`: A NAIF text PCK as SPICE reads it: the records of a kernel (BodyFit, PckResult), its frames, its pole evaluated as SPICE does.
 - :mod:`ephem.exports.pck_text`: The text of a NAIF text PCK (``KPL/PCK``): the comment block that says what was fitted and how well, and each body's data block.
 - :mod:`ephem.exports.plot_drawing`: How each kind of plot is drawn on a matplotlib figure: axes' units and scales, panels, titles.
+- :mod:`ephem.exports.qtable`: Answers as astropy tables: the one builder of the ``QTable`` a notebook gets and of the ECSV the service and the CLI write.
 - :mod:`ephem.exports.tables`: Nutation tables in the layouts of Petit, Souchay & Lhotka (2014), as CSV, Markdown, LaTeX or JSON.
 - :mod:`ephem.exports.work_precision`: The work-precision chart of a request: every model's estimated error against its predicted cost, with hover titles in SVG.
 
