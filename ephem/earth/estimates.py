@@ -43,7 +43,6 @@ from ..orbit.lunar import lunisolar_data
 from .lunisolar import earth_lunisolar, term_amplitudes
 from ..forced.precession_nutation import Track, cached_model
 from ..forced.physics_errors import rotation_averaging_bound
-from ..theory.interface import cheapest_within
 from ..theory.results import Estimate
 from ..orbit.lunar import MIN_CUT_MAS
 from .model import LunisolarEarth, NonRigidEarth, TRACK_CUT_MAS, check_earth, lunisolar_earth, residual_envelope
@@ -243,12 +242,6 @@ def estimates(model: LunisolarEarth | NonRigidEarth, jd_tdb, wobble=None, counts
 
 def pole_at(model: LunisolarEarth, jd_tdb: float) -> np.ndarray:
     return pole_vectors(model.track(np.array([float(jd_tdb)])))[0]
-
-
-def choose(model: LunisolarEarth, candidates: list, tolerance: float, wobble=None):
-    """The cheapest candidate within ``tolerance`` (radians), else :class:`NotApplicableError` naming the best
-    (:func:`ephem.sun.ladder.cheapest_within`)."""
-    return cheapest_within(candidates, tolerance, model.body.name, wobble is not None)
 
 
 def add_wobble(model: LunisolarEarth, track: Track, wobble) -> Track:

@@ -153,15 +153,6 @@ class SecondOrderTheory:
         return (self.first_order_rate * ce + ce * ce * g[..., 0] + se * se * g[..., 1],
                 se * ce * g[..., 2])
 
-    def second_order_rate_bound(self) -> float:
-        """Upper bound (rad/day) on the pole's speed from the second-order mean rates at ε̄0."""
-        phi = np.linspace(0.0, math.pi, 64, endpoint=False)
-        ce, se = math.cos(self.obliquity), math.sin(self.obliquity)
-        g = eval_phi(self.coefficients, phi[:, None])
-        speed = np.abs(se * (ce * ce * g[:, 0] + se * se * g[:, 1])) + np.abs(se * ce * g[:, 2])
-        # the grid misses the peak of a degree-2 polynomial in 2φ by at most (1 - cos(2π/64))
-        return float(speed.max()) * 1.01
-
     def mean_track(self, jd_tdb) -> MeanTrack:
         """Integrate the mean equations over the epochs' span (DOP853, dense output)."""
         from scipy.integrate import solve_ivp  # imported on first use: 0.35 s

@@ -45,14 +45,13 @@ out (general relativity above all) bounds the planets' histories more than eithe
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
-from ..bodies.catalogue import Orbit, load_catalogue
+from ..bodies.catalogue import Orbit
 from ..base.paths import data_dir
 from ..base.constants import J2000_JD, JULIAN_YEAR_DAYS
 from ..base.errors import InvalidInputError, NotApplicableError
@@ -79,7 +78,7 @@ SHIPPED_ASTEROIDS = ("Ceres", "Vesta", "Eros", "Steins", "Itokawa")
 #: precesses in 18.6 yr about the ecliptic, which is what this gives for it)
 SHIPPED_BODIES = SHIPPED_PLANETS + SHIPPED_ASTEROIDS + ("Moon",)
 #: wall time of :func:`nbody_orbit_history` per simulated Julian year (one test particle, 9 massive bodies,
-#: WHFast at DT_DAYS), seconds: measured by :func:`measure_cost_constant` on the shared 2-core VM, idle, REBOUND
+#: WHFast at DT_DAYS), seconds: nbody_orbit_history timed over 20 kyr on the shared 2-core VM, idle, REBOUND
 #: 5.2.2, 2026-11-27: 1.43e-4 s/yr (Ceres, 0 to +20 kyr, 2.9 s, the fixed cost included); 2.0e-4 leaves 40 % for
 #: load (a second CPU-bound process on the other core was measured to cost ~+30 %; more processes than cores
 #: cost more, which no constant covers). The fixed cost: DE421 states and the IAS15 leg to J2000 (0.2-0.6 s).
@@ -87,11 +86,6 @@ COST_SECONDS_PER_YEAR = 2.0e-4
 COST_SECONDS_FIXED = 1.0
 
 _DIR = "orbit_history"
-
-
-def years_to_jd(years):
-    """TDB Julian date of Julian years from J2000.0."""
-    return J2000_JD + np.asarray(years, dtype=float) * JULIAN_YEAR_DAYS
 
 
 # ----------------------------------------------------------------- the REBOUND setup (shared)
@@ -482,11 +476,3 @@ def nbody_orbit_history(orbit: Orbit, start_years: float, stop_years: float,
                                  "encounter WHFast cannot follow); shorten the span")
     return OrbitHistory(body, years, pole, a, e, (float(years[0]), float(years[-1])),
                         f"REBOUND WHFast dt={DT_DAYS:.5f} d N-body run from DE421 at J2000 (ephem.longterm.nbody_orbit)")
-
-
-def measure_cost_constant(span_years: float = 20_000.0) -> float:
-    """Seconds of :func:`nbody_orbit_history` per simulated year, measured now (for COST_SECONDS_PER_YEAR)."""
-    orbit = load_catalogue("current").get("Ceres").orbit
-    t0 = time.perf_counter()
-    nbody_orbit_history(orbit, 0.0, span_years)
-    return (time.perf_counter() - t0) / span_years

@@ -242,12 +242,6 @@ def planet_orbits_j2000() -> tuple[np.ndarray, ...]:
     return tuple(np.array(x) for x in zip(*out))
 
 
-def planet_elements_j2000() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(a AU, I, Ω) of the planets at J2000 on the ecliptic of J2000, from Simon et al. (1994) (erfa.plan94)."""
-    a, _, _, inc, node = planet_orbits_j2000()
-    return a, inc, node
-
-
 def planet_masses() -> np.ndarray:
     """The planets' masses over the Sun's (DE421; the Earth-Moon system for the Earth)."""
     return np.array([GM_DE421[key] / GM_SUN_DE421 for _, _, key in PLANETS])

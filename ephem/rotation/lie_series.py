@@ -62,9 +62,9 @@ e^{2iℓ} = iU/u) and {g; W_n} = ∂W_n/∂G = −(n/G) ρⁿ w_n.
 Public API
 ----------
 Exact: :func:`sam_hamiltonian_terms`, :func:`solve_sam_homological`, :class:`SamNormalForm` /
-:func:`sam_normal_form` (K_n, w_n, p_n, s_n, the transformations of u, U, L, ℓ, g, and
-:meth:`SamNormalForm.lara2014_tables`), :func:`cost_table`; the polynomials are those of
-:mod:`ephem.rotation.polynomials` (Q(i)[u, U, β] with the Poisson bracket) and the triangle is the generic
+:func:`sam_normal_form` (K_n, w_n, p_n, s_n, the transformations of u, U, L, ℓ, g,
+:meth:`SamNormalForm.lara2014_tables`, and ``cost``: each order's CPU and sizes, as L18 Fig. 1); the polynomials
+are those of :mod:`ephem.rotation.polynomials` (Q(i)[u, U, β] with the Poisson bracket) and the triangle is the generic
 one of :mod:`ephem.rotation.deprit`.
 Numerical: :class:`SamParameters`, :class:`SamSeriesSolution` (the complex series),
 :class:`Lara2014Series` (eqs. 30-34 from any table set), and the conversions

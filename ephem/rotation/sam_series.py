@@ -5,8 +5,7 @@
 - :class:`SamSeriesSolution`: the torque-free motion from the generated normal form and generating function
   (L18 eqs. 30-32), with the mean elements;
 - :class:`Lara2014Series`: L14's eqs. 30-34 from a set of triaxiality polynomials (printed or generated): the
-  second, independent route, and the way to test a printed table;
-- :func:`cost_table`: what each order of the series costs to generate and evaluate.
+  second, independent route, and the way to test a printed table.
 
 Sources and notation as :mod:`ephem.rotation.lie_series`'s (L18: Lara 2018; L14: Lara 2014).
 """
@@ -18,8 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .deprit import OrderCost
-from .lie_series import Lara2014Tables, SamNormalForm, sam_normal_form
+from .lie_series import Lara2014Tables, sam_normal_form
 from .polynomials import BetaPoly, GaussianPoly
 
 
@@ -334,10 +332,3 @@ class Lara2014Series:
         m = action_angle_to_body(ellp + dl, mean.L * (1.0 + dL), mean.G, self.params)
         _, _, dg0 = self.periodic(mean.ell, mean.L, mean.G, upto)
         return m, n_g * t + mean.L / mean.G * (dg - float(dg0))
-
-
-# =========================================================================== cost study
-
-def cost_table(order: int) -> list[OrderCost]:
-    """CPU cost per order of a fresh normalisation to ``order`` (uncached), as in L18 Fig. 1."""
-    return SamNormalForm(order).cost
