@@ -45,7 +45,9 @@ def check_step(field: str, start: float, stop: float, step: float, count: int, u
     reason with ``what`` the epochs are."""
     if count < 2:
         return                   # one epoch: nothing to tell apart
-    smallest = resolution(start, stop)
+    smallest = math.ulp(max(abs(start), abs(stop)))     # resolution(start, stop), without its generator: ~0.3 us
+    if step >= SAFE_SPACINGS * smallest:
+        return                   # every grid a track asks for in practice
     span = f"[{start:.17g}, {stop:.17g}]"
     shown = duration_text(smallest) if unit == "d" else f"{smallest:.4g} {unit}"
     if step < smallest:
