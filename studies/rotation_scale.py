@@ -30,10 +30,11 @@ from ephem.orbit.geometry import lon_lat
 from ephem.base.constants import ROUNDING
 from ephem.forced.precession_nutation import cached_model
 from ephem.forced.integration import angular_separation, integrate_spin_axis
-from ephem.forced.rigid_body import integrate_rigid_body, study_epochs
+from ephem.forced.rigid_body import integrate_rigid_body
 from ephem.forced.rigid_numerics import normalised_moments, rotation_matrices
 
 from ._command import chart_app
+from .rigid_body import study_epochs
 
 #: The tracks compared: what of the rotation-scale terms each includes (the "none" track is every rung as it was).
 VARIANTS = rs.MODELLED

@@ -57,12 +57,10 @@ Directions of L and of the C axis converge to ~1e-14 rad over a year.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
-from .integration import angular_separation, integrate_spin_axis
-from .kinoshita import nutation_series, precession_rate, scaling_factor
 from .precession_nutation import PrecessionNutation
 from .rigid_numerics import (initial_attitude, model_moments, normalised_moments, rotation_matrices, solve_both_ways,
                              warm_kepler)
@@ -222,70 +220,3 @@ def integrate_rigid_body(model: PrecessionNutation, jd_tdb, moments=None, initia
     fig = rot[:, :, 2]
     r = model.icrf_from_orbit
     return RigidTrack(t, mom, omega, states[:, 3:], ang @ r.T, fig @ r.T, r, nfev)
-
-
-# --------------------------------------------------------------------------- rung 5 against rung 7
-
-
-def synthetic_model(model: PrecessionNutation, spin_orbit_ratio: float, hd: float | None = None) -> PrecessionNutation:
-    """``model`` spun at ω = ratio × n (and with H_d replaced if given): a synthetic rotator for the study.
-
-    K, ψ̇ and the nutation series are recomputed; the initial pole, the frame and
-    (Δψ, Δε) at the pole epoch are kept, so every ratio starts from the same
-    pole in the same frame. Bypasses ``MIN_SPIN_ORBIT_RATIO`` on purpose.
-    """
-    hd = model.hd if hd is None else hd
-    omega = spin_orbit_ratio * model.mean_motion
-    K = scaling_factor(model.mean_motion, omega, hd)
-    return replace(model, hd=hd, spin_rate=omega, scaling_factor=K,
-                   precession_rate=precession_rate(K, model.obliquity, model.eccentricity, model.order),
-                   nutation=nutation_series(K, model.mean_motion, model.obliquity, model.eccentricity,
-                                            model.equinox_to_pericentre, model.order))
-
-
-@dataclass(frozen=True)
-class AveragingComparison:
-    """Rung 5 against rung 7 at epochs (radians): the averaged theory's errors and the forced motion."""
-
-    jd_tdb: np.ndarray
-    momentum_error: np.ndarray   # angle between rung 5's axis and rung 7's L
-    figure_error: np.ndarray     # angle between rung 5's axis and rung 7's C axis
-    displacement: np.ndarray     # angle of rung 5's axis from its initial position
-    rigid: RigidTrack
-
-    def relative(self) -> tuple[float, float]:
-        """Max errors of L and of the figure axis over the max displacement."""
-        d = float(self.displacement.max())
-        return float(self.momentum_error.max()) / d, float(self.figure_error.max()) / d
-
-
-def compare_with_averaged(model: PrecessionNutation, jd_tdb, moments=None, initial_angle: float = 0.0,
-                          rtol: float = 1e-12) -> AveragingComparison:
-    """Run rung 7 and rung 5 (:func:`ephem.forced.integration.integrate_spin_axis`) from the same pole and compare.
-
-    Both start with L on the pole (rung 7 with ``start="aligned"``), the comparison the averaged theory's
-    convergence as ω/n falls is about; the forced start, the rotation-scale terms and their error estimate are
-    compared in :mod:`studies.rotation_scale` and tests/forced/test_rotation_scale.py."""
-    t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
-    rig = integrate_rigid_body(model, t, moments, initial_angle, rtol=rtol, start="aligned")
-    model = replace(model, geodesic_rate=0.0)     # the torque alone, as rung 7 integrates it
-    avg = integrate_spin_axis(model, t, rtol=rtol)
-    s0 = integrate_spin_axis(model, [model.pole_epoch])[0]
-    return AveragingComparison(t, angular_separation(rig.angular_momentum, avg),
-                               angular_separation(rig.figure_axis, avg), angular_separation(avg, s0), rig)
-
-
-def study_epochs(model: PrecessionNutation, span_days: float, per_rotation: int = 12,
-                 minimum: int = 400) -> np.ndarray:
-    """Evenly spaced epochs over [t0, t0 + span], dense enough to catch the short-period terms' peaks."""
-    rotations = abs(span_days) * model.spin_rate / (2.0 * math.pi)
-    count = max(minimum, int(per_rotation * rotations) + 1)
-    return model.pole_epoch + np.linspace(0.0, span_days, count)
-
-
-# --------------------------------------------------------------------------- the recommended threshold
-
-#: Recommended ω/n threshold for the averaged theory (see docs/rigid_body_study.md): below it the
-#: figure axis of an Eros-like body (extreme triaxiality, obliquity ~90°) departs from rung 5 by
-#: more than 10% of the pole's largest displacement over one orbit.
-RECOMMENDED_MIN_SPIN_ORBIT_RATIO = 30.0

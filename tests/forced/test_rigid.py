@@ -9,10 +9,12 @@ from ephem.bodies.catalogue import get_body
 from ephem.orbit.kepler import solve_kepler_scalar
 from ephem.forced.precession_nutation import build_model
 from ephem.forced.integration import angular_separation, integrate_spin_axis
-from ephem.forced.rigid_body import compare_with_averaged, integrate_rigid_body, synthetic_model
+from ephem.forced.rigid_body import integrate_rigid_body
 from ephem.forced.rigid_numerics import (model_moments, quaternion_from_matrix, rotation_matrices, warm_kepler,
                                          worst_case_moments)
 from ephem.forced.rotation_scale import SunGeometry
+# the synthetic fast rotators and rung 5 against rung 7: the rigid-body study's (not the library's)
+from studies.rigid_body import compare_with_averaged, synthetic_model
 
 
 @pytest.fixture(scope="module")

@@ -10,8 +10,6 @@ from ephem import api
 from ephem.base.constants import JULIAN_YEAR_DAYS, MAS
 from ephem.base.errors import EphemError, InvalidInputError, NotApplicableError
 from ephem.forced.precession_nutation import MIN_SPIN_ORBIT_RATIO
-from ephem.forced.rigid_body import (RECOMMENDED_MIN_SPIN_ORBIT_RATIO, compare_with_averaged, study_epochs,
-                                     synthetic_model)
 from ephem.orbit.hansen import LAPLACE_LIMIT
 from ephem.forced.precession_nutation import cached_model
 from ephem.sun.geodesic import periodic_excess
@@ -21,6 +19,8 @@ from ephem.sun.bounds import truncation_bound
 from ephem.theory.tracks import pole_vectors
 from ephem.forced.integration import angular_separation
 from scenes import address_space_cap, synthetic_body
+# the rigid-body study's rotators, comparison and threshold (docs/rigid_body_study.md)
+from studies.rigid_body import RECOMMENDED_MIN_SPIN_ORBIT_RATIO, compare_with_averaged, study_epochs, synthetic_model
 
 YEAR = JULIAN_YEAR_DAYS
 
