@@ -77,11 +77,6 @@ def ecliptic_to_icrf(lon: float, lat: float) -> np.ndarray:
     return icrf_to_ecliptic_matrix().T @ unit_vector(lon, lat)
 
 
-def signed_angle(a: np.ndarray, b: np.ndarray, axis: np.ndarray) -> float:
-    """Angle from a to b, counter-clockwise about ``axis`` (radians in (-π, π])."""
-    return math.atan2(float(np.dot(np.cross(a, b), axis)), float(np.dot(a, b)))
-
-
 @dataclass(frozen=True)
 class SpinGeometry:
     """Where the spin axis stands relative to the orbit.

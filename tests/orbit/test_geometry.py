@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from ephem.base.errors import InvalidInputError
-from ephem.orbit.geometry import signed_angle, spin_geometry, unit_vector
+from ephem.orbit.geometry import spin_geometry, unit_vector
 from ephem.orbit.kepler import orbit_basis, orbit_normal, solve_kepler, solve_kepler_scalar, true_anomaly
 
 
@@ -27,14 +27,6 @@ def test_orbit_normal_is_angular_momentum_of_the_kepler_motion():
     # per component (measured: 0 and 1.4e-17)
     assert np.allclose(orbit_normal(i, node), w, rtol=0, atol=1e-15)
     assert np.allclose(np.cross(p, q), w, rtol=0, atol=1e-15)
-
-
-def test_signed_angle_keeps_the_sign_that_arccos_loses():
-    z = np.array([0.0, 0.0, 1.0])
-    a = np.array([1.0, 0.0, 0.0])
-    b = unit_vector(math.radians(-40.0), 0.0)
-    assert math.degrees(signed_angle(a, b, z)) == pytest.approx(-40.0, abs=1e-12)
-    assert math.degrees(math.acos(np.dot(a, b))) == pytest.approx(40.0)  # what eq. 29 would give
 
 
 @pytest.mark.parametrize("rot_deg", [17.0, 133.0, -61.0])
