@@ -171,7 +171,8 @@ def main() -> None:
               f"{seconds:.0f} s in all", "",
               "Each pair is timed in the same round, without the guard and with it, alternating; medians over the "
               "rounds. In-process, one core; the parser through a fake transport (no socket).", "",
-              "| what | without, µs | with, µs | with - without, µs | with ÷ without |", "|---|---:|---:|---:|---:|"]
+              "| what | without, µs | with, µs | with - without, µs | with ÷ without |",
+              "|---|---:|---:|---:|---:|"]
     for name, pairs in rows.items():
         before = statistics.median(b for b, _ in pairs)
         after = statistics.median(a for _, a in pairs)

@@ -110,10 +110,10 @@ def _rule_texts(settings: Settings) -> dict[str, str]:
                  "stop_year and step_years together: finite numbers, start_year < stop_year within 2e7 years, "
                  "step_years > 0 leaving at most 100001 epochs, at least the spacing of float64 doubles at the "
                  "span's largest year; the body is JSON (an array of rows, or {rows, history} and nothing else, "
-                 "each key of an object given once) or CSV (text/csv, UTF-8) with a header of distinct column names and "
-                 "as many cells on every line. Each row is priced before the work at its own eccentricity (the "
-                 "FFT of its Hansen coefficients grows like (1 - e^2)^(-3/2)) and, with a history, at its "
-                 "integration from its pole's epoch through the span (docs/batch.md).",
+                 "each key of an object given once) or CSV (text/csv, UTF-8) with a header of distinct column "
+                 "names and as many cells on every line. Each row is priced before the work at its own "
+                 "eccentricity (the FFT of its Hansen coefficients grows like (1 - e^2)^(-3/2)) and, with a history, "
+                 "at its integration from its pole's epoch through the span (docs/batch.md).",
         "na": na,
     }
     if hasattr(settings, "max_request_cpu_s"):      # service/guards.py: the per-request budget

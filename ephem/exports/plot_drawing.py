@@ -348,7 +348,8 @@ def draw_obliquity_history(fig, ans: dict) -> None:
     top.set_ylim(ymin - pad, ymax + pad)
     for i, (a, b) in enumerate(spans):
         for ax in (top, middle, bottom):
-            ax.axvspan((a - origin) / factor, (b - origin) / factor, facecolor="0.88", edgecolor="0.55", hatch="///", lw=0.0, zorder=0,
+            ax.axvspan((a - origin) / factor, (b - origin) / factor, facecolor="0.88", edgecolor="0.55", hatch="///",
+                       lw=0.0, zorder=0,
                        label=(f"history not meaningful: neighbouring solutions or orbits part by > "
                               f"{math.degrees(MEANINGFUL_LIMIT):g}°") if i == 0 and ax is top else None)
     top.set_ylabel("obliquity ε [deg]")

@@ -46,14 +46,15 @@ from ..theory.choice import RULE, Deferred, choose
 from ..theory.results import Estimate
 from ..base.budget import charge, checkpoint
 from ..bodies.catalogue import DEFAULT_DATASET, Body, load_catalogue
-from ..base.constants import MAS
+from ..base.constants import JULIAN_YEAR_DAYS, MAS
 from ..base.errors import InvalidInputError, NotApplicableError, count_text
 from ..base.extras import DISTRIBUTION, missing
 from ..base.grids import check_step
 from ..orbit.geometry import angle_between
 from .averaged_spin import MEANINGFUL_LIMIT, ORBIT_SAMPLE_YEARS, SpinHistory, outward_max
-from .nbody_orbit import (SHIPPED_ASTEROIDS, SHIPPED_BODIES, SHIPPED_PLANETS, load_metadata, nbody_cost_seconds,
-                          nbody_orbit_history, shipped_loaded, shipped_orbit_history, shipped_sample_noise)
+from .nbody_orbit import (DT_DAYS, SHIPPED_ASTEROIDS, SHIPPED_BODIES, SHIPPED_PLANETS, load_metadata,
+                          nbody_cost_seconds, nbody_orbit_history, shipped_loaded, shipped_orbit_history,
+                          shipped_sample_noise)
 from .orbit_selection import (DEFAULT_RULE, NAMED_RULE, OrbitCandidate, OrbitSelection, RunEstimate, ms_text,
                               why_chosen)
 from .secular_orbit import planet_secular_history, secular_orbit_history
@@ -190,6 +191,11 @@ def secular_choice(b: Body, orbit_body: str, lo: float, hi: float) -> OrbitChoic
                                                           SECULAR_SOLVE_S), error)))
 
 
+#: the shortest N-body run made on request (years): eight WHFast steps (5.5 d each), the samples its spline needs; a
+#: shorter span (a history within days of J2000) is read from a run this long, which costs ~1 s like any other
+MIN_NBODY_RUN_YEARS = 8.0 * DT_DAYS / JULIAN_YEAR_DAYS
+
+
 def nbody_choice(b: Body, orbit_body: str, lo: float, hi: float, on_demand: bool = True) -> OrbitChoice:
     """The ``nbody`` model of :func:`orbit_choices`: the shipped orbit where it covers [lo, hi] years, else one run on
     request (``on_demand``), else unavailable with the reason."""
@@ -211,6 +217,8 @@ def nbody_choice(b: Body, orbit_body: str, lo: float, hi: float, on_demand: bool
         return OrbitChoice("nbody", why_not=f"no N-body orbit is shipped for {b.name} ({b.dataset} dataset), and "
                            f"one run on request needs REBOUND, which is not installed: install {DISTRIBUTION}[nbody]")
     span = (min(lo, 0.0), max(hi, 0.0))
+    if span[1] - span[0] < MIN_NBODY_RUN_YEARS:     # a span within days of J2000: the run reaches past it
+        span = (span[0], span[0] + MIN_NBODY_RUN_YEARS)
     seconds = nbody_cost_seconds(*span)
     return OrbitChoice("nbody", _LazyNbody(b, span), cost.Cost((cost.Part(
         "stop_year", f"a REBOUND N-body orbit over {span[1] - span[0]:.4g} years", seconds, 30.0),)))

@@ -452,7 +452,9 @@ def nbody_orbit_history(orbit: Orbit, start_years: float, stop_years: float,
     r, v = asteroid_state_j2000(orbit)
     parts = []
     for sign, end in ((-1.0, start), (1.0, stop)):
-        n = int(math.floor(abs(end) / real_step + 1e-9))
+        # whole steps reaching the end (a step of whole WHFast steps rarely divides a short span: the run covered
+        # [-0.77, 0.77] of [-1, 1] years, and the history's epochs at its ends were outside the orbit's span)
+        n = int(math.ceil(abs(end) / real_step - 1e-9))
         if n == 0:
             continue
         sim = planet_simulation(sign * DT_DAYS)

@@ -372,7 +372,8 @@ def test_every_route_with_numeric_input_has_a_baseline():
     missing = [(m, p) for m, p in _served()
                if (m, p) not in BASELINES and p not in NO_NUMERIC_INPUT
                and (numeric_inputs(m, p) or _operation(m, p) is None)]
-    assert not missing, f"routes with no numeric-edge baseline (add one to BASELINES, or to NO_NUMERIC_INPUT): {missing}"
+    assert not missing, ("routes with no numeric-edge baseline (add one to BASELINES, or to NO_NUMERIC_INPUT): "
+                         f"{missing}")
     for m, p in BASELINES:
         assert (m, p) in _served(), f"a baseline for a route the app does not serve: {m} {p}"
         assert numeric_inputs(m, p), f"{m} {p}: no numeric input found"
