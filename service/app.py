@@ -44,11 +44,33 @@ class TableFormat(str, Enum):
     markdown = "markdown"
     latex = "latex"
     table_json = "table-json"
+    ecsv = "ecsv"
 
 
 class TrackFormat(str, Enum):
     json = "json"
     csv = "csv"
+    ecsv = "ecsv"
+
+
+class AnswerFormat(str, Enum):
+    """The answer as JSON, or its table as astropy's ECSV (ephem.api.to_ecsv)."""
+    json = "json"
+    ecsv = "ecsv"
+
+
+TimeScale = Enum("TimeScale", {name: name for name in api.CALENDAR_SCALES}, type=str)
+TimeScaleQuery = Annotated[TimeScale, Query(description="the scale of the epochs' calendar dates beside jd_tdb (ISO "
+                                                        "8601 to the millisecond): utc (key utc_iso), tt (tt_iso) or "
+                                                        "tdb (tdb_iso)")]
+#: the ``format`` query's words for ECSV, and an ECSV response's documentation
+ECSV_TEXT = ("ecsv: astropy's Enhanced CSV (text/x-ecsv), written by astropy: each column's unit, type and description "
+             "and the answer's metadata (model, estimate, time scale, source, version, citations) in its YAML header; "
+             "astropy.table.QTable.read(url, format='ascii.ecsv') gives Quantity columns and jd_tdb as a TDB Time")
+ECSV_CONTENT = {api.ECSV_MEDIA_TYPE: {"schema": {"type": "string"}, "example": (
+    "# %ECSV 1.0\n# ---\n# datatype:\n# - {name: jd_tdb, datatype: float64, description: 'the epoch, Julian date "
+    "TDB'}\n# - {name: utc_iso, datatype: string, ...}\n# - {name: psi_arcsec, unit: arcsec, datatype: float64, "
+    "...}\n# meta: !!omap\n# - {table: track}\n...\njd_tdb utc_iso psi_arcsec ...\n")}}
 
 
 BodyPath = Annotated[str, Path(description="case-insensitive name or NAIF id", examples=["vesta", "2000004"])]
@@ -153,9 +175,13 @@ def create_app(settings: Settings | None = None) -> FastAPI:
              responses={200: {"content": {"application/json": {"example": [{
                  "name": "Vesta", "naif_id": 2000004, "kind": "asteroid", "dataset": "current", "a_au": 2.3615413,
                  "e": 0.0901676, "orbit_center": "Sun", "rotation_period_hours": 5.342128248, "pole_ra_deg": 309.031,
-                 "pole_dec_deg": 42.235, "dynamical_ellipticity": 0.168871}]}}}})
-    def bodies(dataset: DatasetQuery = DEFAULT_DATASET_VALUE):
-        return api.list_bodies(dataset.value)
+                 "pole_dec_deg": 42.235, "dynamical_ellipticity": 0.168871}]}, **ECSV_CONTENT}}})
+    def bodies(request: Request, dataset: DatasetQuery = DEFAULT_DATASET_VALUE,
+               format: Annotated[AnswerFormat, Query(description="json, or " + ECSV_TEXT)] = AnswerFormat.json):
+        answer = api.list_bodies(dataset.value)
+        if format is AnswerFormat.ecsv:
+            return ecsv_response(answer, request, "bodies", dataset.value)
+        return answer
 
     @app.get("/v1/bodies/{body}", response_model=schemas.BodyRecord, tags=["catalogue"], responses={
         **ERRORS, 200: {"content": {"application/json": {"example": {
@@ -177,14 +203,19 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                       "pole_epoch_jd_tdb": 2451545.0, "orbit_epoch_jd_tdb": 2461000.5, "name": "hansen",
                       "order": None, "description": "Kinoshita-Cayley nutation with exact Hansen coefficients …",
                       "estimated_error_mas": 0.0, "error_terms_mas": None, "tolerance_mas": None,
-                      "cost_ms": 0.05}}}}}})
-    def precession(body: BodyPath, dataset: DatasetQuery = DEFAULT_DATASET_VALUE, order: OrderQuery = None,
-                   tolerance_mas: ToleranceQuery = None,
+                      "cost_ms": 0.05}}}, **ECSV_CONTENT}}})
+    def precession(request: Request, body: BodyPath, dataset: DatasetQuery = DEFAULT_DATASET_VALUE,
+                   order: OrderQuery = None, tolerance_mas: ToleranceQuery = None,
                    perturbers: Annotated[Optional[str], Query(
                        description="the torquing bodies: default the catalogue's (the Earth: the Moon and the Sun, "
                                    "the lunisolar theory); sun alone for the single-perturber answer",
-                       examples=["sun", "moon,sun"], max_length=100)] = None):
-        return api.precession(body, dataset.value, order, tolerance_mas, perturbers=perturbers)
+                       examples=["sun", "moon,sun"], max_length=100)] = None,
+                   format: Annotated[AnswerFormat, Query(description="json, or " + ECSV_TEXT + " (one row)")]
+                   = AnswerFormat.json):
+        answer = api.precession(body, dataset.value, order, tolerance_mas, perturbers=perturbers)
+        if format is AnswerFormat.ecsv:
+            return ecsv_response(answer, request, answer["body"], answer["dataset"], "precession")
+        return answer
 
     @app.get("/v1/bodies/{body}/nutation", response_model=schemas.Nutation, tags=["theory"],
              response_model_exclude_unset=True, responses={    # a term carries the keys of its theory only
@@ -195,8 +226,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             "text/csv": {"example": "component,multiple,arg,sin_arcsec,cos_arcsec,amp_arcsec,period_years,amp_of\n"
                                     "longitude,1,M,2.3784,0.2431,1.1025,3.6287,Δψ sin ε\n"},
             "text/markdown": {"example": "| Δψ Sin (\") | Δψ Cos (\") | Amp Δψ sin ε (\") | Period (year) | Arg |\n"},
-            "application/x-latex": {"example": "\\begin{tabular}{rrrrl}\n\\toprule\n"}}}})
-    def nutation(body: BodyPath, dataset: DatasetQuery = DEFAULT_DATASET_VALUE, order: OrderQuery = None,
+            "application/x-latex": {"example": "\\begin{tabular}{rrrrl}\n\\toprule\n"}, **ECSV_CONTENT}}})
+    def nutation(request: Request, body: BodyPath, dataset: DatasetQuery = DEFAULT_DATASET_VALUE, order: OrderQuery = None,
                  tolerance_mas: ToleranceQuery = None,
                  perturbers: Annotated[Optional[str], Query(
                        description="the torquing bodies: default the catalogue's (the Earth: the Moon and the Sun, "
@@ -212,7 +243,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                  "the catalogue's reason")] = False,
                  format: Annotated[TableFormat, Query(description="json (this answer), or the paper's table "
                                                                   "layout as csv, markdown, latex (booktabs) or "
-                                                                  "table-json")] = TableFormat.json,
+                                                                  "table-json; or " + ECSV_TEXT + " (every key of "
+                                                                  "the terms a column in its unit: the layout does "
+                                                                  "not apply)")] = TableFormat.json,
                  layout: Annotated[TableLayout, Query(description="table layout: sin-cos (Petit et al. Tables "
                                                                   "5-8: Sin, Cos, Amp in arcsec, Period in years) "
                                                                   "or amp-period (Tables 9-10: Amp in mas, Period "
@@ -221,6 +254,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                            nonrigid=nonrigid)
         if format is TableFormat.json:
             return ans
+        if format is TableFormat.ecsv:
+            return ecsv_response(ans, request, ans["body"], ans["dataset"], "nutation")
         fmt = "json" if format is TableFormat.table_json else format.value
         return PlainTextResponse(render_nutation(ans, fmt, layout=layout.value), media_type=FORMATS[fmt],
                                  headers=downloads.disposition(downloads.filename(
@@ -235,10 +270,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                       "error_terms_mas": {"truncation": 212.2, "second_order": 2.44, "rotation_averaging": 0.361,
                                           "orbit_motion": 710.0, "rounding": 0.0002},
                       "tolerance_mas": 1000.0, "cost_ms": 1.9}}},
-            "text/csv": {"example": "jd_tdb,psi_arcsec,delta_psi_arcsec,delta_epsilon_arcsec,obliquity_deg,"
-                                    "pole_ra_deg,pole_dec_deg\n"}}}})
+            "text/csv": {"example": "jd_tdb,utc_iso,psi_arcsec,delta_psi_arcsec,delta_epsilon_arcsec,obliquity_deg,"
+                                    "pole_ra_deg,pole_dec_deg\n"}, **ECSV_CONTENT}}})
     @one_pass
-    async def track(body: BodyPath,
+    async def track(request: Request, body: BodyPath,
               start: Annotated[str, Query(description="ISO 8601 (UTC unless a scale follows) or JD TDB",
                                           examples=["2040-01-01"])],
               stop: Annotated[str, Query(description="ISO 8601 or JD TDB", examples=["2041-01-01"])],
@@ -266,7 +301,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                   description="epoch of the phase, ISO 8601 or JD TDB (default: the pole epoch)")] = None,
               rotation_phase_deg: Annotated[Optional[float], Query(
                   description=schemas.RotationPhase + schemas.ANGLE_RULE)] = None,
-              format: Annotated[TrackFormat, Query(description="json or csv (streamed)")] = TrackFormat.json,
+              format: Annotated[TrackFormat, Query(description="json, csv (streamed; one header line) or "
+                                                               + ECSV_TEXT)] = TrackFormat.json,
+              time_scale: TimeScaleQuery = TimeScale("utc"),
               perturbers: Annotated[Optional[str], Query(
                        description="the torquing bodies: default the catalogue's (the Earth: the Moon and the Sun, "
                                    "the lunisolar theory); sun alone for the single-perturber answer",
@@ -276,11 +313,14 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                       tolerance_mas, None if model is None else model.value, axis.value,
                                       free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch,
                                       perturbers=perturbers, output=format.value,
-                                      rotation_phase_deg=rotation_phase_deg)
+                                      rotation_phase_deg=rotation_phase_deg, time_scale=time_scale.value)
             if format is TrackFormat.csv:
-                return StreamingResponse(_csv_rows(arrays), media_type="text/csv; charset=utf-8",
+                return StreamingResponse(_csv_rows(arrays, time_scale.value), media_type="text/csv; charset=utf-8",
                                          headers=downloads.disposition(downloads.filename(
                                              arrays["body"], arrays["dataset"], "track", fmt="csv")))
+            if format is TrackFormat.ecsv:
+                with api.prepaid():     # its writing was charged with the track (output="ecsv")
+                    return ecsv_response(arrays, request, arrays["body"], arrays["dataset"], "track")
             return finite_json(arrays)      # its serialisation is charged with the track (on the loop only if cheap)
         return await compute(settings.inline_cpu_ms, answer)
 
@@ -334,8 +374,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             "orbit_inclination_deg": [10.1], "estimated_error_deg": [0.4], "meaningful_from_year": None,
             "meaningful_to_year": None,
             "model": {"name": "nbody", "estimated_error_mas": 1440000.0, "cost_ms": 2100.0}}},
-            "text/csv": {"example": ",".join(downloads.HISTORY_CSV_KEYS) + "\n"}}}})
-    def history(body: BodyPath,
+            "text/csv": {"example": ",".join(downloads.HISTORY_CSV_KEYS) + "\n"}, **ECSV_CONTENT}}})
+    def history(request: Request, body: BodyPath,
                 start_year: Annotated[float, Query(description="Julian years (365.25 d) from J2000.0 TDB; negative "
                                                                "is the past", examples=[-3000000])],
                 stop_year: Annotated[float, Query(description="Julian years from J2000.0 TDB",
@@ -350,7 +390,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                     description="the torquing bodies (default the catalogue's)", examples=["sun", "moon,sun"],
                     max_length=100)] = None,
                 format: Annotated[TrackFormat, Query(description="json, or csv: the arrays, one row per epoch "
-                                                                 "(the model in the JSON only)")] = TrackFormat.json):
+                                                                 "(the model in the JSON only), or " + ECSV_TEXT
+                                                                 + " (year in Julian years from J2000.0 TDB)")]
+                = TrackFormat.json):
         """The spin axis over millennia and millions of years (ephem.longterm.history): obliquity, precession angle, pole
         and the orbit's inclination, with the estimate at each epoch and where the history stops meaning
         anything."""
@@ -360,6 +402,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             return Response(downloads.history_csv(answer), media_type="text/csv; charset=utf-8",
                             headers=downloads.disposition(downloads.filename(answer["body"], answer["dataset"],
                                                                              "history", fmt="csv")))
+        if format is TrackFormat.ecsv and _all_finite(answer):
+            return ecsv_response(answer, request, answer["body"], answer["dataset"], "history")
         return finite_json(answer)
 
     def plot_route(ext: str):
@@ -445,8 +489,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             "figure_axis_offset_y_arcsec": [-0.1], "wobble_angle_J_arcsec": [0.1], "andoyer_nu_deg": [0.0],
             "wobble_period_days": 190.65, "precession_period_days": 1.0205, "mode": "short-axis",
             "method": "exact", "J_arcsec": 0.1, "moments_over_C": [0.9942917, 0.9949813, 1.0],
-            "cost_ms": 3.1}}}}})
-    def free_motion(body: BodyPath,
+            "cost_ms": 3.1}}, **ECSV_CONTENT}}})
+    def free_motion(request: Request, body: BodyPath,
                     start: Annotated[str, Query(description="ISO 8601 (UTC unless a scale follows) or JD TDB",
                                                 examples=["2030-01-01"])],
                     stop: Annotated[str, Query(description="ISO 8601 or JD TDB", examples=["2031-01-01"])],
@@ -458,13 +502,19 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                                                     "and most accurate), exact, series (short-axis "
                                                                     "mode, δ <= 0.1) or numeric")]
                     = None,
-                    dataset: DatasetQuery = DEFAULT_DATASET_VALUE):
+                    dataset: DatasetQuery = DEFAULT_DATASET_VALUE, time_scale: TimeScaleQuery = TimeScale("utc"),
+                    format: Annotated[AnswerFormat, Query(description="json, or " + ECSV_TEXT)] = AnswerFormat.json):
         """The torque-free wobble of the figure axis about the angular momentum (ephem.rotation.free_motion)."""
-        return finite_json(api.free_motion_arrays(body, start, stop, step_days, J_arcsec,
-                                                  (method or FreeMethod.auto).value, dataset.value,
-                                                  settings.max_track_samples))
+        answer = api.free_motion_arrays(body, start, stop, step_days, J_arcsec, (method or FreeMethod.auto).value,
+                                        dataset.value, settings.max_track_samples, time_scale=time_scale.value,
+                                        output=format.value)
+        if format is AnswerFormat.ecsv and _all_finite(answer):
+            with api.prepaid():         # its writing was charged with the answer (output="ecsv")
+                return ecsv_response(answer, request, answer["body"], answer["dataset"], "free-motion")
+        return finite_json(answer)
 
-    @app.post("/v1/batch", response_model=schemas.Batch, tags=["theory"], responses={422: ERRORS[422]},
+    @app.post("/v1/batch", response_model=schemas.Batch, tags=["theory"],
+              responses={200: {"content": {"application/json": {}, **ECSV_CONTENT}}, 422: ERRORS[422]},
               openapi_extra={"requestBody": {"required": True, "content": {
                   "application/json": {"schema": {"oneOf": [
                       {"type": "array", "items": {"type": "object"}},
@@ -479,7 +529,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                     start_year: Annotated[Optional[float], Query(description="with stop_year and step_years: each "
                                                                              "body's obliquity history")] = None,
                     stop_year: Annotated[Optional[float], Query()] = None,
-                    step_years: Annotated[Optional[float], Query()] = None):
+                    step_years: Annotated[Optional[float], Query()] = None,
+                    format: Annotated[AnswerFormat, Query(description="json, or " + ECSV_TEXT + " (a row per "
+                                                                      "input row)")] = AnswerFormat.json):
         """Precession and nutation of up to EPHEM_MAX_BATCH_ROWS bodies at once: a JSON array of row objects (or
         {rows, history}) or CSV with the columns of docs/batch_input.md. Beyond, run `ephem batch` (Dask)."""
         rows, history = batch_rows(await request.body(), request.headers.get("content-type", ""))
@@ -488,7 +540,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             history = {"start_year": start_year, "stop_year": stop_year, "step_years": step_years}
             path = ""       # its errors name ?step_years=, as the client wrote it
         # the work in a thread (the event loop stays free), in this request's budget (the context is copied)
-        return finite_json(await run_in_threadpool(api.batch, rows, history, settings.max_batch_rows, path))
+        answer = await run_in_threadpool(api.batch, rows, history, settings.max_batch_rows, path)
+        if format is AnswerFormat.ecsv and _all_finite(answer):
+            return await run_in_threadpool(ecsv_response, answer, request, "batch", "")
+        return finite_json(answer)
 
     @app.post("/v1/precession-nutation", response_model=schemas.PrecessionNutation, tags=["theory"],
               response_model_exclude_unset=True,
@@ -579,12 +634,24 @@ def _all_finite(obj) -> bool:
     return True
 
 
-def _csv_rows(arrays: dict):
-    yield ",".join(api.TRACK_KEYS) + "\n"
+def _csv_rows(arrays: dict, time_scale: str):
+    """The track's CSV: one header line, then a row per epoch: jd_tdb, its calendar date in ``time_scale``, the
+    other columns, each number as its shortest repr."""
+    dates = arrays[f"{time_scale}_iso"]
+    yield ",".join((api.TRACK_KEYS[0], f"{time_scale}_iso") + api.TRACK_KEYS[1:]) + "\n"
     columns = np.column_stack([arrays[k] for k in api.TRACK_KEYS])
     for start in range(0, columns.shape[0], CSV_CHUNK):
         block = columns[start:start + CSV_CHUNK]
-        yield "".join(",".join(repr(float(v)) for v in row) + "\n" for row in block)
+        yield "".join(f"{row[0]!r},{date}," + ",".join(repr(v) for v in row[1:]) + "\n"
+                      for row, date in zip(block.tolist(), dates[start:start + CSV_CHUNK]))
+
+
+def ecsv_response(answer, request: Request, *name: str) -> Response:
+    """The answer's table as ECSV (ephem.api.to_ecsv: astropy's writer, its cost charged there unless prepaid), the
+    request's URL as its source, saved as ``<name...>.ecsv`` (``ceres_current_track.ecsv``)."""
+    text = api.to_ecsv(answer, source=str(request.url))
+    return Response(text, media_type=api.ECSV_MEDIA_TYPE + "; charset=utf-8",
+                    headers=downloads.disposition(downloads.filename(*name, fmt="ecsv")))
 
 
 app = create_app()

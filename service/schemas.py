@@ -6,7 +6,7 @@ from typing import Annotated, Literal, Optional, Union
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 
-from ephem.api import AXES, GM_CENTER, MAX_ANGLE_DEG, MAX_ORDER, MODELS, Body, Orbit, Pole
+from ephem.api import AXES, CALENDAR_SCALES, GM_CENTER, MAX_ANGLE_DEG, MAX_ORDER, MODELS, Body, Orbit, Pole
 
 # strict: JSON true is not a number, nor "2.36" (a string) one; JSON integers are still numbers
 Finite = ConfigDict(allow_inf_nan=False, extra="forbid", strict=True)
@@ -15,6 +15,15 @@ RungName = Literal[MODELS]
 Perturbers = Field(None, description="the bodies whose torque the answer includes: the orbit's centre (the Sun), "
                                      "and for the Earth by default the Moon too (the lunisolar theory)")
 AxisName = Literal[AXES]
+TimeScaleName = Literal[CALENDAR_SCALES]
+
+
+def CalendarDates(scale: str):
+    """The epochs' calendar dates in ``scale``: present when the request's time_scale is ``scale``."""
+    return Field(None, description=f"the epochs as {scale.upper()} calendar dates, ISO 8601 to the millisecond "
+                                   f"(YYYY-MM-DDThh:mm:ss.sss; a year outside 0000-9999 with its sign), beside jd_tdb; "
+                                   f"present when time_scale={scale}" + (" (the default)" if scale == "utc" else ""),
+                 examples=[["2040-01-01T00:00:00.000"]])
 
 
 #: what an angle taken modulo 360 deg accepts (ephem.bodies.catalogue.MAX_ANGLE_DEG), appended to its description
@@ -315,6 +324,9 @@ class Track(BaseModel):
     body: str
     dataset: str
     jd_tdb: list[float]
+    utc_iso: Optional[list[str]] = CalendarDates("utc")
+    tt_iso: Optional[list[str]] = CalendarDates("tt")
+    tdb_iso: Optional[list[str]] = CalendarDates("tdb")
     psi_arcsec: list[float]
     delta_psi_arcsec: list[float]
     delta_epsilon_arcsec: list[float]
@@ -507,6 +519,8 @@ class TrackIn(BaseModel):
     free_wobble_epoch: Optional[Union[float, str]] = Field(None, description="epoch of the phase (default: the "
                                                            "pole epoch), ISO 8601 or JD TDB")
     rotation_phase_deg: Optional[float] = Angle(RotationPhase, None)
+    time_scale: TimeScaleName = Field("utc", description="the scale of the epochs' calendar dates beside jd_tdb: utc "
+                                                         "(key utc_iso), tt (tt_iso) or tdb (tdb_iso)")
 
 
 class UserBody(BaseModel):
@@ -546,6 +560,9 @@ class FreeMotion(BaseModel):
     body: str
     dataset: str
     jd_tdb: list[float]
+    utc_iso: Optional[list[str]] = CalendarDates("utc")
+    tt_iso: Optional[list[str]] = CalendarDates("tt")
+    tdb_iso: Optional[list[str]] = CalendarDates("tdb")
     figure_axis_offset_x_arcsec: list[float] = Field(description="the figure axis from the angular momentum, in "
                                                                  "the plane normal to it, first axis, arcsec")
     figure_axis_offset_y_arcsec: list[float] = Field(description="the same, second axis, arcsec")

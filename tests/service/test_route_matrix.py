@@ -39,6 +39,7 @@ from html.parser import HTMLParser
 from typing import Callable
 
 import jsonschema_rs
+import numpy as np
 import pytest
 from fastapi.routing import APIRoute
 from fastapi.testclient import TestClient
@@ -241,7 +242,7 @@ SPECS: dict[tuple[str, str], Spec] = {
 
 #: the media type of each value a ``format`` query parameter takes
 FORMAT_MEDIA = {"json": "application/json", "table-json": "application/json", "csv": "text/csv",
-                "markdown": "text/markdown", "latex": "application/x-latex"}
+                "markdown": "text/markdown", "latex": "application/x-latex", "ecsv": "text/x-ecsv"}
 #: enumerated query parameters crossed into the matrix besides ``format``: what is drawn, the tables' layout,
 #: the pole followed
 ENUMERATED = ("kind", "layout", "axis")
@@ -403,8 +404,33 @@ def check_csv(case: Case, r) -> None:
     if example:
         assert header[0] == example.split(",", 1)[0], (case.id, header[0])   # the documented first column
     if case.path.endswith("/track"):
-        assert header == list(api.TRACK_KEYS)
-        assert all(math.isfinite(float(c)) for c in cells)
+        assert header == [api.TRACK_KEYS[0], "utc_iso", *api.TRACK_KEYS[1:]]
+        assert all(math.isfinite(float(c)) for row in body for j, c in enumerate(row) if j != 1)
+        assert all(re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\.\d{3}", row[1]) for row in body)
+
+
+def check_ecsv(case: Case, r) -> None:
+    """astropy reads it: a row at least, every column whose key names a unit a Quantity in it, jd_tdb a TDB Time,
+    nothing NaN but where the answer has null (masked); the version and the source in the header."""
+    from astropy import units as u
+    from astropy.table import QTable
+    from astropy.time import Time
+
+    from ephem.base.units import unit_of
+
+    table = QTable.read(r.text, format="ascii.ecsv")
+    assert len(table) >= 1 and table.colnames, case.id
+    assert table.meta["version"] and table.meta["source"].startswith("http"), case.id
+    for key in table.colnames:
+        col = table[key]
+        assert col.info.description, (case.id, key)
+        if key == "jd_tdb":
+            assert isinstance(col, Time) and col.scale == "tdb", case.id
+        elif unit_of(key) is not None and getattr(col, "dtype", None) is not None and col.dtype.kind == "f":
+            assert isinstance(col, u.Quantity) and col.unit == u.Unit(unit_of(key)), (case.id, key)
+            values = np.ma.masked_invalid(np.ma.MaskedArray(getattr(col, "unmasked", col).value,
+                                                             mask=np.ma.getmaskarray(col)))
+            assert not np.isnan(values.filled(0.0)).any(), (case.id, key)
 
 
 def check_markdown(case: Case, r) -> None:
@@ -476,6 +502,7 @@ def check_js(case: Case, r) -> None:
 
 
 CHECKS = {"application/json": check_json, "text/csv": check_csv, "text/markdown": check_markdown,
+          "text/x-ecsv": check_ecsv,
           "application/x-latex": check_latex, "image/png": check_png, "image/svg+xml": check_svg,
           "text/html": check_html, "text/css": check_css, "text/javascript": check_js}
 
