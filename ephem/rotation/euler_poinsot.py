@@ -114,9 +114,8 @@ class FigureAxisPath:
 class FreeRotation:
     """The exact torque-free motion from an initial state; evaluate at any times (vectorised).
 
-    Build with :meth:`from_body_momentum`, :meth:`from_andoyer` or
-    :meth:`from_angular_velocity`. ``mode`` is 'short-axis', 'long-axis' or
-    'separatrix'; ``stationary`` is True for rotation about a principal axis
+    Build with :meth:`from_body_momentum` (from an angular velocity ω_b: L_b = I ω_b) or :meth:`from_andoyer`.
+    ``mode`` is 'short-axis', 'long-axis' or 'separatrix'; ``stationary`` is True for rotation about a principal axis
     (or about any axis of the degenerate plane of an axisymmetric body).
     Frequencies are in rad per time unit, periods in time units.
 
@@ -175,14 +174,6 @@ class FreeRotation:
         # from the angles themselves: andoyer_matrix's sin J = √((M−N)(M+N))/M cancels below ~1″
         R0 = rot3(nu) @ rot1(J) @ rot3(mu) @ rot1(inc) @ rot3(lam)
         return cls.from_body_momentum(moments, L, t0, R0)
-
-    @classmethod
-    def from_angular_velocity(cls, moments, omega_body, t0: float = 0.0, attitude=None) -> FreeRotation:
-        """From the body-frame angular velocity ω_b at t0 (L_b = I ω_b)."""
-        A, B, C = check_moments(moments, allow_spherical=False)
-        w = np.asarray(omega_body, dtype=float).reshape(-1)
-        check_finite("omega_body", w)
-        return cls.from_body_momentum((A, B, C), w * np.array([A, B, C]), t0, attitude)
 
     @classmethod
     def _build(cls, moments, L, R0, t0) -> FreeRotation:

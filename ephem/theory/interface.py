@@ -10,7 +10,7 @@ and for each:
 - what a request will cost before it runs (:class:`Pricing`: :meth:`choice_cost`, :meth:`track_cost`,
   :meth:`answer_cost`, each a :class:`~ephem.base.budget.Cost` the service charges against its budget);
 - its error estimate over given epochs, by named term (:meth:`estimates`, one
-  :class:`Estimate` per model, cheapest first; :func:`cheapest_within` picks one by tolerance);
+  :class:`Estimate` per model, cheapest first; :func:`ephem.theory.choice.choose` picks one by tolerance);
 - the track over an even grid of epochs (:meth:`track`, each family's fast path);
 - a description, the ``model`` object of the answer (:meth:`describe`);
 - the precession and nutation answers' numbers (:meth:`precession`, :meth:`nutation`), typed results in radians
@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
@@ -50,16 +50,6 @@ THEORY_LIMIT_HINTS["interior_rigid"] = ("the body has a liquid core, which chang
 THEORY_LIMIT_HINTS["interior_parameters"] = (
     "the liquid core's transfer function is known only as well as its parameters (F and P_FCN at 2 sigma, "
     "data/interiors.toml): near the free core nutation's resonance no model here does better")
-
-
-def cheapest_within(candidates: list, tolerance: float, body: str, wobble_given: bool) -> Estimate:
-    """The first estimate within ``tolerance`` (radians) in the order given; else :class:`NotApplicableError`
-    naming the best estimate, its largest term and what would help (:func:`refuse`). A request's choice is by
-    predicted cost (:func:`ephem.theory.choice.choose`); this is for a list already in the order to try."""
-    for est in candidates:
-        if est.total <= tolerance:
-            return est
-    refuse(candidates, tolerance, body, wobble_given)
 
 
 def refuse(candidates: list, tolerance: float, body: str, wobble_given: bool) -> None:
