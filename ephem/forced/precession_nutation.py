@@ -36,7 +36,7 @@ from ..orbit.harmonics import MAX_SHIFT, HarmonicSums, cos_sin_into, shift_facto
 from ..orbit.kepler import mean_motion_rad_per_day
 from ..orbit.relativity import geodesic_precession_rate
 from ..base.memo import bytes_bounded
-from .kinoshita import NutationSeries, eccentricity_factor, mean_pole, nutation_series, precession_rate, scaling_factor
+from .kinoshita import NutationSeries, mean_pole, nutation_series, precession_rate, scaling_factor
 
 #: Rotation-averaging needs the spin much faster than the orbital motion. Against the full rigid
 #: body (ephem.forced.rigid_body, docs/rigid_body_study.md) the averaged theory's figure axis is off by 10% of
@@ -115,22 +115,6 @@ class PrecessionNutation:
         """As :meth:`angles` on the grid t_j = jd_start + j step_days: (t, ψ, Δψ, Δε, ε), no trigonometric call
         per epoch (:meth:`_kernel`)."""
         return self._kernel(_Epochs(None, jd_start, step_days, count), pole=False)[:5]
-
-    def first_order_error_bound(self, span_days: float) -> float:
-        """Estimated upper bound (radians) on the pole error the first-order theory leaves over a span.
-
-        Two second-order effects grow with time: the equinox drifts by ψ̇ T while the
-        nutation phases are held fixed (error ≲ 2 A |ψ̇| T, A the largest nutation
-        semi-amplitude), and the nutation feeds back into the torque's coefficients
-        (a secular drift ≲ K² f(e)² T / (8 n), f(e) = (1 - e²)^(-3/2)). Order-of-magnitude
-        estimate, checked against the numerical integration in the tests (it must
-        never be exceeded there).
-        """
-        half_psi, half_eps = self.nutation.semi_peak_to_peak()
-        amp = max(half_psi, half_eps)
-        f = eccentricity_factor(self.eccentricity)
-        rate = 2.0 * amp * abs(self.precession_rate) + self.scaling_factor**2 * f * f / (8.0 * self.mean_motion)
-        return abs(span_days) * rate
 
     @property
     def catalogue_pole_orbit(self) -> np.ndarray:

@@ -12,6 +12,7 @@ from ephem.bodies.catalogue import get_body
 from ephem.base.constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS
 from ephem.orbit.geometry import angle_between, icrf_to_ecliptic_matrix
 from ephem.families import theory_for
+from scenes import first_order_error_bound
 
 
 class FixedOrbit:
@@ -84,7 +85,7 @@ def test_the_averaged_equation_follows_the_unaveraged_one_over_two_centuries():
     v = np.stack([np.cos(numerical.pole_dec) * np.cos(numerical.pole_ra),
                   np.cos(numerical.pole_dec) * np.sin(numerical.pole_ra), np.sin(numerical.pole_dec)], axis=-1)
     gap = angle_between(v @ icrf_to_ecliptic_matrix().T, h.spin)
-    budget = s.nutation + theory.inner.ladder.model.first_order_error_bound(200.0 * JULIAN_YEAR_DAYS)
+    budget = s.nutation + first_order_error_bound(theory.inner.ladder.model, 200.0 * JULIAN_YEAR_DAYS)
     moved = angle_between(h.spin[0], h.spin[-1])
     assert moved > 30.0 * budget
     assert np.max(gap) < budget, (np.max(gap) / ARCSEC, budget / ARCSEC)
