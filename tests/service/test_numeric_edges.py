@@ -112,7 +112,7 @@ NO_NUMERIC_INPUT = {
     "/openapi.json": "the document", "/docs": "Swagger UI", "/redoc": "ReDoc", "/docs/{name}": "a document",
     "/docs/{name}.md": "a document's source", "/redoc/redoc.standalone.js": "an asset", "/favicon.ico": "an asset",
     "/": "the index", "/bodies/{body}": "a body's page", "/batch": "the batch form (GET)",
-    "/batch/template.csv": "the batch template",
+    "/batch/template.csv": "the batch template", "/about": "the version, the citation and the sources",
 }
 
 
