@@ -1,5 +1,7 @@
-"""The project's documentation on the web page: ``docs/<name>.md`` rendered as HTML (markdown-it-py, CommonMark with
-tables), in the page's layout, with its charts and figures served beside it.
+"""The project's documentation on the web page: ``docs/<name>.md`` rendered as HTML.
+
+markdown-it-py, CommonMark with
+tables; in the page's layout, with its charts and figures served beside it.
 
 Routes (pages, not in the OpenAPI document):
 
@@ -104,6 +106,18 @@ def _table_close(self, tokens, idx, options, env):
     return self.renderToken(tokens, idx, options, env) + "</div>"
 
 
+#: a table cell holding a number and nothing else (as a document writes one: 1.5, -3, 2e-9, 0.25)
+_NUMBER = re.compile(r"[-+\u2212]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
+
+
+def _td_open(self, tokens, idx, options, env):
+    """A cell holding only a number takes class num: the stylesheet right-aligns it in a monospace font."""
+    inline = tokens[idx + 1] if idx + 1 < len(tokens) else None
+    if inline is not None and inline.type == "inline" and _NUMBER.fullmatch(inline.content.strip()):
+        tokens[idx].attrJoin("class", "num")
+    return self.renderToken(tokens, idx, options, env)
+
+
 def _repo_link_open(self, tokens, idx, options, env):
     return f'<span class="repo-path" title="a file of the repository: {html.escape(tokens[idx].meta["href"])}">'
 
@@ -114,6 +128,7 @@ def _repo_link_close(self, tokens, idx, options, env):
 
 _md.add_render_rule("table_open", _table_open)
 _md.add_render_rule("table_close", _table_close)
+_md.add_render_rule("td_open", _td_open)
 _md.add_render_rule("repo_link_open", _repo_link_open)
 _md.add_render_rule("repo_link_close", _repo_link_close)
 
