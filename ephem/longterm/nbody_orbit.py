@@ -375,6 +375,7 @@ def shipped_span(body_name: str) -> tuple[float, float] | None:
     return float(lo), float(hi)
 
 
+@lru_cache(maxsize=None)
 def _load_shipped(name: str) -> OrbitHistory:
     _LOADED.add(name)
     meta = load_metadata()
