@@ -1,4 +1,4 @@
-"""ephem: forced precession and nutation of the spin axes of asteroids, planets and moons.
+"""The ephem package: forced precession and nutation of the spin axes of asteroids, planets and moons.
 
 Kinoshita's theory with exact Hansen coefficients (Petit, Souchay & Lhotka 2014, A&A 565, A79),
 checked against a numerical integration of the torque. Start with :mod:`ephem.answers.requests` (answers with

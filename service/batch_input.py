@@ -1,4 +1,6 @@
-"""The rows of a batch as the service receives them: a JSON array of row objects, a JSON object {rows, history}, or
+"""The rows of a batch as the service receives them: JSON rows, a JSON object, or CSV.
+
+A JSON array of row objects, a JSON object {rows, history}, or
 CSV with a header of column names (POST /v1/batch, and the web page's uploaded file). What is not one of these is
 refused naming where; the rows' values are ephem.api.batch's to judge."""
 from __future__ import annotations

@@ -1,5 +1,6 @@
-"""What a download is saved as: the file names of the service's tables (``Content-Disposition``), one rule for the
-API and the web page, and the history's CSV.
+"""What a download is saved as: one file-name rule for the API's and the web page's tables.
+
+The file names of the service's tables (``Content-Disposition``), and the history's CSV.
 
 A name says the body, the dataset, the table and its layout, and ends with its format's extension
 (``vesta_current_nutation_amp-period.md``, ``ceres_current_track.csv``), so that two downloads of different tables

@@ -1,4 +1,4 @@
-"""gunicorn settings for the service (``make serve``, the Dockerfile): a supervisor over uvicorn workers.
+"""The gunicorn settings of the service (``make serve``, the Dockerfile): a supervisor over uvicorn workers.
 
 gunicorn's master restarts a worker that dies (``kill -9``, a crash) or stops answering its heartbeat
 for ``timeout`` seconds (stuck in compiled code holding the interpreter). Each worker gets an

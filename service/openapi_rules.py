@@ -1,4 +1,6 @@
-"""The rules the service's OpenAPI document states for each operation: the parameters' and the body's bounds
+"""The rules the service's OpenAPI document states for each operation: bounds, limits and schemas.
+
+The parameters' and the body's bounds
 (patterns, ranges), the texts of the limits the library and the settings set, and the nutation tables' schema;
 :func:`document_rules` writes them into the document that :mod:`service.app` serves.
 """

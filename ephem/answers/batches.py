@@ -1,5 +1,6 @@
-"""The batch answer: precession and nutation of many bodies of the caller's at once, synchronously, from rows of
-columns (:mod:`ephem.batch.population`), with the checks that name each bad cell's path."""
+"""The batch answer: precession and nutation of many bodies of the caller's at once, synchronously.
+
+From rows of columns (:mod:`ephem.batch.population`), with the checks that name each bad cell's path."""
 from __future__ import annotations
 
 import json

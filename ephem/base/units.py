@@ -1,4 +1,4 @@
-"""astropy at the boundary: ``Time`` and ``Quantity`` in, and out on request.
+"""Astropy at the boundary: ``Time`` and ``Quantity`` in, and out on request.
 
 The numeric core works in plain floats (radians, days, JD TDB); :mod:`ephem.answers.requests` converts at its
 edge, as poliastro does. In: any time argument may be an astropy ``Time`` (its TDB Julian date is

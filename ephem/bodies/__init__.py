@@ -1,4 +1,6 @@
-"""The bodies: the catalogue (orbit, pole, rotation, moments, each value with unit, uncertainty and source), the moments of inertia, and catalogue import.
+"""The bodies: the catalogue, the moments of inertia, and catalogue import.
+
+The catalogue holds each body's orbit, pole, rotation and moments, each value with its unit, uncertainty and source.
 
 - :mod:`ephem.bodies.catalogue`: The body catalogue: orbits, spin poles, rotation periods and moments of inertia (the records, a dataset's TOML read into them, the lookups).
 - :mod:`ephem.bodies.measured`: A catalogue value as published (value, unit, uncertainty, source), and the values a body record's tables give.

@@ -1,5 +1,7 @@
-"""Where the datasets of bodies live, and which there are: the shipped ones in ``data/catalogue/`` and a
-user's own, imported by ``ephem catalogue import`` into :func:`user_catalogue_dir` (docs/catalogue_import.md).
+"""Where the datasets of bodies live, and which there are: the shipped ones and a user's own.
+
+The shipped ones are in ``data/catalogue/``; a user's own are imported by ``ephem catalogue import`` into
+:func:`user_catalogue_dir` (docs/catalogue_import.md).
 
 A shipped dataset shadows a user's of the same name (in any case); :mod:`ephem.bodies.catalogue` loads either.
 """

@@ -1,4 +1,6 @@
-"""What ``ephem catalogue import`` reads from a user's files (docs/catalogue_import.md): the records of an orbit
+"""What ``ephem catalogue import`` reads from a user's files: its records, and the error naming where.
+
+docs/catalogue_import.md. The records of an orbit
 file (:class:`ImportedOrbit`) and of a pole/period table (:class:`ImportedPole`), each number as read
 (:class:`Value`), and the error that names the file, the line and the field (:class:`CatalogueImportError`).
 

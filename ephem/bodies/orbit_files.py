@@ -1,4 +1,6 @@
-"""The orbit files of ``ephem catalogue import`` (docs/catalogue_import.md), read into
+"""The orbit files of ``ephem catalogue import`` (MPCORB, JPL SBDB JSON or CSV), read into records.
+
+docs/catalogue_import.md; each read into
 :class:`~ephem.bodies.import_records.ImportedOrbit` records.
 
 Orbit files, in the formats users already have (heliocentric osculating elements, ecliptic and equinox J2000):

@@ -1,4 +1,6 @@
-"""The pole/period table of ``ephem catalogue import`` (docs/catalogue_import.md), read into
+"""The pole/period table of ``ephem catalogue import``, read into rows.
+
+docs/catalogue_import.md; each row read into
 :class:`~ephem.bodies.import_records.ImportedPole` rows.
 
 Pole/period table: CSV with columns ``name, pole_ra_deg, pole_dec_deg, rotation_period_hours`` and either

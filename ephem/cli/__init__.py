@@ -1,4 +1,6 @@
-"""Command-line interface: ``ephem bodies | body | precession | nutation | track | history | free-motion | tables |
+"""The command-line interface: the ``ephem`` command and its subcommands.
+
+The commands: ``ephem bodies | body | precession | nutation | track | history | free-motion | tables |
 plot | pck | batch | demo | catalogue import``.
 
 ``bodies``, ``body``, ``precession``, ``nutation``, ``track``, ``history`` and ``free-motion`` print JSON (the

@@ -1,5 +1,7 @@
-"""The CLI's app, its shared options (dataset, format, order, tolerance) and how an answer is printed: JSON, CSV
-or an aligned text table; a library error as ``error: FIELD: why`` with status 2 (3: not applicable).
+"""The CLI's app, its shared options, and how an answer and a library error are printed.
+
+The shared options: dataset, format, order, tolerance. An answer is printed as JSON, CSV or an aligned text table;
+a library error as ``error: FIELD: why`` with status 2 (3: not applicable).
 """
 from __future__ import annotations
 

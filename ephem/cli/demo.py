@@ -1,5 +1,6 @@
-"""``ephem demo``: a short tour of the theory, the precession of every body of a dataset and one body's nutation,
-printed as text tables.
+"""``ephem demo``: a short tour of the theory, printed as text tables.
+
+The precession of every body of a dataset and one body's nutation.
 """
 from __future__ import annotations
 

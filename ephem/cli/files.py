@@ -1,4 +1,6 @@
-"""The CLI's commands that write files: ``ephem tables | plot | pck | batch | catalogue import`` (nutation
+"""The CLI's commands that write files: ``ephem tables | plot | pck | batch | catalogue import``.
+
+Nutation
 tables, figures, SPICE text kernels, a catalogue's answers by partition, a user's dataset).
 
 Each command imports :mod:`ephem.api` when it runs, not at the top (see :mod:`ephem.cli.one_body`).

@@ -1,5 +1,6 @@
-"""The CLI's answers about one body or a catalogue, printed as JSON, CSV or a table: ``ephem bodies | body |
-precession | nutation | track | history | free-motion``.
+"""The CLI's answers about one body or a catalogue, printed as JSON, CSV or a table.
+
+The commands: ``ephem bodies | body | precession | nutation | track | history | free-motion``.
 
 Each command imports :mod:`ephem.api` when it runs, not at the top, so that ``--help`` and usage errors answer
 without numpy and the theories (tests/cli/test_cli_imports.py).

@@ -1,4 +1,6 @@
-"""The CLI's option parsing: usage errors as ``error: FIELD: why`` with exit status 2, and option values parsed
+"""The CLI's option parsing: usage errors, and option values parsed without typer's pydantic adapters.
+
+Usage errors as ``error: FIELD: why`` with exit status 2; option values are parsed
 here rather than by typer's pydantic adapters (building those costs more than a one-body answer).
 
 :class:`UsageTyper` and :class:`UsageGroup` are the typer app and group every command of :mod:`ephem.cli` is

@@ -1,4 +1,6 @@
-"""The Earth's lunisolar model from the catalogue: :func:`ephem.earth.lunisolar.earth_lunisolar`'s series wired to
+"""The Earth's lunisolar model from the catalogue: the series on its pole and orbit, rigid and non-rigid.
+
+:func:`ephem.earth.lunisolar.earth_lunisolar`'s series wired to
 the catalogue's pole and orbit (:class:`LunisolarEarth`, :func:`lunisolar_earth`); and the non-rigid rung's model on
 IAU 2006's precession (:class:`NonRigidEarth`).
 

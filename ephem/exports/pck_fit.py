@@ -1,4 +1,6 @@
-"""Fitting a NAIF text PCK to the spin-axis track (:mod:`ephem.answers.kernels` describes the kernel and the fit):
+"""Fitting a NAIF text PCK to the spin-axis track: W0's tables, SPICE's evaluation, the angles chosen.
+
+:mod:`ephem.answers.kernels` describes the kernel and the fit. Here:
 the IAU orientation tables that place W0, the kernel's evaluation as SPICE does it, and the greedy
 orthogonal least-squares choice of the angles."""
 from __future__ import annotations

@@ -1,4 +1,6 @@
-"""A NAIF text PCK as SPICE reads it: the records of a kernel (:class:`BodyFit`, one body's entry and its fit;
+"""A NAIF text PCK as SPICE reads it: a kernel's records, its frames, its pole as SPICE evaluates it.
+
+The records of a kernel (:class:`BodyFit`, one body's entry and its fit;
 :class:`PckResult`, the kernel), its frames (J2000, ECLIPJ2000) and their IRFNUM codes, the ID that owns a
 body's angles, and the kernel's pole evaluated as SPICE evaluates it. :mod:`ephem.exports.pck_fit` fits the
 entries, :mod:`ephem.exports.pck_text` writes them."""

@@ -1,5 +1,6 @@
-"""The text of a NAIF text PCK (``KPL/PCK``): the comment block that says what was fitted and how well,
-and each body's data block (:mod:`ephem.answers.kernels` describes the kernel)."""
+"""The text of a NAIF text PCK (``KPL/PCK``): its comment block and each body's data block.
+
+The comment block says what was fitted and how well (:mod:`ephem.answers.kernels` describes the kernel)."""
 from __future__ import annotations
 
 import math

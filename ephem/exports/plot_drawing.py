@@ -1,4 +1,6 @@
-"""How each kind of plot of :mod:`ephem.answers.figures` is drawn on a matplotlib figure: the units and scales of
+"""How each kind of plot is drawn on a matplotlib figure: axes, units, panels, titles and legends.
+
+The kinds are :mod:`ephem.answers.figures`'s. The units and scales of
 the axes (time, arcsec or mas, degrees), the panels of the five kinds, their titles and legends.
 
 Each ``draw_*`` function fills a figure from :func:`new_figure` with one answer's arrays;

@@ -1,4 +1,6 @@
-"""Answers as astropy tables: the one builder of the ``QTable`` a notebook gets and of the ECSV the service and the
+"""Answers as astropy tables: the one builder of the notebook's ``QTable`` and of the ECSV written out.
+
+The ECSV is what the service and the
 CLI write (astropy's Enhanced CSV, ``text/x-ecsv``).
 
 Every table-shaped answer has one: the bodies list (a row per body), precession (one row), nutation (a row per

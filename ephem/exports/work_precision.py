@@ -1,4 +1,6 @@
-"""The work-precision chart of one request: every model serving a body over the request's epochs, its estimated
+"""The work-precision chart of one request: each model's estimated error against its predicted cost.
+
+Every model serving a body over the request's epochs: its estimated
 error (mas, vertical, log scale) against its predicted cost (CPU ms, horizontal, log scale), as
 :func:`ephem.answers.requests.track_models` answers them.
 

@@ -1,4 +1,7 @@
-"""The forced theory of one perturber: Kinoshita's equations, the precession-nutation model of a body, second order, the numerical reference, the rigid body, the rotation scale, error bounds and uncertainty.
+"""The forced theory of one perturber: Kinoshita's equations and what is built on them.
+
+The precession-nutation model of a body, second order, the numerical reference, the rigid body, the rotation scale,
+error bounds and uncertainty.
 
 - :mod:`ephem.forced.catalogue_sigmas`: A body's catalogue inputs with their 1-σ: what the forced model reads, in which units, how correlated.
 - :mod:`ephem.forced.describe`: The forced model of one perturber in words: the theory, what it assumes, and the warnings a body earns.

@@ -1,4 +1,6 @@
-"""The pole's 1-σ along a track, propagated from the catalogue's 1-σ uncertainties (radians, the RMS angle between the
+"""The pole's 1-σ along a track, propagated from the catalogue's 1-σ uncertainties.
+
+Radians: the RMS angle between the
 served and the true pole at each epoch).
 
 The inputs, their steps and correlations are those of :mod:`ephem.forced.uncertainty` (its docstring says which

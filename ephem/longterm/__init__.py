@@ -1,4 +1,7 @@
-"""The long term: the secular and N-body orbit histories, the averaged spin integrated along them, a body's history, and the long-term model added to every family.
+"""The long term: orbit histories over millions of years, and the spin integrated along them.
+
+The secular and N-body orbit histories, the averaged spin integrated along them, a body's history, and the long-term
+model added to every family.
 
 - :mod:`ephem.longterm.averaged_spin`: The spin axis over millennia and millions of years: the averaged spin equation along a moving orbit.
 - :mod:`ephem.longterm.cubic_spline`: Not-a-knot cubic splines on numpy alone: the orbit histories' interpolant, as scipy's ``CubicSpline`` builds it.

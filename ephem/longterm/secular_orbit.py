@@ -1,4 +1,6 @@
-"""The orbits over long spans by Laplace–Lagrange secular theory: the planets' orbit planes and eccentricities,
+"""The orbits over long spans by Laplace–Lagrange secular theory: the planets' and a small body's.
+
+The planets' orbit planes and eccentricities,
 and a small body's orbit in the planets' field.
 
 The first rung of the long-term orbit (the spin axis over millennia): averaged over the orbits, the mutual

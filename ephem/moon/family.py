@@ -1,4 +1,6 @@
-"""The Moon's family behind the common interface (:class:`SynchronousTheory`): a synchronous rotator whose pole
+"""The Moon's family behind the common interface: a synchronous rotator following its Cassini state.
+
+:class:`SynchronousTheory`: a synchronous rotator whose pole
 follows its Cassini state (:mod:`ephem.moon.model`).
 
 Models, cheapest first (the two above ``cassini`` need a theory of the orbit's periodic terms, ``orbit.theory``:

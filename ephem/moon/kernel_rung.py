@@ -1,4 +1,6 @@
-"""The ``de421`` model of the Moon's family: JPL's DE421 lunar orientation itself (:mod:`ephem.moon.lunar_kernel`), the
+"""The ``de421`` model of the Moon's family: JPL's DE421 lunar orientation itself, inside its span.
+
+Read through :mod:`ephem.moon.lunar_kernel`, it is the
 analogue of a fast rotator's ``real_orbit``: inside the kernel's span (1900-2051), where the package shipping it is
 installed, its estimate DE421's own accuracy; refused elsewhere, naming the span. Radians, JD TDB."""
 from __future__ import annotations

@@ -1,4 +1,6 @@
-"""JPL's DE421 lunar orientation, read where the install put it: the principal-axis frame's Euler angles (binary PCK
+"""JPL's DE421 lunar orientation, read where the install put it: its Euler angles and frame kernel.
+
+The principal-axis frame's Euler angles (binary PCK
 ``moon_pa_de421_1900-2050.bpc``) and the frame kernel defining the mean-Earth frame (``moon_080317.tf``), both shipped
 in the wheel of the registry package ``lunarsky`` (pyproject.toml's test extra; data/moon_orientation.toml [kernel]).
 

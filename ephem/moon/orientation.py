@@ -1,4 +1,6 @@
-"""The Moon's orientation beyond the rigid degree-2 libration theory: what lunar laser ranging observes and the theory
+"""The Moon's orientation beyond the rigid libration theory: what lunar laser ranging observes.
+
+Beyond the rigid degree-2 theory: what lunar laser ranging observes and the theory
 cannot give, and the ecliptic's motion the Cassini state lags behind (data/moon_orientation.toml).
 
 * The principal axes against the mean-Earth/rotation frame: a constant rotation (the degree-3 field's constant

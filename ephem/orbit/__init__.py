@@ -1,4 +1,7 @@
-"""The orbit and its geometry: Kepler's equation, frames, Hansen coefficients, harmonic sums, relativity, the DE421 ephemeris and the analytic Moon and Sun (the Delaunay arguments), shared by every family.
+"""The orbit and its geometry, shared by every family.
+
+Kepler's equation, frames, Hansen coefficients, harmonic sums, relativity, the DE421 ephemeris and the analytic Moon
+and Sun (the Delaunay arguments).
 
 - :mod:`ephem.orbit.de421`: The Sun's position seen from a body, from the JPL ephemeris DE421 (offline).
 - :mod:`ephem.orbit.de421_header`: The constants of DE421's header: its au, the speed of light, the GMs of the Sun, the planets and the Moon.

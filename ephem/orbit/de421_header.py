@@ -1,4 +1,6 @@
-"""The constants of JPL's DE421 header (Folkner, Williams & Boggs 2009, IPN Progress Report 42-178): its
+"""The constants of JPL's DE421 header: the astronomical unit, the speed of light and the GMs.
+
+Folkner, Williams & Boggs 2009, IPN Progress Report 42-178: its
 astronomical unit, the speed of light and the GMs of the Sun, the planetary systems, the Earth and the Moon, in
 IAU au^3/day^2. Apart from :mod:`ephem.orbit.de421` (the ephemeris itself) so that the analytic Moon and Sun
 (:mod:`ephem.orbit.lunar`) and the orbit histories take the numbers without the kernel's machinery."""

@@ -1,5 +1,6 @@
-"""Harmonic sums Σ_k S_k sin kx + C_k cos kx on an even grid x_j = x_start + j x_step, with no sin or cos per
-point: the tracks' and the grids' engine (:mod:`ephem.orbit.harmonics` sums at any angles).
+"""Harmonic sums on an even grid with no sin or cos per point: the tracks' and the grids' engine.
+
+Σ_k S_k sin kx + C_k cos kx on the grid x_j = x_start + j x_step (:mod:`ephem.orbit.harmonics` sums at any angles).
 
 :class:`GridHarmonics` fills the sums block by block: for few harmonics (up to
 :data:`ephem.orbit.harmonics.MAX_POWER_BASIS_TERMS`, every nutation series of a catalogue body) by

@@ -1,4 +1,6 @@
-"""Free rotation: the torque-free rigid body (Andoyer variables, Euler-Poinsot, Deprit's normalisation, the Lie series) and the free wobble added to a forced pole.
+"""Free rotation: the torque-free rigid body, and the free wobble added to a forced pole.
+
+The torque-free body in Andoyer variables, by Euler-Poinsot, Deprit's normalisation and the Lie series.
 
 - :mod:`ephem.rotation.andoyer`: Andoyer variables of a free rigid body: the conventions, rotations, Hamiltonians, attitude <-> Andoyer.
 - :mod:`ephem.rotation.deprit`: Deprit's triangle: the Lie transform that normalises a Hamiltonian and carries functions through it.

@@ -1,4 +1,6 @@
-"""Andoyer variables of a free rigid body; the non-singular variables that replace them near J = 0 are in :mod:`ephem.rotation.poincare`.
+"""Andoyer variables of a free rigid body.
+
+The non-singular variables that replace them near J = 0 are in :mod:`ephem.rotation.poincare`.
 
 Conventions (all angles in radians, vectorised over leading axes):
 

@@ -1,4 +1,6 @@
-"""The elliptic-function solution of the Euler-Poinsot problem in its core frame: what
+"""The elliptic-function solution of the Euler-Poinsot problem in its core frame.
+
+What
 :class:`ephem.rotation.euler_poinsot.FreeRotation` is built from and evaluates.
 
 The equations are those of :mod:`ephem.rotation.euler_poinsot`'s docstring (Landau & Lifshitz, Mechanics, §37;

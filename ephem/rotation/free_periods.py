@@ -1,4 +1,6 @@
-"""The free rigid body's periods and Sadov's action-angle variables, from the exact Euler-Poinsot solution
+"""The free rigid body's periods and Sadov's action-angle variables, from the exact solution.
+
+The exact Euler-Poinsot solution is
 (:mod:`ephem.rotation.euler_poinsot`).
 
 - :func:`free_motion_periods`: the wobble and precession periods of a body from its moments, rotation period and

@@ -1,5 +1,6 @@
-"""The non-singular variables that replace Andoyer's near J = 0 (and J = π), and the main problem's action-angle
-variables of short-axis-mode rotation.
+"""The non-singular variables that replace Andoyer's near J = 0, and the main problem's action-angles.
+
+Regular at J = 0 (and J = π); the action-angle variables are those of short-axis-mode rotation.
 
 - Poincaré-type variables (Lara 2018 §2.3, eqs. 7-10): x = −√(2(M − N)) sin ν, X = √(2(M − N)) cos ν, g = μ + ν,
   G = M, regular at J = 0 and computed from the body components so that they keep full relative precision for any

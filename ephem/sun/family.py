@@ -1,4 +1,6 @@
-"""The single-perturber family (:class:`SunLadder`): the fidelity ladder (:class:`~ephem.sun.ladder.Ladder`) behind
+"""The single-perturber family: the fidelity ladder behind the common interface.
+
+:class:`SunLadder`: the fidelity ladder (:class:`~ephem.sun.ladder.Ladder`) behind
 the common interface of :mod:`ephem.theory.interface`, a body torqued by the centre of its orbit alone."""
 from __future__ import annotations
 

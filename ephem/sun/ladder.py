@@ -1,5 +1,6 @@
-"""The fidelity ladder of one body (:class:`Ladder`): its rungs' estimates, the choice by tolerance, the price and
-the evaluation of a rung's track, with the free wobble and the rotation-scale terms.
+"""The fidelity ladder of one body: its rungs' estimates, the choice by tolerance, the price, the tracks.
+
+:class:`Ladder`: a rung's track is evaluated with the free wobble and the rotation-scale terms.
 
 The rungs, cheapest first, are the records of :mod:`ephem.sun.rungs` (secular, series, hansen, second_order,
 nonrigid, numerical, real_orbit); the full rigid body (:mod:`ephem.forced.rigid_body`) is a reference for what rotation

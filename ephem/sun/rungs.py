@@ -1,7 +1,9 @@
-"""The rungs of the single-perturber ladder, one record each (:class:`Rung`): its name, what it computes and
-drops, what it assumes, its price, its track and its error terms. :data:`RUNGS` lists them cheapest first;
-adding a rung is adding one record there (and its functions here). With them, the numerical rungs' integration
-error and reach (the orbits from the pole epoch they may integrate through).
+"""The rungs of the single-perturber ladder, one record each, cheapest first.
+
+A :class:`Rung` holds its name, what it computes and drops, what it assumes, its price, its track and its error
+terms. :data:`RUNGS` lists them cheapest first; adding a rung is adding one record there (and its functions here).
+With them, the numerical rungs' integration error and reach (the orbits from the pole epoch they may integrate
+through).
 
 Rungs, cheapest first (names as reported in a track's ``model.name``):
 

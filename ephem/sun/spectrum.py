@@ -1,4 +1,6 @@
-"""The single-perturber track's frequencies for the SPICE kernel writer: the harmonics of the mean anomaly with the
+"""The single-perturber track's frequencies for the SPICE kernel writer.
+
+The harmonics of the mean anomaly with the
 precession's sidebands (:func:`mean_anomaly_spectrum`), and the half peak-to-peak nutation of a body's series."""
 from __future__ import annotations
 

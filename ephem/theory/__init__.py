@@ -1,4 +1,4 @@
-"""The interface every family of theories implements (SpinAxisTheory, Estimate), the cost predictors, and the track helpers the families share.
+"""The interface every family implements (SpinAxisTheory, Estimate), the cost predictors, the shared track helpers.
 
 - :mod:`ephem.theory.cost`: What a request will cost, known before it runs: CPU seconds of one core and peak memory.
 - :mod:`ephem.theory.interface`: One interface for every theory of a body's spin axis.

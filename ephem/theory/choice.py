@@ -1,5 +1,6 @@
-"""The choice of a model by tolerance: among the models whose estimate meets it, the one predicted cheapest for this
-request (issue 39).
+"""The choice of a model by tolerance: the one predicted cheapest among those whose estimate meets it.
+
+Cheapest as predicted for this request (issue 39).
 
 Every family lists its models and their variants (e-orders, the free wobble followed, the rotation-scale terms) with
 an :class:`~ephem.theory.results.Estimate` each (:meth:`~ephem.theory.interface.SpinAxisTheory.estimate_plan`); a

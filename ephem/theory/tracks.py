@@ -1,5 +1,6 @@
-"""What every family's track shares: its pole vectors, the
-free wobble carried into its angles, and the checks of a request's axis, wobble and tolerance."""
+"""What every family's track shares: pole vectors, the free wobble, the checks of axis and tolerance.
+
+The free wobble is carried into the track's angles; the checks are of a request's axis, wobble and tolerance."""
 from __future__ import annotations
 
 import math

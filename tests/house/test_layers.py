@@ -253,16 +253,6 @@ def test_the_rendering_check_can_fail():
     assert set(UNIT_KEYS_ALLOWED) <= set(MODULES), set(UNIT_KEYS_ALLOWED) - set(MODULES)
 
 
-#: The longest module a newcomer should meet (issue 30: the flat package had 14 over 600 lines, one of 1,341).
-MAX_MODULE_LINES = 600
-
-
-@pytest.mark.parametrize("path", sorted(LIBRARY.rglob("*.py")), ids=lambda p: str(p.relative_to(LIBRARY)))
-def test_no_module_is_over_600_lines(path):
-    lines = len(path.read_text(encoding="utf-8").splitlines())
-    assert lines <= MAX_MODULE_LINES, f"{path.relative_to(ROOT)} has {lines} lines: split it by concern"
-
-
 #: Function-local imports of the standard library (they defer nothing slow), each with why it stays local.
 LOCAL_STDLIB = {("ephem.batch.manifest", "fcntl"): "POSIX only: the lock is skipped where it does not exist"}
 
