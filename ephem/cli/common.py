@@ -1,7 +1,8 @@
 """The CLI's app, its shared options, and how an answer and a library error are printed.
 
-The shared options: dataset, format, order, tolerance. An answer is printed as JSON, CSV or an aligned text table;
-a library error as ``error: FIELD: why`` with status 2 (3: not applicable).
+The shared options: dataset, format, order, tolerance, time scale. An answer is printed as
+JSON, CSV, an aligned text table or astropy's ECSV; a library error as ``error: FIELD: why`` with status 2 (3: not
+applicable).
 """
 from __future__ import annotations
 
@@ -13,6 +14,11 @@ from enum import Enum
 
 import typer
 
+try:  # typer >= 0.2x vendors click as typer._click (its context, not click's, is the current one)
+    from typer._click.globals import get_current_context
+except ImportError:  # pragma: no cover - typer on click
+    from click import get_current_context
+
 from .usage import UsageGroup, UsageTyper
 
 app = UsageTyper(cls=UsageGroup, add_completion=False, no_args_is_help=True,
@@ -20,14 +26,33 @@ app = UsageTyper(cls=UsageGroup, add_completion=False, no_args_is_help=True,
 
 
 class Format(str, Enum):
+    """A table-shaped answer's formats: its JSON, CSV and text table, and its table as astropy's ECSV."""
+    json = "json"
+    csv = "csv"
+    table = "table"
+    ecsv = "ecsv"
+
+
+class RecordFormat(str, Enum):
+    """A body's record (a unit per value, not per column): JSON, CSV or a text table."""
     json = "json"
     csv = "csv"
     table = "table"
 
 
+#: api.CALENDAR_SCALES, spelled here (loading ephem.api for them would load numpy for every `--help`):
+#: tests/cli/test_cli_ecsv.py holds them equal
+TimeScale = Enum("TimeScale", [(s, s) for s in ("utc", "tt", "tdb")], type=str)
+
+
 DatasetOpt = typer.Option("current", "--dataset", "-d", help="Catalogue dataset: current, petit2014 or one imported "
                           "with `ephem catalogue import`.")
-FormatOpt = typer.Option(Format.json, "--format", "-f", help="Output format.")
+FormatOpt = typer.Option(Format.json, "--format", "-f", help="Output format: json (the whole answer), csv and "
+                         "table (one row per value, term or epoch), or ecsv (astropy's Enhanced CSV: the table with its "
+                         "units, descriptions and the answer's metadata, as ephem.api.to_ecsv writes it).")
+RecordFormatOpt = typer.Option(RecordFormat.json, "--format", "-f", help="Output format.")
+TimeScaleOpt = typer.Option(TimeScale.utc, "--time-scale", help="The scale of the epochs' calendar dates beside "
+                            "jd_tdb (ISO 8601 to the millisecond): utc (column utc_iso), tt or tdb.")
 OrderOpt = typer.Option(None, "--order", help="Truncate the Hansen coefficients at this power of e "
                         "(the paper: 4). Default: exact.")
 # no min=0 here: ephem.answers.requests refuses a tolerance <= 0 (zero too) with the service's message
@@ -71,13 +96,35 @@ def _jsonable(value):
     return tolist()
 
 
-def emit(answer, fmt: Format, rows: list[dict] | None = None) -> None:
-    if fmt is Format.json:
+def emit(answer, fmt: Format, rows: list[dict] | None = None, ecsv=None) -> None:
+    """Print ``answer`` as ``fmt``: JSON, ``rows`` as CSV or a table, or ``ecsv()``'s text (the command passes
+    ephem.api.to_ecsv of the answer: this module does not import the api)."""
+    if fmt is Format.ecsv:
+        sys.stdout.write(ecsv())
+        return
+    if fmt is Format.json or fmt is RecordFormat.json:
         sys.stdout.write(json.dumps(answer, indent=2, allow_nan=False, default=_jsonable) + "\n")
         return
     rows = rows if rows is not None else [answer]
-    sys.stdout.write(_rows_to_csv(rows) if fmt is Format.csv else rows_to_table(rows))
+    sys.stdout.write(_rows_to_csv(rows) if fmt in (Format.csv, RecordFormat.csv) else rows_to_table(rows))
 
 
 def flat_answer(answer: dict) -> dict:
     return {k: v for k, v in answer.items() if not isinstance(v, (dict, list))}
+
+
+def command_line() -> str:
+    """The command being run, as its source in an ECSV header: ``ephem track ceres --start 2040-01-01 ...`` (its
+    arguments and the options given or defaulted, flags when set)."""
+    ctx = get_current_context()
+    words = ["ephem", *ctx.command_path.split()[1:]]      # the program's name, however it was started
+    for param in ctx.command.params:
+        value = ctx.params.get(param.name)
+        if value is None or value is False or value == [] or not getattr(param, "opts", None):
+            continue
+        value = getattr(value, "value", value)
+        if getattr(param, "param_type_name", "") == "argument":
+            words.append(str(value))
+        else:
+            words.append(param.opts[0] if value is True else f"{param.opts[0]} {value}")
+    return " ".join(words)

@@ -1,6 +1,8 @@
-"""The CLI's answers about one body or a catalogue, printed as JSON, CSV or a table.
+"""The CLI's answers about one body or a catalogue, printed as JSON, CSV, a table or ECSV.
 
-The commands: ``ephem bodies | body | precession | nutation | track | history | free-motion``.
+ECSV is astropy's. The commands: ``ephem bodies |
+body | precession | nutation | track | history | free-motion`` (``body``'s record, a unit per value: JSON, CSV or a
+table).
 
 Each command imports :mod:`ephem.api` when it runs, not at the top, so that ``--help`` and usage errors answer
 without numpy and the theories (tests/cli/test_cli_imports.py).
@@ -13,7 +15,14 @@ from typing import Optional
 
 import typer
 
-from .common import DatasetOpt, Format, FormatOpt, OrderOpt, ToleranceOpt, app, emit, fail, flat_answer
+from .common import (DatasetOpt, Format, FormatOpt, OrderOpt, RecordFormat, RecordFormatOpt, TimeScale, TimeScaleOpt,
+                     ToleranceOpt, app, command_line, emit, fail, flat_answer)
+
+
+def _ecsv(api, answer):
+    """What ``--format ecsv`` prints: the answer's table written by ephem.api.to_ecsv, the command line its source."""
+    return lambda: api.to_ecsv(answer, source=command_line())
+
 
 @app.command()
 def bodies(dataset: str = DatasetOpt, fmt: Format = FormatOpt):
@@ -24,7 +33,7 @@ def bodies(dataset: str = DatasetOpt, fmt: Format = FormatOpt):
         rows = api.list_bodies(dataset)
     except api.EphemError as exc:
         fail(exc, api.NotApplicableError)
-    emit(rows, fmt, rows)
+    emit(rows, fmt, rows, _ecsv(api, rows))
 
 
 #: the columns of ``ephem body``'s CSV (every scalar of a value) and table (what fits a terminal's line: the
@@ -47,7 +56,8 @@ def interior_line(interior: dict) -> str:
 
 
 @app.command()
-def body(name: str = typer.Argument(..., metavar="BODY"), dataset: str = DatasetOpt, fmt: Format = FormatOpt):
+def body(name: str = typer.Argument(..., metavar="BODY"), dataset: str = DatasetOpt,
+         fmt: RecordFormat = RecordFormatOpt):
     """Full catalogue record of BODY (name or NAIF id): values, units, uncertainties, sources.
 
     JSON (the default) is the whole record. CSV and table give one row per value (CSV: quantity, value, unit,
@@ -60,7 +70,7 @@ def body(name: str = typer.Argument(..., metavar="BODY"), dataset: str = Dataset
         record = api.body_record(name, dataset)
     except api.EphemError as exc:
         fail(exc, api.NotApplicableError)
-    if fmt is Format.json:
+    if fmt is RecordFormat.json:
         emit(record, fmt)
         return
     corr = "; ".join(f"{a} ~ {b}: {c['value']:.4g}" for c in record["correlations"] for a, b in [c["inputs"]])
@@ -68,7 +78,7 @@ def body(name: str = typer.Argument(..., metavar="BODY"), dataset: str = Dataset
                f"{record['dynamical_ellipticity']:.10g} from {record['dynamical_ellipticity_from']}, perturbers "
                f"{', '.join(record['perturbers'])}" + (f"; correlations {corr}" if corr else ""), err=True)
     typer.echo(interior_line(record["interior"]), err=True)
-    columns = BODY_CSV_COLUMNS if fmt is Format.csv else BODY_TABLE_COLUMNS
+    columns = BODY_CSV_COLUMNS if fmt is RecordFormat.csv else BODY_TABLE_COLUMNS
     rows = [{c: key if c == "quantity" else value[c] for c in columns} for key, value in record["values"].items()]
     emit(record, fmt, rows)
 
@@ -87,7 +97,7 @@ def precession(name: str = typer.Argument(..., metavar="BODY"), dataset: str = D
         ans = api.precession(name, dataset, order, tolerance_mas, perturbers=perturbers)
     except api.EphemError as exc:
         fail(exc, api.NotApplicableError)
-    emit(ans, fmt, [flat_answer(ans)])
+    emit(ans, fmt, [flat_answer(ans)], _ecsv(api, ans))
 
 
 @app.command()
@@ -118,7 +128,7 @@ def nutation(name: str = typer.Argument(..., metavar="BODY"), dataset: str = Dat
         if term.get("delaunay_multipliers") is not None:
             row = {"multiple": None, **dict(zip(api.DELAUNAY_NAMES, term["delaunay_multipliers"])), **row}
         rows.append(row)
-    emit(ans, fmt, rows)
+    emit(ans, fmt, rows, _ecsv(api, ans))
 
 
 @app.command()
@@ -155,24 +165,30 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
           perturbers: Optional[str] = typer.Option(None, "--perturbers", help="The torquing bodies, comma-separated: default the "
                                           "catalogue's (the Earth: moon,sun, the lunisolar theory); sun for the "
                                           "single-perturber answer."),
+          time_scale: TimeScale = TimeScaleOpt,
           models: bool = typer.Option(False, "--models", help="Instead of the track, compare every model serving "
                                       "BODY over these epochs: its estimated error (mas), predicted cost (CPU ms, "
                                       "MB), whether it is eligible and which one --tolerance-mas picks."),
           out: Optional[str] = typer.Option(None, "--out", help="With --models: also write the chart of the "
                                             "comparison (error against cost), FILE.svg or FILE.png.")):
-    """Spin-axis track of BODY: ψ, Δψ, Δε, obliquity and pole RA/Dec over time.
+    """Spin-axis track of BODY: ψ, Δψ, Δε, obliquity and pole RA/Dec over time, each epoch as JD TDB and as a calendar
+    date (--time-scale: utc, tt or tdb).
 
-    The model used (rung, order, estimated error, cost) goes to stderr with --format csv or table. With --models,
+    The model used (rung, order, estimated error, cost) goes to stderr with --format csv, table or ecsv. With --models,
     the comparison of every model instead (JSON: ephem.api.track_models' answer; CSV and table: one row per model,
     the chosen one on stderr), and with --out its chart.
     """
     from .. import api
 
     if models:
+        if fmt is Format.ecsv:
+            fail(api.InvalidInputError("format", "ecsv writes the track's table: the comparison of the models "
+                                       "prints as json, csv or table"), api.NotApplicableError)
         _track_models(name, start, stop, step_days, dataset, fmt, tolerance_mas, axis, perturbers, out,
                       {"order": order, "model": model, "free_wobble_phase_deg": wobble_phase,
                        "free_wobble_J_arcsec": wobble_j, "free_wobble_epoch": wobble_epoch,
-                       "rotation_phase_deg": rotation_phase})
+                       "rotation_phase_deg": rotation_phase, "time_scale": None if time_scale is TimeScale.utc
+                       else time_scale.value})
         return
     if out is not None:
         fail(api.InvalidInputError("out", "writes the chart of the models' comparison: give --models too"),
@@ -180,7 +196,8 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
     try:
         ans = api.track(name, start, stop, step_days, dataset, order, tolerance_mas=tolerance_mas, model=model,
                         axis=axis, free_wobble_phase_deg=wobble_phase, free_wobble_J_arcsec=wobble_j,
-                        free_wobble_epoch=wobble_epoch, perturbers=perturbers, rotation_phase_deg=rotation_phase)
+                        free_wobble_epoch=wobble_epoch, perturbers=perturbers, rotation_phase_deg=rotation_phase,
+                        time_scale=time_scale.value)
     except api.EphemError as exc:
         fail(exc, api.NotApplicableError)
     if fmt is not Format.json:
@@ -192,12 +209,12 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
                    + (f", with the rotation-scale terms ({info['rotation_scale']['modelled']})"
                       if info["rotation_scale"] else "")
                    + f", {info['cost_ms']:.1f} ms", err=True)
-    keys = ["jd_tdb", "psi_arcsec", "delta_psi_arcsec", "delta_epsilon_arcsec", "obliquity_deg",
-            "pole_ra_deg", "pole_dec_deg"]
+    keys = ["jd_tdb", f"{time_scale.value}_iso", "psi_arcsec", "delta_psi_arcsec", "delta_epsilon_arcsec",
+            "obliquity_deg", "pole_ra_deg", "pole_dec_deg"]
     rows = [dict(zip(keys, vals)) for vals in zip(*(ans[k] for k in keys))]
     if not rows:
         rows = [dict.fromkeys(keys, "")]
-    emit(ans, fmt, rows)
+    emit(ans, fmt, rows, _ecsv(api, ans))
 
 
 def _track_models(name: str, start: str, stop: str, step_days: float, dataset: str, fmt: Format,
@@ -253,8 +270,9 @@ def history(name: str = typer.Argument(..., metavar="BODY"),
     """BODY's spin axis over millennia and millions of years: obliquity, precession angle, pole and orbit
     inclination, with the estimated error at each epoch.
 
-    The model (orbit, estimate, where the history stops meaning anything, cost) goes to stderr with --format csv
-    or table. A progress bar shows on stderr while the spin is integrated (not with --quiet).
+    The model (orbit, estimate, where the history stops meaning anything, cost) goes to stderr with --format csv,
+    table or ecsv. A progress bar shows on stderr while the spin is integrated (not with --quiet). The epochs are
+    Julian years from J2000.0 TDB (column year), not calendar dates.
     """
     from .. import api
 
@@ -290,7 +308,7 @@ def history(name: str = typer.Argument(..., metavar="BODY"),
     keys = ["year", "obliquity_deg", "precession_angle_deg", "pole_ra_deg", "pole_dec_deg", "orbit_inclination_deg",
             "estimated_error_deg", "obliquity_error_deg"]
     rows = [dict(zip(keys, vals)) for vals in zip(*(ans[k] for k in keys))]
-    emit(ans, fmt, rows)
+    emit(ans, fmt, rows, _ecsv(api, ans))
 
 
 @app.command("free-motion")
@@ -301,16 +319,18 @@ def free_motion(name: str = typer.Argument(..., metavar="BODY"),
                 j_arcsec: Optional[float] = typer.Option(None, "--J-arcsec", help="Wobble amplitude J at start "
                                                          "(default: the published one, Lara 2014 Table 1)."),
                 method: str = typer.Option("auto", "--method", help="auto, exact, series or numeric."),
-                dataset: str = DatasetOpt, fmt: Format = FormatOpt):
+                dataset: str = DatasetOpt, fmt: Format = FormatOpt, time_scale: TimeScale = TimeScaleOpt):
     """Torque-free wobble of BODY: the figure axis about the angular momentum, and its periods."""
     from .. import api
 
     try:
-        ans = api.free_motion_answer(name, start, stop, step_days, j_arcsec, method, dataset)
+        ans = api.free_motion_answer(name, start, stop, step_days, j_arcsec, method, dataset,
+                                     time_scale=time_scale.value)
     except api.EphemError as exc:
         fail(exc, api.NotApplicableError)
-    rows = [dict(zip(api.FREE_MOTION_KEYS, vals)) for vals in zip(*(ans[k] for k in api.FREE_MOTION_KEYS))]
+    keys = [api.FREE_MOTION_KEYS[0], f"{time_scale.value}_iso", *api.FREE_MOTION_KEYS[1:]]
+    rows = [dict(zip(keys, vals)) for vals in zip(*(ans[k] for k in keys))]
     if fmt is not Format.json:
         typer.echo(f"{ans['mode']} mode, method {ans['method']}: wobble period {ans['wobble_period_days']:.6g} d, "
                    f"precession period {ans['precession_period_days']:.6g} d", err=True)
-    emit(ans, fmt, rows or [dict.fromkeys(api.FREE_MOTION_KEYS, "")])
+    emit(ans, fmt, rows or [dict.fromkeys(keys, "")], _ecsv(api, ans))

@@ -30,7 +30,7 @@ def refused(args: list[str], field: str) -> str:
 
 @pytest.mark.parametrize("args, field, words", [
     ([*TRACK, "--step-days", "abc"], "step_days", "must be a number, got 'abc'"),
-    (["precession", "vesta", "--format", "xml"], "format", "must be one of json, csv, table, got 'xml'"),
+    (["precession", "vesta", "--format", "xml"], "format", "must be one of json, csv, table, ecsv, got 'xml'"),
     (["nutation", "vesta", "--order", "-1"], "order", "integer in [0, 30]"),           # ephem.api's own check
     (["precession", "vesta", "--order", "1.5"], "order", "must be an integer, got '1.5'"),
     (["precession", "vesta", "--tolerance-mas", "-5"], "tolerance_mas", "positive finite number"),

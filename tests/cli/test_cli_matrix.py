@@ -168,12 +168,19 @@ def check_rows(columns: Callable[[Case], list[str]], json_check: Callable[[Case,
         if case.fmt == "json":
             json_check(case, _records(result))
             return
-        want = columns(case)
-        if case.fmt == "csv":
+        want, whole = columns(case), exact
+        if case.fmt == "ecsv":              # astropy's table: the columns and more (the 1-sigma, the Delaunay ...)
+            from astropy.table import QTable
+
+            table = QTable.read(result.stdout, format="ascii.ecsv")
+            header, rows = list(table.colnames), list(table)
+            whole = exact and not {"jd_tdb", "year"} & set(want)    # an epoch table adds its per-epoch 1-sigma
+            assert table.meta["source"].split()[1] == case.command, table.meta["source"]
+        elif case.fmt == "csv":
             header, rows = parse_csv(result.stdout)
         else:
             header, rows = parse_table(result.stdout)
-        assert (header == want) if exact else set(want) <= set(header), (header, want)
+        assert (header == want) if whole else set(want) <= set(header), (header, want)
         assert rows
         if note is not None:
             lines = result.stderr.splitlines()
@@ -461,7 +468,8 @@ SPECS: dict[str, Spec] = {
                                                      {"terms": TERM_KEYS, "model": MODEL_KEYS}), exact=False)),
     "track": Spec(
         args=_track_args,
-        check=check_rows(lambda case: list(api.TRACK_KEYS), arrays(api.TRACK_KEYS, _track_model), note="model: ")),
+        check=check_rows(lambda case: [api.TRACK_KEYS[0], "utc_iso", *api.TRACK_KEYS[1:]],
+                         arrays(api.TRACK_KEYS, _track_model), note="model: ")),
     "history": Spec(
         args=lambda case: [*case.family.args(), "--start-year", "-2000", "--stop-year", "0", "--step-years", "1000",
                            "--quiet"],
@@ -471,7 +479,7 @@ SPECS: dict[str, Spec] = {
                          note="model: ")),
     "free-motion": Spec(
         args=lambda case: [*case.family.args(), *SPAN, "--step-days", "30", *case.family.j_arcsec()],
-        check=check_rows(lambda case: list(api.FREE_MOTION_KEYS),
+        check=check_rows(lambda case: [api.FREE_MOTION_KEYS[0], "utc_iso", *api.FREE_MOTION_KEYS[1:]],
                          arrays(api.FREE_MOTION_KEYS, lambda case, a: has_keys(
                              ["wobble_period_days", "precession_period_days", "mode", "method"])(case, a)),
                          note="")),
@@ -567,7 +575,8 @@ def test_every_command_has_a_spec():
 
 def test_the_formats_are_read_from_the_options():
     # the introspection reads what the parser accepts: a format it would miss is one the matrix would not run
-    assert format_choices(COMMANDS["track"]) == ["json", "csv", "table"]
+    assert format_choices(COMMANDS["track"]) == ["json", "csv", "table", "ecsv"]
+    assert format_choices(COMMANDS["body"]) == ["json", "csv", "table"]      # a record: a unit per value
     assert format_choices(COMMANDS["tables"]) == list(tables.FORMATS)
     assert format_choices(COMMANDS["catalogue import"]) == list(ORBIT_SAMPLES)
     assert format_choices(COMMANDS["pck"]) is None
