@@ -26,10 +26,13 @@ SPANS = ((-2.0e4, 2.0e4, 2000.0), (-1.2e5, -1.0e5, 1000.0), (-3.5e6, -3.0e6, 250
 
 @lru_cache(maxsize=None)
 def named(body: str, span: tuple) -> dict:
-    """Each orbit model's own answer over the span: (estimate mas, predicted CPU ms), or the reason it cannot serve."""
+    """Each orbit model's own answer over the span: (estimate mas, predicted CPU ms), or the reason it cannot serve;
+    asked twice, the second answer's price kept: the first read of the shipped N-body orbit is priced until a process
+    holds it (ephem.longterm.nbody_orbit.shipped_loaded), and the choice is asked in a process that holds it."""
     out = {}
     for m in MODELS:
         try:
+            api.history(body, *span, orbit_model=m)
             a = api.history(body, *span, orbit_model=m)
         except api.NotApplicableError as exc:
             out[m] = str(exc)
