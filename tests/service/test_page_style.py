@@ -23,8 +23,9 @@ from tests.service.test_pages import BATCH_CSV
 STYLESHEET = "/static/page/page.css"
 #: a number as the page prints it (the ``num`` filter: ``%g``), with the page's minus sign if any
 NUMBER = re.compile(r"^[-+−]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
-#: what else a ``num`` cell may hold: nothing, "—" (no value), a lower bound "≥ 1e-9, why", a pointer "none (2)"
-NUM_CELL = re.compile(r"^(|—|≥ ?[-+]?[\d.]+(e[-+]?\d+)?\b.*|none \(\d+\))$")
+#: what else a ``num`` cell may hold: nothing, "—" (no value), a lower bound "≥ 1e-9, why", a pointer "none (2)",
+#: an ISO 8601 date beside its Julian date (digits that line up as well)
+NUM_CELL = re.compile(r"^(|—|≥ ?[-+]?[\d.]+(e[-+]?\d+)?\b.*|none \(\d+\)|[-+]?\d{4,}-\d\d-\d\dT\d\d:\d\d:\d\d(\.\d+)?)$")
 #: a unit named in a header (its text, "_" read as a space): the API's unit suffixes and the page's own words
 UNIT = re.compile(r"\b(deg|arcsec|mas|days?|d|au|AU|h|hours|ms|km|yr|years?|jd|dimensionless)\b|″")
 #: the API's keys without a unit suffix (its convention: a key without a unit is a pure number)
