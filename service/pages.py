@@ -97,7 +97,7 @@ _TEXT_FIELDS = ("name", "orbit.center", "track.start", "track.stop", "track.mode
 _MY_BODY_CHOICES = {"orbit.center": tuple(api.GM_CENTER), "track.model": ("", *api.MODELS), "track.axis": api.AXES}
 #: the track form's fields, in the API's names, and the nutation tables' formats offered for download
 TRACK_FIELDS = ("start", "stop", "step_days", "tolerance_mas", "model", "order", "axis", "free_wobble_phase_deg",
-                "free_wobble_J_arcsec", "dataset")
+                "free_wobble_J_arcsec", "dataset", "time_scale")
 TABLE_DOWNLOADS = (("csv", "CSV"), ("markdown", "Markdown"), ("latex", "LaTeX"))
 #: the nutation tables' layouts (Petit et al. Tables 5-8 and 9-10)
 TABLE_LAYOUTS = (("sin-cos", "Sin, Cos and Amp in arcseconds, periods in years (Petit et al. Tables 5-8)"),
@@ -215,6 +215,10 @@ def install(app: FastAPI) -> None:
                                                  downloads.filename(name, dataset, "nutation", layout, fmt=fmt))
                                                 for fmt, label in TABLE_DOWNLOADS])
                                 for layout, layout_label in TABLE_LAYOUTS],
+                     # every quantity in its unit, for astropy (layout-free): the nutation's terms, the precession's row
+                     ecsv_downloads={what: (_api_url(request, f"/v1/bodies/{name}/{what}", {**params, "format": "ecsv"}),
+                                            downloads.filename(name, dataset, what, fmt="ecsv"))
+                                     for what in ("precession", "nutation")},
                      orbit_span=api.shipped_orbit_span(name),
                      precession_code=_snippets(request, f"/v1/bodies/{name}/precession", params,
                                                _python_call("api.precession", name, params)),
@@ -227,10 +231,10 @@ def install(app: FastAPI) -> None:
                          stop: str = TRACK_DEFAULTS["stop"], step_days: str = TRACK_DEFAULTS["step_days"],
                          tolerance_mas: str = "", model: str = "", order: str = "", axis: str = "figure",
                          free_wobble_phase_deg: str = "", free_wobble_J_arcsec: str = "",
-                         dataset: str = api.DEFAULT_DATASET):
+                         dataset: str = api.DEFAULT_DATASET, time_scale: str = "utc"):
         form = {"start": start, "stop": stop, "step_days": step_days, "tolerance_mas": tolerance_mas,
                 "model": model, "order": order, "axis": axis, "free_wobble_phase_deg": free_wobble_phase_deg,
-                "free_wobble_J_arcsec": free_wobble_J_arcsec, "dataset": dataset}
+                "free_wobble_J_arcsec": free_wobble_J_arcsec, "dataset": dataset, "time_scale": time_scale}
         params = {k: form[k] for k in TRACK_FIELDS}
 
         def compute():
@@ -242,7 +246,8 @@ def install(app: FastAPI) -> None:
                                      model=model or None, order=_int(order, "order") if order else None, axis=axis,
                                      free_wobble_phase_deg=_optional_float(free_wobble_phase_deg,
                                                                            "free_wobble_phase_deg"),
-                                     free_wobble_J_arcsec=_optional_float(free_wobble_J_arcsec, "free_wobble_J_arcsec"))
+                                     free_wobble_J_arcsec=_optional_float(free_wobble_J_arcsec, "free_wobble_J_arcsec"),
+                                     time_scale=time_scale)
             # speed against accuracy for this scene: every model's estimate and cost over these epochs
             models = api.track_models(body, start, stop, step, dataset, tolerance_mas=tol, axis=axis,
                                       max_samples=request.app.state.settings.max_track_samples)
@@ -256,19 +261,24 @@ def install(app: FastAPI) -> None:
         rows, count = [], 0
         if result is not None:
             count = len(result["jd_tdb"])
-            keys = api.TRACK_KEYS
-            rows = [[float(result[k][i]) for k in keys] for i in range(min(count, TRACK_ROWS_SHOWN))]
+            keys = (api.TRACK_KEYS[0], f"{time_scale}_iso", *api.TRACK_KEYS[1:])     # the date beside jd_tdb
+            rows = [[result[k][i] if k.endswith("_iso") else float(result[k][i]) for k in keys]
+                    for i in range(min(count, TRACK_ROWS_SHOWN))]
         name = result["body"] if result else body
         models_query = urlencode({k: form[k] for k in ("start", "stop", "step_days", "tolerance_mas", "axis", "dataset")
                                   if form[k] not in (None, "")})
         return _page("track.html", _status(problem), body=name, form=form, result=result, problem=problem,
                      models_json_url=f"/v1/bodies/{quote(name)}/track/models?{models_query}",
                      models_svg_url=f"/v1/bodies/{quote(name)}/track/models.svg?{models_query}",
-                     rows=rows, count=count, keys=api.TRACK_KEYS, models=api.MODELS, axes=api.AXES,
+                     rows=rows, count=count, keys=keys if result is not None else api.TRACK_KEYS, models=api.MODELS,
+                     axes=api.AXES, time_scales=api.CALENDAR_SCALES,
+                     ecsv_url=_api_url(request, f"/v1/bodies/{name}/track", {**params, "format": "ecsv"}),
+                     ecsv_name=downloads.filename(name, dataset, "track", fmt="ecsv"),
                      csv_url=_api_url(request, f"/v1/bodies/{name}/track", {**params, "format": "csv"}),
                      csv_name=downloads.filename(name, dataset, "track", fmt="csv"),
                      # every parameter of the track reaches its figure (the figure of this track, not a default's)
-                     plot_url=_api_url(request, f"/v1/bodies/{name}/track.svg", params),
+                     plot_url=_api_url(request, f"/v1/bodies/{name}/track.svg",
+                                       {k: v for k, v in params.items() if k != "time_scale"}),
                      snippets=_snippets(request, f"/v1/bodies/{name}/track", params,
                                     _python_call("api.track", name, {**params, "step_days": _maybe_float(step_days),
                                                                      "tolerance_mas": _maybe_float(tolerance_mas),
@@ -309,6 +319,8 @@ def install(app: FastAPI) -> None:
                      orbit_span=api.shipped_orbit_span(name), fallback=_fallback(result, orbit_model),
                      csv_url=_api_url(request, f"/v1/bodies/{name}/history", {**params, "format": "csv"}),
                      csv_name=downloads.filename(name, dataset, "history", fmt="csv"),
+                     ecsv_url=_api_url(request, f"/v1/bodies/{name}/history", {**params, "format": "ecsv"}),
+                     ecsv_name=downloads.filename(name, dataset, "history", fmt="ecsv"),
                      # an SVG: it scales with the page (a phone's width too)
                      plot_url=_api_url(request, f"/v1/bodies/{name}/history.svg", plot_params),
                      snippets=_snippets(request, f"/v1/bodies/{name}/history", params,
@@ -398,18 +410,21 @@ def install(app: FastAPI) -> None:
             if start_year or stop_year or step_years:
                 history = {"start_year": _float(start_year, "start_year"), "stop_year": _float(stop_year, "stop_year"),
                            "step_years": _float(step_years, "step_years")}
-            return api.batch(rows, history, _max_rows(request), "")
+            answer = api.batch(rows, history, _max_rows(request), "")
+            # its table as astropy's ECSV too, written (and charged) within the request
+            return {**answer, "ecsv": api.to_ecsv(answer, source=str(request.url))}
 
         result, problem = await _answer(request, compute, ("file", "start_year", "stop_year", "step_years"))
         if problem is not None and problem.get("fields"):
             problem["marked"] = True                    # every problem of a batch stands at its file field
-        download = None
+        download = download_ecsv = None
         if result is not None:
             out = io.StringIO()
             writer = csv.writer(out, lineterminator="\n")
             writer.writerow(result["columns"])
             writer.writerows([["" if r.get(c) is None else r.get(c) for c in result["columns"]] for r in result["rows"]])
             download = "data:text/csv;charset=utf-8," + quote(out.getvalue())
+            download_ecsv = "data:text/x-ecsv;charset=utf-8," + quote(result["ecsv"])
         history = {k: v for k, v in form.items() if v}
         url = _api_url(request, "/v1/batch", history, absolute=True)
         name = (file.filename if file is not None else "") or "bodies.csv"
@@ -422,6 +437,8 @@ def install(app: FastAPI) -> None:
                      max_rows=_max_rows(request), download=download, shown=TRACK_ROWS_SHOWN,
                      template_url=BATCH_TEMPLATE_URL, download_name=downloads.filename(
                          name.rsplit(".", 1)[0], "batch", "answers", fmt="csv"),
+                     download_ecsv=download_ecsv, download_ecsv_name=downloads.filename(
+                         name.rsplit(".", 1)[0], "batch", "answers", fmt="ecsv"),
                      filename=name, snippets=snippets, title="A batch of bodies")
 
 

@@ -127,3 +127,68 @@ def test_the_openapi_document_offers_ecsv_and_the_time_scale(client):
     track = {p["name"]: p for p in doc["paths"]["/v1/bodies/{body}/track"]["get"]["parameters"]}
     assert "time_scale" in track
     assert {"utc_iso", "tt_iso", "tdb_iso"} <= set(doc["components"]["schemas"]["Track"]["properties"])
+
+
+# ------------------------------------------------------------------ the page
+
+def _links(html: str) -> dict[str, str]:
+    """{href: download name} of the page's download links."""
+    from html.parser import HTMLParser
+
+    found = {}
+
+    class Parse(HTMLParser):
+        def handle_starttag(self, tag, attrs):
+            a = dict(attrs)
+            if tag == "a" and a.get("download"):
+                found[a["href"]] = a["download"]
+    Parse().feed(html)
+    return found
+
+
+def test_the_track_page_chooses_the_dates_scale_and_offers_ecsv(client):
+    from html import unescape
+
+    html = client.get("/bodies/ceres/track", params={**TRACK, "time_scale": "tt"}).text
+    assert '<select id="time_scale" name="time_scale">' in html
+    assert '<option value="tt" selected>TT</option>' in html and '<option value="utc">UTC</option>' in html
+    assert ">tt_iso</th>" in html and "2040-01-01T00:01:09.184" in html       # the column beside jd_tdb
+    (ecsv,) = [(h, d) for h, d in _links(html).items() if "format=ecsv" in h]
+    assert ecsv[1] == "ceres_current_track.ecsv"
+    r = client.get(unescape(ecsv[0]))
+    assert r.status_code == 200 and r.headers["content-type"].startswith("text/x-ecsv")
+    assert r.text.count("tt_iso") >= 1 and "2040-01-01T00:01:09.184" in r.text      # the page's scale
+
+
+@pytest.mark.parametrize("page, names", [
+    ("/bodies/vesta", {"vesta_current_precession.ecsv", "vesta_current_nutation.ecsv"}),
+    ("/bodies/ceres/history?start_year=-1000&stop_year=0&step_years=250", {"ceres_current_history.ecsv"})])
+def test_the_pages_offer_their_tables_as_ecsv(client, page, names):
+    from html import unescape
+
+    links = {d: h for h, d in _links(client.get(page).text).items() if d.endswith(".ecsv")}
+    assert set(links) == names
+    for href in links.values():
+        r = client.get(unescape(href))
+        assert r.status_code == 200 and r.headers["content-type"].startswith("text/x-ecsv"), href
+
+
+def test_the_history_page_says_its_years_are_julian_years_of_tdb(client):
+    html = client.get("/bodies/ceres/history", params=HISTORY).text
+    assert "Julian years of 365.25 days from J2000.0 TDB" in html
+
+
+def test_the_batch_page_offers_its_answers_as_ecsv(client):
+    from urllib.parse import unquote
+
+    from astropy.table import QTable
+
+    out = io.StringIO()
+    writer = csv.DictWriter(out, fieldnames=sorted({k for r in USER_ROWS for k in r}))
+    writer.writeheader()
+    writer.writerows(USER_ROWS)
+    html = client.post("/batch", files={"file": ("bodies.csv", out.getvalue(), "text/csv")}).text
+    (href, name), = [(h, d) for h, d in _links(html).items() if d.endswith(".ecsv")]
+    assert name == "bodies_batch_answers.ecsv" and href.startswith("data:text/x-ecsv;charset=utf-8,")
+    table = QTable.read(unquote(href.partition(",")[2]), format="ascii.ecsv")
+    assert list(table["name"]) == ["my-asteroid", "unbound"] and str(table["obliquity_deg"].unit) == "deg"

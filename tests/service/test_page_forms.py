@@ -199,8 +199,8 @@ def test_each_download_is_saved_under_a_name_of_its_own(client):
     assert track.headers["content-disposition"] == 'attachment; filename="ceres_current_track.csv"'
     body = Form(client.get("/bodies/vesta").text)
     downloads = [(href, download) for href, download, _ in body.links if "/nutation?" in (href or "") and "format=" in href]
-    assert len(downloads) == 6 and all(d for _, d in downloads)
-    assert len({d for _, d in downloads}) == 6
+    assert len(downloads) == 7 and all(d for _, d in downloads)        # 3 formats x 2 layouts, and the ECSV
+    assert len({d for _, d in downloads}) == 7
 
 
 def test_the_page_has_an_icon_and_redoc_loads_no_logo_from_a_cdn(client):
