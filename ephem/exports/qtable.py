@@ -19,7 +19,8 @@ per input row). :func:`to_qtable` recognises the answer by its keys and builds t
   catalogue's references for the body's values); the answer's other scalars there too.
 
 :func:`to_ecsv` writes that table with astropy (``QTable.write(..., format="ascii.ecsv")``), after charging its cost
-(:func:`ephem.theory.cost.serialised`: astropy's writer costs ~6 us a value, 250 times JSON's).
+(:func:`ephem.theory.cost.serialised`: astropy's writer costs ~1.6 us a value, 50 times JSON's:
+benchmarks/RESULTS_calendar.md).
 """
 from __future__ import annotations
 

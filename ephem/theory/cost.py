@@ -419,7 +419,7 @@ SERIALISATIONS = {"json": "serialise_s_per_value", "csv": "serialise_csv_s_per_v
 def serialised(epochs: int, columns: int, output: str = "json") -> Part:
     """An answer of ``epochs`` rows of ``columns`` floats, serialised as JSON (orjson, or a figure's
     points), CSV (a float's exact repr per value: ~20x the cost of JSON) or ECSV (astropy's writer, through a
-    QTable: ~250x JSON's, benchmarks/RESULTS_calendar.md)."""
+    QTable: ~50x JSON's, benchmarks/RESULTS_calendar.md)."""
     return Part("step_days", f"{epochs} epochs serialised as {output}",
                 epochs * columns * _u(SERIALISATIONS[output]), epochs * columns * _u("serialised_bytes_per_value") / MB)
 
