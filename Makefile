@@ -54,7 +54,7 @@ lock:
 	printf '%s\n' pip hatchling | $(LOCK_TOOLS)/bin/$(LOCK_CMD) --quiet
 	{ printf '%s\n' \
 	  '# The lock: exact versions of every dependency of ephem-asteroid-pn (the core and every extra:' \
-	  '# service, batch, plots, nbody, test), of pip itself and of the build backend (hatchling), for' \
+	  '# service, batch, plots, nbody, lunar, test), of pip itself and of the build backend (hatchling), for' \
 	  '# CPython 3.11 on Linux x86-64. A pip constraints file: `pip install -c constraints.txt -e ".[all,test]"`' \
 	  '# (make serve/test via tools/bootstrap_venv.py, .ci/run via make test and its core-only install, and' \
 	  '# the Dockerfile all install with it; the core alone: `pip install -c constraints.txt .`).' \

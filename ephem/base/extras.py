@@ -8,6 +8,8 @@ precession, nutation, histories along the shipped orbits, tables, SPICE kernels.
 - ``batch``: dask.distributed and pyarrow, for a catalogue on Dask (:mod:`ephem.batch.distributed`);
 - ``nbody``: REBOUND, for an N-body orbit run for a body of the user's own (:mod:`ephem.longterm.nbody_orbit`; the
   catalogue's bodies read theirs from the shipped files);
+- ``lunar``: the package whose wheel ships JPL's DE421 lunar kernels, for the Moon's ``de421`` model
+  (:mod:`ephem.moon.lunar_kernel` finds the files without importing it, and refuses the model naming the extra);
 - ``service``: FastAPI and its server (the ``service`` package, which checks for itself).
 
 :func:`require` raises :class:`~ephem.base.errors.MissingExtraError` naming the extra to install, never a bare

@@ -2,7 +2,7 @@
 
 The principal-axis frame's Euler angles (binary PCK
 ``moon_pa_de421_1900-2050.bpc``) and the frame kernel defining the mean-Earth frame (``moon_080317.tf``), both shipped
-in the wheel of the registry package ``lunarsky`` (pyproject.toml's test extra; data/moon_orientation.toml [kernel]).
+in the wheel of the registry package ``lunarsky`` (pyproject.toml's ``lunar`` extra; data/moon_orientation.toml [kernel]).
 
 The files are found through the installed distribution's file list (:func:`importlib.metadata.files`): the package is
 never imported (it would load astropy's frame machinery and its own dependencies for two data files). The binary
@@ -39,8 +39,8 @@ def _located() -> tuple[Path | None, Path | None, str | None]:
     try:
         listed = metadata.files(k["package"]) or []
     except metadata.PackageNotFoundError:
-        return None, None, (f"DE421's lunar orientation ships in the package '{k['package']}' (the test extra: "
-                            f"pip install 'ephem-asteroid-pn[test]'), which is not installed")
+        return None, None, (f"DE421's lunar orientation ships in the package '{k['package']}' (the lunar extra: "
+                            f"pip install 'ephem-asteroid-pn[lunar]'), which is not installed")
     found = {str(f).replace("\\", "/"): f for f in listed}
     paths = []
     for key in ("pck", "frame_kernel"):
