@@ -24,7 +24,7 @@ ROOT = Path(__file__).resolve().parents[2]
 #: the top-level modules of every extra (pyproject.toml's [project.optional-dependencies] but ``test``), hidden
 HIDDEN = ("fastapi", "starlette", "pydantic", "pydantic_core", "uvicorn", "uvicorn_worker", "gunicorn", "jinja2",
           "multipart", "python_multipart", "orjson", "markdown_it", "dask", "distributed", "pyarrow", "matplotlib",
-          "rebound")
+          "rebound", "lunarsky")
 
 BLOCKER = """
 import importlib.abc, json, sys
