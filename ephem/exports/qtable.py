@@ -146,7 +146,8 @@ def to_qtable(answer, *, source: str | None = None):
     ``Time``, a description on every column and the answer's metadata in ``meta`` (see the module's docstring).
 
     ``answer``: what :func:`ephem.api.list_bodies`, ``precession``, ``nutation``, ``track`` (or ``track_arrays``),
-    ``free_motion_answer`` (or ``free_motion_arrays``), ``history`` or ``batch`` returned, unchanged. ``source``:
+    ``free_motion_answer`` (or ``free_motion_arrays``), ``history`` or ``batch`` returned, unchanged (with
+    ``quantities=True`` too: a Quantity is taken in its key's unit). ``source``:
     where it came from (a URL, a command line), written in ``meta``; default the library's function.
     The same table is what :func:`to_ecsv` writes, and what ``QTable.read(..., format="ascii.ecsv")`` reads back.
     """
@@ -180,8 +181,8 @@ def _epoch_columns(answer: dict, epoch_key: str):
     n = len(answer[epoch_key])
     columns, meta = [], {}
     for key, value in answer.items():
-        if key not in _NOT_PER_EPOCH and isinstance(value, (list, tuple, np.ndarray)) and np.ndim(value) == 1 \
-                and len(value) == n:
+        per_epoch = isinstance(value, (list, tuple, np.ndarray)) or hasattr(value, "jd1")     # a Time too
+        if key not in _NOT_PER_EPOCH and per_epoch and np.ndim(value) == 1 and len(value) == n:
             columns.append((key, value))
         else:
             meta[key] = value
@@ -231,9 +232,14 @@ def _column(key: str, values):
     from astropy.table import Column, MaskedColumn
     from astropy.time import Time
 
-    if key == "jd_tdb":
-        return Time(np.asarray(values, dtype=float), format="jd", scale="tdb")
-    values = list(values) if not isinstance(values, np.ndarray) else values
+    if key == "jd_tdb":            # a TDB Time (an answer given with quantities=True holds one already)
+        return values.tdb if isinstance(values, Time) else Time(np.asarray(values, dtype=float), format="jd",
+                                                                  scale="tdb")
+    if isinstance(values, Time):   # another epoch column given as a Time (quantities=True): its JD TDB
+        values = values.tdb.jd
+    values = values if isinstance(values, np.ndarray) else [_bare(v) for v in values]
+    if isinstance(values, u.Quantity):
+        values = values.value      # in the unit its key names, as quantities=True makes it
     unit = "yr" if key == "year" else unit_of(key)
     if isinstance(values, np.ndarray):
         data, mask = values, None
@@ -314,8 +320,20 @@ def _citations(kind: str, answer, model: dict | None) -> list[str]:
     return out
 
 
+def _bare(value):
+    """A Quantity as its number (in the unit its key names, as ``quantities=True`` makes it), a Time as its JD TDB;
+    anything else as it is."""
+    if hasattr(value, "jd1") and hasattr(value, "tdb"):
+        return value.tdb.jd
+    if hasattr(value, "unit") and hasattr(value, "value"):
+        return value.value
+    return value
+
+
 def _plain(value):
-    """``value`` as YAML's plain types (numpy scalars and arrays as Python's, tuples as lists, keys as text)."""
+    """``value`` as YAML's plain types (numpy scalars and arrays as Python's, tuples as lists, keys as text,
+    Quantities and Times as their numbers)."""
+    value = _bare(value)
     if isinstance(value, dict):
         return {str(k): _plain(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):

@@ -50,7 +50,8 @@ def test_cli_track_json_and_csv():
     res = runner.invoke(app, ["track", "vesta", "--start", "2451545.0", "--stop", "2451565", "--step-days", "5",
                               "--format", "csv"])
     rows = list(csv.DictReader(io.StringIO(res.stdout)))
-    assert list(rows[0]) == TRACK_KEYS and len(rows) == 5
+    assert list(rows[0]) == [TRACK_KEYS[0], "utc_iso", *TRACK_KEYS[1:]] and len(rows) == 5    # the dates after jd_tdb
+    assert rows[0]["utc_iso"] == "2000-01-01T11:58:55.816"                 # J2000.0 (TDB) in UTC
 
 
 def test_cli_bodies_table_and_csv():

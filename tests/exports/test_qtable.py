@@ -194,3 +194,14 @@ def test_the_ecsv_writing_is_charged_before_it_runs():
     with api.budget(cpu_s=1e-3, memory_mb=1e3):
         with pytest.raises(api.OverBudgetError):
             api.to_ecsv(ans)
+
+
+@pytest.mark.parametrize("call", [lambda q: api.track("ceres", "2040-01-01", "2040-03-01", 20.0, quantities=q),
+                                  lambda q: api.precession("vesta", quantities=q),
+                                  lambda q: api.free_motion_answer("mars", "2030-01-01", "2030-01-02", 0.5,
+                                                                   quantities=q)],
+                         ids=["track", "precession", "free_motion"])
+def test_an_answer_with_quantities_gives_the_same_table(call):
+    plain, with_units = api.to_qtable(call(False)), api.to_qtable(call(True))
+    assert with_units.colnames == plain.colnames
+    check_table(with_units, call(False))
