@@ -302,11 +302,7 @@ def _utc_fields(day, frac):
     import erfa
     import numpy as np
 
-    table = erfa.leap_seconds.get()     # (year, month, TAI - UTC s) from 1960; whole seconds from 1972
-    table = table[table["year"] >= 1972]
-    djm0, djm = erfa.cal2jd(table["year"], table["month"], 1)
-    offsets = np.asarray(table["tai_utc"], dtype=float) / 86400.0
-    changes = djm0 + djm + offsets      # each offset's first instant, TAI
+    changes, offsets = _leap_changes(erfa.leap_seconds.get())
     tai = day + frac
     after = np.searchsorted(changes, tai, side="right")          # offsets in force: changes[after - 1] <= tai
     nearest = np.minimum(np.abs(tai - changes[np.maximum(after - 1, 0)]),
@@ -327,6 +323,28 @@ def _utc_fields(day, frac):
     if clock is None:                   # no dates
         return erfa.d2dtf("UTC", CALENDAR_DECIMALS, day, frac)
     return year, month, mday, clock
+
+
+_LEAP_CHANGES: dict = {}
+
+
+def _leap_changes(table) -> tuple:
+    """(each whole-second TAI - UTC offset's first instant as a TAI Julian date, the offsets in days) from ERFA's
+    leap-second table (year, month, TAI - UTC s), from 1972; kept per table's contents (ERFA's table changes only
+    when a leap second is added), since a small track's dates would spend a third of their cost on it."""
+    key = table.tobytes()
+    kept = _LEAP_CHANGES.get(key)
+    if kept is None:
+        import erfa
+        import numpy as np
+
+        table = table[table["year"] >= 1972]
+        djm0, djm = erfa.cal2jd(table["year"], table["month"], 1)
+        offsets = np.asarray(table["tai_utc"], dtype=float) / 86400.0
+        kept = (djm0 + djm + offsets, offsets)
+        _LEAP_CHANGES.clear()           # one table at a time
+        _LEAP_CHANGES[key] = kept
+    return kept
 
 
 def _iso_texts(year, month, mday, clock) -> list[str]:
