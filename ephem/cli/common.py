@@ -106,7 +106,21 @@ def emit(answer, fmt: Format, rows: list[dict] | None = None, ecsv=None) -> None
         sys.stdout.write(json.dumps(answer, indent=2, allow_nan=False, default=_jsonable) + "\n")
         return
     rows = rows if rows is not None else [answer]
-    sys.stdout.write(_rows_to_csv(rows) if fmt in (Format.csv, RecordFormat.csv) else rows_to_table(rows))
+    notes = lower_bound_notes(answer)
+    if fmt in (Format.csv, RecordFormat.csv):
+        sys.stdout.write(_rows_to_csv(rows))
+        for note in notes:              # beside the data, not in it: a CSV keeps its one header line
+            sys.stderr.write(note + "\n")
+        return
+    sys.stdout.write(rows_to_table(rows) + "".join(note + "\n" for note in notes))
+
+
+def lower_bound_notes(answer) -> list[str]:
+    """Where an answer's 1-sigma is a lower bound (some input moving the value has no published sigma: the answer's
+    ``uncertainty.lower_bounds``), a line per value saying so, for the table and CSV outputs whose columns cannot."""
+    uncertainty = answer.get("uncertainty") if isinstance(answer, dict) else None
+    bounds = uncertainty.get("lower_bounds") if isinstance(uncertainty, dict) else None
+    return [f"note: {key}_uncertainty is a lower bound (>=): {why}" for key, why in (bounds or {}).items()]
 
 
 def flat_answer(answer: dict) -> dict:
