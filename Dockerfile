@@ -43,6 +43,11 @@ ENV EPHEM_MAX_TRACK_SAMPLES=100000
 # Largest request body in bytes (413 beyond).
 ENV EPHEM_MAX_BODY_BYTES=65536
 
+# the documents the web page links (docs/*.md rendered as HTML, with their charts: service/docs_pages.py); the wheel
+# carries only docs/accuracy.md's copy
+COPY docs /srv/ephem-docs
+ENV EPHEM_DOCS_DIR=/srv/ephem-docs
+
 USER ephem
 WORKDIR /home/ephem
 EXPOSE 8000

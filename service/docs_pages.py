@@ -17,13 +17,14 @@ Routes (pages, not in the OpenAPI document):
   then hides it): the API reference loads nothing from outside the service;
 - ``GET /favicon.ico``: the page's icon (``service/static/page/favicon.svg``).
 
-The documents are read from the repository's ``docs/`` (where ``make serve`` runs); an installed package, which has
-no ``docs/``, serves ``docs/accuracy.md`` from its copy (``service/static/accuracy.md``, kept identical by
+The documents are read from the repository's ``docs/`` (where ``make serve`` runs), or from ``EPHEM_DOCS_DIR`` (the
+Docker image's copy of it); an installed package without either serves ``docs/accuracy.md`` from its copy (``service/static/accuracy.md``, kept identical by
 tests/service/test_http.py) and answers 404 for the others and for the charts.
 """
 from __future__ import annotations
 
 import html
+import os
 import pathlib
 import re
 import unicodedata
@@ -35,8 +36,9 @@ from fastapi.staticfiles import StaticFiles
 from markdown_it import MarkdownIt
 
 SERVICE = pathlib.Path(__file__).resolve().parent
-#: the repository's documentation (absent from an installed package)
-DOCS_DIR = SERVICE.parent / "docs"
+#: the documentation: EPHEM_DOCS_DIR where set (the Docker image copies the repository's docs/ there), else the
+#: repository's docs/ beside the service (absent from an installed package)
+DOCS_DIR = pathlib.Path(os.environ.get("EPHEM_DOCS_DIR") or SERVICE.parent / "docs")
 #: the copies an installed package carries, by document name
 PACKAGED = {"accuracy": SERVICE / "static" / "accuracy.md"}
 #: the folders of ``docs/`` served as files (the documents' charts, figures and their data)

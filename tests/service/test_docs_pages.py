@@ -116,3 +116,23 @@ def test_headings_get_githubs_anchors_and_outside_files_are_named_not_linked():
     title, body = render("# T\n\nSee [the errata](../data/lara/errata.toml) and [moon](moon.md#x).\n")
     assert title == "T" and 'href="/docs/moon#x"' in body and "../data" not in body.split("title=")[0]
     assert '<span class="repo-path"' in body and "the errata</span>" in body
+
+
+def test_the_documents_are_read_where_EPHEM_DOCS_DIR_says(tmp_path):
+    """The Docker image has no repository: it copies docs/ and names it in EPHEM_DOCS_DIR (Dockerfile)."""
+    import os
+    import subprocess
+    import sys
+    (tmp_path / "charts").mkdir()
+    (tmp_path / "charts" / "c.svg").write_text("<svg xmlns='http://www.w3.org/2000/svg'/>", encoding="utf-8")
+    (tmp_path / "note.md").write_text("# A note\n\n![a chart](charts/c.svg)\n", encoding="utf-8")
+    code = ("from fastapi.testclient import TestClient\nfrom service.app import create_app\n"
+            "from service.settings import Settings\nimport dataclasses\n"
+            "c = TestClient(create_app(dataclasses.replace(Settings.from_env(), warm_up=False)))\n"
+            "page, chart = c.get('/docs/note'), c.get('/docs/charts/c.svg')\n"
+            "print(page.status_code, chart.status_code, '<h1' in page.text and 'A note' in page.text)")
+    env = {**os.environ, "EPHEM_DOCS_DIR": str(tmp_path)}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120,
+                         cwd=Path(__file__).resolve().parents[2])
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split()[-3:] == ["200", "200", "True"]
