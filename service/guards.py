@@ -19,8 +19,8 @@
   requests is its code, the per-body caches (``EPHEM_MODEL_CACHE_MB``, bounded in bytes) and what the C allocator
   holds freed but not returned to the system: glibc gives each thread of the worker's pool an arena of its own (up
   to 8 per core) and keeps freed blocks in each, so a worker grew to 500-800 MB over 2,000-8,000 varied requests
-  while its caches held 64 MB (benchmarks/RESULTS_memory_soak.md). Under the supervisor the worker keeps to
-  :data:`MALLOC_ARENAS` arenas (unless ``MALLOC_ARENA_MAX`` is set), the watchdog hands the freed memory back
+  while its caches held 64 MB (benchmarks/RESULTS_memory_soak.md). Under the supervisor the worker keeps two
+  arenas and maps large blocks on their own (:data:`ALLOCATOR`), the watchdog hands the freed memory back
   (``malloc_trim``, ~1 ms) about once a second while requests come, and a worker still above the bound when it
   goes idle is recycled gracefully (SIGTERM: its requests finish, the supervisor starts a fresh one), one worker
   of the service at a time.
@@ -242,9 +242,15 @@ class RecycleTurns:
             os.close(fd)        # and its lock
 
 
-#: the malloc arenas a supervised worker keeps (glibc's default: 8 per core, one per thread of the pool as it grows)
-MALLOC_ARENAS = 2
-_M_ARENA_MAX = -8               # glibc's mallopt parameter (malloc.h)
+#: glibc's allocator in a supervised worker (mallopt; what the environment sets, glibc's own MALLOC_ARENA_MAX,
+#: MALLOC_MMAP_THRESHOLD_, MALLOC_TRIM_THRESHOLD_, is left to it): two arenas, where glibc made one per thread of the
+#: pool (up to 8 per core), each keeping the blocks freed in it; blocks over 256 KiB (numpy's arrays of more than
+#: 32768 doubles) mapped on their own and unmapped when freed, where glibc raised that threshold to the largest block
+#: freed so far (up to 32 MiB), after which such arrays were carved from the arenas and their pages kept; the main
+#: heap's free top returned beyond 512 KiB. Measured (benchmarks/RESULTS_memory_soak.md): a worker's RSS under load,
+#: median 348-371 MB with the arenas alone, 304 MB with the threshold too, the answers as fast.
+ALLOCATOR = {"MALLOC_ARENA_MAX": (-8, 2), "MALLOC_MMAP_THRESHOLD_": (-3, 256 * 1024),
+             "MALLOC_TRIM_THRESHOLD_": (-1, 512 * 1024)}       # environment variable: (mallopt parameter, value)
 _LIBC = None
 
 
@@ -259,13 +265,15 @@ def _libc():
     return _LIBC
 
 
-def limit_malloc_arenas(arenas: int = MALLOC_ARENAS) -> bool:
-    """Keep this process's glibc allocator to ``arenas`` arenas, unless ``MALLOC_ARENA_MAX`` (glibc's own setting,
-    read at the process's start) is set; called before the worker's threads start. False where not glibc."""
+def tune_allocator() -> list[str]:
+    """Set glibc's allocator for a long-lived worker (:data:`ALLOCATOR`), each parameter unless its environment
+    variable (read by glibc at the process's start) is set; called before the worker's threads start. Returns the
+    variables set (none where the C library is not glibc)."""
     libc = _libc()
-    if not libc or os.environ.get("MALLOC_ARENA_MAX"):
-        return False
-    return bool(libc.mallopt(_M_ARENA_MAX, int(arenas)))
+    if not libc:
+        return []
+    return [name for name, (param, value) in ALLOCATOR.items()
+            if not os.environ.get(name) and libc.mallopt(param, value)]
 
 
 def release_free_memory() -> None:
@@ -293,7 +301,7 @@ def peak_resident_mb() -> float:
 def install(app: FastAPI, settings: Settings) -> None:
     watchdog = None
     if settings.supervised:
-        limit_malloc_arenas()           # before the worker's thread pool starts (its threads are made on demand)
+        tune_allocator()                # before the worker's thread pool starts (its threads are made on demand)
         watchdog = Watchdog(settings.request_deadline_s, settings.hard_kill_after_s, settings.worker_rss_mb,
                             recycle=RecycleTurns(settings.lock_dir))
     heavy = HeavySlots(settings.heavy_request_cpu_s, settings.heavy_slots, settings.lock_dir)

@@ -133,7 +133,18 @@ def test_the_service_s_watchdog_takes_its_limit_from_the_setting(monkeypatch):
     monkeypatch.setenv("EPHEM_WORKER_RSS_MB", "123.5")
     settings = Settings.from_env()
     assert settings.worker_rss_mb == 123.5
-    monkeypatch.setattr(guards, "limit_malloc_arenas", lambda *a: False)   # the test process's allocator untouched
+    monkeypatch.setattr(guards, "tune_allocator", lambda: [])   # the test process's allocator untouched
     app = create_app(Settings(warm_up=False, supervised=True, worker_rss_mb=settings.worker_rss_mb))
     budget = next(m for m in app.user_middleware if m.cls is RequestBudget)
     assert budget.kwargs["watchdog"].rss_limit_mb == 123.5
+
+
+def test_the_allocator_is_tuned_where_the_environment_leaves_it(monkeypatch):
+    monkeypatch.setenv("MALLOC_ARENA_MAX", "4")           # the operator's, read by glibc at start: left alone
+    for name in ("MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_"):
+        monkeypatch.delenv(name, raising=False)
+    done = guards.tune_allocator()
+    if not done:
+        pytest.skip("not glibc: nothing to tune")
+    assert "MALLOC_ARENA_MAX" not in done
+    assert sorted(done) == ["MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_"]
