@@ -175,11 +175,16 @@ def run_once(work, epochs: int, memos: bool = False) -> tuple[float, float, list
     if not memos:
         for m in question_memos():
             m.cache_clear()
-    gc.collect()
-    with recording_charges(charged), budget.budget(1e9, 1e9) as b:
-        c0 = time.process_time()
-        work()
-        cpu = time.process_time() - c0
+    # no collection just before the call: a full one leaves the CPU's caches cold and added ~0.45 ms to a 0.6-ms Moon
+    # track (a service's requests run back to back); none during it either, so no pause is charged to the call
+    gc.disable()
+    try:
+        with recording_charges(charged), budget.budget(1e9, 1e9) as b:
+            c0 = time.process_time()
+            work()
+            cpu = time.process_time() - c0
+    finally:
+        gc.enable()
     serialised = cost.serialised(epochs, len(TRACK_KEYS)).cpu_s     # charged for the caller, not done in the call
     return 1e3 * (b.spent_cpu_s - serialised), 1e3 * cpu, [p for c in charged for p in c.parts]
 
@@ -349,7 +354,8 @@ def main(argv=None) -> int:
         f"measured: {repeat_line}.", "",
         "Predicted: what `ephem.api.track_arrays` charges its budget (`ephem.base.budget`; `ephem.theory.cost` with "
         "`data/cost_model.toml`), less the answer's serialisation, which the caller does. Measured: the call's CPU "
-        "(`time.process_time`, one BLAS thread). Warm: the same call again, its caches built (median of "
+        "(`time.process_time`, one BLAS thread; the garbage collector off during the call and not run just before it, "
+        "whose traversal would leave the CPU's caches cold: ~0.45 ms on a 0.6-ms call). Warm: the same call again, its caches built (median of "
         f"the repetitions: until {WARM_CPU_S:g} s or {WARM_REPS} of them), the memos of an identical question (the "
         "ladder's estimates, kept per epochs) emptied before each, so that each repetition does the request's work "
         "as a new question about a body already served does; the identical question repeated with its memos is "

@@ -427,7 +427,8 @@ def serialised(epochs: int, columns: int, output: str = "json") -> Part:
 def calendar_dates(epochs: int) -> Part:
     """The epochs' calendar dates beside ``jd_tdb`` (:func:`ephem.base.times.calendar_dates`: TDB to UTC through
     ERFA and the ISO text; benchmarks/bench_calendar.py)."""
-    return Part("step_days", f"the calendar dates of {epochs} epochs", epochs * _u("calendar_epoch_s"),
+    return Part("step_days", f"the calendar dates of {epochs} epochs",
+                (_u("calendar_base_s") if epochs else 0.0) + epochs * _u("calendar_epoch_s"),
                 epochs * _u("calendar_bytes_per_epoch") / MB)
 
 
