@@ -147,7 +147,10 @@ class Watchdog:
         self._next = 0
         self._finished = 0              # requests finished, and their count at the last trim
         self._trimmed = 0
-        self._checked = -math.inf       # when the memory was last checked (time.monotonic)
+        self._checked = -math.inf       # when the memory was last checked (time.monotonic), and whether one is due
+        self._check_due = False
+        self._check_lock = threading.Lock()
+        self._last_trim = time.monotonic()
         self._thread = threading.Thread(target=self._watch, name="ephem-watchdog", daemon=True)
         self._thread.start()
 
@@ -164,11 +167,21 @@ class Watchdog:
             idle = not self._running
         # the peak first (one cheap system call): below the limit, the resident memory is too, and the worker's
         # every request need not read /proc (13 us a request, 1-2 % of a /healthz under gunicorn); then at most one
-        # check every MEMORY_CHECK_S (its full collection holds the interpreter ~0.1 s)
-        if (idle and self.rss_limit_mb is not None and peak_resident_mb() > self.rss_limit_mb
-                and time.monotonic() - self._checked >= MEMORY_CHECK_S):
-            self._checked = time.monotonic()
-            self.check_memory()
+        # check every MEMORY_CHECK_S (its full collection holds the interpreter ~0.1 s): one asked for sooner is
+        # left to the watchdog's thread, which makes it when the time has come if the worker is still idle
+        if idle and self.rss_limit_mb is not None and peak_resident_mb() > self.rss_limit_mb:
+            self._check_due = True
+            self._check_if_time(time.monotonic())
+
+    def _check_if_time(self, now: float) -> None:
+        if not (self._check_due and now - self._checked >= MEMORY_CHECK_S) or not self._check_lock.acquire(False):
+            return                              # not yet, or the other thread (loop or watchdog) is checking
+        try:
+            self._checked, self._check_due = now, False
+            if self.check_memory() == "wait":
+                self._check_due = True          # another worker is being replaced: asked again later
+        finally:
+            self._check_lock.release()
 
     def check_memory(self) -> str:
         """The decision on an idle worker's memory: ``"ok"`` (resident within the limit), ``"trimmed"`` (within it
@@ -194,22 +207,29 @@ class Watchdog:
         return "recycle"
 
     def _watch(self) -> None:
-        last_trim = time.monotonic()
         while True:
             time.sleep(self.interval_s)
-            now = time.monotonic()
-            with self._lock:
-                stuck = [(now - t0, what) for t0, what in self._running.values()
-                         if now - t0 > self.deadline_s + self.grace_s]
-                finished = self._finished
-            if stuck:
-                age, what = max(stuck)
-                log.error("worker %d: %s has run %.1f s, past its deadline of %.1f s: ending the worker", os.getpid(),
-                          what, age, self.deadline_s)
-                os.kill(os.getpid(), signal.SIGKILL)
-            if finished != self._trimmed and now - last_trim >= self.trim_interval_s:
-                release_free_memory()       # ~1 ms: what the requests since the last time freed goes back
-                self._trimmed, last_trim = finished, now
+            self.tick(time.monotonic())
+
+    def tick(self, now: float) -> None:
+        """The watchdog's round (every ``interval_s``, in its thread): a request stuck past its deadline and grace ends
+        the worker; the memory freed since the last round goes back to the system (once per ``trim_interval_s``);
+        a memory check left for later is made if its time has come and the worker is idle."""
+        with self._lock:
+            stuck = [(now - t0, what) for t0, what in self._running.values()
+                     if now - t0 > self.deadline_s + self.grace_s]
+            finished = self._finished
+            idle = not self._running
+        if stuck:
+            age, what = max(stuck)
+            log.error("worker %d: %s has run %.1f s, past its deadline of %.1f s: ending the worker", os.getpid(),
+                      what, age, self.deadline_s)
+            os.kill(os.getpid(), signal.SIGKILL)
+        if finished != self._trimmed and now - self._last_trim >= self.trim_interval_s:
+            release_free_memory()       # ~1 ms: what the requests since the last time freed goes back
+            self._trimmed, self._last_trim = finished, now
+        if idle:
+            self._check_if_time(now)
 
 
 class RecycleTurns:

@@ -5,6 +5,7 @@ below the limit it does not, and its peak (one getrusage call) spares it the /pr
 from __future__ import annotations
 
 import signal
+import time
 
 import numpy as np
 import pytest
@@ -116,6 +117,21 @@ def test_an_idle_worker_s_memory_is_checked_at_most_every_few_seconds(kills, mem
     wd.leave(wd.enter(SCOPE))
     wd.leave(wd.enter(SCOPE))                   # idle again at once: no second collection (~0.1 s each)
     assert memory["collections"] == 1 and kills == []
+    wd.tick(time.monotonic() + guards.MEMORY_CHECK_S + 1)     # later, still idle: the watchdog's round asks again
+    assert memory["collections"] == 2 and kills == []
+
+
+def test_a_check_left_for_later_is_made_by_the_watchdog_s_round_once_idle(kills, memory):
+    wd = _watchdog(limit_mb=400.0)
+    memory["rss"], memory["after_trim"] = 500.0, 300.0
+    wd.leave(wd.enter(SCOPE))                   # the first check: trimmed under the limit
+    memory["rss"], memory["after_trim"] = 500.0, None
+    busy = wd.enter(SCOPE)
+    wd.leave(wd.enter(SCOPE))                   # not idle: nothing
+    wd.leave(busy)                              # idle, over the limit, too soon after the last check: left for later
+    assert kills == []
+    wd.tick(time.monotonic() + guards.MEMORY_CHECK_S + 1)     # no request since: the worker is recycled
+    assert kills == [(guards.os.getpid(), signal.SIGTERM)]
 
 
 def test_one_worker_of_the_service_recycles_at_a_time(kills, memory, tmp_path):
