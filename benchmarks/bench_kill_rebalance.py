@@ -185,8 +185,9 @@ def analyse(res: dict, args) -> dict:
     summary = {"rows": rows, "replacement": replacement,
                "spawned_s": res["first_seen"].get(replacement, float("nan")) - res["kill_t"] if replacement else None,
                "ready_s": res["ready"].get(replacement, float("nan")) - res["kill_t"] if replacement else None,
-               "first_answer_s": None if first_answer is None else first_answer["sec"] - res["kill_t"],
-               "balanced_s": None if balanced_from is None else balanced_from["sec"] - res["kill_t"],
+               # the end of the (whole, wall-clock) second in which it happened, from the kill: an upper bound
+               "first_answer_s": None if first_answer is None else first_answer["sec"] + 1 - res["kill_t"],
+               "balanced_s": None if balanced_from is None else balanced_from["sec"] + 1 - res["kill_t"],
                "replacement_share": (sum(r["replacement"] for r in rest) / max(1, sum(r["total"] for r in rest))
                                      if rest else 0.0),
                "seconds_after": len(rest),
@@ -213,14 +214,15 @@ def render(res: dict, s: dict, args, started: str) -> str:
                 f"{sum(r['victim'] for r in s['rows']) / max(1, sum(r['total'] for r in s['rows'])):.0%} of the "
                 "requests."] if args.no_kill else []),
              "" if args.no_kill else
-             f"**Both workers serve again {fmt(s['balanced_s'])} after the kill** (the first second in which the "
-             f"survivor and the replacement each answer >= {FAIR_SHARE:.0%} of the requests; goal <= 5 s; "
+             f"**Both workers serve again within {fmt(s['balanced_s'])} of the kill** (by the end of the first "
+             f"second in which the survivor and the replacement each answer >= {FAIR_SHARE:.0%} of the requests; "
+             "goal <= 5 s; "
              + ("never within the run" if s["balanced_s"] is None else
                 f"from then to the end the replacement answered {s['replacement_share']:.0%} of the requests, and "
                 f"{s['seconds_unfair']} of those {s['seconds_after']} seconds had a worker under {FAIR_SHARE:.0%}")
              + "). The replacement: "
              f"spawned {fmt(s['spawned_s'])}, ready (its `Application startup complete`) {fmt(s['ready_s'])}, "
-             f"its first answer in the second starting {fmt(s['first_answer_s'])}. Throughput: "
+             f"its first answers within {fmt(s['first_answer_s'])}. Throughput: "
              f"{s['rps_before']:,.0f} req/s before the kill, {s['rps_last10']:,.0f} req/s over the last 10 s.", "",
              "| t (s) | total req/s | killed worker | survivor | replacement | errors |",
              "|---:|---:|---:|---:|---:|---:|"]

@@ -292,6 +292,7 @@ class Soak:
         self.statuses: dict[str, collections.Counter] = collections.defaultdict(collections.Counter)
         self.latency: dict[str, list[float]] = collections.defaultdict(list)
         self.peak: dict[int, float] = {}            # pid -> largest RSS in the current segment
+        self.samples: dict[int, list[float]] = collections.defaultdict(list)    # pid -> every RSS sampled under load
         self.seen: list[int] = []                   # every worker pid, in the order first seen
         self.rows: list[dict] = []                  # one per checkpoint
         self.failures: list[str] = []               # the first 5xx answers: what was asked, what came back
@@ -310,6 +311,8 @@ class Soak:
         while not stop.is_set():
             for pid, mb in self.snapshot().items():
                 self.peak[pid] = max(self.peak.get(pid, 0.0), mb)
+                if self.limit > 0:
+                    self.samples[pid].append(mb)
             with contextlib.suppress(asyncio.TimeoutError):
                 await asyncio.wait_for(stop.wait(), SAMPLE_INTERVAL_S)
 
@@ -395,6 +398,15 @@ def render(soak: Soak, args, wall_s: float, ready_s: float, started: str) -> str
     lines += ["", f"Largest RSS of any worker: **{largest:.0f} MB**; workers replaced during the run: "
               + (", ".join(str(p) for p in replaced) or "none") + "; workers at the start: "
               + ", ".join(f"{pid} {mb:.0f} MB" for pid, mb in starts.items() if mb is not None) + "."]
+    lines += ["", f"RSS sampled every {SAMPLE_INTERVAL_S} s while the requests ran (requests in flight included):", "",
+              f"| worker | samples | p50 (MB) | p90 | p99 | max | samples above {args.bound_mb:g} MB |",
+              "|---:|---:|---:|---:|---:|---:|---:|"]
+    for pid in pids:
+        xs = soak.samples.get(pid, [])
+        if xs:
+            above = sum(x > args.bound_mb for x in xs) / len(xs)
+            lines.append(f"| {pid} | {len(xs)} | {_pct(xs, 50):.0f} | {_pct(xs, 90):.0f} | {_pct(xs, 99):.0f} | "
+                         f"{max(xs):.0f} | {above:.1%} |")
     lines += ["", "Where each worker's resident memory was at each checkpoint (MB, /proc/<pid>/smaps: the main heap, "
               "anonymous mappings — the other malloc arenas, large blocks, thread stacks —, mapped files), and its "
               "threads:", "", "| requests | worker | heap | anonymous | files | threads |",
@@ -432,6 +444,7 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
     p.add_argument("--clients", type=int, default=4)
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--seed", type=int, default=42)
+    p.add_argument("--bound-mb", type=float, default=400.0, help="report the share of RSS samples above this")
     p.add_argument("--env", action="append", default=[], help="NAME=VALUE for the server (repeatable)")
     p.add_argument("--out", type=Path, default=None, help="append the section to this file")
     args = p.parse_args(argv)

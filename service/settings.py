@@ -98,8 +98,8 @@ class Settings:
     #: allocator's freed memory to the system and, if the worker still holds more, recycles it gracefully, one
     #: worker at a time (under a supervisor only; service/guards.py). What a worker keeps is ~150 MB of code and
     #: tables, the per-body caches (model_cache_mb) and the figures' library once used: keep this above ~300 MB +
-    #: model_cache_mb - 64, or the workers recycle again and again. 384: under 400 MB through the memory soak
-    #: (benchmarks/RESULTS_memory_soak.md), where the workers grew to 500-800 MB before
+    #: model_cache_mb - 64, or the workers recycle again and again. Through the memory soak's 8,000 requests a worker
+    #: kept 300-320 MB, where it grew to 500-770 MB before (benchmarks/RESULTS_memory_soak.md)
     worker_rss_mb: float = 384.0
     #: the requests one keep-alive connection carries: the last is answered with ``Connection: close`` and the
     #: connection closed after it (make serve's httptools protocol, service/server.py), so that the client reconnects
