@@ -154,8 +154,10 @@ def _check_calendar(iso: str, field: str) -> None:
 
 def _is_astropy_time(value) -> bool:
     # not hasattr(value, "tdb"): that would convert (for UT1, through astropy's downloading IERS table)
-    module = sys.modules.get("astropy.time")
-    return module is not None and isinstance(value, module.Time)
+    # while another thread is still importing astropy.time (a worker's first requests), the module is in sys.modules
+    # without its Time yet: no value can be one of a class not yet made (module.Time raised AttributeError: a 500)
+    time_class = getattr(sys.modules.get("astropy.time"), "Time", None)
+    return time_class is not None and isinstance(value, time_class)
 
 
 def _time_jd_tdb(value, field: str) -> float:

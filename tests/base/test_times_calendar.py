@@ -105,3 +105,14 @@ def test_another_scale_is_refused_naming_the_field(scale):
     with pytest.raises(InvalidInputError) as err:
         times.check_calendar_scale(scale)
     assert err.value.field == "time_scale" and "utc, tt, tdb" in err.value.reason
+
+
+def test_a_time_is_told_apart_while_astropy_time_is_still_being_imported(monkeypatch):
+    """A worker's first requests can run while another thread imports astropy.time: the module is in sys.modules
+    without its Time yet (the memory soak of issue 42 met a 500 AttributeError there). A date is then read as given."""
+    import sys
+    import types
+    from ephem.base import times
+    monkeypatch.setitem(sys.modules, "astropy.time", types.ModuleType("astropy.time"))      # half imported: no Time
+    assert times._is_astropy_time("2040-01-01") is False
+    assert times.to_jd_tdb("JD2451545") == 2451545.0
