@@ -116,3 +116,18 @@ def test_a_time_is_told_apart_while_astropy_time_is_still_being_imported(monkeyp
     monkeypatch.setitem(sys.modules, "astropy.time", types.ModuleType("astropy.time"))      # half imported: no Time
     assert times._is_astropy_time("2040-01-01") is False
     assert times.to_jd_tdb("JD2451545") == 2451545.0
+
+
+def test_few_dates_are_written_as_many_are(monkeypatch):
+    """A short column is %-formatted date by date, a long one by numpy all at once (ephem.base.times.FEW_DATES): the
+    same text either way, signed years, leap seconds and every scale included."""
+    import numpy as np
+    from ephem.base import times
+    leap = 2457754.5 + 69.184 / 86400 - np.arange(-3, 3, 0.25) / 86400        # about 2016-12-31T23:59:60 UTC
+    jd = np.concatenate([leap, [1e5, 5.3e6, 2451545.0], 2441317.5 + 997.3 * np.arange(20)])
+    for scale in ("utc", "tt", "tdb"):
+        few = times.calendar_dates(jd, scale)
+        monkeypatch.setattr(times, "FEW_DATES", 0)
+        assert times.calendar_dates(jd, scale) == few
+        monkeypatch.setattr(times, "FEW_DATES", 64)
+    assert "2016-12-31T23:59:60.000" in times.calendar_dates(leap) and few[len(leap)].startswith("-4439-")
