@@ -69,7 +69,7 @@ _NAMES = {
     "user_catalogue_dir": (".bodies.datasets", "user_catalogue_dir"),
     "data_dir": (".base.paths", "data_dir"),
     "BatchFailed": (".batch.distributed", "BatchFailed"),
-    "run_batch": (".batch.distributed", "run"),
+    "run_batch": (".answers.batches", "run_batch"),
     "HistorySpec": (".batch.population", "HistorySpec"),
     "shipped_orbit_span": (".longterm.nbody_orbit", "shipped_span"),
     "import_catalogue": (".bodies.importer", "import_catalogue"),

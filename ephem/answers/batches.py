@@ -5,12 +5,16 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Mapping
+from pathlib import Path
 
 import numpy as np
 
 from ..base.budget import OverBudgetError, charge, checkpoint
 from ..base.errors import InvalidInputError
+from ..batch import distributed
 from ..batch import population as pop
+from ..exports.qtable import to_ecsv
 from ..longterm.history import MAX_HISTORY_SAMPLES, MAX_SPAN_YEARS
 
 #: the most rows :func:`batch` takes in one call (the service's is EPHEM_MAX_BATCH_ROWS); a catalogue streams through
@@ -60,7 +64,13 @@ def batch(rows, history: dict | None = None, max_rows: int = MAX_BATCH_ROWS, his
         raise
     checkpoint()    # the whole batch is charged: a large one takes its turn (or is refused busy) before any row
     out = pop.spoil_rows(pop.evaluate(columns, spec), bad)     # a cell that is not a number spoils its row only
+    return batch_answer(out)
 
+
+def batch_answer(out: Mapping) -> dict:
+    """The batch answer ({columns, rows, model}) from the core's output columns (:func:`ephem.batch.population.evaluate`,
+    bad rows spoiled): one row object per row, NaN as null, a nutation multiple as an integer. :func:`batch` returns
+    it and ``ephem batch --format ecsv`` writes it per partition (:func:`write_ecsv_partition`)."""
     def plain(key, v):
         if isinstance(v, (float, np.floating)):
             return None if not math.isfinite(v) else int(v) if key.endswith("_multiple") else float(v)
@@ -69,10 +79,33 @@ def batch(rows, history: dict | None = None, max_rows: int = MAX_BATCH_ROWS, his
         return str(v) if isinstance(v, np.str_) else v
 
     names = list(out)
-    return {"columns": names, "rows": [{k: plain(k, out[k][j]) for k in names} for j in range(len(rows))],
+    n = len(out[names[0]]) if names else 0
+    return {"columns": names, "rows": [{k: plain(k, out[k][j]) for k in names} for j in range(n)],
             "model": {"name": pop.MODEL, "theory": "Kinoshita's first-order theory with exact Hansen coefficients, "
                       "vectorised over the bodies (ephem.batch.population); each row equals the single-body answer",
                       "leading_terms": pop.LEADING_TERMS}}
+
+
+def write_ecsv_partition(out: Mapping, path: str, source: str) -> None:
+    """One partition of ``ephem batch --format ecsv``: the core's output columns as POST /v1/batch's ECSV (the
+    same answer, :func:`batch_answer`, through :func:`ephem.exports.qtable.to_ecsv`: units from the column names,
+    descriptions, the model and ``source`` in the YAML header), written to ``path``. Runs on a dask worker (the
+    engine, :mod:`ephem.batch.distributed`, gets it from :func:`run_batch`: the batch package sits below the
+    exports and cannot import it)."""
+    flat = [k for k, v in out.items() if np.ndim(v) != 1]
+    if flat:
+        raise ValueError(f"ECSV takes one value per row and column; {flat[0]!r} has {np.ndim(out[flat[0]])} dimensions")
+    Path(path).write_text(to_ecsv(batch_answer(out), source=source), encoding="utf-8")
+
+
+def run_batch(input_path, out_path, **options):
+    """:func:`ephem.batch.distributed.run` with ECSV among its output formats (``output_format="ecsv"``: each
+    partition written by :func:`write_ecsv_partition`); what ``ephem.api.run_batch`` and ``ephem batch`` call."""
+    options.setdefault("writers", {"ecsv": write_ecsv_partition})
+    return distributed.run(input_path, out_path, **options)
+
+
+run_batch.__wrapped__ = distributed.run       # inspect.signature and help() show the engine's parameters
 
 
 #: the keys of a batch's history, all three required

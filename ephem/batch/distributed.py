@@ -12,7 +12,7 @@ How the work is laid out in ``OUT``:
   than one partition, whatever the size of the input.
 * ``OUT/_input/manifest.json``: what the split was made from (the input's path, size, mtime and SHA-256) and
   with which settings (partition rows, output format, history, ephem's version), written last.
-* ``OUT/part-NNNNN.parquet`` (or ``.csv``): one task's answer, written to a temporary file beside it and
+* ``OUT/part-NNNNN.parquet`` (or ``.csv``, or ``.ecsv`` with a writer for it): one task's answer, written to a temporary file beside it and
   renamed (``os.replace``) into place, so an output file that exists is complete.
 
 A rerun with the same input and settings resumes: the partitions whose output exists are skipped. A changed
@@ -41,7 +41,7 @@ import dataclasses
 import importlib
 import inspect
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -53,6 +53,7 @@ from .partitions import INPUT_DIR, input_format, open_batches, partition_name
 from .task import CORE, count_done, known_columns, run_partition
 from .. import __version__
 
+#: the formats this package writes itself; others (ECSV) come as ``writers`` from above (ephem.answers.batches)
 FORMATS = ("parquet", "csv")
 #: a task's retries when it raises (a worker that dies is the scheduler's allowed-failures, also 3)
 RETRIES = 3
@@ -104,7 +105,8 @@ def _check_history(history) -> None:
 def run(input_path, out_path, *, scheduler: str | None = None, workers: int | None = None,
         partition_rows: int = 50_000, output_format: str = "parquet", history=None,
         progress: Callable[[int, int], None] | None = None, fresh: bool = False,
-        log: Callable[[str], None] | None = None) -> BatchResult:
+        log: Callable[[str], None] | None = None,
+        writers: Mapping[str, Callable[[dict, str, str], None]] | None = None) -> BatchResult:
     """Answer every body of ``input_path`` (CSV or Parquet, by suffix) into ``out_path/part-NNNNN.<format>``.
 
     ``scheduler``: the address of an existing dask scheduler (``tcp://host:port``); its workers must import
@@ -114,6 +116,8 @@ def run(input_path, out_path, *, scheduler: str | None = None, workers: int | No
     ``progress(done, total)`` is called in the calling thread with the partitions done (skipped ones
     included) once when the tasks start (after the last note) and after each partition; ``log(message)``
     gets the notes (the split, resume, the prediction, the dashboard link). ``fresh`` deletes an earlier batch in ``out_path``.
+    ``writers``: more output formats, {format: write(output columns, path, source)}, run on the workers (a
+    module-level function: it is pickled by name); ``ephem.api.run_batch`` passes ECSV's.
 
     Raises :class:`~ephem.base.errors.MissingExtraError` without dask.distributed or pyarrow (the ``batch`` extra),
     :class:`~ephem.base.errors.InvalidInputError` (the field named) before any work for a bad input or
@@ -123,8 +127,10 @@ def run(input_path, out_path, *, scheduler: str | None = None, workers: int | No
     t0 = time.perf_counter()
     log = log or (lambda message: None)
     path, out = Path(input_path).expanduser().absolute(), Path(out_path).expanduser().absolute()
-    if output_format not in FORMATS:
-        raise InvalidInputError("format", f"must be one of {', '.join(FORMATS)}, got {output_format!r}")
+    writers = dict(writers or {})
+    if output_format not in FORMATS + tuple(writers):
+        raise InvalidInputError("format", f"must be one of {', '.join(FORMATS + tuple(writers))}, got "
+                                f"{output_format!r}")
     if isinstance(partition_rows, bool) or not isinstance(partition_rows, int) or partition_rows < 1:
         raise InvalidInputError("partition_rows", f"must be a positive integer, got {partition_rows!r}")
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
@@ -177,8 +183,9 @@ def run(input_path, out_path, *, scheduler: str | None = None, workers: int | No
                     + _prediction(core, todo_rows, min(partition_rows, manifest["rows"]), history, manifest))
                 if progress is not None:    # after the notes: a progress bar is not interrupted by them
                     progress(skipped, total)
+                write = writers.get(output_format), f"ephem batch {path}"
                 computed, failures, rows, failed = _compute(client, todo, out, outputs, output_format, history,
-                                                            progress, total, skipped, rows, failed)
+                                                            progress, total, skipped, rows, failed, write)
     result = BatchResult(partitions=total, partitions_skipped=skipped, rows=rows, rows_failed=failed,
                          seconds=time.perf_counter() - t0, dashboard_link=link, out_path=out, rows_computed=computed)
     if failures:
@@ -199,12 +206,15 @@ def _prediction(core, rows: int, partition: int, history, manifest: dict) -> str
         (f", {memory:.3g} MB a worker" if memory is not None else "")
 
 
-def _compute(client, todo, out, outputs, fmt, history, progress, total, done, rows, failed):
-    """Submit one task per partition and collect them as they finish; (rows computed, failures, rows, failed)."""
+def _compute(client, todo, out, outputs, fmt, history, progress, total, done, rows, failed, write):
+    """Submit one task per partition and collect them as they finish; (rows computed, failures, rows, failed).
+    ``write``: (a writer of ``fmt`` or None, the source its files name)."""
     from distributed import as_completed
 
+    writer, source = write
     futures = {client.submit(run_partition, CORE, str(out / INPUT_DIR / partition_name(i, "parquet")),
-                             str(outputs[i]), fmt, history, retries=RETRIES, pure=False): i for i in todo}
+                             str(outputs[i]), fmt, history, writer, f"{source}, partition {i}",
+                             retries=RETRIES, pure=False): i for i in todo}
     computed, failures = 0, {}
     try:
         for future in as_completed(futures):

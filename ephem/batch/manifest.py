@@ -51,7 +51,7 @@ def _differences(manifest: dict, settings: dict) -> list[str]:
 
 def _ours(entry: Path) -> bool:
     name = entry.name
-    return name == INPUT_DIR or (name.startswith(("part-", ".part-")) and (".parquet" in name or ".csv" in name))
+    return name == INPUT_DIR or (name.startswith(("part-", ".part-")) and (".parquet" in name or ".csv" in name or ".ecsv" in name))
 
 
 def _clear(out: Path) -> None:

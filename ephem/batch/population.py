@@ -43,6 +43,7 @@ from ..longterm.averaged_spin import steps_per_sample
 from ..longterm.history import MAX_HISTORY_SAMPLES, history_grid, spin_axis_history
 from ..sun.family import SunLadder
 from ..theory import cost
+from .rows import spoil_rows  # noqa: F401 - the core's, re-exported (ephem.answers.batches: pop.spoil_rows)
 from .tangents import INERTIA_INPUTS, MEAN_ANOMALY_INPUTS, forward, geometry, hypot, nutation_sums, rowdot
 
 #: The input columns: name -> (unit, meaning). Required: name, the orbit, the pole, the period and one of the
@@ -318,29 +319,6 @@ def _scatter(rows: np.ndarray, mask: np.ndarray, n_rows: int) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------- the public entry
-
-def spoil_rows(result: Mapping, bad: Mapping[int, str]) -> dict:
-    """``result`` (output columns of :func:`evaluate`, or of another batch core) with the rows in ``bad`` marked
-    as the core marks a row it cannot take: ``bad[j]`` in ``error``, NaN or "" elsewhere (``name`` kept). For the
-    rows whose input the reader could not parse (a cell that is not a number): ``ephem batch`` and the service's
-    POST /v1/batch both mark them here."""
-    if not bad:
-        return {key: np.asarray(value) for key, value in result.items()}
-    rows = np.fromiter(bad, dtype=np.intp)
-    out = {}
-    for key, value in result.items():
-        value = np.asarray(value)
-        if key != "name":
-            text = value.dtype.kind not in "fiub"
-            value = value.astype(object if text else np.float64)    # a copy; fixed-width text would cut a reason
-            value[rows] = "" if text else np.nan
-            if key == "error":
-                for j, reason in bad.items():
-                    value[j] = reason
-        out[key] = value
-    return out
-
-
 
 def evaluate(columns: Mapping, history: HistorySpec | None = None) -> dict[str, np.ndarray]:
     """The outputs (:data:`OUTPUT_COLUMNS`, plus :data:`HISTORY_COLUMNS` with ``history``) of a partition.

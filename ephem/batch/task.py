@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from .partitions import write_atomic
-from .population import spoil_rows
+from .rows import spoil_rows
 
 #: the module holding ``INPUT_COLUMNS``, ``evaluate`` and ``batch_cost``; the tasks import it by this name
 CORE = "ephem.batch.population"
@@ -110,9 +110,11 @@ def _failed_rows(error_column) -> int:
     return int(pc.sum(pc.and_(pc.is_valid(error_column), pc.not_equal(error_column, ""))).as_py() or 0)
 
 
-def run_partition(core: str, in_path: str, out_path: str, fmt: str, history) -> tuple[int, int]:
+def run_partition(core: str, in_path: str, out_path: str, fmt: str, history, write=None,
+                  source: str = "") -> tuple[int, int]:
     """One task: read the input partition, answer it with ``core.evaluate``, write the output atomically;
-    (rows, failed rows). Runs on a worker: everything it needs comes in its arguments."""
+    (rows, failed rows). Runs on a worker: everything it needs comes in its arguments. ``write(output columns,
+    path, source)`` writes a format this package does not (ECSV: ephem.answers.batches.write_ecsv_partition)."""
     import pyarrow.csv as pacsv
     import pyarrow.parquet as pq
 
@@ -122,6 +124,11 @@ def run_partition(core: str, in_path: str, out_path: str, fmt: str, history) -> 
     columns, bad = _core_columns(table)
     del table
     result = module.evaluate(columns, history=history)
+    if write is not None:
+        result = spoil_rows(result, bad)
+        write_atomic(Path(out_path), lambda tmp: write(result, tmp, source))
+        errors = result.get("error", ())
+        return n, sum(1 for e in errors if isinstance(e, str) and e)
     out = _output_table(result, n, bad, fmt)
     if fmt == "parquet":
         write_atomic(Path(out_path), lambda tmp: pq.write_table(out, tmp))
@@ -136,6 +143,11 @@ def count_done(path: Path, fmt: str) -> tuple[int, int]:
     import pyarrow.csv as pacsv
     import pyarrow.parquet as pq
 
+    if fmt == "ecsv":       # an ECSV partition (ephem.answers.batches.write_ecsv_partition): astropy reads it
+        from astropy.table import Table
+
+        error = Table.read(path, format="ascii.ecsv")["error"]     # whole: its masked Quantities span columns
+        return len(error), sum(1 for e in error.tolist() if isinstance(e, str) and e)
     if fmt == "parquet":
         table = pq.read_table(path, columns=["error"])
     else:

@@ -5,7 +5,7 @@ plot | pck | batch | demo | catalogue import``.
 
 ``bodies``, ``body``, ``precession``, ``nutation``, ``track``, ``history`` and ``free-motion`` print JSON (the
 default), CSV or an aligned text table (``--format json|csv|table``); ``tables`` writes csv, markdown, latex or json
-files, ``plot`` PNG or SVG (``--out``'s suffix), ``pck`` a text kernel, ``batch`` parquet or csv partitions, ``demo``
+files, ``plot`` PNG or SVG (``--out``'s suffix), ``pck`` a text kernel, ``batch`` parquet, csv or ecsv partitions, ``demo``
 text tables; ``catalogue import``'s ``--format`` is its orbit file's. tests/cli/test_cli_matrix.py runs every command in
 every format for a body of every theory family. Errors go to stderr as ``error: FIELD: why``
 with exit status 2 (bad input, unknown body, and what the option parser refuses: a malformed

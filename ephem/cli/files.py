@@ -127,12 +127,13 @@ def pck(names: list[str] = typer.Argument(..., metavar="BODY..."),
 class BatchFormat(str, Enum):
     parquet = "parquet"
     csv = "csv"
+    ecsv = "ecsv"
 
 
 @app.command()
 def batch(input_path: str = typer.Argument(..., metavar="INPUT", help="The bodies: a CSV or Parquet file, one row "
                                            "per body (columns: docs/batch_input.md)."),
-          out: Path = typer.Option(..., "--out", help="Output directory: part-NNNNN.parquet|csv, one per partition "
+          out: Path = typer.Option(..., "--out", help="Output directory: part-NNNNN.parquet|csv|ecsv, one per partition "
                                    "(a rerun resumes in it)."),
           scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Address of a running dask scheduler, "
                                                   "tcp://HOST:PORT (default: a local cluster on 127.0.0.1)."),
@@ -140,7 +141,8 @@ def batch(input_path: str = typer.Argument(..., metavar="INPUT", help="The bodie
                                                 "the cores); with --scheduler, wait for this many workers."),
           partition_rows: int = typer.Option(50_000, "--partition-rows", min=1, help="Bodies per partition (one "
                                              "task; bounds a worker's memory)."),
-          fmt: BatchFormat = typer.Option(BatchFormat.parquet, "--format", help="Output format."),
+          fmt: BatchFormat = typer.Option(BatchFormat.parquet, "--format", help="Output format (ecsv: "
+                                                "astropy's, with units, as POST /v1/batch's)."),
           history: bool = typer.Option(False, "--history", help="Add each body's obliquity history (with "
                                        "--start-year, --stop-year, --step-years)."),
           start_year: Optional[float] = typer.Option(None, "--start-year", help="--history: Julian years from "

@@ -437,6 +437,13 @@ def check_batch(case: Case, result) -> None:
         rows = pq.read_table(parts[0]).to_pylist()
     elif case.fmt == "csv":
         _, rows = parse_csv(parts[0].read_text(encoding="utf-8"))
+    elif case.fmt == "ecsv":        # POST /v1/batch's ECSV: the obliquity in deg, an empty error read back masked
+        from astropy.table import QTable
+
+        table = QTable.read(parts[0], format="ascii.ecsv")
+        assert table["obliquity_deg"].unit == "deg"
+        rows = [{"name": n, "error": e or "", "obliquity_deg": o} for n, e, o in
+                zip(table["name"].tolist(), table["error"].tolist(), table["obliquity_deg"].to_value("deg"))]
     else:
         pytest.fail(f"no check for the batch's format {case.fmt!r}: add one")
     assert [r["name"] for r in rows] == names and all(r["error"] == "" for r in rows)
