@@ -112,7 +112,8 @@ def emit(answer, fmt: Format, rows: list[dict] | None = None, ecsv=None) -> None
         for note in notes:              # beside the data, not in it: a CSV keeps its one header line
             sys.stderr.write(note + "\n")
         return
-    sys.stdout.write(rows_to_table(rows) + "".join(note + "\n" for note in notes))
+    # the notes after a blank line: the table's own lines stay aligned, its end plain to a reader and a parser
+    sys.stdout.write(rows_to_table(rows) + ("\n" + "".join(note + "\n" for note in notes) if notes else ""))
 
 
 def lower_bound_notes(answer) -> list[str]:

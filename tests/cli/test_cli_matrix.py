@@ -137,7 +137,9 @@ def _records(result) -> object:
 def parse_table(text: str) -> tuple[list[str], list[list[str]]]:
     """(header, rows) of the CLI's aligned table: a header line, a rule of dashes per column, rows; every line
     as wide as the rule, each cell right-aligned in its column's span (what ``ephem.cli.common.rows_to_table`` writes)."""
-    lines = text.rstrip("\n").split("\n")
+    table, _, notes = text.partition("\n\n")        # the notes where a 1-sigma is a lower bound, after a blank line
+    assert all(line.startswith("note: ") for line in notes.splitlines()), f"not a note after the table:\n{text}"
+    lines = table.rstrip("\n").split("\n")
     assert len(lines) >= 3, f"a table needs a header, a rule and a row:\n{text}"
     rule = lines[1]
     spans = [m.span() for m in re.finditer(r"-+", rule)]
