@@ -97,7 +97,7 @@ def test_route_and_cli_serve_the_free_motion():
     res = CliRunner().invoke(cli, ["free-motion", "mars", "--start", "2030-01-01", "--stop", "2030-01-05",
                                    "--step-days", "1", "--format", "csv"])
     assert res.exit_code == 0, res.output
-    assert res.stdout.splitlines()[0].startswith("jd_tdb,figure_axis_offset_x_arcsec") and "wobble period" in res.stderr
+    assert res.stdout.splitlines()[0].startswith("jd_tdb,utc_iso,figure_axis_offset_x_arcsec") and "wobble period" in res.stderr
 
 
 def test_from_andoyer_keeps_an_arcsecond_wobble_exact():

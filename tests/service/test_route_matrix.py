@@ -248,12 +248,17 @@ FORMAT_MEDIA = {"json": "application/json", "table-json": "application/json", "c
 ENUMERATED = ("kind", "layout", "axis")
 
 #: (method, path, family, the variant's items that make it so) -> the reason a 422 not-applicable gives
+#: the routes that follow an axis (the track, its figures, the models comparison and its charts)
+AXIS_ROUTES = ("/v1/bodies/{body}/track", "/v1/bodies/{body}/track.png", "/v1/bodies/{body}/track.svg",
+               "/v1/bodies/{body}/track/models", "/v1/bodies/{body}/track/models.png",
+               "/v1/bodies/{body}/track/models.svg")
 NOT_APPLICABLE = {
-    # the Cassini state is the figure axis's: a synchronous rotator's angular momentum is not served
-    ("GET", "/v1/bodies/{body}/track", "moon", (("axis", "angular_momentum"),)): "serves the figure axis",
-    # ... and so do the figures of its track (every track parameter reaches the figure)
-    **{("GET", f"/v1/bodies/{{body}}/track.{ext}", "moon", (("kind", kind), ("axis", "angular_momentum"))):
-       "serves the figure axis" for ext in ("png", "svg") for kind in ("precession", "nutation-loop", "obliquity")},
+    # a synchronous rotator's theory follows its figure axis and its mean rotation axis (issue 40), not its angular
+    # momentum; every other family follows the figure axis, the angular momentum and the forced figure, and the mean
+    # rotation axis is a synchronous body's
+    **{("GET", path, "moon", (("axis", "angular_momentum"),)): "not angular_momentum" for path in AXIS_ROUTES},
+    **{("GET", path, family, (("axis", "mean_rotation"),)): "not mean_rotation"
+       for path in AXIS_ROUTES for family in ("sun_only", "planet_crosser", "earth", "mars")},
 }
 
 
