@@ -9,40 +9,21 @@ killed, is measured by benchmarks/bench_kill_rebalance.py (benchmarks/RESULTS_ki
 """
 from __future__ import annotations
 
-import contextlib
-import socket
-import threading
 import time
 
 import httpx
 import pytest
-import uvicorn
 
 from service.app import create_app
 from service.server import Worker, server_config
 from service.settings import Settings
+from tests.service.test_connection import serving as serving_app
 
 
-@contextlib.contextmanager
 def serving(settings: Settings):
-    """The app of ``settings`` under uvicorn with make serve's protocol, in a thread on a loopback port of its own;
-    yields the base URL."""
-    sock = socket.socket()
-    sock.bind(("127.0.0.1", 0))
-    config = uvicorn.Config(create_app(settings), log_level="critical", lifespan="on", **server_config(settings))
-    server = uvicorn.Server(config)
-    thread = threading.Thread(target=server.run, kwargs={"sockets": [sock]}, daemon=True)
-    thread.start()
-    try:
-        deadline = time.monotonic() + 30
-        while not server.started:
-            assert time.monotonic() < deadline and thread.is_alive(), "uvicorn did not start"
-            time.sleep(0.02)
-        yield f"http://127.0.0.1:{sock.getsockname()[1]}"
-    finally:
-        server.should_exit = True
-        thread.join(10)
-        sock.close()
+    """The app of ``settings`` under uvicorn with make serve's protocol, in a thread on a loopback port of its own
+    (tests/service/test_connection.py's server); yields the base URL."""
+    return serving_app(create_app(settings), **server_config(settings))
 
 
 def _note_connection(response: httpx.Response) -> None:
