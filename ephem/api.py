@@ -93,6 +93,10 @@ _NAMES = {
     "to_ecsv": (".exports.qtable", "to_ecsv"),
     "to_qtable": (".exports.qtable", "to_qtable"),
     "MODELS": (".families", "MODELS"),
+    "model_families": (".families", "model_families"),
+    "Family": (".families", "Family"),
+    "register_family": (".families", "register"),
+    "unregister_family": (".families", "unregister"),
     "MAX_ORDER": (".forced.precession_nutation", "MAX_ORDER"),
     "model_for": (".forced.precession_nutation", "model_for"),
     "icrf_to_ecliptic_matrix": (".orbit.geometry", "icrf_to_ecliptic_matrix"),
@@ -114,7 +118,7 @@ __all__ = [
     "user_catalogue_dir", "data_dir",
     "KNOWN_PERTURBERS", "MAX_ANGLE_DEG", "MIN_ROTATION_PERIOD_HOURS", "GM_CENTER", "icrf_to_ecliptic_matrix",
     # what a request may name, and its limits
-    "MODELS", "AXES", "LAPLACE_LIMIT", "MAX_NUMERICAL_ORBITS", "SERIES_MAX_DELTA", "TIME_PATTERN_ECMA", "ut1_span",
+    "MODELS", "model_families", "AXES", "LAPLACE_LIMIT", "MAX_NUMERICAL_ORBITS", "SERIES_MAX_DELTA", "TIME_PATTERN_ECMA", "ut1_span",
     "CALENDAR_SCALES", "calendar_dates",
     # astropy's tables: any table-shaped answer as a QTable (units, Time epochs, metadata) or as ECSV text
     "to_qtable", "to_ecsv", "ECSV_MEDIA_TYPE", "TABLE_KINDS",
@@ -125,6 +129,8 @@ __all__ = [
     "HistorySpec", "shipped_orbit_span",
     # errors
     "EphemError", "InvalidInputError", "NotApplicableError", "UnknownBodyError", "MissingExtraError",
+    # a family of theories from outside the library (a plug-in): its registry entry
+    "Family", "register_family", "unregister_family",
     # bounded work (a host, as the service, sets the budget and the caches)
     "Budget", "budget", "charge", "prepaid", "current_budget", "BusyError", "DeadlineExceededError", "OverBudgetError", "memo",
 ]

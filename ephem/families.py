@@ -8,9 +8,15 @@ A family's module is imported only when it answers (or when :data:`THEORIES` is 
 each family's test of a body (plain functions of :mod:`ephem.bodies.catalogue`, which the family classes' ``serves``
 call too) and the model names of :data:`MODELS`, a table that tests/theory/test_families_registry.py checks against the classes. A
 one-body answer then loads one family, not three (issue 33: the CLI's start-up).
+
+The registry is the one list of models: :data:`MODELS` is a live view of it, which the CLI's help, the service's
+schema (its ``model`` enums, built when the app is) and the docs' list (tests/house/test_docs_models.py) read.
+:func:`register` adds a family from outside the library (a plug-in, or a test's toy family) and :func:`unregister`
+takes it out again.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from importlib import import_module
 
@@ -27,6 +33,8 @@ class Family:
     name: str
     models: tuple[str, ...]
     serves: object  # (Body, perturbers) -> bool
+    #: the class's ``summary`` (what the family is, in a few words), for the help texts without importing it
+    summary: str = ""
 
     def load(self):
         return getattr(import_module(self.module), self.name)
@@ -35,15 +43,73 @@ class Family:
 #: the families, most specific first
 FAMILIES: tuple[Family, ...] = (
     Family("ephem.moon.family", "SynchronousTheory", ("cassini", "librations", "integration", "de421"),
-           is_synchronous),
-    Family("ephem.earth.family", "LunisolarTheory", ("lunisolar", "nonrigid"), is_lunisolar),
+           is_synchronous, "the Cassini-state theory of a synchronous rotator (the Moon)"),
+    Family("ephem.earth.family", "LunisolarTheory", ("lunisolar", "nonrigid"), is_lunisolar,
+           "the Earth's lunisolar theory (the Earth under the Moon and the Sun)"),
     Family("ephem.sun.family", "SunLadder", ("secular", "series", "hansen", "second_order", "nonrigid",
-                                             "numerical", "real_orbit"), is_centre_alone),
+                                             "numerical", "real_orbit"), is_centre_alone,
+           "the single-perturber ladder (a body torqued by the centre of its orbit)"),
 )
-#: every model name any family answers to, the most general family's first
-#: (a name two families share, "nonrigid", once: the family that serves the body gives its meaning)
-MODELS: tuple[str, ...] = tuple(dict.fromkeys(name for family in reversed(FAMILIES) for name in family.models)) \
-    + (LONG_TERM,)
+
+
+class ModelNames(Sequence):
+    """Every model name any family of the registry answers to, the most general family's first, then the long-term
+    model (a name two families share, "nonrigid", once: the family that serves the body gives its meaning).
+
+    A view, read anew at each use, so that a family :func:`register` adds is in every list taken from it."""
+
+    def _names(self) -> tuple[str, ...]:
+        return tuple(dict.fromkeys(name for family in reversed(FAMILIES) for name in family.models)) + (LONG_TERM,)
+
+    def __getitem__(self, index):
+        return self._names()[index]
+
+    def __len__(self) -> int:
+        return len(self._names())
+
+    def __contains__(self, name) -> bool:
+        return name in self._names()
+
+    def __iter__(self):
+        return iter(self._names())
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, (tuple, list, ModelNames)) and tuple(self) == tuple(other)
+
+    __hash__ = None
+
+    def __repr__(self) -> str:
+        return repr(self._names())
+
+
+#: what the long-term model is, in a few words (the help texts' and the docs' list)
+LONG_TERM_SUMMARY = "every family's long-term model (the spin averaged along the orbit's history)"
+#: every model name any family answers to (a live view of the registry)
+MODELS = ModelNames()
+
+
+def model_families() -> list[tuple[str, tuple[str, ...]]]:
+    """Each family's ``summary`` and model names, the most general family first (as :data:`MODELS` lists them), then
+    the long-term model, which every family has after its own: the lists a help text or a document gives."""
+    return [(f.summary, f.models) for f in reversed(FAMILIES)] + [(LONG_TERM_SUMMARY, (LONG_TERM,))]
+
+
+def register(family: Family, before: str | None = None) -> Family:
+    """Add ``family`` to the registry, before the family whose class is named ``before`` (None: first, the most
+    specific), so that the bodies its test takes are served by it; its models join :data:`MODELS`. A family of
+    that class name already registered is an error."""
+    global FAMILIES
+    if any(f.name == family.name for f in FAMILIES):
+        raise ValueError(f"a family {family.name!r} is registered already")
+    at = 0 if before is None else next(i for i, f in enumerate(FAMILIES) if f.name == before)
+    FAMILIES = FAMILIES[:at] + (family,) + FAMILIES[at:]
+    return family
+
+
+def unregister(name: str) -> None:
+    """Take the family whose class is named ``name`` out of the registry (a test's toy family, once done)."""
+    global FAMILIES
+    FAMILIES = tuple(f for f in FAMILIES if f.name != name)
 
 
 def __getattr__(name: str):

@@ -33,7 +33,16 @@ from .unexpected import UnexpectedErrors
 
 # the names the library knows, one source each: datasets (data/catalogue), models (ephem.families), axes
 Dataset = Enum("Dataset", {name: name for name in available_datasets()}, type=str)
-Rung = Enum("Rung", {name: name for name in MODELS}, type=str)
+
+
+def model_enum() -> type[Enum]:
+    """The ``model`` query's names: the families' registry's (ephem.api.MODELS) as it stands."""
+    return Enum("Rung", {name: name for name in MODELS}, type=str)
+
+
+#: the ``model`` query's enum, made anew by each create_app (its routes' annotations name it) so that an app has the
+#: models of the families registered when it was made (a plug-in's, a test's toy family)
+Rung = model_enum()
 Axis = Enum("Axis", {name: name for name in AXES}, type=str)
 DEFAULT_DATASET_VALUE = Dataset(DEFAULT_DATASET)
 
@@ -123,7 +132,9 @@ ACCURACY_DOC_CANDIDATES = (STATIC_DIR / "accuracy.md",
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:
+    global Rung
     settings = settings or Settings.from_env()
+    Rung = model_enum()     # before the routes whose annotations read it
 
     @asynccontextmanager
     async def lifespan(app: FastAPI):

@@ -4,14 +4,29 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal, Optional, Union
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, GetPydanticSchema
+from pydantic_core import PydanticCustomError
 
 from ephem.api import AXES, CALENDAR_SCALES, GM_CENTER, MAX_ANGLE_DEG, MAX_ORDER, MODELS, Body, Orbit, Pole
 
 # strict: JSON true is not a number, nor "2.36" (a string) one; JSON integers are still numbers
 Finite = ConfigDict(allow_inf_nan=False, extra="forbid", strict=True)
-# the names come from the library (one source each): the models of ephem.families, the axes of ephem.sun.ladder
-RungName = Literal[MODELS]
+
+
+def known_model(name: str) -> str:
+    """``name`` if a family of the registry answers to it (ephem.api.MODELS, read at each request: a family registered
+    after this module was imported is known), else the 422 a Literal of the names would give."""
+    if name not in MODELS:
+        names = [repr(m) for m in MODELS]
+        raise PydanticCustomError("literal_error", "Input should be {expected}",
+                                  {"expected": f"{', '.join(names[:-1])} or {names[-1]}"})
+    return name
+
+
+# the names come from the library (one source each): the models of ephem.families (their enum in the schema made when
+# the app's OpenAPI is, from the registry then), the axes of ephem.sun.ladder
+RungName = Annotated[str, AfterValidator(known_model), GetPydanticSchema(
+    get_pydantic_json_schema=lambda core, handler: {"type": "string", "enum": list(MODELS)})]
 Perturbers = Field(None, description="the bodies whose torque the answer includes: the orbit's centre (the Sun), "
                                      "and for the Earth by default the Moon too (the lunisolar theory)")
 AxisName = Literal[AXES]

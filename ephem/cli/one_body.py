@@ -17,6 +17,17 @@ import typer
 
 from .common import (DatasetOpt, Format, FormatOpt, OrderOpt, RecordFormat, RecordFormatOpt, TimeScale, TimeScaleOpt,
                      ToleranceOpt, app, command_line, emit, fail, flat_answer)
+from .usage import HELP_VALUES
+
+
+def _models_help() -> str:
+    """The ``{models}`` of ``--model``'s help: each family's model names and what it is, from the families' registry
+    (read when the help is shown, so that a family registered since is listed; it loads numpy for this help only)."""
+    from .. import api
+    return "; ".join(f"{', '.join(models)} ({summary})" for summary, models in api.model_families())
+
+
+HELP_VALUES["models"] = _models_help
 
 
 def _ecsv(api, answer):
@@ -138,12 +149,8 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
           step_days: float = typer.Option(..., "--step-days", help="Sampling step in days."),
           dataset: str = DatasetOpt, fmt: Format = FormatOpt, order: Optional[int] = OrderOpt,
           tolerance_mas: Optional[float] = ToleranceOpt,
-          model: Optional[str] = typer.Option(None, "--model", help="A rung of the fidelity ladder: "
-                                              "secular, series, hansen, second_order, nonrigid (Mars' liquid "
-                                              "core), numerical, real_orbit; lunisolar or nonrigid for the Earth "
-                                              "with the Moon (lunisolar its default); cassini, librations (its "
-                                              "default), integration or de421 (DE421's kernel, 1900-2050) for the "
-                                              "Moon."),
+          model: Optional[str] = typer.Option(None, "--model", help="The model to compute with, "
+                                              "one of the family serving BODY (omitted: its default): {models}."),
           axis: str = typer.Option("figure", "--axis", help="The pole to follow: figure (the axis of largest "
                                    "inertia, which circles the angular momentum by the free wobble, counted as "
                                    "an error), angular_momentum, forced_figure (the figure axis's forced "

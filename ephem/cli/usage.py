@@ -187,8 +187,25 @@ def _plain_values(command) -> None:
         _plain_param(param)
 
 
+#: what ``{name}`` in an option's help stands for: a function called when the help is shown (a command module adds
+#: its own: ``--model``'s names are the families' registry's, read then, so that no other command loads the library)
+HELP_VALUES: dict = {}
+
+
 class _Command(TyperCommand):
-    """A command whose extra arguments are a usage error naming them."""
+    """A command whose extra arguments are a usage error naming them, and whose options' help may hold a
+    ``{name}`` of :data:`HELP_VALUES`, filled when the help is shown."""
+
+    def format_help(self, ctx, formatter):
+        for param in self.params:
+            template = getattr(param, "help_template", None) or getattr(param, "help", None) or ""
+            names = [n for n in HELP_VALUES if "{" + n + "}" in template]
+            if names:
+                param.help_template = template
+                for n in names:
+                    template = template.replace("{" + n + "}", HELP_VALUES[n]())
+                param.help = template
+        return super().format_help(ctx, formatter)
 
     def get_help_option(self, ctx):  # made on first use, after _plain_values
         option = super().get_help_option(ctx)

@@ -17,6 +17,7 @@ def test_the_static_table_names_each_family_class_and_its_models():
     for entry, cls in zip(families.FAMILIES, classes):
         assert cls.__name__ == entry.name
         assert tuple(cls.models) == entry.models, entry.name
+        assert cls.summary == entry.summary, entry.name
     union = tuple(dict.fromkeys(m for cls in reversed(classes) for m in cls.models))
     from ephem.longterm.with_long_term import NAME
     assert families.MODELS == union + (NAME,)
