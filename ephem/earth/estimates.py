@@ -43,6 +43,7 @@ from ..orbit.lunar import lunisolar_data
 from .lunisolar import earth_lunisolar, term_amplitudes
 from ..forced.precession_nutation import Track, cached_model
 from ..forced.physics_errors import rotation_averaging_bound
+from ..theory.choice import Candidates, cheapest
 from ..theory.results import Estimate
 from ..orbit.lunar import MIN_CUT_MAS
 from .model import LunisolarEarth, NonRigidEarth, TRACK_CUT_MAS, check_earth, lunisolar_earth, residual_envelope
@@ -271,18 +272,26 @@ def omitted_bound(body: Body, cut_mas: float, axis: str = "figure", perturbers=(
     return pole_displacement_sum(c[dropped], eps) * MAS
 
 
-def cut_for_tolerance(body: Body, tolerance: float, axis: str = "figure", perturbers=("Moon", "Sun")) -> float:
-    """The largest amplitude cut (mas, at least :data:`MIN_CUT_MAS`) whose omitted terms move the pole by no
-    more than ``tolerance`` (radians) in all; :class:`NotApplicableError` when even the smallest cut does not."""
+def cut_candidates(body: Body, axis: str = "figure", perturbers=("Moon", "Sun")) -> Candidates:
+    """The amplitude cuts (mas) a tolerance may choose for the nutation terms: the n-th drops the n smallest terms
+    (n = 0 ... all, the last cut twice the largest amplitude), priced by the terms it keeps and bounded by the sum of
+    the pole displacements of those it drops (radians, against the cut-free series). Arrays: 17 000 candidates."""
     full = _all_terms(body, axis, tuple(perturbers))
     c = full.coefficients
     amp = term_amplitudes(c)
     eps = lunisolar_earth(body, axis, TRACK_CUT_MAS, tuple(perturbers)).obliquity
     disp = pole_displacements(c, eps) * MAS
     order = np.argsort(amp)                       # drop the smallest terms first
-    dropped = np.cumsum(disp[order])
-    n = int(np.searchsorted(dropped, tolerance, side="right"))   # the n smallest may go
-    cut = float(amp[order[n]]) if n < amp.size else float(amp.max()) * 2.0
+    cuts = np.append(amp[order], float(amp.max()) * 2.0 if amp.size else 0.0)
+    return Candidates(cuts, np.arange(amp.size, -1, -1, dtype=float),
+                      np.concatenate(([0.0], np.cumsum(disp[order]))), tie=0.0, what="amplitude cut")
+
+
+def cut_for_tolerance(body: Body, tolerance: float, axis: str = "figure", perturbers=("Moon", "Sun")) -> float:
+    """The largest amplitude cut (mas, at least :data:`MIN_CUT_MAS`) whose omitted terms move the pole by no
+    more than ``tolerance`` (radians) in all (:func:`ephem.theory.choice.cheapest` of :func:`cut_candidates`: the
+    fewest terms kept); :class:`NotApplicableError` when even the smallest cut does not."""
+    cut = float(cheapest(cut_candidates(body, axis, perturbers), tolerance, default=0.0))
     if cut < MIN_CUT_MAS:
         if omitted_bound(body, MIN_CUT_MAS, axis, perturbers) > tolerance:
             raise NotApplicableError(body.name, (

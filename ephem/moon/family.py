@@ -64,6 +64,7 @@ from ..orbit.relativity import geodesic_precession_rate
 from ..orbit.geometry import carry
 from ..orbit.kepler import mean_motion_rad_per_day
 from ..forced.precession_nutation import Track
+from ..theory.choice import Candidates, cheapest
 from ..theory.interface import SpinAxisTheory, Spectrum, SpectrumExport
 from ..theory.results import (COVERS_ALL_TERMS, COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, CassiniSummary, Estimate,
                               NutationResult, NutationTerm, PrecessionResult, RateSigmas, selection)
@@ -514,13 +515,20 @@ def no_orbit_theory(model: str) -> str:
             "(model=cassini)")
 
 
+def cut_candidates(series) -> Candidates:
+    """The amplitude cuts (rad) a tolerance may choose for the libration terms: each term's larger amplitude (pole or
+    τ), largest first, priced by the terms the cut keeps (those above it) and bounded by what the terms at or below it
+    can move the pole (radians, made only when the choice reaches it)."""
+    rising = np.sort(np.maximum(series.pole_amplitudes, series.tau_amplitudes))
+    amp = rising[::-1]
+    return Candidates(amp, (amp.size - np.searchsorted(rising, amp, side="right")).astype(float).tolist(),
+                      lambda i: series.omitted_bound(float(amp[i]))[0], tie=0.0, what="amplitude cut")
+
+
 def cut_for_tolerance(series, tolerance: float, name: str) -> float:
-    """The largest amplitude cut (rad) whose omitted terms move the pole by no more than ``tolerance``."""
-    amp = np.sort(np.maximum(series.pole_amplitudes, series.tau_amplitudes))
-    for cut in amp[::-1]:
-        if series.omitted_bound(float(cut))[0] <= tolerance:
-            return float(cut)
-    return MIN_CUT_MAS * MAS
+    """The largest amplitude cut (rad) whose omitted terms move the pole by no more than ``tolerance``
+    (:func:`ephem.theory.choice.cheapest` of :func:`cut_candidates`: the fewest terms kept)."""
+    return float(cheapest(cut_candidates(series), tolerance, default=MIN_CUT_MAS * MAS))
 
 
 def nutation_terms(series) -> tuple[NutationTerm, ...]:

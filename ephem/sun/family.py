@@ -27,6 +27,7 @@ from ..orbit.hansen import LAPLACE_LIMIT
 from ..orbit.relativity import geodesic_precession_rate
 from ..theory import cost
 from ..base.budget import Cost
+from ..theory.choice import Candidates, cheapest
 from ..theory.interface import Spectrum, SpectrumExport, SpinAxisTheory
 from ..theory.results import (COVERS_INTERIOR, COVERS_TRUNCATION, Estimate, NutationResult, NutationTerm, OBSERVABLE_RATE,
                               PrecessionResult, RateSigmas, Selection, selection)
@@ -169,20 +170,28 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
             parts.append(cost.propagation(with_sigma))
         return Cost(tuple(parts))
 
+    def order_candidates(self) -> Candidates:
+        """The e-orders a tolerance may choose for the rate and the nutation terms, priced by their e-power (the
+        series' order: the lower, the simpler the answer's series; its CPU hardly differs, the exact coefficients
+        being built for the floor anyway) and bounded by their truncation alone (no time span; radians); the exact
+        coefficients (None) last, at no truncation. Past the Laplace limit the exact ones alone."""
+        m = cached_model(self.body)
+        orders: list[int | None] = []
+        if m.eccentricity < LAPLACE_LIMIT:
+            kmax = int(m.nutation.multiple.max()) if m.nutation.multiple.size else 0
+            orders = list(range(0, min(kmax, MAX_ORDER)))
+        return Candidates(orders + [None], [float(n) for n in orders] + [math.inf],
+                          lambda i: 0.0 if i == len(orders) else truncation_bound(m, orders[i], 0.0),
+                          tie=0.0, what="e-order")
+
     def order_for_tolerance(self, tolerance: float | None, order: int | None) -> int | None:
-        """The lowest e-order whose truncation error is within the tolerance (None: exact coefficients); for
-        the rate and the nutation terms (no time span): the truncation bound alone."""
+        """The e-order a tolerance chooses (:func:`ephem.theory.choice.cheapest` of :meth:`order_candidates`: the
+        lowest whose truncation bound is within it; None: the exact coefficients, whose floor the selection checks)."""
         if tolerance is None:
             return order
         if order is not None:
             raise InvalidInputError("order", "give either order or tolerance_mas, not both")
-        m = cached_model(self.body)
-        if m.eccentricity < LAPLACE_LIMIT:
-            kmax = int(m.nutation.multiple.max()) if m.nutation.multiple.size else 0
-            for n in range(0, min(kmax, MAX_ORDER)):
-                if truncation_bound(m, n, 0.0) <= tolerance:
-                    return n
-        return None
+        return cheapest(self.order_candidates(), tolerance)
 
     def _selection(self, order: int | None, tol: float | None, start: float, interior=None) -> Selection:
         m = cached_model(self.body)

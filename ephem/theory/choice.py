@@ -12,11 +12,20 @@ estimate is made. Models predicted within :data:`TIE` of the first eligible one 
 estimated error, so that a cost that differs in its last bits between two machines cannot change the answer's
 accuracy for nothing. Where no model meets the tolerance every estimate is made, and the refusal names the best
 (:func:`ephem.theory.interface.refuse`).
+
+Every other decision a tolerance makes follows the same rule here (issue 43): the Sun's e-order of the rate and the
+nutation terms (:meth:`ephem.sun.family.SunLadder.order_candidates`), the amplitude cut of the Earth's and the Moon's
+nutation terms (:func:`ephem.earth.estimates.cut_candidates`, :func:`ephem.moon.family.cut_candidates`), a history's
+orbit model (:func:`ephem.longterm.history.spin_axis_history`, through :func:`choose`). A family supplies its
+:class:`Candidates` (what each is, its price, its bound: the physics); :func:`decide` makes the decision, the one rule
+for all: :func:`choose` is :func:`decide` over a plan's estimates.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, Sequence
+
+import numpy as np
 
 from ..base.budget import Cost
 from ..base.constants import MAS
@@ -44,6 +53,81 @@ class Deferred:
     free_wobble: bool = False
     rotation_scale: str | None = None
     available: bool = True
+
+
+@dataclass(frozen=True)
+class Candidates:
+    """A family's priced candidates for one decision, in its own order: what each is (``values``: an e-order, an
+    amplitude cut...), its predicted price (``costs``: any one unit within a decision, the smaller the cheaper; None:
+    the candidate cannot serve) and its bound (radians: an array, or a function of the index made only when the
+    decision reaches it, in order of price; None: unavailable). ``tie``: prices within this fraction of the cheapest
+    eligible one are a tie (0 where prices are counts, never equal but by the same count); ``what`` names the kind."""
+
+    values: Sequence
+    costs: Sequence[float | None] | np.ndarray
+    bound: Callable[[int], float | None] | np.ndarray
+    tie: float = TIE
+    what: str = "model"
+
+
+@dataclass(frozen=True)
+class Decision:
+    """What :func:`decide` found: the index chosen (``best``; None: no candidate meets the tolerance), the cheapest
+    eligible one (``first``, the tie's), the bounds made (``bounds``: index -> radians, None unavailable; every one for
+    an array of bounds) and the order of price the candidates were tried in (``order``)."""
+
+    best: int | None
+    first: int | None
+    bounds: dict[int, float | None]
+    order: tuple[int, ...]
+
+
+def decide(candidates: Candidates, tolerance: float) -> Decision:
+    """The candidate predicted cheapest among those whose bound is within ``tolerance`` (radians): bounds are made in
+    order of price, cheapest first (the index breaking equal prices), up to the first within the tolerance and those
+    tied with it (prices within ``candidates.tie`` of its); of a tie the smallest bound wins (bounds within
+    :data:`SAME_ESTIMATE` of it counted equal), then the cheaper. No dearer candidate's bound is made."""
+    costs, tie = candidates.costs, candidates.tie
+    if isinstance(candidates.bound, np.ndarray):
+        return _decide_arrays(np.asarray(costs, dtype=float), candidates.bound, tolerance, tie)
+    order = tuple(sorted((i for i, c in enumerate(costs) if c is not None), key=lambda i: (costs[i], i)))
+    made: dict[int, float | None] = {}
+    first, tied = None, []
+    for i in order:
+        if first is not None and costs[i] > costs[first] * (1.0 + tie):
+            break
+        b = made[i] = candidates.bound(i)
+        if b is None or b > tolerance:
+            continue
+        if first is None:
+            first = i
+        tied.append(i)
+    if not tied:
+        return Decision(None, None, made, order)
+    least = min(made[i] for i in tied)
+    return Decision(next(i for i in tied if made[i] <= least * (1.0 + SAME_ESTIMATE)), first, made, order)
+
+
+def _decide_arrays(costs: np.ndarray, bounds: np.ndarray, tolerance: float, tie: float) -> Decision:
+    """:func:`decide` over arrays of prices (NaN: unavailable) and bounds, at once (the Earth's 17 000 cuts)."""
+    order = np.lexsort((np.arange(costs.size), costs))
+    order = order[~np.isnan(costs[order])]
+    eligible = ~np.isnan(costs) & (bounds <= tolerance)
+    made = dict(enumerate(bounds.tolist()))
+    if not eligible.any():
+        return Decision(None, None, made, tuple(order.tolist()))
+    ranked = order[eligible[order]]
+    first = int(ranked[0])
+    tied = ranked[costs[ranked] <= costs[first] * (1.0 + tie)]
+    least = float(bounds[tied].min())
+    best = int(tied[np.argmax(bounds[tied] <= least * (1.0 + SAME_ESTIMATE))])
+    return Decision(best, first, made, tuple(order.tolist()))
+
+
+def cheapest(candidates: Candidates, tolerance: float, default=None):
+    """The value :func:`decide` chooses, or ``default`` where no candidate meets ``tolerance`` (radians)."""
+    best = decide(candidates, tolerance).best
+    return default if best is None else candidates.values[best]
 
 
 def resolve(plan: list) -> list[Estimate]:
@@ -97,24 +181,16 @@ def choose(plan: list, price: Callable[[Estimate | Deferred], Cost] | list, tole
     model is unavailable) among those whose estimate is within ``tolerance`` (radians); ``refuse`` (given every
     estimate, made) raises when none is."""
     costs = list(price) if isinstance(price, list) else [price(p) if p.available else None for p in plan]
-    order = sorted((i for i, c in enumerate(costs) if c is not None), key=lambda i: (costs[i].cpu_s, i))
     made: dict[int, Estimate] = {}
-    first, tied = None, []
-    for i in order:
-        if first is not None and costs[i].cpu_s > costs[first].cpu_s * (1.0 + TIE):
-            break
+
+    def bound(i: int) -> float | None:
         est = made[i] = plan[i].make() if isinstance(plan[i], Deferred) else plan[i]
-        if not est.available or est.total > tolerance:
-            continue
-        if first is None:
-            first = i
-        tied.append(i)
-    best = None
-    if tied:
-        # the most accurate of the tie, estimates within SAME_ESTIMATE of the smallest counted equal (e-orders past
-        # convergence differ in their last bits, which a CPU's SIMD kernels change): then the cheaper, as ordered
-        least = min(made[i].total for i in tied)
-        best = next(i for i in tied if made[i].total <= least * (1.0 + SAME_ESTIMATE))
+        return est.total if est.available else None
+
+    # the most accurate of a tie, estimates within SAME_ESTIMATE of the smallest counted equal (e-orders past
+    # convergence differ in their last bits, which a CPU's SIMD kernels change): then the cheaper, as ordered
+    decision = decide(Candidates(plan, [None if c is None else c.cpu_s for c in costs], bound), tolerance)
+    best, first, order = decision.best, decision.first, decision.order
     if best is None:      # every estimate, those made above not made again (a deferred one is a run of its model)
         refuse([e for e in (made[i] if i in made else resolve([p])[0] for i, p in enumerate(plan)) if e.available])
         raise AssertionError("refuse() must raise")      # pragma: no cover
