@@ -148,16 +148,18 @@ def child_asgi(n: int) -> dict:
                 for u in ok.values():
                     (await c.get(u)).raise_for_status()
             samples: dict = {k: [] for k in ok}
+            cpu: dict = {k: [] for k in ok}
             deadline = time.monotonic() + CHILD_BUDGET_S
             for _ in range(n):
                 if time.monotonic() > deadline:
                     break
-                for key, u in ok.items():
-                    t0 = time.perf_counter()
+                for key, u in ok.items():     # interleaved: a slower spell of the machine falls on all three
+                    c0, t0 = time.process_time(), time.perf_counter()
                     r = await c.get(u)
                     samples[key].append(time.perf_counter() - t0)
+                    cpu[key].append(time.process_time() - c0)     # every thread of the process: the pool's too
                     r.raise_for_status()
-            return {"samples": samples, "urls": urls, "status": status}
+            return {"samples": samples, "cpu": cpu, "urls": urls, "status": status}
 
     out = asyncio.run(main())
     out["where"] = _where()
@@ -610,28 +612,32 @@ def report(info: list[str], meta: dict, http: dict, cpu: dict, asgi: dict, floor
         L.append("")
 
     if asgi:
-        L += ["## 3. The page's track view against its API answer plus the models chart (in-process, warm median "
-              "wall time)", ""]
-        L += ["| request | before ms | after ms |", "|---|---:|---:|"]
+        L += ["## 3. The page's track view against its API answer plus the models chart (in-process, warm medians "
+              "of the process's CPU time, every thread, and of the wall time; the three requests interleaved)", ""]
+        L += ["| request | before CPU ms | after CPU ms | before wall ms | after wall ms |", "|---|---:|---:|---:|---:|"]
         names = {"page": "the page", "api": "the API's track", "chart": "the models chart"}
         meds = {t: {k: _median_ms(v) for k, v in asgi[t]["samples"].items()} for t in asgi}
+        cpus = {t: {k: _median_ms(v) for k, v in asgi[t].get("cpu", {}).items() if v} for t in asgi}
         for key in ("page", "api", "chart"):
             cells = []
-            for t in ("before", "after"):
-                url = asgi[t]["urls"].get(key)
-                st = asgi[t]["status"].get(url) if url else None
-                cells.append(_f(meds[t][key], 2) if key in meds[t] else f"missing (HTTP {st})" if st else "missing")
+            for table in (cpus, meds):
+                for t in ("before", "after"):
+                    url = asgi[t]["urls"].get(key)
+                    st = asgi[t]["status"].get(url) if url else None
+                    cells.append(_f(table[t][key], 2) if key in table[t] else f"missing (HTTP {st})" if st
+                                 else "missing")
             url = asgi["after"]["urls"].get(key) or asgi["before"]["urls"].get(key)
-            L.append(f"| {names[key]}: `GET {url}` | {cells[0]} | {cells[1]} |")
+            L.append(f"| {names[key]}: `GET {url}` | {' | '.join(cells)} |")
         ratio, alone = [], []
-        for t in ("before", "after"):
-            m = meds[t]
-            ratio.append(_f(m["page"] / (m["api"] + m["chart"])) if {"page", "api", "chart"} <= m.keys()
-                         else "— (no chart route)" if "chart" not in m else "—")
-            alone.append(_f(m["page"] / m["api"]) if {"page", "api"} <= m.keys() else "—")
+        for table in (cpus, meds):
+            for t in ("before", "after"):
+                m = table[t]
+                ratio.append(_f(m["page"] / (m["api"] + m["chart"])) if {"page", "api", "chart"} <= m.keys()
+                             else "— (no chart route)" if "chart" not in m else "—")
+                alone.append(_f(m["page"] / m["api"]) if {"page", "api"} <= m.keys() else "—")
         n = {t: ", ".join(f"{k} {len(v)}" for k, v in asgi[t]["samples"].items()) for t in ("before", "after")}
-        L += [f"| **page ÷ (API + chart)** | {ratio[0]} | {ratio[1]} |",
-              f"| page ÷ API alone | {alone[0]} | {alone[1]} |", "",
+        L += [f"| **page ÷ (API + chart)** | {' | '.join(ratio)} |",
+              f"| page ÷ API alone | {' | '.join(alone)} |", "",
               f"Samples: before {n['before']}; after {n['after']} (each child samples for at most "
               f"{CHILD_BUDGET_S:g} s).",
               ""]
@@ -769,9 +775,11 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"in-process page / API / chart, round {i + 1}: {t} ... [{time.monotonic() - t_start:.0f} s]",
                       flush=True)
                 out = run_child(tree, "asgi", max(1, args.asgi_n // args.rounds), EPHEM_WARM_UP="0")
-                prev = asgi.setdefault(t, {"samples": {}, "urls": out["urls"], "status": out["status"]})
+                prev = asgi.setdefault(t, {"samples": {}, "cpu": {}, "urls": out["urls"], "status": out["status"]})
                 for k, v in out["samples"].items():
                     prev["samples"].setdefault(k, []).extend(v)
+                for k, v in out.get("cpu", {}).items():
+                    prev["cpu"].setdefault(k, []).extend(v)
         if not args.no_floor:
             print(f"the framework's floor (after tree) ... [{time.monotonic() - t_start:.0f} s]", flush=True)
             floor = run_child(ROOT, "floor", args.floor_n, EPHEM_WARM_UP="0")
