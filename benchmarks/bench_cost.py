@@ -212,7 +212,7 @@ def body_caches() -> list:
     series every e-order is cut from, DE421) are not among them."""
     from ephem.forced import pole_uncertainty
     from ephem.longterm import history as long_term
-    from ephem.moon import cassini
+    from ephem.forced import cassini
     from ephem.sun import family, geodesic
     return [cached_model, tables.cached_theory, tables.cached_tables, uncertainty.propagated, spectrum.semi_amplitudes,
             pole_uncertainty.cached_pole_sensitivity, ephemeris._cached_path, hansen.hansen_exact,

@@ -235,7 +235,7 @@ Sigma = Field(None, description="1-sigma uncertainty from the catalogue's, same 
 
 
 class CassiniInfo(BaseModel):
-    """The Cassini state of a synchronous rotator (ephem.moon.cassini): the served mean pole and what the theory derives."""
+    """The Cassini state of a synchronous rotator (ephem.forced.cassini): the served mean pole and what the theory derives."""
     equator_inclination_deg: float = Field(description="the served mean pole's inclination to the Laplace plane "
                                                        "(the Moon: the ecliptic of date), from the catalogue pole")
     derived_equator_inclination_deg: float = Field(description="the same from the torque's balance against the "

@@ -1,8 +1,10 @@
 """The forced theory of one perturber: Kinoshita's equations and what is built on them.
 
 The precession-nutation model of a body, second order, the numerical reference, the rigid body, the rotation scale,
-error bounds and uncertainty.
+error bounds and uncertainty; and a synchronous rotator's Cassini state, which any family of synchronous bodies
+borrows (the Moon's).
 
+- :mod:`ephem.forced.cassini`: The Cassini state of a synchronous rotator: the mean pole of the Moon (Cassini's laws).
 - :mod:`ephem.forced.catalogue_sigmas`: A body's catalogue inputs with their 1-σ: what the forced model reads, in which units, how correlated.
 - :mod:`ephem.forced.describe`: The forced model of one perturber in words: the theory, what it assumes, and the warnings a body earns.
 - :mod:`ephem.forced.integration`: Numerical reference: the rotation-averaged solar torque integrated along the Keplerian orbit.

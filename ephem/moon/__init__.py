@@ -1,6 +1,5 @@
 """The Moon's family (and synchronous rotators): the Cassini state, the physical librations and the rigid integration.
 
-- :mod:`ephem.moon.cassini`: The Cassini state of a synchronous rotator: the mean pole of the Moon (Cassini's laws).
 - :mod:`ephem.moon.family`: The Moon's family behind the common interface: its models' estimates, results, history and spectrum.
 - :mod:`ephem.moon.libration_frames`: The Moon's frames in small rotations: the general precession that turns the frame of date, [v×] and exp([θ×]).
 - :mod:`ephem.moon.libration_forcing`: The torque on the Moon's turning reference frame, over the torus of the Delaunay arguments.
@@ -11,6 +10,9 @@
 - :mod:`ephem.moon.model`: A synchronous rotator's pole from its Cassini state: the model the family serves, and its integrated track.
 - :mod:`ephem.moon.physical_librations`: The Moon's forced physical librations about its Cassini state: the pole and the prime meridian.
 - :mod:`ephem.moon.rigid_integration`: The full rigid synchronous satellite, integrated: the independent check of the Cassini-state theory.
+
+The Cassini state itself is :mod:`ephem.forced.cassini` (issue 43): the physics of any synchronous rotator, below the
+families, so that another family (a binary asteroid's secondary) borrows it without importing the Moon's.
 
 The package imports none of its modules: importing one loads only what it needs.
 """

@@ -55,7 +55,7 @@ import numpy as np
 from ..bodies.interior import interior_of
 from ..theory import cost
 from ..base.budget import Cost, charge
-from .cassini import free_librations, moment_ratios
+from ..forced.cassini import free_librations, moment_ratios
 from ..bodies.catalogue import Body, is_synchronous
 from ..base.constants import ARCSEC, J2000_JD, JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS, MAS, ROUNDING
 from ..base.errors import InvalidInputError, NotApplicableError
@@ -81,7 +81,7 @@ from .kernel_rung import PA_ROUNDING, kernel_estimate, kernel_track
 from .orientation import ecliptic_lag_vector, mean_inclination, orientation_data, pa_offset_angle
 
 
-THEORY = ("Cassini state of a synchronous rotator (ephem.moon.cassini): the spin axis, the orbit normal and the Laplace "
+THEORY = ("Cassini state of a synchronous rotator (ephem.forced.cassini): the spin axis, the orbit normal and the Laplace "
           "pole coplanar, the pole at fixed inclination to the Laplace plane turning with the orbit's node")
 DESCRIPTIONS = {
     "cassini": "the bare Cassini state: the catalogue's mean pole turned with the node (Cassini's laws); the "
@@ -149,7 +149,7 @@ class CassiniHistory:
     model: SynchronousModel
     librations: float
     orbit_body: str = "Earth"
-    source: str = "the Cassini state (ephem.moon.cassini) turned with the node along the primary's orbit plane"
+    source: str = "the Cassini state (ephem.forced.cassini) turned with the node along the primary's orbit plane"
 
     def cost(self, span_years: float, epochs: int):
         """The Cassini pole at ``epochs`` epochs and the node's quadrature (:func:`ephem.theory.cost.cassini_history`)."""
@@ -414,7 +414,7 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         info["assumptions"].append(
             "precession_rate_arcsec_per_year: the node's inertial regression (the pole turns with it about the "
             "Laplace pole); obliquity_deg: the mean pole's θ = i + I to the orbit; scaling_factor_arcsec_per_year: "
-            "2 P(0), twice the synchronous torque's precession constant (ephem.moon.cassini)")
+            "2 P(0), twice the synchronous torque's precession constant (ephem.forced.cassini)")
         info["assumptions"].append(
             "the node's regression is an observed rate (the lunar theory's, fitted to observations), so it already "
             "contains the geodesic (de Sitter) precession of the Earth-Moon system about the Sun "

@@ -1,4 +1,4 @@
-"""A synchronous rotator's pole from its Cassini state (:mod:`ephem.moon.cassini`): the model the Moon's family serves.
+"""A synchronous rotator's pole from its Cassini state (:mod:`ephem.forced.cassini`): the Moon family's model.
 
 The body's orbit regresses on its Laplace plane (the catalogue's orbit: its plane and equinox, ``frame``,
 with ``node_rate_deg_per_year``; for the Moon the mean ecliptic and equinox of date and Meeus' mean node). Its
@@ -31,7 +31,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .cassini import CassiniState, SynchronousOrbit, cassini_state, check_synchronous, free_librations
+from ..forced.cassini import CassiniState, SynchronousOrbit, cassini_state, check_synchronous, free_librations
 from ..bodies.catalogue import Body
 from ..base.constants import (ARCSEC, AU_M, DAY_S, GENERAL_PRECESSION_ARCSEC_PER_CENTURY, GM_CENTER, GM_SUN, J2000_JD,
                               JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS)
@@ -78,7 +78,7 @@ def _frame_matrices(frame: str, jd_tdb: np.ndarray) -> np.ndarray:
 
 
 def synchronous_orbit(body: Body) -> SynchronousOrbit:
-    """The body's mean orbit on its Laplace plane (:class:`~ephem.moon.cassini.SynchronousOrbit`), with the inertial
+    """The body's mean orbit on its Laplace plane (:class:`~ephem.forced.cassini.SynchronousOrbit`), with the inertial
     node rate; :class:`NotApplicableError` where the record lacks what the Cassini state needs."""
     o = body.orbit
     if o.node_rate_deg_per_year is None:

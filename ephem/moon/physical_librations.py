@@ -1,7 +1,7 @@
 """The Moon's forced physical librations about its Cassini state: the pole and the prime meridian.
 
 The principal axes of the Moon (a toward the Earth, c the pole; A < B < C) turn uniformly on average: c precesses
-with the orbit's node about the ecliptic pole at the inclination I (Cassini's laws, :mod:`ephem.moon.cassini`), a
+with the orbit's node about the ecliptic pole at the inclination I (Cassini's laws, :mod:`ephem.forced.cassini`), a
 follows the mean Earth. The orbit's periodic departures from a uniformly precessing circle (the equation of
 centre, evection, variation, the annual equation, the latitude's periodic terms, the Sun) drive the axes about
 that state: the physical librations. This module derives them from the rigid body's equations, the Moon's orbit
@@ -63,7 +63,7 @@ orbit in the equator (u = x, w = (0, 0, n)) (5) and (6) reduce to the classical 
 equations of a synchronous satellite: M1 = n(A + B − C)(e_y e_x^T − e_x e_y^T), M0 = diag(n²(C − B),
 (n² + 3g)(C − A), 3g(B − A)), i.e. A θ̈1 − n(A + B − C) θ̇2 + n²(C − B) θ1 = f1, B θ̈2 + n(A + B − C) θ̇1 +
 (n² + 3g)(C − A) θ2 = f2, C θ̈3 + 3g(B − A) θ3 = f3, with α = (C − B)/A, β = (C − A)/B, γ = (B − A)/C: the
-longitude mode ω² = 3gγ and the roll-pitch pair of :func:`ephem.moon.cassini.free_librations`. Here u and w are the
+longitude mode ω² = 3gγ and the roll-pitch pair of :func:`ephem.forced.cassini.free_librations`. Here u and w are the
 real ones: u carries the orbit's inclination to the equator (i + I, the latitude at F), its eccentricity, the
 Sun's perturbations; w the node's regression (ν: the term that holds the Cassini state against the torque).
 

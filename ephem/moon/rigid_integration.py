@@ -13,7 +13,7 @@ rotation is resolved, the orbit is followed point by point, and every part of th
 Sun's) is kept. The torque is quadratic in r̂, so the primary-from-satellite and satellite-from-primary
 directions give the same torque.
 
-Frame: the Laplace frame of :class:`ephem.moon.cassini.SynchronousOrbit` (z the Laplace pole K, x its origin of
+Frame: the Laplace frame of :class:`ephem.forced.cassini.SynchronousOrbit` (z the Laplace pole K, x its origin of
 longitudes). Time: τ = t − t0 days from the start; the state is (ω_b/n, q), n the orbit's (sidereal) mean
 motion, so that one tolerance fits every component.
 
@@ -44,7 +44,7 @@ motion, so that one tolerance fits every component.
   any pole effect tested (the torque's forced librations are ~100″: 1e-6 of them is 1e-4″).
 
 **The start** (at ``start_jd``), ``start="mean"``: the C axis on the analytic Cassini pole
-(:func:`ephem.moon.cassini.cassini_pole`) or ``pole0``; the A axis at the primary's mean longitude (mean, not true)
+(:func:`ephem.forced.cassini.cassini_pole`) or ``pole0``; the A axis at the primary's mean longitude (mean, not true)
 as τ below measures it, turned by ``longitude_offset`` about C; the angular velocity that keeps the A axis
 there while the node turns: ω = Ḟ c + Ω̇ K, Ḟ = n − Ω̇ the mean argument of latitude's rate (the body turns
 once per draconic period relative to the node, which turns at Ω̇ about K: ω·c = n + |Ω̇|(1 − cos I) ≈ n;
@@ -80,7 +80,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .cassini import SynchronousOrbit, cassini_pole, cassini_state
+from ..forced.cassini import SynchronousOrbit, cassini_pole, cassini_state
 from ..base.constants import DAY_S, GM_EARTH, GM_SUN, J2000_JD
 from ..forced.rigid_numerics import (normalised_moments, quaternion_from_matrix, rotation_matrices, solve_both_ways,
                                      warm_kepler)

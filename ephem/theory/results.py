@@ -122,7 +122,7 @@ class RateSigmas:
 
 @dataclass(frozen=True)
 class CassiniSummary:
-    """A synchronous satellite's Cassini state as its theory derives it (:mod:`ephem.moon.cassini`), beside the
+    """A synchronous satellite's Cassini state as its theory derives it (:mod:`ephem.forced.cassini`), beside the
     served mean pole: angles in radians, the node's rate in rad/day, the free librations' periods in days."""
 
     equator_inclination: float           # the catalogue pole's, to the ecliptic

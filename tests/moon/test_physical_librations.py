@@ -282,7 +282,7 @@ def test_against_synchronous_rigid(catalogue):
     integrated one, started on it, lags behind the moving plane (a latitude-mode response whose start is the
     ecliptic pole's whole displacement since the start, turned by at most ω_lat t = 0.3 rad in 4 years): |Δ| ≤
     1.1 × the ecliptic pole's displacement + 0.01″."""
-    from ephem.moon.cassini import SynchronousOrbit
+    from ephem.forced.cassini import SynchronousOrbit
     from ephem.moon.rigid_integration import ecliptic_j2000_from_date, integrate_synchronous, mean_longitude
 
     t0 = J2000_JD

@@ -1,5 +1,5 @@
 """The rigid synchronous satellite integrated (ephem.moon.rigid_integration) against the Cassini-state theory
-(ephem.moon.cassini): the pole on a precessing circular orbit, the torque's B − A dependence, the free librations'
+(ephem.forced.cassini): the pole on a precessing circular orbit, the torque's B − A dependence, the free librations'
 periods, and the Moon on its real orbit with the Sun.
 
 Every run uses loose DOP853 tolerances where the budget allows: the global error, measured against rtol 1e-10
@@ -14,7 +14,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from ephem.moon.cassini import SynchronousOrbit, cassini_pole, cassini_state, free_librations, latitude_frequency
+from ephem.forced.cassini import SynchronousOrbit, cassini_pole, cassini_state, free_librations, latitude_frequency
 from ephem.base.constants import ARCSEC, AU_M, DAY_S, GM_EARTH, GM_SUN, J2000_JD, JULIAN_CENTURY_DAYS
 from ephem.orbit.lunar import delaunay_arguments, delaunay_rates, lunisolar_data
 from ephem.moon.rigid_integration import integrate_synchronous, orbit_normal, perturber_table, table_interpolation_error

@@ -1,4 +1,4 @@
-"""The Cassini state of a synchronous rotator (ephem.moon.cassini): each formula against an independent route (a direct
+"""The Cassini state of a synchronous rotator (ephem.forced.cassini): each formula against an independent route (a direct
 average of the torque, a limit, a symmetry), and the Moon's derived inclination and free-libration periods against
 their published values."""
 import math
@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from ephem.moon.cassini import (SynchronousOrbit, cassini_state, free_librations, longitude_hansen_factor,
+from ephem.forced.cassini import (SynchronousOrbit, cassini_state, free_librations, longitude_hansen_factor,
                                 precession_constant)
 from ephem.bodies.catalogue import get_body
 from ephem.base.errors import NotApplicableError
@@ -73,7 +73,7 @@ def test_the_bisection_finds_brents_root(moments):
     bracket: the same root to 2e-15 rad (both stop at 1e-15)."""
     from scipy.optimize import brentq
 
-    from ephem.moon.cassini import _balance
+    from ephem.forced.cassini import _balance
 
     o = synchronous_orbit(MOON)
     m = MOON.moments if moments == "catalogue" else LLR
