@@ -294,7 +294,13 @@ def theory_tables(model: PrecessionNutation, theory: SecondOrderTheory) -> Theor
 
 # A body's tables are up to a few MB at e = 0.9 (the remainder's grids, 75 MB at e = 0.95), and they keep the
 # grids asked of them: kept within the per-body caches' byte budget (ephem.base.memo), weighed again as they grow.
-@bytes_bounded(grows=True)
+def _grids_kept(tables: TheoryTables) -> tuple:
+    """What the tables have filled in (their only growth: the remainder's grids by phase, each a function of its
+    key): the pool weighs them again when this changes, not at every request (a walk of ~0.1-0.15 ms)."""
+    return tuple(tables.periodic._tables), tuple(tables.rephasing._tables)
+
+
+@bytes_bounded(grows=_grids_kept)
 def cached_tables(body: Body) -> TheoryTables:
     """The body's :class:`TheoryTables`, built once and kept while the byte budget of the per-body caches lets
     them (:mod:`ephem.base.memo`): the cost model charges their build only while :func:`tables_built` says no."""
