@@ -14,8 +14,15 @@ from pathlib import Path
 
 import pytest
 
+from ephem.families import FAMILIES
+
 ROOT = Path(__file__).resolve().parents[2]
 LIBRARY = ROOT / "ephem"
+
+#: The families' packages, from their entries in ephem.families.FAMILIES (a new family's row comes with its entry), and
+#: what each may import: the packages below the families, never another family (they are siblings)
+FAMILY_PACKAGES = tuple(dict.fromkeys(f.module.split(".")[1] for f in FAMILIES))
+FAMILY_ROW = {"base", "orbit", "bodies", "rotation", "forced", "theory", "longterm"}
 
 #: Each package (or top-level module) of ``ephem`` and the packages it may import besides itself, lowest first.
 ALLOWED = {
@@ -26,10 +33,8 @@ ALLOWED = {
     "forced": {"base", "orbit", "bodies"},
     "theory": {"base", "orbit", "bodies", "rotation", "forced"},
     "longterm": {"base", "orbit", "bodies", "forced", "theory"},
-    "sun": {"base", "orbit", "bodies", "rotation", "forced", "theory", "longterm"},
-    "earth": {"base", "orbit", "bodies", "rotation", "forced", "theory", "longterm"},
-    "moon": {"base", "orbit", "bodies", "rotation", "forced", "theory", "longterm"},
-    "families": {"base", "bodies", "theory", "longterm", "sun", "earth", "moon"},
+    **{package: FAMILY_ROW for package in FAMILY_PACKAGES},
+    "families": {"base", "bodies", "theory", "longterm", *FAMILY_PACKAGES},
     "batch": {"base", "orbit", "bodies", "forced", "theory", "longterm", "sun"},
     "exports": {"base", "orbit", "bodies", "rotation", "theory", "longterm"},
     "answers": {"base", "orbit", "bodies", "rotation", "forced", "theory", "longterm", "families", "batch", "exports"},
@@ -209,7 +214,7 @@ def test_the_service_takes_the_library_only_through_its_api(path):
 #: The packages that compute and render nothing: they return typed results in the library's units (radians,
 #: rad/day, days, JD TDB; ephem.theory.results, the Track, the HistoryResult, the FreeMotion), and
 #: ephem.answers.render alone writes an answer's keys with their units (docs/architecture.md).
-COMPUTING = ("base", "orbit", "bodies", "rotation", "forced", "theory", "longterm", "sun", "earth", "moon", "families")
+COMPUTING = ("base", "orbit", "bodies", "rotation", "forced", "theory", "longterm", *FAMILY_PACKAGES, "families")
 #: an answer's key naming its unit
 UNIT_KEY = re.compile(r"_(deg|arcsec|mas)(_|$)")
 #: modules of those packages that write unit-named keys, each with why that is no answer rendered
