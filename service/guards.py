@@ -11,6 +11,15 @@
   it gets a 503 (``busy``) with ``Retry-After`` at once, at the first checkpoint of its work (after
   every part was charged, before any large step). A per-request budget alone
   lets a few clients looping on requests just under it take every core from everyone else.
+- And memory admission: the predicted peak memory of the requests running in one worker, summed, stays within
+  ``worker_request_memory_mb`` (:class:`MemoryAllowance`): a request's own budget bounds it alone, but up to four
+  requests at once, each within it, took a worker from its ~320 MB to 427-554 MB (benchmarks/RESULTS_memory_soak.md).
+  A request is counted at its first checkpoint with what its charges predict (``Budget.peak_memory_mb``), and for more
+  if a later part predicts more; one that does not fit waits up to ``memory_wait_s`` for others to finish, then gets
+  a 503 (``busy``, naming the memory) with ``Retry-After``. One predicted over the whole allowance alone never fits:
+  the per-request budget (``max_request_memory_mb``, at most the allowance: :meth:`Settings.check`) refuses it first,
+  422 ``over-budget`` with its estimate, before any work. A request whose work has no checkpoint (no long loop, no
+  large step: a precession, a nutation table) is not counted; it is predicted at a few MB.
 - Beyond that, the watchdog: a request still running ``hard_kill_after_s`` past its deadline (stuck
   in compiled code that never reaches a check) ends the worker process, which the supervisor
   (gunicorn) replaces. It is armed only under a supervisor (``EPHEM_SUPERVISED``), never in a bare
@@ -27,6 +36,7 @@
 """
 from __future__ import annotations
 
+import asyncio
 import ctypes
 import ctypes.util
 import fcntl
@@ -42,7 +52,7 @@ import time
 
 from fastapi import FastAPI, Request
 
-from ephem.api import Budget, BusyError, DeadlineExceededError, OverBudgetError, budget
+from ephem.api import Budget, BusyError, DeadlineExceededError, EphemError, OverBudgetError, budget
 
 from .problems import problem
 from .settings import Settings
@@ -55,18 +65,19 @@ class RequestBudget:
     the thread pool running the routes inherits), and is known to the watchdog while it runs."""
 
     def __init__(self, app, settings: Settings, watchdog: "Watchdog | None" = None,
-                 heavy: "HeavySlots | None" = None):
+                 heavy: "HeavySlots | None" = None, memory: "MemoryAllowance | None" = None):
         self.app = app
         self.settings = settings
         self.watchdog = watchdog
         self.heavy = heavy
+        self.memory = memory
 
     async def __call__(self, scope, receive, send):
         if scope["type"] != "http":
             return await self.app(scope, receive, send)
         s = self.settings
         token = self.watchdog.enter(scope) if self.watchdog is not None else None
-        admission = self.heavy.admission() if self.heavy is not None else None
+        admission = _Admission(self.heavy, self.memory) if self.heavy is not None or self.memory is not None else None
         try:
             with budget(s.max_request_cpu_s, s.max_request_memory_mb, s.request_deadline_s, admit=admission):
                 await self.app(scope, receive, send)     # a streamed answer holds its slot until sent
@@ -93,16 +104,85 @@ class HeavySlots:
         return _Admission(self)
 
 
-class _Admission:
-    """One request's admission, called at the work's checkpoints: takes a slot the first time the request's
-    charged total is over the threshold (every part is charged before the first checkpoint)."""
+class MemoryBusyError(BusyError):
+    """The request is within its own memory budget, but the requests running in this worker already hold so much of
+    its allowance that it does not fit, and none finished within the wait; raised before its work."""
 
-    def __init__(self, slots: HeavySlots):
+    def __init__(self, memory_mb: float, limit_mb: float, held_mb: float, waited_s: float, retry_after_s: int = 1):
+        self.memory_mb = memory_mb
+        self.limit_mb = limit_mb
+        self.held_mb = held_mb
+        self.retry_after_s = retry_after_s
+        EphemError.__init__(self, f"this request is estimated to need {memory_mb:.3g} MB of memory at its peak, and "
+                            f"the requests running in this worker hold {held_mb:.3g} MB of the {limit_mb:.3g} MB they "
+                            f"may hold together (EPHEM_WORKER_REQUEST_MEMORY_MB); none finished within {waited_s:g} s: "
+                            f"retry in {retry_after_s} s, or ask for less")
+
+
+class MemoryAllowance:
+    """The predicted peak memory of the requests running in this worker, summed, MB, stays within ``limit_mb``
+    (one per worker process: memory is the process's own). :meth:`take` counts more of it for a request, waiting
+    up to ``wait_s`` for others to give theirs back; :meth:`give_back` returns it when the request ends."""
+
+    def __init__(self, limit_mb: float, wait_s: float):
+        self.limit_mb = limit_mb
+        self.wait_s = wait_s
+        self.held_mb = 0.0
+        self.waiting = 0                # requests waiting for their share now
+        self._cond = threading.Condition()
+
+    def take(self, mb: float, wait: bool = True) -> bool:
+        """Count ``mb`` more for a request if the sum stays within the limit, waiting up to ``wait_s`` (``wait``
+        False: not at all) for others to give theirs back; whether it was counted."""
+        end = time.monotonic() + (self.wait_s if wait else 0.0)
+        with self._cond:
+            while self.held_mb + mb > self.limit_mb * (1.0 + 1e-12):
+                left = end - time.monotonic()
+                if left <= 0.0:
+                    return False
+                self.waiting += 1
+                try:
+                    self._cond.wait(left)
+                finally:
+                    self.waiting -= 1
+            self.held_mb += mb
+            return True
+
+    def give_back(self, mb: float) -> None:
+        with self._cond:
+            self.held_mb = max(0.0, self.held_mb - mb)
+            self._cond.notify_all()
+
+
+def _on_event_loop() -> bool:
+    """Whether this thread runs an event loop (an inline request, service/offload.py), which must never wait."""
+    try:
+        asyncio.get_running_loop()
+    except RuntimeError:
+        return False
+    return True
+
+
+class _Admission:
+    """One request's admission, called at the work's checkpoints: its predicted peak memory is counted against the
+    worker's allowance (more of it if a later part predicts more; it may wait there, never on the event loop), then
+    a slot is taken the first time the request's charged total is over the heavy threshold (every part is charged
+    before the first checkpoint). Memory first: a request waiting for memory holds no slot another worker wants."""
+
+    def __init__(self, slots: HeavySlots | None, memory: MemoryAllowance | None = None):
         self.slots = slots
+        self.memory = memory
+        self.memory_mb = 0.0            # what this request holds of the worker's allowance
         self.fd: int | None = None
 
     def __call__(self, b: Budget) -> None:
-        if self.fd is not None or b.spent_cpu_s <= self.slots.threshold_cpu_s:
+        if self.memory is not None and b.peak_memory_mb > self.memory_mb:
+            wait = not _on_event_loop()
+            if not self.memory.take(b.peak_memory_mb - self.memory_mb, wait):
+                raise MemoryBusyError(b.peak_memory_mb, self.memory.limit_mb, self.memory.held_mb,
+                                      self.memory.wait_s if wait else 0.0)
+            self.memory_mb = b.peak_memory_mb
+        if self.slots is None or self.fd is not None or b.spent_cpu_s <= self.slots.threshold_cpu_s:
             return
         for path in self.slots.paths:
             fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o600)
@@ -121,6 +201,9 @@ class _Admission:
         if self.fd is not None:
             os.close(self.fd)      # closing the descriptor drops its lock
             self.fd = None
+        if self.memory is not None and self.memory_mb > 0.0:
+            self.memory.give_back(self.memory_mb)
+            self.memory_mb = 0.0
 
 
 #: the least time between two checks of an idle worker's memory over its limit, s
@@ -324,8 +407,11 @@ def install(app: FastAPI, settings: Settings) -> None:
         tune_allocator()                # before the worker's thread pool starts (its threads are made on demand)
         watchdog = Watchdog(settings.request_deadline_s, settings.hard_kill_after_s, settings.worker_rss_mb,
                             recycle=RecycleTurns(settings.lock_dir))
+    settings.check()                    # the memory settings' coherence: a clear error at start-up, not a 503 later
     heavy = HeavySlots(settings.heavy_request_cpu_s, settings.heavy_slots, settings.lock_dir)
-    app.add_middleware(RequestBudget, settings=settings, watchdog=watchdog, heavy=heavy)
+    memory = MemoryAllowance(settings.worker_request_memory_mb, settings.memory_wait_s)
+    app.state.memory_allowance = memory         # this worker's (each worker process has its own copy)
+    app.add_middleware(RequestBudget, settings=settings, watchdog=watchdog, heavy=heavy, memory=memory)
 
     @app.exception_handler(OverBudgetError)
     async def over_budget(request: Request, exc: OverBudgetError):
@@ -334,6 +420,12 @@ def install(app: FastAPI, settings: Settings) -> None:
                        estimated_cpu_s=exc.estimated_cpu_s, already_charged_cpu_s=exc.spent_cpu_s,
                        estimated_memory_mb=exc.estimated_memory_mb, budget_cpu_s=exc.cpu_s_budget,
                        budget_memory_mb=exc.memory_mb_budget, estimate=exc.total.as_dict())
+
+    @app.exception_handler(MemoryBusyError)
+    async def busy_memory(request: Request, exc: MemoryBusyError):
+        return problem(503, "busy", "Busy: this worker's memory for requests is taken", str(exc),
+                       headers={"Retry-After": str(exc.retry_after_s)}, estimated_memory_mb=exc.memory_mb,
+                       worker_request_memory_mb=exc.limit_mb, in_flight_memory_mb=exc.held_mb)
 
     @app.exception_handler(BusyError)
     async def busy(request: Request, exc: BusyError):

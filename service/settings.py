@@ -78,8 +78,21 @@ class Settings:
     warm_up: bool = True
     #: a request's predicted CPU time, seconds of one core (422 beyond, before any work)
     max_request_cpu_s: float = 5.0
-    #: a request's predicted peak memory above the worker's baseline, MB (422 beyond, before any work)
-    max_request_memory_mb: float = 500.0
+    #: a request's predicted peak memory above the worker's baseline, MB (422 over-budget beyond, before any work).
+    #: At most worker_request_memory_mb (checked at start-up, :meth:`check`): a request over what a worker may hold
+    #: for all its requests could never run; unset, it is worker_request_memory_mb (was 500 MB, which let one
+    #: request alone take a worker past its 400-MB bound)
+    max_request_memory_mb: float = 80.0
+    #: the predicted peak memory of the requests running at once in one worker, summed, MB (service/guards.py,
+    #: MemoryAllowance): a request that does not fit waits up to memory_wait_s for others to finish, then gets 503
+    #: busy with Retry-After. The default keeps a worker's RSS under 400 MB: what it keeps after its requests,
+    #: ~300-320 MB through the memory soak's 8,000 requests, plus 80 MB in flight, 320 + 80 = 400 (the predictions
+    #: are upper values, about twice what the requests take: benchmarks/RESULTS_memory_soak.md). Raise it with the
+    #: RSS a worker may reach (worker_rss_mb is what it may keep; the two together are the bound under load)
+    worker_request_memory_mb: float = 80.0
+    #: how long a request waits for the worker's memory before 503 busy, seconds (a request holds a thread of the
+    #: worker's pool while it waits; one on the event loop never waits)
+    memory_wait_s: float = 2.0
     #: a request estimated above this many seconds of one core is large: only heavy_slots of them run at once
     #: (the usual requests are estimated at 2-50 ms; a track of 10^5 epochs at 0.18 s)
     heavy_request_cpu_s: float = 0.1
@@ -128,15 +141,31 @@ class Settings:
     #: loop is held at most about this long by one request. 0: every request in the thread pool
     inline_cpu_ms: float = 5.0
 
+    def check(self) -> "Settings":
+        """The settings that must agree, checked at start-up (:func:`service.guards.install`): raises ``SystemExit``
+        with what to change."""
+        if self.max_request_memory_mb > self.worker_request_memory_mb:
+            raise SystemExit(f"EPHEM_MAX_REQUEST_MEMORY_MB ({self.max_request_memory_mb:g} MB, one request's predicted "
+                             f"peak) must not exceed EPHEM_WORKER_REQUEST_MEMORY_MB ({self.worker_request_memory_mb:g} MB, "
+                             "what the requests running in a worker may hold together): a request between the two would "
+                             "pass its own budget and never be admitted. Lower the first or raise the second")
+        if self.worker_request_memory_mb >= self.worker_memory_mb:
+            raise SystemExit(f"EPHEM_WORKER_REQUEST_MEMORY_MB ({self.worker_request_memory_mb:g} MB) must be below the "
+                             f"worker's address-space ceiling EPHEM_WORKER_MEMORY_MB ({self.worker_memory_mb:g} MB)")
+        return self
+
     @classmethod
     def from_env(cls) -> "Settings":
+        worker_request_memory_mb = _float_env("EPHEM_WORKER_REQUEST_MEMORY_MB", cls.worker_request_memory_mb)
         return cls(max_track_samples=_int_env("EPHEM_MAX_TRACK_SAMPLES", cls.max_track_samples),
                    max_body_bytes=_int_env("EPHEM_MAX_BODY_BYTES", cls.max_body_bytes),
                    max_header_bytes=_int_env("EPHEM_MAX_HEADER_BYTES", cls.max_header_bytes, minimum=1024),
                    public_base_url=_url_env("EPHEM_PUBLIC_BASE_URL"),
                    warm_up=_bool_env("EPHEM_WARM_UP", cls.warm_up),
                    max_request_cpu_s=_float_env("EPHEM_MAX_REQUEST_CPU_S", cls.max_request_cpu_s),
-                   max_request_memory_mb=_float_env("EPHEM_MAX_REQUEST_MEMORY_MB", cls.max_request_memory_mb),
+                   max_request_memory_mb=_float_env("EPHEM_MAX_REQUEST_MEMORY_MB", worker_request_memory_mb),
+                   worker_request_memory_mb=worker_request_memory_mb,
+                   memory_wait_s=_float_env("EPHEM_MEMORY_WAIT_S", cls.memory_wait_s, zero=True),
                    heavy_request_cpu_s=_float_env("EPHEM_HEAVY_REQUEST_CPU_S", cls.heavy_request_cpu_s),
                    heavy_slots=_int_env("EPHEM_HEAVY_SLOTS", cls.heavy_slots),
                    lock_dir=os.environ.get("EPHEM_LOCK_DIR") or None,
@@ -150,4 +179,4 @@ class Settings:
                    max_batch_rows=_int_env("EPHEM_MAX_BATCH_ROWS", cls.max_batch_rows),
                    model_cache_mb=_float_env("EPHEM_MODEL_CACHE_MB", cls.model_cache_mb),
                    cache_max_age_s=_int_env("EPHEM_CACHE_MAX_AGE_S", cls.cache_max_age_s, minimum=0),
-                   inline_cpu_ms=_float_env("EPHEM_INLINE_CPU_MS", cls.inline_cpu_ms, zero=True))
+                   inline_cpu_ms=_float_env("EPHEM_INLINE_CPU_MS", cls.inline_cpu_ms, zero=True)).check()

@@ -417,6 +417,7 @@ def render(kind: str, body, start, stop, step_days: float | None = None, fmt: st
     :data:`CONTENT_TYPES` maps the format to its media type."""
     _check_fmt(fmt)
     _check_dpi(dpi)
+    charge(drawing_cost(fmt, dpi))      # before the data: its checkpoint then admits the request with the drawing
     return _written_once(figure(kind, body, start, stop, step_days, dataset, tolerance_mas=tolerance_mas, model=model,
                                 order=order, J_arcsec=J_arcsec, method=method, step_years=step_years,
                                 orbit_model=orbit_model, perturbers=perturbers, axis=axis,
@@ -447,8 +448,25 @@ CHART_BASE_S = 0.2
 CHART_MODEL_S = 0.005
 #: ... and per pixel of a PNG: measured 2-5e-8 s (100 dpi: +0.03-0.08 s; 300 dpi, 4.9 Mpx: +0.1-0.3 s)
 CHART_PIXEL_S = 6e-8
-#: peak memory of a chart, MB: the figure, and a PNG's RGBA buffer and its compressed copy (~8 bytes a pixel)
-CHART_BASE_MB, CHART_PIXEL_BYTES = 20.0, 8.0
+#: peak memory of a chart, MB: the figure, and a PNG's RGBA buffer and its compressed copy (~8 bytes a pixel); the
+#: whole request measured 4.0-4.3 MB as a PNG at 90-103 dpi (predicted 23-24 MB with a base of 20, which took a
+#: quarter of a worker's memory for requests: service/guards.py)
+CHART_BASE_MB, CHART_PIXEL_BYTES = 6.0, 8.0
+
+
+#: the largest of the track and history figures, square inches (free-wobble's 10 x 5.8 in)
+FIGURE_AREA_IN2 = 58.0
+#: a figure's drawing, MB: the figure and its text (a PNG's pixels apart, CHART_PIXEL_BYTES each); measured with the
+#: track it draws 1.4-5 MB up to 100 dpi, 18 MB for a PNG at 300 dpi (4.2 bytes a pixel; benchmarks/RESULTS_memory_soak.md)
+FIGURE_BASE_MB = 4.0
+
+
+def drawing_cost(fmt: str, dpi: float) -> Cost:
+    """The memory of drawing a track or history figure as ``fmt`` (at ``dpi`` for PNG), charged before its data (the
+    CPU of the drawing is not priced here: 0)."""
+    pixels = FIGURE_AREA_IN2 * dpi * dpi if fmt == "png" else 0.0
+    return Cost((Part("dpi" if fmt == "png" else "format", f"the figure drawn as {fmt}", 0.0,
+                      FIGURE_BASE_MB + CHART_PIXEL_BYTES * pixels / (1024.0 * 1024.0)),))
 
 
 def chart_cost(models: int, fmt: str = "svg", dpi: float = DEFAULT_DPI) -> Cost:

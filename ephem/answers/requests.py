@@ -488,6 +488,7 @@ def free_motion_arrays(body: str | int | Body, start, stop, step_days: float, J_
     charge(cost.Cost((cost.free_rotation(method, count, rotations),
                       cost.serialised(count, len(FREE_MOTION_KEYS) + (time_scale is not None), output))
                      + ((cost.calendar_dates(count),) if time_scale is not None else ())), b.name)
+    checkpoint()    # charged: the service admits its memory (and a large one takes its turn) before the series is summed
     return render.free_motion(free_motion(b, t0 + step * np.arange(count), in_unit(J_arcsec, "arcsec", "J_arcsec"),
                                           method), time_scale)
 

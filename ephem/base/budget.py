@@ -161,6 +161,9 @@ class Budget:
     memory_mb: float
     deadline_s: float | None = None
     spent_cpu_s: float = 0.0
+    #: the largest memory of the parts charged so far, MB: the request's predicted peak (its parts run one after
+    #: another), which the service's admission counts against the memory of the worker's other requests
+    peak_memory_mb: float = 0.0
     started: float = field(default_factory=time.monotonic)
     prepaid: int = 0
     #: called with the budget at each :func:`checkpoint` (may raise :class:`BusyError`)
@@ -197,6 +200,7 @@ def charge(cost: Cost, body: str | None = None) -> None:
     if b.spent_cpu_s + cost.cpu_s > b.cpu_s or cost.memory_mb > b.memory_mb:
         raise OverBudgetError(cost, b, b.spent_cpu_s, body)
     b.spent_cpu_s += cost.cpu_s
+    b.peak_memory_mb = max(b.peak_memory_mb, cost.memory_mb)
 
 
 @contextmanager
