@@ -23,7 +23,7 @@ Warm: the same call repeated once the caches it fills are built (median of the r
 each repetition does what a new question about a body already served does; the identical question with its memos
 is measured apart (its price sees the memo: the ladder keeps the grid's digest by its ends and count). Cold: the cell's first call, after every per-body cache is emptied
 (``bench_cost.body_caches``: the first request for the body in a worker that ran the service's start-up,
-``api.warm_up``: the Earth's lunisolar series, the Moon's libration series, the rational Hansen series and DE421 stay
+``host.warm_up``: the Earth's lunisolar series, the Moon's libration series, the rational Hansen series and DE421 stay
 built, and the start-up's requests for the Earth and the Moon are made again), up to 10^5 epochs (``--cold-all``:
 every size). A combination a model refuses (outside DE421, over the
 numerical rungs' orbits, a model the body does not have) is listed, not run.
@@ -60,7 +60,7 @@ from dataclasses import asdict, dataclass, field  # noqa: E402
 
 from bench_cost import J2000, body_caches, g, recording_charges  # noqa: E402
 
-from ephem import api  # noqa: E402
+from ephem import api, host  # noqa: E402
 from ephem.answers.requests import TRACK_KEYS  # noqa: E402
 from ephem.base import budget  # noqa: E402
 from ephem.base.errors import EphemError  # noqa: E402
@@ -194,7 +194,7 @@ def repeat_reps(cpu_ms: float) -> int:
     return max(1, min(WARM_REPS, int(1e3 * WARM_CPU_S / max(cpu_ms, 1e-3))))
 
 
-#: the bodies the service's start-up answers for (api.warm_up), whose caches a worker's first request finds built
+#: the bodies the service's start-up answers for (host.warm_up), whose caches a worker's first request finds built
 STARTUP_REQUESTS = {
     "earth": lambda: (api.precession("earth"), api.nutation("earth"),
                       api.track("earth", "2000-01-01", "2000-02-01", 10.0)),
@@ -242,10 +242,10 @@ def measure(cell: Cell, cold: bool = True) -> None:
 
 
 def start_up() -> float:
-    """The service's start-up (``api.warm_up``) and the modules a first numerical or real-orbit track loads (so
+    """The service's start-up (``host.warm_up``) and the modules a first numerical or real-orbit track loads (so
     that no cell pays an import); the caches that fill for the bodies are emptied by each cell. CPU seconds."""
     c0 = time.process_time()
-    api.warm_up()
+    host.warm_up()
     api.track_arrays("vesta", J2000, J2000 + 30.0, 10.0, model="real_orbit")
     api.track_arrays("moon", J2000, J2000 + 2.0, 1.0, model="integration")
     for fn in body_caches():
@@ -365,7 +365,7 @@ def main(argv=None) -> int:
         "Cold: the cell's first call with every per-body cache emptied (the model, the second-order theory, the "
         "estimates' tables, the uncertainties and the pole's 1-sigma, the real orbit, the Hansen coefficients, the "
         "long-term orbit), as a service worker's first request for the body finds them: the start-up's "
-        "(`api.warm_up`: the Earth's lunisolar series, the Moon's libration series, the rational Hansen series, "
+        "(`host.warm_up`: the Earth's lunisolar series, the Moon's libration series, the rational Hansen series, "
         "DE421) stay built, and its requests for the Earth and the Moon are made again; measured up to "
         f"{COLD_MAX_EPOCHS} epochs unless --cold-all (the per-body builds it adds do not depend on the epochs).", "",
         f"The goal: every ratio within {LOW:g}-{HIGH:g}x (bold: outside).",

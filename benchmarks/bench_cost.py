@@ -81,7 +81,7 @@ if __name__ == "__main__":
 
 import numpy as np  # noqa: E402
 
-from ephem import api
+from ephem import api, host
 from ephem.base import budget
 from ephem.theory import cost
 from ephem.earth import model as earth
@@ -108,7 +108,7 @@ MB = 1024.0 * 1024.0
 WHY_MODEL = ("ephem.forced.precession_nutation.build_model iterates the nutation at the pole epoch three times, and each pass calls "
              "kinoshita.nutation_series, which recomputes hansen_exact(e): three FFTs (plus the series' evaluation), "
              "while cost.hansen_build charges one.")
-WHY_SERIES = ("hansen.hansen_series(order < 20) cuts the order-20 series (_SHARED_ORDER), which ephem.api.warm_up "
+WHY_SERIES = ("hansen.hansen_series(order < 20) cuts the order-20 series (_SHARED_ORDER), which ephem.host.warm_up "
               "builds at the service's start-up (0.1-0.27 s once per process, charged to no request): cold() empties "
               "it with every other cache, so these cases pay that build, which cost.hansen_build(e, order), a cut, "
               "does not charge. Orders above 20 are built on first use and charged (series_s (1 + order)^4).")
@@ -208,7 +208,7 @@ def measure(work: Callable[[], object], setup: Callable[[], None] | None, reps: 
 def body_caches() -> list:
     """The caches a request fills for its body (its model, second-order theory, estimate tables, uncertainties,
     real orbit, Hansen coefficients, long-term orbit): empty in a worker that has not yet answered for that body.
-    The start-up's (``api.warm_up``: the Earth's lunisolar series, the Moon's libration series, the rational Hansen
+    The start-up's (``host.warm_up``: the Earth's lunisolar series, the Moon's libration series, the rational Hansen
     series every e-order is cut from, DE421) are not among them."""
     from ephem.forced import pole_uncertainty
     from ephem.longterm import history as long_term
@@ -222,7 +222,7 @@ def body_caches() -> list:
 def cold() -> None:
     """Empty every cache a request fills (the first such request in a fresh worker): the body's
     (:func:`body_caches`) and the free rotation's and e-power series' built on first use. The start-up
-    caches stay: catalogue, DE421 kernel, the Earth's lunisolar series (``api.warm_up``)."""
+    caches stay: catalogue, DE421 kernel, the Earth's lunisolar series (``host.warm_up``)."""
     for fn in (*body_caches(), free_motion._series, lie_series.sam_normal_form, hansen.hansen_series):
         fn.cache_clear()
 
@@ -832,7 +832,7 @@ def main(argv=None) -> int:
     ephemeris.kernel()
     kernel_s = time.process_time() - c0
     import scipy.integrate  # noqa: F401
-    api.warm_up()
+    host.warm_up()
     warm_cpu, warm_wall = time.process_time() - c0, time.perf_counter() - w0
 
     cases = build_cases()

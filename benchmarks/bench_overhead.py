@@ -302,7 +302,7 @@ def _pieces(med_us, answer: dict, app) -> dict:
     with contextlib.suppress(Exception):
         from service.settings import Settings
 
-        from ephem.api import budget
+        from ephem.host import budget
         s = Settings.from_env()
 
         def enter_budget():

@@ -6,7 +6,8 @@ numeric model of a body (radians, days) is :func:`model_for`. Importing this mod
 loads its module on first use (PEP 562), so a one-body answer pays only for what it runs (the CLI's start-up,
 benchmarks/RESULTS_cli.md); matplotlib, SPICE and Dask load with the first plot, kernel or batch.
 
-As skyfield's ``api``: ``from ephem import api`` then ``api.track("Vesta", "2040-01-01", ...)``.
+As skyfield's ``api``: ``from ephem import api`` then ``api.track("Vesta", "2040-01-01", ...)``. A host serving
+many requests in one process (the HTTP service) sets budgets and caches and warms them up through :mod:`ephem.host`.
 """
 from __future__ import annotations
 
@@ -34,16 +35,9 @@ _NAMES = {
     "track": (".answers.requests", "track"),
     "track_arrays": (".answers.requests", "track_arrays"),
     "track_models": (".answers.requests", "track_models"),
-    "warm_up": (".answers.requests", "warm_up"),
-    "memo": (".base", "memo"),
-    "Budget": (".base.budget", "Budget"),
     "BusyError": (".base.budget", "BusyError"),
     "DeadlineExceededError": (".base.budget", "DeadlineExceededError"),
     "OverBudgetError": (".base.budget", "OverBudgetError"),
-    "budget": (".base.budget", "budget"),
-    "charge": (".base.budget", "charge"),
-    "prepaid": (".base.budget", "prepaid"),
-    "current_budget": (".base.budget", "current"),
     "AXES": (".base.constants", "AXES"),
     "GM_CENTER": (".base.constants", "GM_CENTER"),
     "EphemError": (".base.errors", "EphemError"),
@@ -109,7 +103,7 @@ _NAMES = {
 __all__ = [
     # answers (dicts, units in the keys)
     "list_bodies", "body_record", "precession", "nutation", "precession_nutation", "track", "track_arrays", "track_models",
-    "history", "batch", "free_motion_answer", "free_motion_arrays", "answer_cost", "epoch_grid", "warm_up",
+    "history", "batch", "free_motion_answer", "free_motion_arrays", "answer_cost", "epoch_grid",
     "TRACK_KEYS", "FREE_MOTION_KEYS", "MAX_TRACK_SAMPLES", "MAX_BATCH_ROWS", "WARN_ESTIMATE_MAS", "REFUSE_ESTIMATE_MAS",
     # the numeric model of a body
     "model_for", "MAX_ORDER",
@@ -131,8 +125,8 @@ __all__ = [
     "EphemError", "InvalidInputError", "NotApplicableError", "UnknownBodyError", "MissingExtraError",
     # a family of theories from outside the library (a plug-in): its registry entry
     "Family", "register_family", "unregister_family",
-    # bounded work (a host, as the service, sets the budget and the caches)
-    "Budget", "budget", "charge", "prepaid", "current_budget", "BusyError", "DeadlineExceededError", "OverBudgetError", "memo",
+    # what a budget raises: a host (the service) sets it, and the caches, through ephem.host
+    "BusyError", "DeadlineExceededError", "OverBudgetError",
 ]
 
 

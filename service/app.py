@@ -16,9 +16,10 @@ from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
 import ephem
-from ephem import api
+from ephem import api, host
 from ephem.api import (AXES, DEFAULT_DATASET, FORMATS, MODELS,
-                       available_datasets, icrf_to_ecliptic_matrix, load_catalogue, memo, render_nutation)
+                       available_datasets, icrf_to_ecliptic_matrix, load_catalogue, render_nutation)
+from ephem.host import memo
 
 from . import caching, downloads, guards, pages, problems, schemas
 from .batch_input import batch_rows
@@ -142,7 +143,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             load_catalogue(ds)
         icrf_to_ecliptic_matrix()
         if settings.warm_up:
-            api.warm_up()   # the Earth's lunisolar series: ~2 s here instead of in the first request
+            host.warm_up()  # the Earth's lunisolar series: ~2 s here instead of in the first request
         yield
 
     app = FastAPI(title="ephem: asteroid precession-nutation ephemeris", version=ephem.__version__,
@@ -330,7 +331,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                          headers=downloads.disposition(downloads.filename(
                                              arrays["body"], arrays["dataset"], "track", fmt="csv")))
             if format is TrackFormat.ecsv:
-                with api.prepaid():     # its writing was charged with the track (output="ecsv")
+                with host.prepaid():    # its writing was charged with the track (output="ecsv")
                     return ecsv_response(arrays, request, arrays["body"], arrays["dataset"], "track")
             return finite_json(arrays)      # its serialisation is charged with the track (on the loop only if cheap)
         return await compute(settings.inline_cpu_ms, answer)
@@ -520,7 +521,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                         dataset.value, settings.max_track_samples, time_scale=time_scale.value,
                                         output=format.value)
         if format is AnswerFormat.ecsv and _all_finite(answer):
-            with api.prepaid():         # its writing was charged with the answer (output="ecsv")
+            with host.prepaid():        # its writing was charged with the answer (output="ecsv")
                 return ecsv_response(answer, request, answer["body"], answer["dataset"], "free-motion")
         return finite_json(answer)
 

@@ -52,7 +52,8 @@ import time
 
 from fastapi import FastAPI, Request
 
-from ephem.api import Budget, BusyError, DeadlineExceededError, EphemError, OverBudgetError, budget
+from ephem.api import EphemError
+from ephem.host import Budget, BusyError, DeadlineExceededError, OverBudgetError, budget
 
 from .problems import problem
 from .settings import Settings

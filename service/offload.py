@@ -17,7 +17,7 @@ from typing import Callable, TypeVar
 
 from starlette.concurrency import run_in_threadpool
 
-from ephem.api import OverBudgetError, budget, current_budget
+from ephem.host import OverBudgetError, budget, current_budget
 
 T = TypeVar("T")
 

@@ -119,7 +119,7 @@ def hansen_build(e: float, order: int | None) -> Part:
                 _u("base_s") + hansen_fft_s(n), _u("fft_bytes_per_sample") * n / MB)
 
 
-#: the rational e-power series are built at start-up up to this order (``ephem.api.warm_up``), the lower orders cut
+#: the rational e-power series are built at start-up up to this order (``ephem.host.warm_up``), the lower orders cut
 #: from it; a higher order is built on its first use (``series_s``), then kept
 #: (:func:`ephem.orbit.hansen.hansen_series`)
 SHARED_SERIES_ORDER = 20

@@ -19,7 +19,7 @@ from astropy.table import QTable
 from astropy.time import Time
 
 import ephem
-from ephem import api
+from ephem import api, host
 from ephem.base.errors import InvalidInputError
 from ephem.base.units import unit_of
 from ephem.orbit.lunar import DELAUNAY_NAMES
@@ -191,7 +191,7 @@ def test_an_answer_that_is_no_table_is_refused_naming_it(answer):
 
 def test_the_ecsv_writing_is_charged_before_it_runs():
     ans = api.track_arrays("ceres", "2040-01-01", "2041-01-01", 1.0)
-    with api.budget(cpu_s=1e-3, memory_mb=1e3):
+    with host.budget(cpu_s=1e-3, memory_mb=1e3):
         with pytest.raises(api.OverBudgetError):
             api.to_ecsv(ans)
 

@@ -14,7 +14,7 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
-from ephem import api
+from ephem import api, host
 from ephem.answers import figures
 from ephem.exports import work_precision as wp
 
@@ -170,13 +170,13 @@ def test_the_drawing_is_charged_before_it_is_drawn(vesta, monkeypatch):
     drawn = []
     monkeypatch.setattr(wp, "figure", lambda answer: drawn.append(answer))
     cost = figures.chart_cost(len(vesta["models"]), "svg")
-    with api.budget(cost.cpu_s * 0.5, 1000.0):
+    with host.budget(cost.cpu_s * 0.5, 1000.0):
         with pytest.raises(api.OverBudgetError) as refused:
             figures.models_chart(vesta, "svg")
     assert refused.value.field == "format" and not drawn
     png = figures.chart_cost(len(vesta["models"]), "png", 300)
     assert png.cpu_s > 1.5 * cost.cpu_s                  # the PNG's pixels, at 300 dpi
-    with api.budget(0.5 * (cost.cpu_s + png.cpu_s), 1000.0):
+    with host.budget(0.5 * (cost.cpu_s + png.cpu_s), 1000.0):
         with pytest.raises(api.OverBudgetError) as refused:
             figures.models_chart(vesta, "png", 300)
     assert refused.value.field == "dpi" and not drawn

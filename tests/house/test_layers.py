@@ -1,7 +1,8 @@
 """The house of the library (docs/architecture.md): sub-packages by topic, each importing only the packages its
 row of :data:`ALLOWED` names; no import cycle among the modules; no private name crossing a module; imports at
 the top of a module, save those that defer a slow third-party package (:data:`DEFERRED`); the library imports
-neither the service nor the studies, and the service and the CLI take the library only through ``ephem.api``.
+neither the service nor the studies, and the service and the CLI take the library only through ``ephem.api`` (the
+service, a host, also through ``ephem.host``: its budgets, caches and warm-up, which a user's program never sets).
 
 Read from the source text (ast), so a function-local import counts as much as one at the top.
 """
@@ -41,6 +42,8 @@ ALLOWED = {
     # the public face asks no family (sun, earth, moon) for a name: what it states is the house's (issue 30)
     "api": {"base", "orbit", "bodies", "rotation", "forced", "theory", "longterm", "families", "batch", "answers",
             "exports"},
+    # the hosts' face (budgets, caches, warm-up): the budget is base's, the warm-up an answer's
+    "host": {"base", "answers"},
     "cli": {"api"},
 }
 
@@ -200,14 +203,21 @@ def test_the_library_imports_neither_the_service_nor_the_studies():
                 assert not any(n.split(".")[0] in ("service", "studies") for n in names if n), module
 
 
+#: the library's modules the service may import: the public face and the hosts' interface
+SERVICE_FACES = ("ephem.api", "ephem.host")
+
+
 @pytest.mark.parametrize("path", sorted((ROOT / "service").glob("*.py")), ids=lambda p: p.name)
 def test_the_service_takes_the_library_only_through_its_api(path):
+    """The service imports ``ephem.api`` (the answers, what a request may name, the errors) and ``ephem.host`` (the
+    budget around each request, the caches' size, the warm-up at start-up: the hosts' interface, kept out of the
+    user's face), nothing else of the library."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
     taken = [(node.lineno, target) for node in ast.walk(tree) if isinstance(node, (ast.Import, ast.ImportFrom))
              for target in ([a.name for a in node.names] if isinstance(node, ast.Import) else
                             [node.module] + [f"{node.module}.{a.name}" for a in node.names
                                              if node.module == "ephem"])
-             if target and target.startswith("ephem.") and target != "ephem.api"]
+             if target and target.startswith("ephem.") and target not in SERVICE_FACES]
     assert not taken, taken
 
 
