@@ -1,13 +1,14 @@
 """Benchmark: the cost predictions of ``ephem.theory.cost`` against the measured CPU time and memory.
 
 ``ephem.theory.cost`` predicts what a request will cost (CPU seconds of one core, peak MB) from its
-parameters, with the unit costs of ``data/cost_model.toml``; the service refuses a request whose
+parameters, with the unit costs of ``data/cost_model.toml`` (and each family's own predictors and table:
+``ephem.earth.costs``, ``data/earth_costs.toml``; ``ephem.moon.costs``); the service refuses a request whose
 prediction exceeds its budget (5 s, 500 MB) before running it. This script runs the real library
 calls on representative inputs, from small to near that budget, and prints each prediction
 against the measurement (ratio measured / predicted: above 1 the prediction was optimistic):
 
-* predictors, one at a time: each function of ``ephem.theory.cost`` that ``data/cost_model.toml``
-  calibrates, against the library call it stands for (the Hansen FFT by eccentricity, the e-power
+* predictors, one at a time: each function of ``ephem.theory.cost`` (or a family's costs module) that the
+  tables calibrate, against the library call it stands for (the Hansen FFT by eccentricity, the e-power
   series by order, the nutation's extremes, the harmonic sums over epochs x harmonics, the
   second-order theory, the spin integration of the numerical rungs, the real orbit by years, the
   free rotation by method, the lunisolar sum, the serialisation of the answer as JSON and CSV);
@@ -29,7 +30,7 @@ right-hand sides) and the peak RSS above the RSS at the start (``/proc/self/stat
 resetting it through ``/proc/self/clear_refs``: also memory allocated outside Python, but freed
 memory the process reuses does not show). The ratio uses the larger of the two.
 
-The unit costs in data/cost_model.toml are not changed by this script: it reports what it finds.
+The unit costs in data/cost_model.toml and the families' tables are not changed by this script: it reports what it finds.
 
 Run: ``.venv/bin/python benchmarks/bench_cost.py`` (full, about 100 s on 2 shared cores;
 writes benchmarks/RESULTS_cost.md), ``--quick`` for a smaller set (about 40 s),
@@ -84,7 +85,7 @@ import numpy as np  # noqa: E402
 from ephem import api, host
 from ephem.base import budget
 from ephem.theory import cost
-from ephem.earth import model as earth
+from ephem.earth import costs as earth_costs, model as earth
 from ephem.orbit import de421 as ephemeris
 from ephem.rotation import free_motion
 from ephem.orbit import hansen
@@ -465,7 +466,7 @@ def build_cases() -> list[Case]:
     lm = earth.lunisolar_earth(earth_body, "figure", earth.TRACK_CUT_MAS, earth_body.perturbers)
     for n, quick in ((1_000, True), (10_000, False), (100_000, True)):
         _, _, t = grid(n, 100 * 365.25, 2415021.0)
-        add(Case("lunisolar_sum", f"lunisolar track, {n} epochs", part(cost.lunisolar_sum(n)),
+        add(Case("lunisolar_sum", f"lunisolar track, {n} epochs", part(earth_costs.lunisolar_sum(n)),
                  lambda t=t: lm.track(t), None, quick, extra={"n": n}, why=WHY_SMALL_FIXED))
 
     # --- serialisation of a track answer (7 columns) ---------------------------------------------
@@ -567,8 +568,9 @@ def build_cases() -> list[Case]:
 # ----------------------------------------------------------------------------------------- analysis
 
 def fit_units(cases: list[Case]) -> list[tuple[str, float, float | None, str]]:
-    """(unit, toml value, value implied by the measurements, how) for the calibrated unit costs."""
-    u = cost.unit_costs()
+    """(unit, toml value, value implied by the measurements, how) for the calibrated unit costs (the shared table's
+    and each family's own: data/cost_model.toml, data/earth_costs.toml)."""
+    u = {**cost.unit_costs(), **cost.unit_table(earth_costs.TABLE)}
     by = {}
     for c in cases:
         if c.m is not None:

@@ -1,5 +1,6 @@
 """The Earth's family: the lunisolar theory under the Moon and the Sun, and the non-rigid Earth.
 
+- :mod:`ephem.earth.costs`: What the Earth's lunisolar theory will cost before it runs: its predictors, with its own unit costs.
 - :mod:`ephem.earth.de421_integration`: The Earth's pole integrated under DE421's Moon and Sun: the numerical reference of the lunisolar series.
 - :mod:`ephem.earth.estimates`: The error estimate of the Earth's lunisolar track, and the amplitude cut a tolerance asks of its series.
 - :mod:`ephem.earth.family`: The Earth's family behind the common interface: its texts, costs, precession and nutation results, spectrum.

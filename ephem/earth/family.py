@@ -38,6 +38,7 @@ from ..forced.catalogue_sigmas import dynamical_ellipticity_sigma, no_uncertaint
 from ..forced.uncertainty import SCALAR_KEYS
 from ..base.units import in_unit
 from ..orbit.lunar import check_cut
+from . import costs
 from .model import LunisolarEarth, TRACK_CUT_MAS, TRACK_SIDEBANDS, lunisolar_earth, tidal_constant_drift
 from .estimates import add_wobble, cut_for_tolerance, estimates, nonrigid_earth, omitted_bound, window
 from .model import NonRigidEarth, residual_envelope
@@ -160,10 +161,10 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
         """The request and its answer, the estimates of both models (the series kept since start-up) and, while the
         process does not keep it, the body's first-order model its description reads."""
         built = () if cached_model.cached(self.body, None) else (cost.model_build(self.body.orbit.e),)
-        return Cost((cost.track_answer(count), cost.lunisolar_estimates(len(self.models))) + built)
+        return Cost((cost.track_answer(count), costs.lunisolar_estimates(len(self.models))) + built)
 
     def track_cost(self, model, order, start, stop, count, free_wobble, rotation_scale=False) -> Cost:
-        parts = (cost.lunisolar_sum(count),) + ((cost.nonrigid_sum(count),) if model == "nonrigid" else ())
+        parts = (costs.lunisolar_sum(count),) + ((costs.nonrigid_sum(count),) if model == "nonrigid" else ())
         return Cost(parts + ((cost.free_rotation("exact", count, 0.0),) if free_wobble else ()))
 
     def estimates(self, jd_tdb) -> list[Estimate]:
@@ -242,7 +243,7 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
     # --- the precession and nutation answers
 
     def answer_cost(self, order: int | None, nutation: bool = False, tolerance: bool = False) -> Cost:
-        return Cost((cost.lunisolar_answer(),))
+        return Cost((costs.lunisolar_answer(),))
 
     def _check_answer(self, order) -> None:
         model_for(self.body, self.body.dataset)           # applicability (the Moon)

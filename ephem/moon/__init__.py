@@ -1,5 +1,6 @@
 """The Moon's family (and synchronous rotators): the Cassini state, the physical librations and the rigid integration.
 
+- :mod:`ephem.moon.costs`: What the Moon's family (a synchronous rotator) will cost before it runs: its predictors, with its own unit costs.
 - :mod:`ephem.moon.family`: The Moon's family behind the common interface: its models' estimates, results, history and spectrum.
 - :mod:`ephem.moon.libration_frames`: The Moon's frames in small rotations: the general precession that turns the frame of date, [v×] and exp([θ×]).
 - :mod:`ephem.moon.libration_forcing`: The torque on the Moon's turning reference frame, over the torus of the Delaunay arguments.

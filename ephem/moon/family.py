@@ -76,7 +76,7 @@ from ..base.units import in_unit
 from .model import (CIRCLE_SIDEBANDS, INTEGRATION_ERROR, LIBRATION_CUT, PHYSICS_OMITTED, SynchronousModel, check_body,
                     ecliptic_lag, integrate_axes, integrate_track, libration_series, moments_bound, series_built,
                     synchronous_model)
-from . import lunar_kernel
+from . import costs, lunar_kernel
 from .kernel_rung import PA_ROUNDING, kernel_estimate, kernel_track
 from .orientation import ecliptic_lag_vector, mean_inclination, orientation_data, pa_offset_angle
 
@@ -152,8 +152,8 @@ class CassiniHistory:
     source: str = "the Cassini state (ephem.forced.cassini) turned with the node along the primary's orbit plane"
 
     def cost(self, span_years: float, epochs: int):
-        """The Cassini pole at ``epochs`` epochs and the node's quadrature (:func:`ephem.theory.cost.cassini_history`)."""
-        return cost.cassini_history(epochs)
+        """The Cassini pole at ``epochs`` epochs and the node's quadrature (:func:`ephem.moon.costs.cassini_history`)."""
+        return costs.cassini_history(epochs)
 
     def orbit_points(self, span_years: float, epochs: int) -> int:
         """The orbit's points a history reads beside :meth:`cost`: none, its price was measured with the orbit's
@@ -226,10 +226,10 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         """Whether the principal axis is asked for (else the mean rotation axis)."""
         return self.axis == "figure"
 
-    # --- cost: known before the work (data/cost_model.toml, benchmarks/bench_cost.py)
+    # --- cost: known before the work (ephem.moon.costs and its table, benchmarks/bench_cost.py)
 
     def _setup_cost(self) -> tuple:
-        return (cost.synchronous_estimates(),) + (() if series_built(self.body) else (cost.libration_series(),))
+        return (costs.synchronous_estimates(),) + (() if series_built(self.body) else (costs.libration_series(),))
 
     def choice_cost(self, start: float, stop: float, count: int) -> Cost:
         """The request and its answer, the estimates, and the libration series while it is not kept."""
@@ -240,12 +240,12 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         with the libration terms (``librations``), or integrated (``integration``)."""
         model = model or self.default_model(order)
         if model == "de421":
-            return Cost((cost.lunar_kernel(count, lunar_kernel.kept()),))
+            return Cost((costs.lunar_kernel(count, lunar_kernel.kept()),))
         terms = self._terms_kept() if model == "librations" else 0
-        parts = (cost.synchronous_track(count, terms),)
+        parts = (costs.synchronous_track(count, terms),)
         if model == "integration":
             t0 = self.body.pole.epoch_jd_tdb
-            parts += (cost.synchronous_integration(max(stop, t0) - min(start, t0), count),)
+            parts += (costs.synchronous_integration(max(stop, t0) - min(start, t0), count),)
         return Cost(parts)
 
     def _terms_kept(self) -> int:

@@ -38,13 +38,24 @@ MAX_NUMERICAL_ORBITS = 1000
 
 
 
-@lru_cache(maxsize=1)
+@lru_cache(maxsize=None)
+def unit_table(name: str) -> dict:
+    """The measured unit costs of one table of data/: ``cost_model.toml``, the shared ones (:func:`unit_costs`), or a
+    family's own (``earth_costs.toml``, read by :mod:`ephem.earth.costs`: each family prices its own work)."""
+    return read_toml(data_dir() / name)["unit"]
+
+
 def unit_costs() -> dict:
-    """The measured unit costs (``data/cost_model.toml``)."""
-    return read_toml(data_dir() / "cost_model.toml")["unit"]
+    """The shared measured unit costs (``data/cost_model.toml``): every family's answers, the forced model's work."""
+    return unit_table("cost_model.toml")
 
 
 def _u(key: str) -> float:
+    return float(unit_costs()[key])
+
+
+def unit(key: str) -> float:
+    """One shared unit cost, for a family's predictors (which read their own table for the rest)."""
     return float(unit_costs()[key])
 
 
@@ -263,70 +274,6 @@ def free_rotation(method: str, epochs: int, rotations: float) -> Part:
                 epochs * per_bytes / MB)
 
 
-def lunisolar_estimates(models: int = 1) -> Part:
-    """The Earth's track estimates (:func:`ephem.earth.estimates.estimates`) of ``models`` models: each its terms
-    against IAU 2006/2000A over the span from the kept series (a fixed part: the epochs enter through their span)."""
-    return Part("step_days", f"the error estimates of {models} model{'s' if models != 1 else ''}",
-                models * _u("lunisolar_estimates_s"), 1.0)
-
-
-def lunisolar_sum(epochs: int) -> Part:
-    """The Earth's lunisolar series at ``epochs`` epochs (the Delaunay arguments, the term products)."""
-    return Part("step_days", f"the lunisolar series at {epochs} epochs", epochs * _u("lunisolar_epoch_s"),
-                epochs * _u("track_bytes_per_epoch") / MB)
-
-
-def nonrigid_sum(epochs: int) -> Part:
-    """The non-rigid Earth's track beyond the lunisolar series' sum: the transfer function's series (built once per
-    process, as the rigid one) and ERFA's IAU 2006 precession and rotation matrix at every epoch."""
-    return Part("step_days", f"the IAU 2006 precession (ERFA) at {epochs} epochs", epochs * _u("nonrigid_epoch_s"),
-                epochs * _u("track_bytes_per_epoch") / MB)
-
-
-def synchronous_estimates() -> Part:
-    """A synchronous rotator's estimates from its Cassini state, free modes and libration series' bounds (kept once
-    per body: the Moon's at start-up, :mod:`ephem.moon.family`)."""
-    return Part("body", "the Cassini state's estimates", _u("synchronous_base_s"), 2.0)
-
-
-def synchronous_track(epochs: int, terms: int = 0) -> Part:
-    """The Cassini pole (and ``terms`` libration terms) at ``epochs`` epochs, with the ecliptic of date's
-    rotation to the ICRF (erfa.ecm06) at each."""
-    return Part("step_days", f"the Cassini-state pole at {epochs} epochs"
-                + (f" with {terms} libration terms" if terms else ""),
-                (_u("base_s") if terms else 0.0)
-                + epochs * (_u("synchronous_epoch_s") + terms * _u("libration_term_epoch_s")),
-                epochs * (_u("track_bytes_per_epoch") + terms * _u("libration_bytes_per_term_epoch")) / MB)
-
-
-def libration_series() -> Part:
-    """The Moon's forced physical librations (:func:`ephem.moon.physical_librations.moon_physical_librations`), with the
-    catalogue's and the effective moments: built once per process (at the service's start-up)."""
-    return Part("body", "the Moon's libration series (built once per process, at start-up)",
-                2.0 * _u("libration_series_s"), 2.0 * _u("libration_series_mb"))
-
-
-def synchronous_integration(span_days: float, epochs: int) -> Part:
-    """The rigid Moon on its real orbit (:func:`ephem.moon.rigid_integration.integrate_synchronous`) over ``span_days``
-    (from the pole epoch to the farthest epoch, both sides): the orbit's table and the integration per year, and the
-    integrated pole at every epoch (dense output, the ecliptic of date)."""
-    years = span_days / 365.25
-    return Part("stop", f"the rigid Moon integrated over {years:.4g} years",
-                _u("base_s") + years * (_u("moon_table_s_per_year") + _u("moon_integration_s_per_year"))
-                + epochs * _u("moon_epoch_s"),
-                years * _u("moon_mb_per_year") + epochs * _u("track_bytes_per_epoch") / MB)
-
-
-def lunar_kernel(epochs: int, kept: bool) -> Part:
-    """DE421's lunar orientation read from its binary PCK (:mod:`ephem.moon.lunar_kernel`) at ``epochs`` epochs: the
-    Chebyshev pieces and the axes at each, the ecliptic of date's rotation, and the file's first mapping while the
-    process does not keep it open (``kept``)."""
-    return Part("step_days", f"DE421's lunar orientation at {epochs} epochs",
-                (0.0 if kept else _u("lunar_kernel_open_s")) + epochs * (_u("lunar_kernel_epoch_s")
-                                                                          + _u("synchronous_epoch_s")),
-                epochs * _u("track_bytes_per_epoch") / MB)
-
-
 def spin_history(span_years: float, epochs: int, steps_per_sample: int = 1) -> Part:
     """The averaged spin equation integrated over ``span_years`` (both sides of the epoch together) with its
     neighbours (:func:`ephem.longterm.averaged_spin.integrate`'s splitting), then the requested epochs. The steps
@@ -371,15 +318,6 @@ def population(rows: int, sigma_inputs: int = 0, groups=(), differenced: int | N
                           + (f", {evaluations} evaluations (the sigmas)" if evaluations > 1 else ""),
                           evaluations * count * (hansen_fft_s(n) + k * _u("population_harmonic_s")), held))
     return Cost(tuple(parts))
-
-
-def cassini_history(epochs: int) -> Part:
-    """A synchronous rotator's Cassini state carried along its primary's orbit history (:class:`ephem.moon.family.
-    CassiniHistory`): a fixed part (the node's quadrature on 4001 points of the orbit's spline, vectorised) and the
-    pole carried to each epoch."""
-    return Part("step_years", f"the Cassini state along the orbit at {epochs} epochs",
-                _u("base_s") + _u("cassini_history_base_s") + epochs * _u("cassini_history_point_s"),
-                _u("spin_history_base_mb") + (epochs + 4001) * _u("history_bytes_per_epoch") / MB)
 
 
 def pole_uncertainty(body, inputs_with_sigma: int, epochs: int, order: int | None = None) -> Cost:
@@ -438,12 +376,6 @@ def truncation_bounds(e: float) -> Part:
     _, k = harmonics(e, None)
     return Part("tolerance_mas", "the truncation bounds of the e-orders", _u("base_s") + 20 * _u("harmonic_s") * k * 40,
                 1.0)
-
-
-def lunisolar_answer() -> Part:
-    """The Earth under the Moon and the Sun: the lunisolar series are built once per process (at the
-    service's start-up, ``EPHEM_WARM_UP``); an answer reads them."""
-    return Part("perturbers", "the lunisolar series (built at start-up)", _u("lunisolar_answer_s"), 5.0)
 
 
 def body_harmonics(body, order: int | None = None) -> int:

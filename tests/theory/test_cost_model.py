@@ -1,4 +1,5 @@
-"""The cost model's structure (ephem.theory.cost, data/cost_model.toml): every unit used and every unit read present,
+"""The cost model's structure (ephem.theory.cost, data/cost_model.toml, and each family's costs module and table):
+every unit used and every unit read present,
 each CPU unit with its measurement, and the predictions' dependence on what a process keeps (cold against warm).
 
 No timing here: benchmarks/bench_calibration.py holds the predictions to the measured CPU (RESULTS_calibration.md).
@@ -6,6 +7,7 @@ No timing here: benchmarks/bench_calibration.py holds the predictions to the mea
 from __future__ import annotations
 
 import ast
+import importlib
 import itertools
 import re
 import tomllib
@@ -16,6 +18,7 @@ import pytest
 
 from ephem.base.paths import data_dir
 from ephem.bodies.catalogue import Body, Orbit, Pole, get_body
+from ephem.families import FAMILIES
 from ephem.forced import pole_uncertainty, uncertainty
 from ephem.forced.precession_nutation import cached_model
 from ephem.orbit import de421, hansen
@@ -28,55 +31,87 @@ J2000 = 2451545.0
 _serial = itertools.count()
 
 
-def _toml_units() -> dict:
-    return tomllib.loads((data_dir() / "cost_model.toml").read_text(encoding="utf-8"))["unit"]
+def _predictors() -> dict[Path, str]:
+    """Each module of predictors and the table of data/ it reads: ephem/theory/cost.py the shared cost_model.toml, each
+    family's costs module (beside the family the registry names) its own ``TABLE``."""
+    found = {COST_PY: "cost_model.toml"}
+    for family in FAMILIES:
+        module = family.module.rsplit(".", 1)[0] + ".costs"
+        path = ROOT / Path(*module.split(".")).with_suffix(".py")
+        if path.exists():
+            found[path] = importlib.import_module(module).TABLE
+    return found
 
 
-def _units_read() -> set[str]:
-    """The unit names cost.py reads: the literal argument of each _u(...) call and the values of SERIALISATIONS."""
-    tree = ast.parse(COST_PY.read_text(encoding="utf-8"))
+def _toml_units(table: str = "cost_model.toml") -> dict:
+    return tomllib.loads((data_dir() / table).read_text(encoding="utf-8"))["unit"]
+
+
+def _calls(path: Path, name: str) -> set[str]:
+    """The literal unit names of the ``name(...)`` calls of ``path`` (``_u("a" if x else "b")``: both)."""
     names = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "_u":
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == name:
             arg = node.args[0]
             if isinstance(arg, ast.Constant):
                 names.add(arg.value)
-            elif isinstance(arg, ast.IfExp):          # _u("a" if x else "b")
+            elif isinstance(arg, ast.IfExp):
                 names |= {a.value for a in (arg.body, arg.orelse) if isinstance(a, ast.Constant)}
-    return names | set(cost.SERIALISATIONS.values())
+    return names
+
+
+def _units_read() -> dict[str, set[str]]:
+    """The unit names each table's predictors read: a module's ``_u(...)`` its own table's, a family's ``unit(...)``
+    the shared table's, and the values of SERIALISATIONS."""
+    reads = {table: set() for table in _predictors().values()}
+    for path, table in _predictors().items():
+        reads[table] |= _calls(path, "_u")
+        reads["cost_model.toml"] |= _calls(path, "unit")
+    reads["cost_model.toml"] |= set(cost.SERIALISATIONS.values())
+    return reads
+
+
+def test_each_family_prices_its_own_work():
+    """The Earth's and the Moon's predictors and units are their own (issue 43), each table read by one module."""
+    tables = _predictors()
+    assert len(tables) == 3 and len(set(tables.values())) == 3
 
 
 def test_every_unit_in_the_toml_is_used_by_a_predictor():
-    unused = set(_toml_units()) - _units_read()
-    assert not unused, f"units no predictor of ephem/theory/cost.py reads: {sorted(unused)}"
+    for table, read in _units_read().items():
+        unused = set(_toml_units(table)) - read
+        assert not unused, f"units no predictor reads in data/{table}: {sorted(unused)}"
 
 
 def test_every_unit_a_predictor_reads_is_in_the_toml():
-    missing = _units_read() - set(_toml_units())
-    assert not missing, f"units ephem/theory/cost.py reads that data/cost_model.toml lacks: {sorted(missing)}"
-    # and each read goes through _u with a literal name (a computed name would escape both checks)
-    computed = [n for n in ast.walk(ast.parse(COST_PY.read_text(encoding="utf-8")))
-                if isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id == "_u"
-                and not isinstance(n.args[0], (ast.Constant, ast.IfExp, ast.Subscript))]
-    assert not computed
+    for table, read in _units_read().items():
+        missing = read - set(_toml_units(table))
+        assert not missing, f"units the predictors read that data/{table} lacks: {sorted(missing)}"
+    # and each read goes through _u or unit with a literal name (a computed name would escape both checks)
+    for path in _predictors():
+        computed = [n for n in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
+                    if isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id in ("_u", "unit")
+                    and not isinstance(n.args[0], (ast.Constant, ast.IfExp, ast.Subscript))]
+        assert not computed, path
 
 
 def test_only_the_predictors_read_the_unit_costs():
-    """The units are the predictors' (one place to calibrate): no other module of the library reads the toml."""
-    reads = re.compile(r"unit_costs\(\)|read_toml\([^)]*cost_model|\"cost_model\.toml\"")
+    """The units are the predictors' (one place to calibrate each): no other module of the library reads a table."""
+    reads = re.compile(r"unit_costs\(\)|unit_table\(|read_toml\([^)]*cost|\"cost_model\.toml\"|_costs\.toml")
     readers = [p.relative_to(ROOT) for p in (ROOT / "ephem").rglob("*.py")
-               if p != COST_PY and reads.search(p.read_text(encoding="utf-8"))]
+               if p not in _predictors() and reads.search(p.read_text(encoding="utf-8"))]
     assert readers == []
 
 
 def test_every_cpu_unit_says_what_it_was_measured_at():
-    text = (data_dir() / "cost_model.toml").read_text(encoding="utf-8")
-    lines = [line for line in text.splitlines() if re.match(r"^[a-z0-9_]+ *=", line)]
-    assert len(lines) == len(_toml_units())
-    cpu = [line for line in lines if re.match(r"^[a-z0-9_]+_s(_[a-z0-9_]+)? *=", line)]
-    assert len(cpu) > 30
-    silent = [line.split("=")[0].strip() for line in cpu if "measured" not in line.split("#", 1)[-1]]
-    assert not silent, f"CPU units whose comment gives no measurement: {silent}"
+    for table in _predictors().values():
+        text = (data_dir() / table).read_text(encoding="utf-8")
+        lines = [line for line in text.splitlines() if re.match(r"^[a-z0-9_]+ *=", line)]
+        assert len(lines) == len(_toml_units(table))
+        cpu = [line for line in lines if re.match(r"^[a-z0-9_]+_s(_[a-z0-9_]+)? *=", line)]
+        assert len(cpu) > (30 if table == "cost_model.toml" else 3)
+        silent = [line.split("=")[0].strip() for line in cpu if "measured" not in line.split("#", 1)[-1]]
+        assert not silent, f"CPU units of data/{table} whose comment gives no measurement: {silent}"
 
 
 def _body(e: float = 0.2) -> Body:
