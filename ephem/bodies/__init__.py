@@ -6,6 +6,8 @@ The catalogue holds each body's orbit, pole, rotation and moments, each value wi
 - :mod:`ephem.bodies.measured`: A catalogue value as published (value, unit, uncertainty, source), and the values a body record's tables give.
 - :mod:`ephem.bodies.datasets`: Where the datasets of bodies live, and which there are: the shipped ones and a user's own.
 - :mod:`ephem.bodies.inertia`: Principal moments of inertia from what is measured, with their covariance.
+- :mod:`ephem.bodies.interior`: The interior model of a body for its forced nutation: rigid, or a transfer function of
+  the circular components (data/interiors.toml).
 - :mod:`ephem.bodies.importer`: Bring your own data: a dataset built from a user's orbit file and pole/period table (docs/catalogue_import.md).
 - :mod:`ephem.bodies.orbit_files`: The orbit files an import reads: MPCORB, SBDB JSON, SBDB CSV.
 - :mod:`ephem.bodies.pole_table`: The pole/period table an import reads.

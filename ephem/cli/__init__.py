@@ -15,9 +15,14 @@ partitions that still failed after their retries; the others are written and a r
 The commands take the library only through :mod:`ephem.api`. Start-up is kept short for one-body answers: the
 api (numpy, the catalogue, the models) is imported by each command rather than at the top, so ``--help`` and
 usage errors never load it, and option values are parsed by :mod:`ephem.cli.usage` rather than by typer's
-pydantic adapters. The modules: :mod:`~ephem.cli.usage` (option parsing, usage errors), :mod:`~ephem.cli.common`
-(the app, shared options, printing), :mod:`~ephem.cli.one_body` (answers printed), :mod:`~ephem.cli.files`
-(commands that write files), :mod:`~ephem.cli.demo` (the tour).
+pydantic adapters. The modules:
+
+- :mod:`ephem.cli.usage`: option parsing, usage errors.
+- :mod:`ephem.cli.common`: the app, shared options, printing.
+- :mod:`ephem.cli.one_body`: the answers printed.
+- :mod:`ephem.cli.files`: the commands that write files.
+- :mod:`ephem.cli.demo`: the tour.
+- :mod:`ephem.cli.__main__`: ``python -m ephem.cli``, what the ``ephem`` script runs.
 """
 from __future__ import annotations
 

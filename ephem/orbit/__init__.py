@@ -7,6 +7,8 @@ and Sun (the Delaunay arguments).
 - :mod:`ephem.orbit.de421_header`: The constants of DE421's header: its au, the speed of light, the GMs of the Sun, the planets and the Moon.
 - :mod:`ephem.orbit.geometry`: Spin-pole and orbit geometry: obliquity, the body's equinox, the angle to pericentre.
 - :mod:`ephem.orbit.hansen`: Hansen (Cayley) coefficients of the three functions that drive the nutation.
+- :mod:`ephem.orbit.harmonic_grid`: Harmonic sums on an even grid with no sin or cos per point: the tracks' and the
+  grids' engine.
 - :mod:`ephem.orbit.harmonics`: Harmonic sums Σ_k S_k sin kx + C_k cos kx, k = 1..K, at many angles x: the engine the theories' series run on.
 - :mod:`ephem.orbit.kepler`: Two-body orbit: Kepler's equation, anomalies and the orbit's orientation.
 - :mod:`ephem.orbit.lunar`: The analytic Moon and Sun seen from the Earth, in the Delaunay arguments: shared by the Earth and the Moon.

@@ -6,6 +6,8 @@
   the numerical rungs' error and reach, and the real orbit's (rung 6).
 - :mod:`ephem.sun.ladder`: the ladder of one body: estimates, choice by tolerance, price and tracks.
 - :mod:`ephem.sun.family`: the ladder behind the common interface of the theories (:class:`SunLadder`).
+- :mod:`ephem.sun.geodesic`: What the analytic rungs leave of the geodesic (de Sitter) precession: the ladder's
+  ``geodesic`` error term.
 - :mod:`ephem.sun.spectrum`: the track's frequencies for the SPICE kernel writer.
 
 The package imports none of its modules: importing one loads only what it needs.
