@@ -9,6 +9,7 @@ Poisson terms), estimates in milliarcseconds. A key's name, order and unit are d
 from __future__ import annotations
 
 import math
+from dataclasses import fields
 
 import numpy as np
 
@@ -18,7 +19,7 @@ from ..bodies.catalogue import Body
 from ..rotation.free_motion import FreeMotion
 from ..longterm.history import DESCRIPTIONS as HISTORY_DESCRIPTIONS, HISTORY_ASSUMPTIONS, HistoryResult, total
 from ..theory.choice import RULE as CHOICE_RULE, Choice
-from ..theory.results import CassiniSummary, NutationResult, NutationTerm, PrecessionResult, Selection
+from ..theory.results import FamilySummary, NutationResult, NutationTerm, PrecessionResult, Selection
 
 #: the precession answer's values (Petit et al. Table 4 columns)
 RATE_KEYS = ("obliquity_deg", "dynamical_ellipticity", "scaling_factor_arcsec_per_year",
@@ -68,20 +69,22 @@ def _model(description: dict, s: Selection) -> dict:
     return model
 
 
-def _cassini(c: CassiniSummary) -> dict:
-    return {
-        "equator_inclination_deg": math.degrees(c.equator_inclination),
-        "derived_equator_inclination_deg": math.degrees(c.derived_equator_inclination),
-        "derived_obliquity_deg": math.degrees(c.derived_obliquity),
-        "orbit_inclination_deg": math.degrees(c.orbit_inclination),
-        "node_rate_deg_per_year": math.degrees(c.node_rate) * JULIAN_YEAR_DAYS,
-        "node_period_years": 2.0 * math.pi / abs(c.node_rate) / JULIAN_YEAR_DAYS,
-        "beta": c.beta, "gamma": c.gamma,
-        "free_libration_longitude_days": c.free_libration_longitude_days,
-        "free_libration_latitude_days": c.free_libration_latitude_days,
-        "free_precession_space_days": c.free_precession_space_days,
-        "free_wobble_days": c.free_wobble_days,
-    }
+def family_summary(s: FamilySummary) -> dict:
+    """A family's own summary (the Moon's Cassini state), each field by the unit it declares
+    (:func:`ephem.theory.results.quantity`): an angle in degrees (``_deg``), a rate in degrees per Julian year
+    (``_deg_per_year``, and its period in years where it names the key), any other number as it is."""
+    out = {}
+    for f in fields(s):
+        value, unit = getattr(s, f.name), f.metadata.get("unit")
+        if unit == "rad":
+            out[f"{f.name}_deg"] = math.degrees(value)
+        elif unit == "rad/day":
+            out[f"{f.name}_deg_per_year"] = math.degrees(value) * JULIAN_YEAR_DAYS
+            if f.metadata.get("period"):
+                out[f.metadata["period"]] = 2.0 * math.pi / abs(value) / JULIAN_YEAR_DAYS
+        else:
+            out[f.name] = value
+    return out
 
 
 #: the catalogue inputs (by key prefix) that move each value: where one of them has no σ, the value's σ is a lower
@@ -150,7 +153,8 @@ def lower_bounds(b: Body, uncertainty: dict, sigmas: dict) -> dict:
 
 def precession(r: PrecessionResult) -> dict:
     """The precession answer: obliquity (deg), H_d, K and ψ̇ (arcsec/yr), each with its 1σ (null: unknown),
-    the Cassini state of a synchronous satellite, the uncertainty's method and the ``model`` object."""
+    the family's own summary (a synchronous satellite's Cassini state), the uncertainty's method and the ``model``
+    object."""
     b, s = r.body, r.sigmas
     ans = {"body": b.name, "dataset": b.dataset, "obliquity_deg": math.degrees(r.obliquity),
            "dynamical_ellipticity": r.dynamical_ellipticity,
@@ -170,8 +174,8 @@ def precession(r: PrecessionResult) -> dict:
         ans["precession_rate_arcsec_per_year"] - (0.0 if r.geodesic_in_rate else geodesic)
     ans["observable_precession_rate_arcsec_per_year_uncertainty"] = None if geodesic is None else \
         ans["precession_rate_arcsec_per_year_uncertainty"]
-    if r.cassini is not None:
-        ans["cassini"] = _cassini(r.cassini)
+    if r.summary is not None:
+        ans[r.summary.answer_key] = family_summary(r.summary)
     ans["uncertainty"] = {**r.uncertainty, "lower_bounds": lower_bounds(
         b, r.uncertainty, {k: ans.get(f"{k}_uncertainty") for k in (*RATE_KEYS,
                                                                     "observable_precession_rate_arcsec_per_year")})}

@@ -16,6 +16,7 @@
 - :mod:`ephem.moon.orientation`: The Moon's orientation beyond the rigid libration theory: what lunar laser ranging
   observes.
 - :mod:`ephem.moon.physical_librations`: The Moon's forced physical librations about its Cassini state: the pole and the prime meridian.
+- :mod:`ephem.moon.results`: The Moon family's own result: the Cassini state its theory derives, beside the precession answer's values.
 - :mod:`ephem.moon.rigid_integration`: The full rigid synchronous satellite, integrated: the independent check of the Cassini-state theory.
 
 The Cassini state itself is :mod:`ephem.forced.cassini` (issue 43): the physics of any synchronous rotator, below the

@@ -66,7 +66,7 @@ from ..orbit.kepler import mean_motion_rad_per_day
 from ..forced.precession_nutation import Track
 from ..theory.choice import Candidates, cheapest
 from ..theory.interface import SpinAxisTheory, Spectrum, SpectrumExport
-from ..theory.results import (COVERS_ALL_TERMS, COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, CassiniSummary, Estimate,
+from ..theory.results import (COVERS_ALL_TERMS, COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate,
                               NutationResult, NutationTerm, PrecessionResult, RateSigmas, selection)
 from ..forced.catalogue_sigmas import dynamical_ellipticity_sigma, moments_function_sigma, no_uncertainty_reasons
 from ..forced.uncertainty import SCALAR_KEYS
@@ -77,6 +77,7 @@ from .model import (CIRCLE_SIDEBANDS, INTEGRATION_ERROR, LIBRATION_CUT, PHYSICS_
                     ecliptic_lag, integrate_axes, integrate_track, libration_series, moments_bound, series_built,
                     synchronous_model)
 from . import costs, lunar_kernel
+from .results import CassiniSummary
 from .kernel_rung import PA_ROUNDING, kernel_estimate, kernel_track
 from .orientation import ecliptic_lag_vector, mean_inclination, orientation_data, pa_offset_angle
 

@@ -9,7 +9,7 @@ every time a JD TDB or a duration in days; a 1σ is in its value's unit, None wh
 - :class:`Estimate`: a model's estimated pole error over a request's epochs, by named term;
 - :class:`Selection`: which of a family's models answered, its estimated error and what that bounds, its cost;
 - :class:`PrecessionResult`: the mean obliquity, H_d, K and the precession rate with their 1σ
-  (:class:`RateSigmas`), and for a synchronous satellite its :class:`CassiniSummary`;
+  (:class:`RateSigmas`), and a family's own :class:`FamilySummary` (a synchronous satellite's Cassini state);
 - :class:`NutationResult`: the terms (:class:`NutationTerm`) with their 1σ and the half peak-to-peak.
 
 The texts that describe a model (its theory, assumptions, warnings, epochs: the ``model`` object before the
@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Mapping
+from typing import ClassVar, Mapping
 
 from ..bodies.catalogue import Body
 
@@ -120,22 +120,22 @@ class RateSigmas:
     precession_rate: float | None
 
 
-@dataclass(frozen=True)
-class CassiniSummary:
-    """A synchronous satellite's Cassini state as its theory derives it (:mod:`ephem.forced.cassini`), beside the
-    served mean pole: angles in radians, the node's rate in rad/day, the free librations' periods in days."""
+def quantity(unit: str | None = None, period: str | None = None):
+    """A field of a :class:`FamilySummary` in ``unit``: "rad" (an angle; the answer's key adds ``_deg``), "rad/day" (a
+    rate; ``_deg_per_year``, and with ``period`` the key of its period in Julian years beside it) or None (a number
+    whose name says its unit, ``_days``, or none)."""
+    return field(metadata={"unit": unit, "period": period})
 
-    equator_inclination: float           # the catalogue pole's, to the ecliptic
-    derived_equator_inclination: float
-    derived_obliquity: float
-    orbit_inclination: float
-    node_rate: float
-    beta: float
-    gamma: float
-    free_libration_longitude_days: float
-    free_libration_latitude_days: float
-    free_precession_space_days: float
-    free_wobble_days: float
+
+@dataclass(frozen=True)
+class FamilySummary:
+    """What a family derives beside the precession answer's values, in its own object of the answer (the Moon's
+    Cassini state, ``ephem.moon.results``): a subclass in the family's package names the answer's key
+    (``answer_key``) and declares each field's unit (:func:`quantity`), so that :mod:`ephem.answers.render` writes
+    every family's summary the same way, without knowing the family."""
+
+    #: the answer's key of the object
+    answer_key: ClassVar[str] = ""
 
 
 @dataclass(frozen=True)
@@ -154,7 +154,8 @@ class PrecessionResult:
     uncertainty: dict
     description: dict
     selection: Selection
-    cassini: CassiniSummary | None = None
+    #: the family's own summary (a :class:`FamilySummary`: the Moon's Cassini state), or None
+    summary: FamilySummary | None = None
     #: the geodesic (de Sitter) precession Ω_gp (rad/day, :mod:`ephem.orbit.relativity`), which turns the axis
     #: about the orbit normal the other way from the torque's ψ̇: the observable rate is ψ̇ − Ω_gp
     geodesic_rate: float | None = None

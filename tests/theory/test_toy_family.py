@@ -10,6 +10,8 @@ this file), its entry (:func:`ephem.api.register_family`), and nothing of the li
 from __future__ import annotations
 
 import dataclasses
+from dataclasses import dataclass
+from typing import ClassVar
 import json
 import re
 import time
@@ -27,7 +29,8 @@ from ephem.cli import app as cli_app
 from ephem.forced.describe import model_info
 from ephem.forced.precession_nutation import model_for
 from ephem.theory.interface import SpinAxisTheory
-from ephem.theory.results import COVERS_NOTHING_TRUNCATED, Estimate, PrecessionResult, selection
+from ephem.theory.results import (COVERS_NOTHING_TRUNCATED, Estimate, FamilySummary, PrecessionResult, quantity,
+                                  selection)
 
 #: the toy's own precession rate, arcsec per Julian year (no body has it: a number only the toy can give)
 TOY_RATE_ARCSEC_PER_YEAR = 4321.0
@@ -36,6 +39,15 @@ TOY_MODEL = "toy_uniform"
 TOY_ERROR_MAS = 7.0
 #: the body the toy takes from the single-perturber ladder
 TOY_BODY = "Itokawa"
+
+
+@dataclass(frozen=True)
+class ToySummary(FamilySummary):
+    """What the toy derives beside the precession answer (its own object of the answer, rendered by its units)."""
+
+    answer_key: ClassVar[str] = "toy"
+    turn_rate: float = quantity("rad/day", period="turn_period_years")
+    tilt: float = quantity("rad")
 
 
 def serves_toy(body: Body, perturbers: tuple[str, ...]) -> bool:
@@ -115,7 +127,8 @@ class ToyTheory(SpinAxisTheory):
         return PrecessionResult(self.body, m.obliquity, m.hd, m.scaling_factor, self.rate, None, uncertainty,
                                 self.describe(None), selection(self, TOY_MODEL, None, None,
                                                                1e3 * (time.perf_counter() - start), tolerance,
-                                                               covers=COVERS_NOTHING_TRUNCATED))
+                                                               covers=COVERS_NOTHING_TRUNCATED),
+                                ToySummary(self.rate, m.obliquity))
 
     def nutation(self, order, tolerance, cut_mas, start, nonrigid=False):
         raise api.NotApplicableError(self.body.name, "the toy family has no nutation")
@@ -173,8 +186,12 @@ def test_the_api_answers_with_the_toy(toy):
     assert default["model"]["name"] == TOY_MODEL
     chosen = api.track(TOY_BODY, SPAN["start"], SPAN["stop"], SPAN["step_days"], tolerance_mas=10.0)
     assert chosen["model"]["name"] == TOY_MODEL
-    rate = api.precession(TOY_BODY)["precession_rate_arcsec_per_year"]
-    assert rate == pytest.approx(TOY_RATE_ARCSEC_PER_YEAR, rel=1e-12)
+    precession = api.precession(TOY_BODY)
+    assert precession["precession_rate_arcsec_per_year"] == pytest.approx(TOY_RATE_ARCSEC_PER_YEAR, rel=1e-12)
+    # the toy's own summary, rendered by the units its fields declare (render.py knows no toy)
+    assert precession["toy"]["turn_rate_deg_per_year"] == pytest.approx(TOY_RATE_ARCSEC_PER_YEAR / 3600.0, rel=1e-12)
+    assert precession["toy"]["turn_period_years"] == pytest.approx(1296000.0 / TOY_RATE_ARCSEC_PER_YEAR, rel=1e-12)
+    assert precession["toy"]["tilt_deg"] == pytest.approx(precession["obliquity_deg"], rel=1e-12)
 
 
 def test_the_api_refuses_what_the_toy_has_not(toy):
