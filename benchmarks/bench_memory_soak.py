@@ -28,7 +28,10 @@ its process group). Prints a Markdown section; ``--out FILE`` appends it to a re
 Run: ``.venv/bin/python benchmarks/bench_memory_soak.py`` (8,000 requests, 1-3 min on 2 shared cores); options:
 ``--src DIR``, ``--label TEXT``, ``--requests N`` (the last checkpoint), ``--checkpoints 2000,4000,8000``,
 ``--clients N``, ``--workers W``, ``--seed S``, ``--env NAME=VALUE`` (repeatable: the server's environment),
-``--out FILE``.
+``--out FILE``, ``--tree-note TEXT`` (what a served tree outside git is). A shorter run: ``--requests 4000
+--checkpoints 2000,4000``. Besides the RSS it counts the refusals by reason: 503 for the worker's memory (its
+requests' memory admission, service/guards.py), 503 for the large requests' slots, 422 for a request's own memory
+budget.
 """
 from __future__ import annotations
 
@@ -296,6 +299,7 @@ class Soak:
         self.seen: list[int] = []                   # every worker pid, in the order first seen
         self.rows: list[dict] = []                  # one per checkpoint
         self.failures: list[str] = []               # the first 5xx answers: what was asked, what came back
+        self.refusals: collections.Counter = collections.Counter()   # refusals by reason (refusal_reason)
 
     def snapshot(self) -> dict[int, float]:
         snap = {}
@@ -327,6 +331,9 @@ class Soak:
                 try:
                     r = await c.request(method, path, json=body)
                     status = str(r.status_code)
+                    reason = refusal_reason(r.status_code, r.text)
+                    if reason is not None:
+                        self.refusals[reason] += 1
                     if r.status_code >= 500 and len(self.failures) < 10:
                         self.failures.append(f"{method} {path} {'' if body is None else body} -> {r.status_code} "
                                              f"{r.text[:300]}")
@@ -357,6 +364,19 @@ class Soak:
         stop.set()
         await sampler
         return time.monotonic() - t0
+
+
+def refusal_reason(status: int, text: str) -> str | None:
+    """Why the service refused a request, from its problem: "503 memory" (the worker's memory for requests was
+    taken: service/guards.py's memory admission), "503 heavy" (the large requests' slots were taken), "503 other"
+    (deadline, memory ceiling), "422 memory" (the request alone over its memory budget); None for anything else."""
+    if status == 503:
+        if "/busy" in text:
+            return "503 memory" if "MB of memory" in text else "503 heavy"
+        return "503 other"
+    if status == 422 and "/over-budget" in text and "MB of memory, over the budget" in text:
+        return "422 memory"
+    return None
 
 
 def _pct(xs: list[float], q: float) -> float:
@@ -429,6 +449,10 @@ def render(soak: Soak, args, wall_s: float, ready_s: float, started: str) -> str
         lat = soak.latency[kind]
         lines.append(f"| {kind} | {sum(st.values())} | " + ", ".join(f"{s}: {n}" for s, n in sorted(st.items()))
                      + f" | {_pct(lat, 50) * 1e3:.0f} | {_pct(lat, 99) * 1e3:.0f} |")
+    total = max(soak.next, 1)
+    lines += ["", "Refused, by reason (of all the requests sent): "
+              + ", ".join(f"{why} {soak.refusals.get(why, 0)} ({soak.refusals.get(why, 0) / total:.2%})"
+                          for why in ("503 memory", "503 heavy", "503 other", "422 memory")) + "."]
     if soak.failures:
         lines += ["", "The first 5xx answers:", "", *(f"- `{f}`" for f in soak.failures)]
     return "\n".join(lines) + "\n"
@@ -447,6 +471,7 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
     p.add_argument("--bound-mb", type=float, default=400.0, help="report the share of RSS samples above this")
     p.add_argument("--env", action="append", default=[], help="NAME=VALUE for the server (repeatable)")
     p.add_argument("--out", type=Path, default=None, help="append the section to this file")
+    p.add_argument("--tree-note", default="", help="what the served tree is, when it is not a git checkout")
     args = p.parse_args(argv)
     args.checkpoints = sorted(int(x) for x in args.checkpoints.split(","))
     if args.requests is not None:
@@ -459,7 +484,10 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
                              text=True, timeout=10).stdout.strip()
         dirty = subprocess.run(["git", "-C", str(args.src), "status", "--porcelain", "--untracked-files=no"],
                                capture_output=True, text=True, timeout=10).stdout.strip()
-        args.tree_name += f", commit {rev}" + (" with uncommitted changes" if dirty else "")
+        if rev:
+            args.tree_name += f", commit {rev}" + (" with uncommitted changes" if dirty else "")
+    if args.tree_note:
+        args.tree_name += f", {args.tree_note}"
     return args
 
 

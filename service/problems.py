@@ -52,7 +52,8 @@ class Problem(BaseModel):
     already_charged_cpu_s: Optional[float] = Field(None, description="over-budget: of estimated_cpu_s, what the "
                                                                      "request's earlier parts had charged when the "
                                                                      "refused part came (0: none)")
-    estimated_memory_mb: Optional[float] = Field(None, description="over-budget: its estimated peak memory, MB")
+    estimated_memory_mb: Optional[float] = Field(None, description="over-budget, busy (memory): its estimated peak "
+                                                                   "memory, MB")
     budget_cpu_s: Optional[float] = Field(None, description="over-budget: the CPU budget of a request, s")
     budget_memory_mb: Optional[float] = Field(None, description="over-budget: the memory budget of a request, MB")
     estimate: Optional[dict] = Field(None, description="over-budget: the estimate, part by part (cpu_s is "
@@ -62,6 +63,10 @@ class Problem(BaseModel):
     heavy_request_cpu_s: Optional[float] = Field(None, description="busy: a request estimated above this many "
                                                                    "seconds of CPU is large")
     heavy_slots: Optional[int] = Field(None, description="busy: how many large requests run at once")
+    worker_request_memory_mb: Optional[float] = Field(None, description="busy (memory): what the requests running in "
+                                                                        "a worker may hold together, MB (predicted)")
+    in_flight_memory_mb: Optional[float] = Field(None, description="busy (memory): what the requests running in the "
+                                                                   "worker held of it when this one was refused, MB")
 
 
 def problem(status: int, kind: str, title: str, detail: str, headers: dict | None = None, **extra) -> JSONResponse:
