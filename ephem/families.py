@@ -90,14 +90,33 @@ MODELS = ModelNames()
 
 def model_families() -> list[tuple[str, tuple[str, ...]]]:
     """Each family's ``summary`` and model names, the most general family first (as :data:`MODELS` lists them), then
-    the long-term model, which every family has after its own: the lists a help text or a document gives."""
+    the long-term model, which every family has after its own: the lists a help text or a document gives.
+
+    Returns
+    -------
+    list of (str, tuple of str)
+        (summary, model names cheapest first) per family, then the long-term model's.
+    """
     return [(f.summary, f.models) for f in reversed(FAMILIES)] + [(LONG_TERM_SUMMARY, (LONG_TERM,))]
 
 
 def register(family: Family, before: str | None = None) -> Family:
     """Add ``family`` to the registry, before the family whose class is named ``before`` (None: first, the most
     specific), so that the bodies its test takes are served by it; its models join :data:`MODELS`. A family of
-    that class name already registered is an error."""
+    that class name already registered is an error.
+
+    Parameters
+    ----------
+    family : Family
+        The registry entry: the family's module and class, its model names and its test of a body.
+    before : str or None
+        The class name of the registered family it goes before; None: first.
+
+    Returns
+    -------
+    Family
+        ``family``, as registered.
+    """
     global FAMILIES
     if any(f.name == family.name for f in FAMILIES):
         raise ValueError(f"a family {family.name!r} is registered already")
@@ -107,7 +126,17 @@ def register(family: Family, before: str | None = None) -> Family:
 
 
 def unregister(name: str) -> None:
-    """Take the family whose class is named ``name`` out of the registry (a test's toy family, once done)."""
+    """Take the family whose class is named ``name`` out of the registry (a test's toy family, once done).
+
+    Parameters
+    ----------
+    name : str
+        The family's class name.
+
+    Returns
+    -------
+    None
+    """
     global FAMILIES
     FAMILIES = tuple(f for f in FAMILIES if f.name != name)
 

@@ -11,6 +11,12 @@ def data_dir() -> Path:
 
     ``$EPHEM_DATA_DIR`` overrides; otherwise the copy inside an installed wheel
     (``ephem/_data``) or the repository's ``data/``.
+
+    Returns
+    -------
+    Path
+        The data directory (read only: the user's own datasets go to
+        :func:`ephem.bodies.datasets.user_catalogue_dir`).
     """
     env = os.environ.get("EPHEM_DATA_DIR")
     if env:

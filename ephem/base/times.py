@@ -28,9 +28,13 @@ import sys
 import threading
 import warnings
 from functools import lru_cache
+from typing import TYPE_CHECKING
 
 from .constants import JD_RANGE  # (0, 1e7), exclusive: the grammar's Julian dates below are written for it
 from .errors import InvalidInputError
+
+if TYPE_CHECKING:       # numpy loads with the first vectorised call, not at the CLI's start-up
+    from numpy.typing import ArrayLike
 
 _SCALES = ("tdb", "tt", "tai", "utc", "tcb", "tcg", "ut1")
 
@@ -268,7 +272,7 @@ def check_calendar_scale(scale, field: str = "time_scale") -> str:
                                    f"got {scale!r}")
 
 
-def calendar_dates(jd_tdb, scale: str = "utc") -> list[str]:
+def calendar_dates(jd_tdb: ArrayLike, scale: str = "utc") -> list[str]:
     """ISO 8601 calendar dates (``2040-01-01T00:00:00.000``, to the millisecond) of Julian dates TDB, in ``scale``
     (:data:`CALENDAR_SCALES`): the column a person reads beside ``jd_tdb``.
 
@@ -278,7 +282,20 @@ def calendar_dates(jd_tdb, scale: str = "utc") -> list[str]:
     skyfield's ``tdb_minus_tt``: within :data:`TDB_TT_ERROR_S` of ERFA's full ``dtdb`` over 1600-2200), which costs
     ~0.07 us an epoch where ``dtdb`` costs 8 us: the whole column costs 0.2-0.3 us an epoch, a 10^5-epoch track's
     dates ~30 ms of CPU (benchmarks/RESULTS_calendar.md). Years outside 0000-9999 are written with their sign
-    (``-4712``, ``+10000``), as ISO 8601's expanded years."""
+    (``-4712``, ``+10000``), as ISO 8601's expanded years.
+
+    Parameters
+    ----------
+    jd_tdb : float or array_like of float
+        Julian dates in TDB (days).
+    scale : str
+        The time scale the dates are written in: one of :data:`CALENDAR_SCALES` ("utc", "tt", "tdb").
+
+    Returns
+    -------
+    list of str
+        One ISO 8601 date and time to the millisecond per epoch, in order.
+    """
     import erfa
     import numpy as np
     from skyfield.timelib import tdb_minus_tt
@@ -422,7 +439,13 @@ def _iers_tables():
 
 
 def ut1_span() -> tuple[str, str]:
-    """First and last UTC dates (ISO) on which a UT1 time is accepted (all day): the bundled IERS tables' span."""
+    """First and last UTC dates (ISO) on which a UT1 time is accepted (all day): the bundled IERS tables' span.
+
+    Returns
+    -------
+    tuple of str
+        (first, last): ISO 8601 dates (``YYYY-MM-DD``, UTC), both accepted.
+    """
     from astropy.time import Time
 
     b, a = _iers_tables()

@@ -467,6 +467,16 @@ def load_catalogue(dataset: str = DEFAULT_DATASET) -> Catalogue:
 
     The parsed catalogue is cached under the file's path, modification time and size, so a dataset imported
     or replaced after the first call is seen by the next one; ``load_catalogue.cache_clear()`` empties the cache.
+
+    Parameters
+    ----------
+    dataset : str
+        The dataset's name: a shipped one (:func:`ephem.bodies.datasets.available_datasets`) or an imported one.
+
+    Returns
+    -------
+    Catalogue
+        The dataset's name, description and bodies (:class:`Body` records, looked up by name or NAIF id).
     """
     path = dataset_file(dataset)
     try:
@@ -489,10 +499,38 @@ def load_references() -> dict:
 
 
 def get_body(query: str | int, dataset: str = DEFAULT_DATASET) -> Body:
-    """A catalogue body by case-insensitive name or NAIF id (2000004 = Vesta)."""
+    """A catalogue body by case-insensitive name or NAIF id (2000004 = Vesta).
+
+    Parameters
+    ----------
+    query : str or int
+        The body's name (any case) or NAIF id.
+    dataset : str
+        The dataset to look in: "current" (default), "petit2014" or one the user imported.
+
+    Returns
+    -------
+    Body
+        The body's record: orbit (a in au, angles in degrees), pole (RA and Dec in degrees, ICRF), rotation period
+        (hours) and moments, each value with its unit, 1-sigma and source. :class:`UnknownBodyError` names the known
+        ones when there is none.
+    """
     return load_catalogue(dataset).get(query)
 
 
 def resolve_body(body: "str | int | Body", dataset: str = DEFAULT_DATASET) -> Body:
-    """``body`` itself if it is a :class:`Body` (a user's own), else the catalogue's by name or NAIF id."""
+    """``body`` itself if it is a :class:`Body` (a user's own), else the catalogue's by name or NAIF id.
+
+    Parameters
+    ----------
+    body : str, int or Body
+        A body's name (any case) or NAIF id, or a :class:`Body` (returned as it is).
+    dataset : str
+        The dataset a name or id is looked up in.
+
+    Returns
+    -------
+    Body
+        The body's record (see :func:`get_body`).
+    """
     return body if isinstance(body, Body) else get_body(body, dataset)

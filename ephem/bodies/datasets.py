@@ -21,7 +21,13 @@ DATASET_NAME = r"[A-Za-z0-9][A-Za-z0-9_-]{0,63}"
 def user_catalogue_dir() -> Path | None:
     """Directory of the user's own datasets (``ephem catalogue import``, docs/catalogue_import.md):
     ``$EPHEM_USER_CATALOGUE_DIR``, else ``$XDG_DATA_HOME/ephem/catalogue``, else
-    ``~/.local/share/ephem/catalogue``; None when there is no home directory to put it in."""
+    ``~/.local/share/ephem/catalogue``; None when there is no home directory to put it in.
+
+    Returns
+    -------
+    Path or None
+        The directory (it may not exist yet: the first import makes it), or None.
+    """
     env = os.environ.get("EPHEM_USER_CATALOGUE_DIR")
     if env:
         return Path(env).expanduser()
@@ -60,5 +66,11 @@ def dataset_file(dataset: str) -> Path | None:
 
 
 def available_datasets() -> list[str]:
-    """The shipped datasets (sorted), then the user's imported ones (sorted; docs/catalogue_import.md)."""
+    """The shipped datasets (sorted), then the user's imported ones (sorted; docs/catalogue_import.md).
+
+    Returns
+    -------
+    list of str
+        The datasets' names, each one a ``dataset=`` argument takes.
+    """
     return shipped_datasets() + sorted(_user_dataset_files())

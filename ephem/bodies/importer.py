@@ -217,7 +217,36 @@ def import_catalogue(orbits: str | Path, poles: str | Path, name: str, fmt: str 
     """Read ``orbits`` and ``poles``, build and validate the dataset ``name``, and write it to ``directory``
     (default :func:`ephem.bodies.datasets.user_catalogue_dir`) as ``NAME.toml``; then ``load_catalogue(name)`` and
     every ``dataset=name`` see it (the catalogue cache is keyed by the file's modification time, and is cleared
-    here as well). An existing dataset of that name is replaced only with ``force``."""
+    here as well). An existing dataset of that name is replaced only with ``force``.
+
+    Parameters
+    ----------
+    orbits : str or Path
+        The orbit file: MPCORB, an SBDB JSON answer or an SBDB CSV export (a in au, angles in degrees, epochs as
+        the file gives them).
+    poles : str or Path
+        The pole/period table (CSV): each body's name, spin pole (``pole_ra_deg``, ``pole_dec_deg``: degrees,
+        ICRF), rotation period (hours) and what else the table may give (docs/catalogue_import.md).
+    name : str
+        The dataset's name: a letter or digit, then letters, digits, "_" or "-" (at most 64), not a shipped
+        dataset's (any case).
+    fmt : str or None
+        The orbit file's format, "mpcorb", "sbdb-json" or "sbdb-csv"; None: detected from its content and name.
+    skip_unmatched : bool
+        Skip the bodies found in one file but not the other (listed in the result) instead of refusing the import.
+    force : bool
+        Replace an existing dataset of that name.
+    directory : str, Path or None
+        Where to write ``NAME.toml``; None: :func:`ephem.bodies.datasets.user_catalogue_dir`.
+    today : str or None
+        The import's date written in the dataset (ISO 8601, ``YYYY-MM-DD``); None: today's (a test fixes it).
+
+    Returns
+    -------
+    ImportResult
+        The file written (``path``), the dataset as loaded (``catalogue``), the bodies skipped (``skipped``) and
+        whether a dataset was replaced (``replaced``).
+    """
     check_dataset_name(name)
     if fmt is not None and fmt not in FORMATS:
         raise InvalidInputError("format", f"must be one of {', '.join(FORMATS)}, got {fmt!r}")

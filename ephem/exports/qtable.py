@@ -27,6 +27,8 @@ from __future__ import annotations
 import io
 import math
 import re
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -37,6 +39,9 @@ from ..base.units import unit_of
 from ..bodies.catalogue import get_body, load_references
 from ..orbit.lunar import DELAUNAY_NAMES
 from ..theory import cost
+
+if TYPE_CHECKING:       # astropy.table loads with the first table, not with this module
+    from astropy.table import QTable
 
 #: the media type of the ECSV the service answers
 ECSV_MEDIA_TYPE = "text/x-ecsv"
@@ -141,7 +146,7 @@ def table_kind(answer) -> str:
                                       "or batch")
 
 
-def to_qtable(answer, *, source: str | None = None):
+def to_qtable(answer: Mapping[str, Any] | Sequence[Mapping[str, Any]], *, source: str | None = None) -> QTable:
     """The answer as an astropy ``QTable``: Quantity columns in the units their keys name, ``jd_tdb`` a TDB
     ``Time``, a description on every column and the answer's metadata in ``meta`` (see the module's docstring).
 
@@ -150,6 +155,21 @@ def to_qtable(answer, *, source: str | None = None):
     ``quantities=True`` too: a Quantity is taken in its key's unit). ``source``:
     where it came from (a URL, a command line), written in ``meta``; default the library's function.
     The same table is what :func:`to_ecsv` writes, and what ``QTable.read(..., format="ascii.ecsv")`` reads back.
+
+    Parameters
+    ----------
+    answer : dict or list of dict
+        An answer of :mod:`ephem.api`, unchanged (the bodies' list is a list of dicts); its keys name their units
+        (``_deg``, ``_arcsec``, ``_mas``, ``_days``, ``jd_tdb``...).
+    source : str or None
+        Where the answer came from, for ``meta["source"]``; None: the library's function that made it.
+
+    Returns
+    -------
+    astropy.table.QTable
+        One row per epoch (a track, a free motion, a history), per nutation term, per body or per batch row:
+        Quantity columns in their keys' units (deg, arcsec, mas, d, yr...), ``jd_tdb`` a TDB ``Time``.
+        :class:`InvalidInputError` (field ``answer``) for an object that is no table-shaped answer.
     """
     from astropy.table import QTable
 
@@ -163,10 +183,24 @@ def to_qtable(answer, *, source: str | None = None):
     return table
 
 
-def to_ecsv(answer, *, source: str | None = None) -> str:
+def to_ecsv(answer: Mapping[str, Any] | Sequence[Mapping[str, Any]], *, source: str | None = None) -> str:
     """The answer's :func:`to_qtable` written by astropy as ECSV (``text/x-ecsv``): a YAML header (each column's
     name, unit, type and description; the metadata) and the rows, space-separated, each number as its shortest
-    repr (it reads back to the same double). Charges the writing first: rows x columns at the measured unit cost."""
+    repr (it reads back to the same double). Charges the writing first: rows x columns at the measured unit cost.
+
+    Parameters
+    ----------
+    answer : dict or list of dict
+        An answer of :mod:`ephem.api`, unchanged (as :func:`to_qtable` takes it).
+    source : str or None
+        Where the answer came from, written in the header's metadata; None: the library's function.
+
+    Returns
+    -------
+    str
+        The ECSV text (``text/x-ecsv``): ``QTable.read(io.StringIO(text), format="ascii.ecsv")`` gives back the
+        table with its units.
+    """
     table = to_qtable(answer, source=source)
     charge(cost.Cost((cost.serialised(len(table), len(table.colnames), "ecsv"),)), _body_of(answer))
     out = io.StringIO()

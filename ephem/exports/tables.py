@@ -214,7 +214,26 @@ def _latex_caption(answer: dict, comp: str, layout: str, sigma: bool) -> str:
 def render_nutation(answer: dict, fmt: str, digits: int | None = None, layout: str = "sin-cos") -> str:
     """The nutation answer as ``csv``, ``markdown``, ``latex`` (booktabs, two ``table`` floats ready for
     ``\\input``) or ``json`` text in the given layout. ``digits``: places after the point (default as
-    printed in the paper); CSV and JSON carry full precision."""
+    printed in the paper); CSV and JSON carry full precision.
+
+    Parameters
+    ----------
+    answer : dict
+        A nutation answer (:func:`ephem.api.nutation`): its terms' coefficients in arcseconds, periods in days.
+    fmt : str
+        One of :data:`FORMATS`: "csv", "markdown", "latex" or "json".
+    digits : int or None
+        Decimal places of the coefficients (arcsec) in the markdown and LaTeX tables; None: as Petit et al. (2014)
+        print them.
+    layout : str
+        One of :data:`LAYOUTS`: "sin-cos" (the sine and cosine coefficients of each term, arcsec) or "amp-period"
+        (each term's amplitude, arcsec, and period, days).
+
+    Returns
+    -------
+    str
+        The table's text, as a file of that format holds it.
+    """
     _check(layout, fmt)
     rows = table_rows(answer, layout)
     columns = _COLUMNS[layout]
@@ -263,7 +282,26 @@ def render_nutation(answer: dict, fmt: str, digits: int | None = None, layout: s
 def write_tables(answers: Iterable[dict], out_dir: Path, formats: Iterable[str] = ("csv", "markdown", "latex", "json"),
                  layouts: Iterable[str] = LAYOUTS, progress: Callable[[str], None] | None = None) -> list[Path]:
     """Write every (answer, layout, format) table into ``out_dir`` as ``<body>_<dataset>_<layout>.<ext>``;
-    returns the paths. ``progress`` is called with each file name as it is written."""
+    returns the paths. ``progress`` is called with each file name as it is written.
+
+    Parameters
+    ----------
+    answers : iterable of dict
+        Nutation answers (:func:`ephem.api.nutation`), one per body and dataset.
+    out_dir : Path
+        The directory the files go to (made if missing).
+    formats : iterable of str
+        The formats to write, of :data:`FORMATS`.
+    layouts : iterable of str
+        The layouts to write, of :data:`LAYOUTS`.
+    progress : callable or None
+        Called with each file's name once it is written; None: nothing is told.
+
+    Returns
+    -------
+    list of Path
+        The files written, in the order written.
+    """
     formats, layouts = list(formats), list(layouts)
     for layout in layouts:
         _check(layout)

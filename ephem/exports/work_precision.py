@@ -115,7 +115,22 @@ def _why(model: dict) -> str | None:
 def model_rows(answer: dict, reasons: bool = False) -> list[dict]:
     """The comparison as flat rows, one per model in the answer's order: name, order, variant, estimated error
     (mas), predicted cost (CPU ms), memory (MB), eligible, chosen; with ``reasons`` also ``why`` (the answer's
-    ``why``, else ``why_not``: a sentence, for CSV rather than a terminal's table)."""
+    ``why``, else ``why_not``: a sentence, for CSV rather than a terminal's table).
+
+    Parameters
+    ----------
+    answer : dict
+        A models comparison (:func:`ephem.api.track_models`): each model's estimate (mas) and predicted cost.
+    reasons : bool
+        Add each row's ``why``.
+
+    Returns
+    -------
+    list of dict
+        One row per model: ``name``, ``order`` (e-order or None), ``variant``, ``estimated_error_mas`` (mas),
+        ``estimated_cpu_ms`` (CPU ms of one core), ``estimated_memory_mb`` (MB), ``eligible``, ``chosen`` (and
+        ``why``).
+    """
     tol = answer.get("tolerance_mas")
     rows = []
     for m in answer["models"]:

@@ -466,7 +466,24 @@ def cached_model(body: Body, order: int | None = None) -> PrecessionNutation:
 
 
 def model_for(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None) -> PrecessionNutation:
-    """Validated model of a catalogue body (by name or NAIF id) or of a :class:`Body`."""
+    """Validated model of a catalogue body (by name or NAIF id) or of a :class:`Body`.
+
+    Parameters
+    ----------
+    body : str, int or Body
+        A catalogue body's name (any case) or NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    dataset : str
+        The catalogue dataset a name or id is looked up in ("current", "petit2014" or one the user imported).
+    order : int or None
+        The e-power to which the Hansen coefficients are expanded (0 to :data:`MAX_ORDER`); None: the exact
+        coefficients. Refused past the Laplace limit (e > 0.6627), where the series diverge.
+
+    Returns
+    -------
+    PrecessionNutation
+        The body's first-order forced precession and nutation: angles in radians, rates in rad/day, times JD TDB
+        (kept per body and order: the same object for the same question).
+    """
     b = resolve_body(body, dataset)
     order = check_order(order)
     if order is not None and b.orbit.e > LAPLACE_LIMIT:

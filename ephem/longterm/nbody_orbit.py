@@ -366,7 +366,18 @@ def shipped_loaded(body_name: str) -> bool:
 def shipped_span(body_name: str) -> tuple[float, float] | None:
     """The span (Julian years from J2000.0) the shipped N-body orbit of a catalogue body covers (the Moon: the
     Earth's), from the metadata, without loading the orbit; None for a body without one. A history within it follows
-    that orbit by default (:func:`ephem.answers.requests.history`), one beyond it the secular orbit."""
+    that orbit by default (:func:`ephem.answers.requests.history`), one beyond it the secular orbit.
+
+    Parameters
+    ----------
+    body_name : str
+        The catalogue body's name (any case).
+
+    Returns
+    -------
+    tuple of float, or None
+        (first, last) Julian years from J2000.0 (negative: before it), or None.
+    """
     try:
         name = _shipped_name(body_name)
     except (InvalidInputError, NotApplicableError):

@@ -25,7 +25,15 @@ from .kepler import orbit_basis
 
 @lru_cache(maxsize=1)
 def icrf_to_ecliptic_matrix() -> np.ndarray:
-    """3x3 rotation taking ICRF unit vectors to the mean ecliptic and equinox J2000."""
+    """3x3 rotation taking ICRF unit vectors to the mean ecliptic and equinox J2000.
+
+    Returns
+    -------
+    numpy.ndarray
+        The (3, 3) rotation matrix (dimensionless): ``M @ v_icrf`` is the vector in the J2000 ecliptic frame (ERFA's
+        ``ecm06`` at J2000.0 TT: the frame bias and the IAU 2006 obliquity, 84381.406 arcsec). Kept and shared by
+        every caller: do not change it in place.
+    """
     # erfa, not astropy.coordinates (0.1-0.2 s to import and build the frame graph): astropy's
     # ICRS -> BarycentricMeanEcliptic(equinox="J2000") is this same call at J2000.0 TT (agree to 1e-16)
     import erfa
