@@ -379,8 +379,8 @@ def _why(e, c, chosen, tolerance: float | None) -> str:
         "" if chosen is None else f" than the chosen {chosen.chosen.rung} or less accurate at a tied cost")
 
 
-def track_models(b: Body, theory, estimates, costs, chosen: Choice | None, tolerance: float | None, epochs: tuple,
-                 perturbers: tuple[str, ...]) -> dict:
+def track_models(b: Body, theory, estimates, costs, chosen: Choice | None, tolerance: float | None,
+                 epochs: tuple) -> dict:
     """The speed-against-accuracy answer: each model's estimate (mas, by term) and predicted cost (CPU ms, MB)
     over the request's epochs, in the family's order, whether it is eligible (available, and within the tolerance
     where one is given) and why; ``chosen`` the choice the tolerance makes (None: none given, or none within it),
@@ -400,7 +400,7 @@ def track_models(b: Body, theory, estimates, costs, chosen: Choice | None, toler
             "eligible": eligible, "why": _why(e, c, chosen, tolerance),
             "chosen": chosen is not None and e is chosen.chosen,
         })
-    return {"body": b.name, "dataset": b.dataset, "perturbers": list(perturbers), "theory": theory.summary,
+    return {"body": b.name, "dataset": b.dataset, "perturbers": list(theory.perturbers), "theory": theory.summary,
             "start_jd_tdb": t0, "stop_jd_tdb": t1, "epochs": count,
             "tolerance_mas": None if tolerance is None else float(f"{tolerance / MAS:.12g}"),
             "rule": CHOICE_RULE,

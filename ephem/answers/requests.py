@@ -26,6 +26,7 @@ from ..forced.precession_nutation import check_order
 from ..families import MODELS, refuse_model, theory_for
 from ..theory.choice import choose
 from ..theory.interface import refuse
+from ..theory.requests import Epochs, ModelChoice
 from ..theory.results import selection
 from . import render
 from ..forced.catalogue_sigmas import input_sigmas
@@ -292,7 +293,7 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     theory = theory_for(b, per, axis)
     if name is not None and name not in theory.models:
         refuse_model(theory, name)
-    theory.check_request(name, order)
+    theory.check_request(ModelChoice(name, order))
     wobble = _wobble_request(b, axis, in_unit(free_wobble_phase_deg, "deg", "free_wobble_phase_deg"),
                              in_unit(free_wobble_J_arcsec, "arcsec", "free_wobble_J_arcsec"), free_wobble_epoch)
     theory = theory.with_wobble(wobble)
@@ -309,27 +310,31 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
     t_end = t0 + step * (count - 1)
     output = cost.Cost((cost.serialised(count, len(TRACK_KEYS) + (time_scale is not None), output),)
                        + ((cost.calendar_dates(count),) if time_scale is not None else ()))
+    # the model asked for by name: its track adds the free wobble and the rotation-scale terms the request gave
+    asked = ModelChoice(name, order, wobble is not None, phase is not None)
     # the estimates, and the named model's own cost, charged before anything is built
     charge((theory.choice_cost(t0, t_end, count) if tol is not None
-            else theory.named_estimate_cost(name, t0, t_end, count)
-            + theory.track_cost(name, order, t0, t_end, count, wobble is not None, phase is not None) + output),
+            else theory.named_estimate_cost(asked, t0, t_end, count)
+            + theory.track_cost(asked, t0, t_end, count) + output),
            b.name)
     t = t0 + step * np.arange(count)
     choice = None
     if tol is not None:
         choice = theory.choose(t, tol, t0, t_end, count)
         est = choice.chosen
-        name, order = est.rung, est.order
-        charge(theory.track_cost(name, order, t0, t_end, count, est.free_wobble, est.rotation_scale is not None)
-               + output, b.name)
+        model = est.choice
+        charge(theory.track_cost(model, t0, t_end, count) + output, b.name)
     else:
-        est = theory.named(t, name, order)
-        name = name or theory.default_model(order)
+        est = theory.named(t, asked)
+        # the named model's estimate says whether its track adds the wobble and the rotation-scale terms
+        model = theory.resolved(asked if est is None else ModelChoice(
+            name, order, est.free_wobble, est.rotation_scale is not None))
+    name, order = model.model, model.order
     checkpoint()    # the track is charged: a large one takes its turn (or is refused busy) before it is built
-    tr = theory.track(est, name, order, t0, step, count)
-    with_wobble = wobble is not None and (est is None or est.free_wobble)
+    tr = theory.track(model, Epochs.grid(t0, step, count))
+    with_wobble = wobble is not None and model.free_wobble
     estimate = None if est is None or not est.available else est.total
-    info = theory.describe(est, name, order, with_wobble)
+    info = theory.describe(model)
     if choice is not None:
         info["choice"] = render.choice(choice)
     for term in () if est is None else est.unestimated:
@@ -377,7 +382,7 @@ def track_models(body: str | int | Body, start, stop, step_days: float, dataset:
             choice = choose(estimates, costs, tol, lambda made: refuse(made, tol, b.name, False))
         except NotApplicableError:
             choice = None
-    return render.track_models(b, theory, estimates, costs, choice, tol, (t0, t_end, count), per)
+    return render.track_models(b, theory, estimates, costs, choice, tol, (t0, t_end, count))
 
 
 #: the warning an answer carries for each error term its estimate could not include

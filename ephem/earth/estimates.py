@@ -262,24 +262,25 @@ def _all_terms(body: Body, axis: str, perturbers: tuple[str, ...]):
                            spin_rate=body.spin_rate_rad_per_day)
 
 
-def omitted_bound(body: Body, cut_mas: float, axis: str = "figure", perturbers=("Moon", "Sun")) -> float:
-    """Σ of the pole displacements (radians) of the terms the cut leaves out (against the cut-free series)."""
-    full = _all_terms(body, axis, tuple(perturbers))
+def omitted_bound(model: LunisolarEarth, cut_mas: float) -> float:
+    """Σ of the pole displacements (radians) of the terms the cut leaves out (against the cut-free series) of the
+    Earth's lunisolar ``model`` at the track's cut (its body, axis and perturbers; its mean obliquity)."""
+    full = _all_terms(model.body, model.axis, model.perturbers)
     c = full.coefficients
     amp = term_amplitudes(c)
     dropped = amp < cut_mas
-    eps = lunisolar_earth(body, axis, TRACK_CUT_MAS, tuple(perturbers)).obliquity
-    return pole_displacement_sum(c[dropped], eps) * MAS
+    return pole_displacement_sum(c[dropped], model.obliquity) * MAS
 
 
-def cut_candidates(body: Body, axis: str = "figure", perturbers=("Moon", "Sun")) -> Candidates:
-    """The amplitude cuts (mas) a tolerance may choose for the nutation terms: the n-th drops the n smallest terms
-    (n = 0 ... all, the last cut twice the largest amplitude), priced by the terms it keeps and bounded by the sum of
-    the pole displacements of those it drops (radians, against the cut-free series). Arrays: 17 000 candidates."""
-    full = _all_terms(body, axis, tuple(perturbers))
+def cut_candidates(model: LunisolarEarth) -> Candidates:
+    """The amplitude cuts (mas) a tolerance may choose for the nutation terms of the Earth's lunisolar ``model`` at
+    the track's cut (its body, axis and perturbers): the n-th drops the n smallest terms (n = 0 ... all, the last cut
+    twice the largest amplitude), priced by the terms it keeps and bounded by the sum of the pole displacements of
+    those it drops (radians, against the cut-free series). Arrays: 17 000 candidates."""
+    full = _all_terms(model.body, model.axis, model.perturbers)
     c = full.coefficients
     amp = term_amplitudes(c)
-    eps = lunisolar_earth(body, axis, TRACK_CUT_MAS, tuple(perturbers)).obliquity
+    eps = model.obliquity
     disp = pole_displacements(c, eps) * MAS
     order = np.argsort(amp)                       # drop the smallest terms first
     cuts = np.append(amp[order], float(amp.max()) * 2.0 if amp.size else 0.0)
@@ -287,16 +288,17 @@ def cut_candidates(body: Body, axis: str = "figure", perturbers=("Moon", "Sun"))
                       np.concatenate(([0.0], np.cumsum(disp[order]))), tie=0.0, what="amplitude cut")
 
 
-def cut_for_tolerance(body: Body, tolerance: float, axis: str = "figure", perturbers=("Moon", "Sun")) -> float:
-    """The largest amplitude cut (mas, at least :data:`MIN_CUT_MAS`) whose omitted terms move the pole by no
-    more than ``tolerance`` (radians) in all (:func:`ephem.theory.choice.cheapest` of :func:`cut_candidates`: the
-    fewest terms kept); :class:`NotApplicableError` when even the smallest cut does not."""
-    cut = float(cheapest(cut_candidates(body, axis, perturbers), tolerance, default=0.0))
+def cut_for_tolerance(model: LunisolarEarth, tolerance: float) -> float:
+    """The largest amplitude cut (mas, at least :data:`MIN_CUT_MAS`) whose omitted terms move the pole of the
+    Earth's lunisolar ``model`` (at the track's cut) by no more than ``tolerance`` (radians) in all
+    (:func:`ephem.theory.choice.cheapest` of :func:`cut_candidates`: the fewest terms kept);
+    :class:`NotApplicableError` when even the smallest cut does not."""
+    cut = float(cheapest(cut_candidates(model), tolerance, default=0.0))
     if cut < MIN_CUT_MAS:
-        if omitted_bound(body, MIN_CUT_MAS, axis, perturbers) > tolerance:
-            raise NotApplicableError(body.name, (
+        if omitted_bound(model, MIN_CUT_MAS) > tolerance:
+            raise NotApplicableError(model.body.name, (
                 f"no amplitude cut meets the tolerance of {tolerance / MAS:.6g} mas: the smallest served "
                 f"({MIN_CUT_MAS:g} mas) leaves out terms moving the pole by "
-                f"{omitted_bound(body, MIN_CUT_MAS, axis, perturbers) / MAS:.6g} mas in all"))
+                f"{omitted_bound(model, MIN_CUT_MAS) / MAS:.6g} mas in all"))
         cut = MIN_CUT_MAS
     return cut

@@ -32,6 +32,7 @@ from ..orbit.lunar import delaunay_arguments, delaunay_rates, lunisolar_data
 from ..forced.precession_nutation import Track, cached_model, model_for
 from ..longterm.averaged_spin import SpinConstants, spin_constants
 from ..theory.interface import SpectrumExport, SpinAxisTheory, Spectrum
+from ..theory.requests import Epochs, ModelChoice
 from ..theory.results import (COVERS_INTERIOR, COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate, NutationResult, NutationTerm,
                               OBSERVABLE_RATE, PrecessionResult, RateSigmas, selection)
 from ..forced.catalogue_sigmas import dynamical_ellipticity_sigma, no_uncertainty_reasons
@@ -143,19 +144,19 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
     def nonrigid(self) -> NonRigidEarth:
         return nonrigid_earth(self.body, self.axis, self.perturbers)
 
-    def _model_named(self, model: str | None):
-        return self.nonrigid if model == "nonrigid" else self.model
+    def _model_named(self, choice: ModelChoice):
+        return self.nonrigid if choice.model == "nonrigid" else self.model
 
     @classmethod
     def how_to_reach(cls, body: Body) -> str:
         return "it models the Earth with the Moon among the perturbers (perturbers=moon,sun, the Earth's default)"
 
-    def default_model(self, order: int | None) -> str:
+    def default_model(self, choice: ModelChoice) -> str:
         return "lunisolar"
 
-    def check_request(self, model: str | None, order: int | None) -> None:
+    def check_request(self, choice: ModelChoice) -> None:
         model_for(self.body, self.body.dataset)              # applicability (the Moon: synchronous)
-        no_order(self.body, order)
+        no_order(self.body, choice.order)
 
     def choice_cost(self, start: float, stop: float, count: int) -> Cost:
         """The request and its answer, the estimates of both models (the series kept since start-up) and, while the
@@ -163,33 +164,31 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
         built = () if cached_model.cached(self.body, None) else (cost.model_build(self.body.orbit.e),)
         return Cost((cost.track_answer(count), costs.lunisolar_estimates(len(self.models))) + built)
 
-    def track_cost(self, model, order, start, stop, count, free_wobble, rotation_scale=False) -> Cost:
-        parts = (costs.lunisolar_sum(count),) + ((costs.nonrigid_sum(count),) if model == "nonrigid" else ())
-        return Cost(parts + ((cost.free_rotation("exact", count, 0.0),) if free_wobble else ()))
+    def track_cost(self, choice, start, stop, count) -> Cost:
+        parts = (costs.lunisolar_sum(count),) + ((costs.nonrigid_sum(count),) if choice.model == "nonrigid" else ())
+        return Cost(parts + ((cost.free_rotation("exact", count, 0.0),) if choice.free_wobble else ()))
 
     def estimates(self, jd_tdb) -> list[Estimate]:
         # cheapest first: the rigid rung, then the non-rigid one (the same series, times T(σ), on ERFA's precession)
         return estimates(self.model, jd_tdb, self.wobble, self.counts_free_wobble) \
             + estimates(self.nonrigid, jd_tdb, self.wobble, self.counts_free_wobble)
 
-    def named(self, jd_tdb, model, order):
+    def named(self, jd_tdb, choice):
         # the model follows the wobble whenever its phase is given
-        candidates = estimates(self._model_named(model), jd_tdb, self.wobble, self.counts_free_wobble)
+        candidates = estimates(self._model_named(choice), jd_tdb, self.wobble, self.counts_free_wobble)
         if not candidates[0].available:
             raise NotApplicableError(self.body.name, candidates[0].why_not)
         return candidates[-1] if self.wobble is not None else candidates[0]
 
-    def track(self, est, model, order, t0, step, count) -> Track:
-        return self.track_at(model, order, self.grid(t0, step, count), est is not None and est.free_wobble)
+    def track(self, choice: ModelChoice, epochs: Epochs) -> Track:
+        m = self._model_named(choice)
+        tr = m.track(epochs.jd_tdb)
+        return add_wobble(m, tr, self.wobble) if self.adds_wobble(choice) else tr
 
-    def track_at(self, model, order, jd_tdb, free_wobble=False) -> Track:
-        m = self._model_named(model)
-        tr = m.track(np.asarray(jd_tdb, dtype=float))
-        return add_wobble(m, tr, self.wobble) if free_wobble else tr
-
-    def describe(self, est, model, order, with_wobble) -> dict:
+    def describe(self, choice: ModelChoice) -> dict:
         info = describe_model(self.body, self.perturbers, self.model)
-        if model == "nonrigid":
+        with_wobble = self.adds_wobble(choice)
+        if choice.model == "nonrigid":
             info["theory"] = NONRIGID_THEORY
             rigid_only = ("rigid Earth", "first order in the torque", "the track turns about", "precession rate")
             info["assumptions"] = NONRIGID_ASSUMPTIONS + [a for a in info["assumptions"]
@@ -273,7 +272,7 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
         if cut_mas is not None:
             cut = check_cut(in_unit(cut_mas, "mas", "cut_mas"))
         elif tolerance is not None:
-            cut = cut_for_tolerance(b, tolerance, "figure", per)
+            cut = cut_for_tolerance(lunisolar_earth(b, "figure", TRACK_CUT_MAS, per), tolerance)
         else:
             cut = TRACK_CUT_MAS
         charge(self.answer_cost(order, nutation=True), b.name)
@@ -295,7 +294,7 @@ class LunisolarTheory(SpinAxisTheory, SpectrumExport):
                             for part in ("sin", "cos"))))
         half = half_peak_to_peak(lm)
         orbit_epoch = b.orbit.epoch_jd_tdb
-        omitted = omitted_bound(b, cut, "figure", per)
+        omitted = omitted_bound(lunisolar_earth(b, "figure", TRACK_CUT_MAS, per), cut)
         info = describe_model(b, per, lm)
         info["assumptions"].append("terms: Δψ = Σ (S + Ṡ T) sin φ + (C + Ċ T) cos φ (likewise Δε), φ = the "
                                    "multipliers · (l, l′, F, D, Ω), T Julian centuries TDB from J2000; `multiple` is "

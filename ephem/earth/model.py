@@ -56,10 +56,6 @@ def tidal_constant_drift(moon_share: float) -> float:
     return 3.0 * MOON_RECESSION_PER_YEAR * moon_share + SPIN_BRAKING_PER_YEAR
 
 
-def _lower(perturbers) -> tuple[str, ...]:
-    return tuple(p.lower() for p in perturbers)
-
-
 @dataclass(frozen=True, eq=False)
 class LunisolarEarth:
     """The Earth's lunisolar precession-nutation from the catalogue's pole and orbit (radians, days)."""
@@ -126,8 +122,8 @@ def lunisolar_earth(body: Body, axis: str = "figure", cut_mas: float = TRACK_CUT
                     perturbers: tuple[str, ...] = ("Moon", "Sun")) -> LunisolarEarth:
     """The lunisolar model of the Earth ``body`` (its H_d, spin rate, pole and orbit)."""
     check_earth(body)
-    series = earth_lunisolar(cut_mas=cut_mas, perturbers=_lower(perturbers), hd=float(body.hd), axis=axis,
-                             spin_rate=body.spin_rate_rad_per_day)
+    series = earth_lunisolar(cut_mas=cut_mas, perturbers=tuple(p.lower() for p in perturbers), hd=float(body.hd),
+                             axis=axis, spin_rate=body.spin_rate_rad_per_day)
     ecl_from_icrf = icrf_to_ecliptic_matrix()
     s_ecl = ecl_from_icrf @ unit_vector(math.radians(body.pole.ra_deg), math.radians(body.pole.dec_deg))
     o = body.orbit

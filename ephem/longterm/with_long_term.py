@@ -24,6 +24,7 @@ from .nbody_orbit import shipped_loaded
 from ..forced.precession_nutation import Track
 from ..theory.choice import Deferred
 from ..theory.interface import SpectrumExport, SpinAxisTheory
+from ..theory.requests import ModelChoice
 from ..theory.results import Estimate
 
 NAME = "long_term"
@@ -38,14 +39,14 @@ def _years(jd_tdb) -> np.ndarray:
     return (np.asarray(jd_tdb, dtype=float) - J2000_JD) / JULIAN_YEAR_DAYS
 
 
-@bytes_bounded(key=lambda inner, body, perturbers, lo, hi, count: (type(inner), body, perturbers, lo, hi, count,
-                                                                   shipped_loaded(body.name)))
-def _long_term_cost(inner: SpinAxisTheory, body, perturbers, lo: float, hi: float, count: int) -> Cost:
+@bytes_bounded(key=lambda inner, lo, hi, count: (type(inner), inner.body, inner.perturbers, lo, hi, count,
+                                                 shipped_loaded(inner.body.name)))
+def _long_term_cost(inner: SpinAxisTheory, lo: float, hi: float, count: int) -> Cost:
     """The long-term model's price over [lo, hi] years (FREE where the family has no secular spin): it reads the
-    body's secular orbit and spin, so it is kept per family, body and span (and whether the shipped orbit is held
-    yet: its first read is priced), as every choice by tolerance prices it."""
+    body's secular orbit and spin, so it is kept per family (its body and perturbers) and span (and whether the
+    shipped orbit is held yet: its first read is priced), as every choice by tolerance prices it."""
     try:
-        return long_term_cost(body, inner.secular_spin(), lo, hi, count)
+        return long_term_cost(inner.body, inner.secular_spin(), lo, hi, count)
     except NotApplicableError:
         return cost.FREE
 
@@ -84,15 +85,15 @@ class WithLongTerm(SpinAxisTheory, SpectrumExport):
     def with_rotation_phase(self, rotation_phase) -> "WithLongTerm":
         return WithLongTerm(self.inner.with_rotation_phase(rotation_phase))
 
-    def default_model(self, order):
-        return self.inner.default_model(order)
+    def default_model(self, choice):
+        return self.inner.default_model(choice)
 
-    def check_request(self, model, order) -> None:
-        if model != NAME:
-            self.inner.check_request(model, order)
+    def check_request(self, choice) -> None:
+        if choice.model != NAME:
+            self.inner.check_request(choice)
             return
-        if order is not None:
-            raise NotApplicableError(self.body.name, f"the {NAME} model takes no e-order (order={order!r})")
+        if choice.order is not None:
+            raise NotApplicableError(self.body.name, f"the {NAME} model takes no e-order (order={choice.order!r})")
         self.secular_spin()              # "not applicable" with the reason where the family has none
 
     # --- cost
@@ -105,22 +106,22 @@ class WithLongTerm(SpinAxisTheory, SpectrumExport):
         except NotApplicableError:      # the family serves none of these epochs: the long-term model alone is tried
             return Cost((cost.track_answer(count),))
 
-    def named_estimate_cost(self, model, start, stop, count) -> Cost:
+    def named_estimate_cost(self, choice, start, stop, count) -> Cost:
         """The long-term model's estimate is a run of its history, charged when it is made (:meth:`_estimate`): a
         track that names it makes none of the family's estimates, and pays its own request's work (as
         :meth:`choice_cost` does where the family serves none of the epochs); any other model's is the family's."""
-        if model == NAME:
+        if choice.model == NAME:
             return Cost((cost.track_answer(count),))       # the request's own work, as the families' include it
-        return self.inner.named_estimate_cost(model, start, stop, count)
+        return self.inner.named_estimate_cost(choice, start, stop, count)
 
     def _cost(self, start: float, stop: float, count: int, in_years: bool = False) -> Cost:
         """The long-term model's cost over [start, stop] (JD TDB, or Julian years from J2000 ``in_years``)."""
         lo, hi = (start, stop) if in_years else (float(_years(start)), float(_years(stop)))
-        return _long_term_cost(self.inner, self.body, self.perturbers, lo, hi, count)
+        return _long_term_cost(self.inner, lo, hi, count)
 
-    def track_cost(self, model, order, start, stop, count, free_wobble, rotation_scale=False) -> Cost:
-        if model != NAME:
-            return self.inner.track_cost(model, order, start, stop, count, free_wobble, rotation_scale)
+    def track_cost(self, choice, start, stop, count) -> Cost:
+        if choice.model != NAME:
+            return self.inner.track_cost(choice, start, stop, count)
         return self._cost(start, stop, count)
 
     # --- estimates and tracks
@@ -165,9 +166,9 @@ class WithLongTerm(SpinAxisTheory, SpectrumExport):
         return [(self._cost(start, stop, count) if p.available else None) if i in own else next(out)
                 for i, p in enumerate(plan)]
 
-    def named(self, jd_tdb, model, order):
-        if model != NAME:
-            return self.inner.named(jd_tdb, model, order)
+    def named(self, jd_tdb, choice):
+        if choice.model != NAME:
+            return self.inner.named(jd_tdb, choice)
         return self._estimate(jd_tdb)
 
     def _track(self, jd_tdb) -> Track:
@@ -178,20 +179,15 @@ class WithLongTerm(SpinAxisTheory, SpectrumExport):
         zero = np.zeros(t.shape)
         return Track(t, h.precession_angle, zero, zero, h.obliquity, h.pole_ra, h.pole_dec)
 
-    def track(self, est, model, order, t0, step, count) -> Track:
-        if model != NAME:
-            return self.inner.track(est, model, order, t0, step, count)
-        return self._track(self.grid(t0, step, count))
+    def track(self, choice, epochs) -> Track:
+        if choice.model != NAME:
+            return self.inner.track(choice, epochs)
+        return self._track(epochs.jd_tdb)
 
-    def track_at(self, model, order, jd_tdb, free_wobble=False) -> Track:
-        if model != NAME:
-            return self.inner.track_at(model, order, jd_tdb, free_wobble)
-        return self._track(jd_tdb)
-
-    def describe(self, est, model, order, with_wobble) -> dict:
-        info = self.inner.describe(None if model == NAME else est, self.inner.default_model(None)
-                                   if model == NAME else model, order, with_wobble)
-        if model == NAME:
+    def describe(self, choice) -> dict:
+        own = choice.model == NAME
+        info = self.inner.describe(choice.named(self.inner.default_model(ModelChoice())) if own else choice)
+        if own:
             info["assumptions"] = list(info["assumptions"]) + [
                 "long_term: the spin averaged over the rotation and the orbit (no nutation), along the long-term "
                 "orbit: " + "; ".join(f"{k}: {v}" for k, v in ORBIT_DESCRIPTIONS.items())]

@@ -66,6 +66,7 @@ from ..orbit.kepler import mean_motion_rad_per_day
 from ..forced.precession_nutation import Track
 from ..theory.choice import Candidates, cheapest
 from ..theory.interface import SpinAxisTheory, Spectrum, SpectrumExport
+from ..theory.requests import Epochs, ModelChoice
 from ..theory.results import (COVERS_ALL_TERMS, COVERS_NOTHING_TRUNCATED, COVERS_TRUNCATION, Estimate,
                               NutationResult, NutationTerm, PrecessionResult, RateSigmas, selection)
 from ..forced.catalogue_sigmas import dynamical_ellipticity_sigma, moments_function_sigma, no_uncertainty_reasons
@@ -209,12 +210,13 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
     def how_to_reach(cls, body: Body) -> str:
         return "it models synchronous rotators (spin period = orbital period), such as the Moon"
 
-    def default_model(self, order: int | None) -> str:
+    def default_model(self, choice: ModelChoice) -> str:
         return "cassini" if self.body.orbit.theory is None else "librations"
 
-    def check_request(self, model: str | None, order: int | None) -> None:
+    def check_request(self, choice: ModelChoice) -> None:
+        model = choice.model
         check_body(self.body)
-        no_order(self.body, order)
+        no_order(self.body, choice.order)
         if self.requested_axis not in AXES:
             raise NotApplicableError(self.body.name, refused_axis(self.requested_axis))
         if model in ("librations", "integration") and self.body.orbit.theory is None:
@@ -236,10 +238,10 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         """The request and its answer, the estimates, and the libration series while it is not kept."""
         return Cost((cost.track_answer(count),) + self._setup_cost())
 
-    def track_cost(self, model, order, start, stop, count, free_wobble, rotation_scale=False) -> Cost:
+    def track_cost(self, choice, start, stop, count) -> Cost:
         """The model's own track (the estimates and the series are the choice's): the Cassini pole at every epoch,
         with the libration terms (``librations``), or integrated (``integration``)."""
-        model = model or self.default_model(order)
+        model = self.resolved(choice).model
         if model == "de421":
             return Cost((costs.lunar_kernel(count, lunar_kernel.kept()),))
         terms = self._terms_kept() if model == "librations" else 0
@@ -318,17 +320,14 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
             Estimate("de421", None, {}, available=False, why_not=KERNEL_WOBBLES),
         ]
 
-    def named(self, jd_tdb, model, order):
-        name = model or self.default_model(order)
+    def named(self, jd_tdb, choice):
+        name = self.resolved(choice).model
         return next(e for e in self.estimates(jd_tdb) if e.rung == name)
 
-    def track(self, est, model, order, t0, step, count) -> Track:
-        return self.track_at(model, order, self.grid(t0, step, count))
-
-    def track_at(self, model, order, jd_tdb, free_wobble=False) -> Track:
+    def track(self, choice: ModelChoice, epochs: Epochs) -> Track:
         m = self.model
-        model = model or self.default_model(order)
-        t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
+        model = self.resolved(choice).model
+        t = epochs.jd_tdb
         if model == "de421":
             if not self.counts_free_wobble:
                 raise NotApplicableError(self.body.name, KERNEL_WOBBLES)
@@ -348,7 +347,7 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
             return m.track(t, sigma, rho)
         return integrate_track(m, t)
 
-    def describe(self, est, model, order, with_wobble) -> dict:
+    def describe(self, choice: ModelChoice) -> dict:
         m = self.model
         b = self.body
         warnings = []
@@ -370,7 +369,7 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
     def secular_spin(self) -> CassiniHistory:
         """The Cassini state along the primary's moving orbit plane (:class:`CassiniHistory`); the primary's orbit
         history must be known (the Moon's: the Earth's)."""
-        self.check_request(None, None)
+        self.check_request(ModelChoice())
         if self.body.orbit.center != "Earth":
             raise NotApplicableError(self.body.name, "the long-term Cassini state follows the primary's orbit plane, "
                                      "whose history is shipped for the Earth only (the Moon's primary)")
@@ -411,7 +410,7 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
         no_order(b, order)
         charge(self.answer_cost(order), b.name)
         m = self.model
-        info = self.describe(None, "cassini", None, False)
+        info = self.describe(ModelChoice("cassini"))
         info["assumptions"].append(
             "precession_rate_arcsec_per_year: the node's inertial regression (the pole turns with it about the "
             "Laplace pole); obliquity_deg: the mean pole's θ = i + I to the orbit; scaling_factor_arcsec_per_year: "
@@ -453,7 +452,7 @@ class SynchronousTheory(SpinAxisTheory, SpectrumExport):
             cut = LIBRATION_CUT
         charge(self.answer_cost(order, nutation=True), b.name)
         name = "cassini" if m.series is None else "librations"
-        info = self.describe(None, name, None, False)
+        info = self.describe(ModelChoice(name))
         terms, omitted = (), None
         if m.series is not None:
             series = m.series.truncated(cut)

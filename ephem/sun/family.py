@@ -29,6 +29,7 @@ from ..theory import cost
 from ..base.budget import Cost
 from ..theory.choice import Candidates, cheapest
 from ..theory.interface import Spectrum, SpectrumExport, SpinAxisTheory
+from ..theory.requests import Epochs, ModelChoice
 from ..theory.results import (COVERS_INTERIOR, COVERS_TRUNCATION, Estimate, NutationResult, NutationTerm, OBSERVABLE_RATE,
                               PrecessionResult, RateSigmas, Selection, selection)
 from .bounds import truncation_bound
@@ -76,11 +77,11 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
     def how_to_reach(cls, body: Body) -> str:
         return f"pass perturbers={body.orbit.center.lower()} for it (the centre of {body.name}'s orbit alone)"
 
-    def default_model(self, order: int | None) -> str:
-        return "hansen" if order is None else "series"
+    def default_model(self, choice: ModelChoice) -> str:
+        return "hansen" if choice.order is None else "series"
 
-    def check_request(self, model: str | None, order: int | None) -> None:
-        rung = model or self.default_model(order)
+    def check_request(self, choice: ModelChoice) -> None:
+        rung, order = self.resolved(choice).model, choice.order
         if rung == "series" and order is None:
             raise InvalidInputError("order", "the 'series' model needs an e-order")
         if order is not None and rung != "series":
@@ -91,9 +92,9 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
     def choice_cost(self, start: float, stop: float, count: int) -> Cost:
         return self.ladder.cost(None, start, stop, count, free_wobble=self.wobble is not None)
 
-    def track_cost(self, model, order, start, stop, count, free_wobble, rotation_scale=False) -> Cost:
-        return self.ladder.cost(model or self.default_model(order), start, stop, count, order, free_wobble,
-                                rotation_scale)
+    def track_cost(self, choice, start, stop, count) -> Cost:
+        return self.ladder.cost(self.resolved(choice).model, start, stop, count, choice.order, choice.free_wobble,
+                                choice.rotation_scale)
 
     def estimates(self, jd_tdb) -> list[Estimate]:
         return self.ladder.estimates(jd_tdb)
@@ -103,32 +104,28 @@ class SunLadder(SpinAxisTheory, SpectrumExport):
         before)."""
         return self.ladder.plan_costs(plan, start, stop, count)
 
-    def named(self, jd_tdb, model, order):
-        rung = model or self.default_model(order)
+    def named(self, jd_tdb, choice):
+        rung, order = self.resolved(choice).model, choice.order
         # a named rung adds the rotation-scale terms when the request gave the rotation phase
         scale = None if self.rotation_phase is None else self.ladder.rotation_modelled
         return next((e for e in self.estimates(jd_tdb) if e.rung == rung and e.order == order
                      and e.free_wobble == (self.wobble is not None) and e.rotation_scale == scale), None)
 
-    def track(self, est, model, order, t0, step, count) -> Track:
-        scale = est.rotation_scale is not None if est is not None else self.rotation_phase is not None
-        if model in ("hansen", "series") and not scale:   # the fast evaluation on an even grid
-            tr = cached_model(self.body, order).track_grid(t0, step, count)
+    def track(self, choice: ModelChoice, epochs: Epochs) -> Track:
+        model, order = self.resolved(choice).model, choice.order
+        if epochs.is_grid and model in ("hansen", "series") and not choice.rotation_scale:
+            tr = cached_model(self.body, order).track_grid(epochs.start, epochs.step, epochs.count)  # the fast path
         else:
-            tr = self.ladder.track(model, self.grid(t0, step, count), order, rotation_scale=scale)
-        if self.wobble is not None and (est is None or est.free_wobble):
+            tr = self.ladder.track(model, epochs.jd_tdb, order, rotation_scale=choice.rotation_scale)
+        if self.adds_wobble(choice):
             tr = self.ladder.add_wobble(tr)
         return tr
 
-    def track_at(self, model, order, jd_tdb, free_wobble=False) -> Track:
-        return self.ladder.track(model or self.default_model(order), jd_tdb, order, free_wobble,
-                                 rotation_scale=self.rotation_phase is not None)
-
-    def describe(self, est, model, order, with_wobble) -> dict:
-        info = forced_model_info(cached_model(self.body, order), self.body)
-        info["assumptions"] = [AXIS_ASSUMPTIONS["figure+wobble" if with_wobble else self.requested_axis]] \
-            + ASSUMPTIONS[1:] \
-            + list(rung_named(model).assumptions)
+    def describe(self, choice: ModelChoice) -> dict:
+        info = forced_model_info(cached_model(self.body, choice.order), self.body)
+        axis = "figure+wobble" if self.adds_wobble(choice) else self.requested_axis
+        info["assumptions"] = [AXIS_ASSUMPTIONS[axis]] + ASSUMPTIONS[1:] \
+            + list(rung_named(self.resolved(choice).model).assumptions)
         return info
 
     def secular_spin(self) -> SpinConstants:

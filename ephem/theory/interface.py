@@ -7,11 +7,14 @@ and for each:
 
 - its domain of validity, checked before any work (:meth:`check_request`: a model this family does
   not have, an order it does not take, or "not applicable" with the reason);
+- the model a request asks for, as one value (:class:`~ephem.theory.requests.ModelChoice`: its name, e-order and
+  whether its track adds the free wobble and the rotation-scale terms), never as loose parameters; a track's epochs as
+  one :class:`~ephem.theory.requests.Epochs` (an even grid or any array);
 - what a request will cost before it runs (:class:`Pricing`: :meth:`choice_cost`, :meth:`track_cost`,
   :meth:`answer_cost`, each a :class:`~ephem.base.budget.Cost` the service charges against its budget);
 - its error estimate over given epochs, by named term (:meth:`estimates`, one
   :class:`Estimate` per model, cheapest first; :func:`ephem.theory.choice.choose` picks one by tolerance);
-- the track over an even grid of epochs (:meth:`track`, each family's fast path);
+- the track over given epochs (:meth:`track`, each family's fast path on an even grid);
 - a description, the ``model`` object of the answer (:meth:`describe`);
 - the precession and nutation answers' numbers (:meth:`precession`, :meth:`nutation`), typed results in radians
   (:mod:`ephem.theory.results`) that :mod:`ephem.answers.render` alone turns into the answers' dicts;
@@ -36,6 +39,7 @@ from ..base.constants import FORCED_FIGURE, JULIAN_CENTURY_DAYS, MAS, followed_a
 from ..base.errors import NotApplicableError
 from ..forced.precession_nutation import Track
 from .choice import choose
+from .requests import Epochs, ModelChoice
 from .results import Estimate, NutationResult, PrecessionResult
 
 #: what to suggest when the largest term of the best estimate is a theory's own limit
@@ -107,16 +111,15 @@ class Pricing(ABC):
     def choice_cost(self, start: float, stop: float, count: int) -> Cost:
         """The cost of the estimates that choose a model by tolerance over ``count`` epochs in [start, stop]."""
 
-    def named_estimate_cost(self, model: str | None, start: float, stop: float, count: int) -> Cost:
-        """The cost of the estimate of one named model (``model`` None: the default) over ``count`` epochs: the
-        family's estimates, which it makes together (:meth:`choice_cost`), unless a family says otherwise."""
+    def named_estimate_cost(self, choice: ModelChoice, start: float, stop: float, count: int) -> Cost:
+        """The cost of the estimate of one named model (``choice.model`` None: the default) over ``count`` epochs:
+        the family's estimates, which it makes together (:meth:`choice_cost`), unless a family says otherwise."""
         return self.choice_cost(start, stop, count)
 
     @abstractmethod
-    def track_cost(self, model: str | None, order: int | None, start: float, stop: float, count: int,
-                   free_wobble: bool, rotation_scale: bool = False) -> Cost:
-        """The cost of one model's track (``model`` None: the family's default) over ``count`` epochs, with the
-        free wobble and the rotation-scale terms if asked."""
+    def track_cost(self, choice: ModelChoice, start: float, stop: float, count: int) -> Cost:
+        """The cost of one model's track (``choice.model`` None: the family's default) over ``count`` epochs from
+        ``start`` to ``stop`` (JD TDB), with the free wobble and the rotation-scale terms where ``choice`` adds them."""
 
     @abstractmethod
     def answer_cost(self, order: int | None, nutation: bool = False, tolerance: bool = False) -> Cost:
@@ -198,11 +201,15 @@ class SpinAxisTheory(Pricing):
         """What a request for ``body`` must say to be served by this family (for a refusal elsewhere)."""
 
     @abstractmethod
-    def default_model(self, order: int | None) -> str:
-        """The model answering when none is named and no tolerance is given."""
+    def default_model(self, choice: ModelChoice) -> str:
+        """The model answering when none is named and no tolerance is given (it may depend on ``choice.order``)."""
+
+    def resolved(self, choice: ModelChoice) -> ModelChoice:
+        """``choice`` with its model named: the family's default where it names none."""
+        return choice if choice.model is not None else choice.named(self.default_model(choice))
 
     @abstractmethod
-    def check_request(self, model: str | None, order: int | None) -> None:
+    def check_request(self, choice: ModelChoice) -> None:
         """Refuse, before any work, a model this family does not have, an e-order it does not take, or a body
         outside its domain (:class:`~ephem.base.errors.NotApplicableError` with the reason)."""
 
@@ -226,29 +233,25 @@ class SpinAxisTheory(Pricing):
     def plan_costs(self, plan: list, start: float, stop: float, count: int) -> list:
         """The predicted cost of each model of a plan (:meth:`estimate_plan`) over ``count`` epochs from ``start`` to
         ``stop``, None where it is unavailable: :meth:`track_cost` of each (a family may price them together)."""
-        return [self.track_cost(p.rung, p.order, start, stop, count, p.free_wobble, p.rotation_scale is not None)
-                if p.available else None for p in plan]
+        return [self.track_cost(ModelChoice(p.rung, p.order, p.free_wobble, p.rotation_scale is not None),
+                                start, stop, count) if p.available else None for p in plan]
 
     @abstractmethod
-    def named(self, jd_tdb, model: str | None, order: int | None) -> Estimate | None:
-        """The estimate of the model asked for by name (None: the family's default), or None where it
-        has none."""
+    def named(self, jd_tdb, choice: ModelChoice) -> Estimate | None:
+        """The estimate over ``jd_tdb`` of the model asked for by name (``choice.model`` None: the family's
+        default), or None where it has none."""
 
     @abstractmethod
-    def track(self, est: Estimate | None, model: str, order: int | None, t0: float, step: float,
-              count: int) -> Track:
-        """The track of ``model`` at ``t0 + step * arange(count)`` (JD TDB), with the free wobble added when
-        ``est`` says so (``est`` None: added whenever the request gave its phase)."""
+    def track(self, choice: ModelChoice, epochs: Epochs) -> Track:
+        """The track of ``choice``'s model (None: the default) at ``epochs`` (an even grid: the family's fast path,
+        or any JD TDB), with the request's free wobble added where ``choice.free_wobble`` says so and the
+        rotation-scale terms where ``choice.rotation_scale`` does."""
 
     @abstractmethod
-    def track_at(self, model: str | None, order: int | None, jd_tdb, free_wobble: bool = False) -> Track:
-        """The track of ``model`` (None: the default) at any epochs (JD TDB); with ``free_wobble``, the figure
-        axis with the request's wobble added."""
-
-    @abstractmethod
-    def describe(self, est: Estimate | None, model: str, order: int | None, with_wobble: bool) -> dict:
-        """The answer's ``model`` object before the selection is added: theory, assumptions, warnings, the
-        spin-orbit ratio and epochs."""
+    def describe(self, choice: ModelChoice) -> dict:
+        """The answer's ``model`` object for ``choice`` (its model named) before the selection is added: theory,
+        assumptions (the free wobble's where ``choice.free_wobble`` adds the request's), warnings, the spin-orbit
+        ratio and epochs."""
 
     @abstractmethod
     def precession(self, order: int | None, tolerance: float | None, start: float) -> PrecessionResult:
@@ -272,3 +275,7 @@ class SpinAxisTheory(Pricing):
     @staticmethod
     def grid(t0: float, step: float, count: int) -> np.ndarray:
         return t0 + step * np.arange(count)
+
+    def adds_wobble(self, choice: ModelChoice) -> bool:
+        """Whether ``choice``'s track adds the request's free wobble (asked, and its phase given)."""
+        return choice.free_wobble and self.wobble is not None

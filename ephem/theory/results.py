@@ -22,6 +22,7 @@ from functools import cached_property
 from typing import ClassVar, Mapping
 
 from ..bodies.catalogue import Body
+from .requests import ModelChoice
 
 #: what a track's estimate bounds (``model.estimate_covers``)
 COVERS_TRACK = ("the whole: the pole's distance from the truth over the epochs, every named term (error_terms_mas) "
@@ -71,6 +72,11 @@ class Estimate:
     free_wobble: bool = False
     #: the track adds the rotation-scale terms (:mod:`ephem.forced.rotation_scale`): "oppolzer" or "all"; None: not
     rotation_scale: str | None = None
+
+    @property
+    def choice(self) -> ModelChoice:
+        """The model this estimate is of, as a family's track and description take it."""
+        return ModelChoice(self.rung, self.order, self.free_wobble, self.rotation_scale is not None)
 
     @cached_property            # the terms are not changed once estimated (a new Estimate carries new terms)
     def total(self) -> float:

@@ -12,6 +12,7 @@ from ephem.bodies.catalogue import get_body
 from ephem.base.constants import ARCSEC, J2000_JD, JULIAN_YEAR_DAYS
 from ephem.orbit.geometry import angle_between, icrf_to_ecliptic_matrix
 from ephem.families import theory_for
+from ephem.theory.requests import Epochs, ModelChoice
 from scenes import first_order_error_bound
 
 
@@ -81,7 +82,7 @@ def test_the_averaged_equation_follows_the_unaveraged_one_over_two_centuries():
     orbit = FixedOrbit(normal, b.orbit.a_au, b.orbit.e)
     years = np.linspace(-100.0, 100.0, 201)
     h = sh.integrate(s, orbit, years)
-    numerical = theory.track_at("numerical", None, J2000_JD + JULIAN_YEAR_DAYS * years)
+    numerical = theory.track(ModelChoice("numerical"), Epochs.at(J2000_JD + JULIAN_YEAR_DAYS * years))
     v = np.stack([np.cos(numerical.pole_dec) * np.cos(numerical.pole_ra),
                   np.cos(numerical.pole_dec) * np.sin(numerical.pole_ra), np.sin(numerical.pole_dec)], axis=-1)
     gap = angle_between(v @ icrf_to_ecliptic_matrix().T, h.spin)

@@ -12,6 +12,7 @@ from ephem.sun.family import SunLadder
 from ephem.earth.family import LunisolarTheory
 from ephem.families import MODELS, THEORIES, theory_for
 from ephem.theory.interface import SpinAxisTheory
+from ephem.theory.requests import Epochs, ModelChoice
 
 
 def test_each_body_is_served_by_the_family_its_perturbers_call_for():
@@ -33,7 +34,7 @@ def test_each_body_is_served_by_the_family_its_perturbers_call_for():
 ])
 @pytest.mark.parametrize("wobble", [False, True])
 def test_the_grid_track_is_the_track_at_the_same_epochs(body, perturbers, model, start, wobble):
-    """The fast path on an even grid (track) and the track at any epochs (track_at) are one track: the
+    """The fast path on an even grid (Epochs.grid) and the track at any epochs (Epochs.at) are one track: the
     grid evaluation's recurrences differ from direct sines by rounding, a few 1e-16 rad per term summed
     over a few dozen terms; ROUNDING (1e-12 rad) is the floor every estimate carries for it."""
     b = get_body(body)
@@ -41,9 +42,10 @@ def test_the_grid_track_is_the_track_at_the_same_epochs(body, perturbers, model,
     if wobble:
         theory = theory.with_wobble(make_wobble(b, 30.0, 1.0, None))
     t0, step, count = start, 3.7, 500
-    est = theory.named(theory.grid(t0, step, count), model, None)
-    grid = theory.track(est, model, None, t0, step, count)
-    anywhere = theory.track_at(model, None, theory.grid(t0, step, count), est is not None and est.free_wobble)
+    est = theory.named(theory.grid(t0, step, count), ModelChoice(model))
+    choice = est.choice if est is not None else ModelChoice(model, free_wobble=wobble)
+    grid = theory.track(choice, Epochs.grid(t0, step, count))
+    anywhere = theory.track(choice, Epochs.at(theory.grid(t0, step, count)))
     assert est is None or est.free_wobble == wobble
     u, v = pole_vectors(grid), pole_vectors(anywhere)
     # atan2(|u x v|, u . v): an arccos of the dot product cannot resolve angles below ~1e-8 rad
