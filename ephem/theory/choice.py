@@ -90,22 +90,31 @@ def decide(candidates: Candidates, tolerance: float) -> Decision:
     costs, tie = candidates.costs, candidates.tie
     if isinstance(candidates.bound, np.ndarray):
         return _decide_arrays(np.asarray(costs, dtype=float), candidates.bound, tolerance, tie)
-    order = tuple(sorted((i for i, c in enumerate(costs) if c is not None), key=lambda i: (costs[i], i)))
+    return Decision(*_rank(costs, candidates.bound, tolerance, tie))
+
+
+def _rank(costs, bound, tolerance: float, tie: float) -> tuple:
+    """:func:`decide` on a list of prices and a function of the bounds: (best, first, bounds made, order). Apart from
+    :class:`Decision` so that :func:`choose`, on every track with a tolerance, builds no record it does not need."""
+    order = sorted(range(len(costs)), key=lambda i: (costs[i], i)) if None not in costs else \
+        sorted((i for i, c in enumerate(costs) if c is not None), key=lambda i: (costs[i], i))
     made: dict[int, float | None] = {}
     first, tied = None, []
     for i in order:
         if first is not None and costs[i] > costs[first] * (1.0 + tie):
             break
-        b = made[i] = candidates.bound(i)
+        b = made[i] = bound(i)
         if b is None or b > tolerance:
             continue
         if first is None:
             first = i
         tied.append(i)
     if not tied:
-        return Decision(None, None, made, order)
+        return None, None, made, tuple(order)
+    if len(tied) == 1:
+        return first, first, made, tuple(order)
     least = min(made[i] for i in tied)
-    return Decision(next(i for i in tied if made[i] <= least * (1.0 + SAME_ESTIMATE)), first, made, order)
+    return next(i for i in tied if made[i] <= least * (1.0 + SAME_ESTIMATE)), first, made, tuple(order)
 
 
 def _decide_arrays(costs: np.ndarray, bounds: np.ndarray, tolerance: float, tie: float) -> Decision:
@@ -189,8 +198,7 @@ def choose(plan: list, price: Callable[[Estimate | Deferred], Cost] | list, tole
 
     # the most accurate of a tie, estimates within SAME_ESTIMATE of the smallest counted equal (e-orders past
     # convergence differ in their last bits, which a CPU's SIMD kernels change): then the cheaper, as ordered
-    decision = decide(Candidates(plan, [None if c is None else c.cpu_s for c in costs], bound), tolerance)
-    best, first, order = decision.best, decision.first, decision.order
+    best, first, _, order = _rank([None if c is None else c.cpu_s for c in costs], bound, tolerance, TIE)
     if best is None:      # every estimate, those made above not made again (a deferred one is a run of its model)
         refuse([e for e in (made[i] if i in made else resolve([p])[0] for i, p in enumerate(plan)) if e.available])
         raise AssertionError("refuse() must raise")      # pragma: no cover
