@@ -6,8 +6,8 @@
 Reads the source (ast), imports nothing. A module-level function or a method of ``ephem/`` is *used* where
 its name is called or read elsewhere than in its own definition: for a module-level function, its own
 module's names, a ``from MODULE import NAME``, or ``.NAME`` in a file that imports its module (``ephem.api``'s
-lazy table counts: ``api.X`` or ``from ephem.api import X`` uses the function it loads, and the table itself is a
-use by ``ephem``, the public face); for a method, ``.NAME`` anywhere. The uses are sorted by
+and ``ephem.host``'s lazy tables count: ``api.X`` or ``from ephem.api import X`` uses the function it loads, and
+the table itself is a use by ``ephem``, the public face); for a method, ``.NAME`` anywhere. The uses are sorted by
 where they are: ``ephem``, ``service``, ``studies``, ``benchmarks``, ``tests``, ``tools``. Printed:
 
 - ``UNUSED``: no use at all (delete it, or say why it stays);
@@ -45,11 +45,15 @@ def resolve(module: str, is_package: bool, node: ast.ImportFrom) -> str:
     return ".".join(base + ([node.module] if node.module else []))
 
 
+#: the library's lazy faces: the public one and the hosts' (each a ``_NAMES`` table of what it loads)
+FACES = ("ephem.api", "ephem.host")
+
+
 def api_table(trees: dict[Path, ast.Module]) -> dict[str, tuple[str, str]]:
-    """ephem.api's lazy names -> (the module it loads, the attribute taken there): ``"current_budget":
-    ("ephem.base.budget", "current")``."""
+    """The faces' lazy names (:data:`FACES`) -> (the module it loads, the attribute taken there):
+    ``"current_budget": ("ephem.base.budget", "current")``."""
     table = {}
-    for node in ast.walk(trees[ROOT / "ephem" / "api.py"]):
+    for node in (n for face in FACES for n in ast.walk(trees[ROOT / (face.replace(".", "/") + ".py")])):
         if isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "_NAMES" for t in node.targets):
             for key, value in zip(node.value.keys, node.value.values):
                 module, attribute = (e.value for e in value.elts)
@@ -100,12 +104,12 @@ def main() -> int:
                 for a in node.names:
                     imported[path].add(f"{target}.{a.name}")
                     taken[path].add((target, a.name))
-                    if target == "ephem.api" and a.name in api:       # from ephem.api import memo, track
+                    if target in FACES and a.name in api:             # from ephem.host import memo
                         taken[path].add(api[a.name])
                         imported[path].add(".".join(api[a.name]))
-                    if f"{target}.{a.name}" == "ephem.api":             # from ephem import api
-                        imported[path].add("ephem.api")
-        if "ephem.api" in imported[path]:                               # api.track(...): its module's track
+                    if f"{target}.{a.name}" in FACES:                   # from ephem import api
+                        imported[path].add(f"{target}.{a.name}")
+        if any(face in imported[path] for face in FACES):               # api.track(...): its module's track
             taken[path].update(api[a] for a in attributes[path] if a in api)
     rows = []
     for module, cls, name, path, line in definitions(trees):
