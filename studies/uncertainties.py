@@ -46,7 +46,7 @@ def monte_carlo_table(dataset: str = "current") -> str:
         if not any(s for s in input_sigmas(b).values()):
             continue
         try:
-            mc = monte_carlo(b.name, 1000, 0, dataset)
+            mc = monte_carlo(b, 1000, 0)
         except NotApplicableError:
             continue
         ratios = [mc["comparison"][k]["ratio"] for k in RATIO_KEYS]
@@ -60,7 +60,7 @@ def sensitivities_table(dataset: str = "current") -> str:
             "| ∂ψ̇/∂e (″/yr) |", "|---|---|---|---|---|---|---|---|---|"]
     for b in load_catalogue(dataset).bodies:
         try:
-            r = propagate(b.name, dataset)
+            r = propagate(b)
         except NotApplicableError:
             continue
         se, sp = r["sensitivities"]["obliquity_deg"], r["sensitivities"]["precession_rate_arcsec_per_year"]

@@ -143,8 +143,10 @@ def write_pck(bodies, start, stop, dataset: str = DEFAULT_DATASET, tolerance_mas
             raise InvalidInputError("bodies", f"{b.name} and {owners[own]} would share BODY{own}_NUT_PREC_ANGLES "
                                     "(one planetary system): write them to separate kernels")
         owners[own] = b.name
-    fits = [fit_body(b, t0, t1, dataset, tolerance_mas, model, order, axis, perturbers, fit_tolerance_mas,
-                     max_angles, track=_track, theory_for=theory_for) for b in resolved]
+    # the model asked for, one value from here to each body's track
+    asked = {"tolerance_mas": tolerance_mas, "model": model, "order": order, "axis": axis, "perturbers": perturbers}
+    fits = [fit_body(b, t0, t1, asked, fit_tolerance_mas, max_angles, track=_track, theory_for=theory_for)
+            for b in resolved]
     when = generated or datetime.now(UTC)
     stamp = (when.astimezone(UTC) if when.tzinfo else when).strftime("%Y-%m-%dT%H:%M:%S UTC")
     lines = ["KPL/PCK", "", "\\begintext", ""]

@@ -352,7 +352,7 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
         sigma = propagated(b, order)["obliquity_deg_uncertainty"]
         with_sigma = sum(1 for s in input_sigmas(b).values() if s)
         charge(cost.pole_uncertainty(b, with_sigma, count, order), b.name)
-        pole_sigma = pole_uncertainty(b, tr.jd_tdb, b.dataset, order)
+        pole_sigma = pole_uncertainty(b, tr.jd_tdb, order)
     ans = render.track(b, tr, info, chosen, axis, wobble if with_wobble else None, sigma, pole_sigma,
                        theory.track_cut_mas, scale, time_scale)
     return render.with_perturbers(ans, b, per)

@@ -6,6 +6,7 @@ orthogonal least-squares choice of the angles."""
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import replace
 
 import numpy as np
@@ -310,17 +311,18 @@ def _candidates(spec: Spectrum, span: float, fit_step: float) -> list[tuple[int,
     return out
 
 
-def fit_body(b: Body, t0: float, t1: float, dataset: str, tolerance_mas, model, order, axis: str, perturbers,
-             fit_tolerance_mas: float | None, max_angles: int, *, track, theory_for) -> BodyFit:
-    """The kernel's fit of ``b``'s pole over [t0, t1] (JD TDB). ``track``: the track answer's arrays for a grid
-    (:func:`ephem.answers.requests.track_arrays`'s arguments and result), ``theory_for``: the family serving a body
-    (:func:`ephem.families.theory_for`), for its spectrum; both given by the caller (:mod:`ephem.answers.kernels`),
-    as this module renders what the answers computed and asks them nothing itself."""
+def fit_body(b: Body, t0: float, t1: float, asked: Mapping[str, object], fit_tolerance_mas: float | None,
+             max_angles: int, *, track, theory_for) -> BodyFit:
+    """The kernel's fit of ``b``'s pole over [t0, t1] (JD TDB); ``b`` carries its dataset. ``asked``: the track's
+    model as the track answer's keywords take it (``tolerance_mas``, ``model``, ``order``, ``axis``, ``perturbers``:
+    :func:`ephem.answers.requests.track`'s), one value from the kernel's request to the track. ``track``: the track
+    answer's arrays for a grid (:func:`ephem.answers.requests.track_arrays`'s arguments and result), ``theory_for``:
+    the family serving a body (:func:`ephem.families.theory_for`), for its spectrum; both given by the caller
+    (:mod:`ephem.answers.kernels`), as this module renders what the answers computed and asks them nothing itself."""
     span = t1 - t0
     # the model: chosen once (by tolerance, name or default) for the span's two ends, then named for both
     # grids, so that a tolerance cannot pick another one for other epochs
-    probe = track(b, t0, t1, span, dataset, order=order, tolerance_mas=tolerance_mas, model=model, axis=axis,
-                  perturbers=perturbers)
+    probe = track(b, t0, t1, span, **asked)
     info = probe["model"]
     estimate = info.get("estimated_error_mas")
     if fit_tolerance_mas is not None:
@@ -333,18 +335,18 @@ def fit_body(b: Body, t0: float, t1: float, dataset: str, tolerance_mas, model, 
 
     T0, T1 = (t0 - J2000_JD) / CENTURY_DAYS, (t1 - J2000_JD) / CENTURY_DAYS
     Tm, Th = 0.5 * (T0 + T1), 0.5 * (T1 - T0)
-    theory = theory_for(b, tuple(info["perturbers"]), axis)
+    theory = theory_for(b, tuple(info["perturbers"]), asked["axis"])
     spec = theory.spectrum(aim, Tm)            # refined below from the track (the rates the higher rungs change)
     fastest = max(spec.frequency(i, spec.max_sideband) for i in range(len(spec.labels)))
     count = int(min(MAX_FIT_SAMPLES, max(MIN_FIT_SAMPLES,
                                          math.ceil(SAMPLES_PER_PERIOD * fastest * span / (2.0 * math.pi)) + 1)))
     step = span / (count - 1)
-    named = {"order": info["order"], "model": info["name"], "axis": axis, "perturbers": perturbers}
-    ans = track(b, t0, t1, step, dataset, max_samples=count + 1, **named)
+    named = {**asked, "tolerance_mas": None, "order": info["order"], "model": info["name"]}
+    ans = track(b, t0, t1, step, max_samples=count + 1, **named)
     t = ans["jd_tdb"]
     check_count = CHECK_DENSITY * (t.size - 1)
     check_step = span / check_count
-    chk = track(b, t0 + 0.5 * check_step, t1, check_step, dataset, max_samples=check_count + 1, **named)
+    chk = track(b, t0 + 0.5 * check_step, t1, check_step, max_samples=check_count + 1, **named)
     t_chk = chk["jd_tdb"]
     spec = theory.spectrum(aim, Tm, t, ans["psi_arcsec"] * ARCSEC)
 
@@ -370,7 +372,7 @@ def fit_body(b: Body, t0: float, t1: float, dataset: str, tolerance_mas, model, 
             raise RuntimeError("polynomial columns dependent")  # pragma: no cover - >= 1500 distinct epochs
 
     def assemble(chosen) -> BodyFit:
-        return _assemble(b, info, dataset, frame, chosen, spec, ra.coefficients(), dec.coefficients(), Tm, Th,
+        return _assemble(b, info, frame, chosen, spec, ra.coefficients(), dec.coefficients(), Tm, Th,
                          aim, limit)
 
     def measure(fit: BodyFit) -> tuple[float, float, int]:
@@ -415,7 +417,7 @@ def fit_body(b: Body, t0: float, t1: float, dataset: str, tolerance_mas, model, 
                    **dict(zip(("pm", "pm_source"), _prime_meridian(b, fit, 0.5 * (t0 + t1)))))
 
 
-def _assemble(b: Body, info: dict, dataset: str, frame: str, chosen, spec: Spectrum, ra_coef, dec_coef, Tm: float,
+def _assemble(b: Body, info: dict, frame: str, chosen, spec: Spectrum, ra_coef, dec_coef, Tm: float,
               Th: float, aim: float, limit: float) -> BodyFit:
     """Kernel coefficients from the fitted ones: the polynomial in u = (T - Tm)/Th re-expanded in T, and each
     frequency's (sin, cos) pair as the coefficients of the angles θ and θ + 90°."""
@@ -432,7 +434,7 @@ def _assemble(b: Body, info: dict, dataset: str, frame: str, chosen, spec: Spect
         ra_terms += [ra_s, ra_c]            # sin θ, sin(θ + 90°) = cos θ
         dec_terms += [dec_c, -dec_s]        # cos θ, cos(θ + 90°) = -sin θ
     return BodyFit(
-        name=b.name, naif_id=int(b.naif_id), dataset=dataset, model=dict(info), frame=frame,
+        name=b.name, naif_id=int(b.naif_id), dataset=b.dataset, model=dict(info), frame=frame,
         fit_error_mas=math.nan, fit_rms_mas=math.nan, fit_aim_mas=aim, fit_limit_mas=limit, check_epochs=0,
         pole_ra=poly(ra_coef), pole_dec=poly(dec_coef), pm=(0.0, 0.0, 0.0), pm_source="",
         angles=tuple(angles), nut_prec_ra=tuple(ra_terms), nut_prec_dec=tuple(dec_terms),

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..base.errors import NotApplicableError
 from ..base.memo import bytes_bounded
-from ..bodies.catalogue import DEFAULT_DATASET, Body, resolve_body
+from ..bodies.catalogue import Body
 from .catalogue_sigmas import CatalogueInput, catalogue_inputs, correlation_matrix
 from .precession_nutation import build_model
 from .uncertainty import difference_step
@@ -141,7 +141,7 @@ def cached_pole_sensitivity(b: Body, order: int | None) -> PoleSensitivity | Non
     return pole_sensitivity(b, order)
 
 
-def pole_uncertainty(body: str | int | Body, jd_tdb, dataset: str = DEFAULT_DATASET, order: int | None = None, *,
+def pole_uncertainty(b: Body, jd_tdb, order: int | None = None, *,
                      uncertainties: Mapping[str, float | None] | None = None,
                      correlations: Mapping[tuple[str, str], float] | None = None) -> np.ndarray | None:
     """The 1-σ of the angle between the served and the true pole (radians, the RMS of that angle) at each epoch
@@ -155,8 +155,8 @@ def pole_uncertainty(body: str | int | Body, jd_tdb, dataset: str = DEFAULT_DATA
 
     It grows from the catalogue pole's own σ at the pole epoch as the precession rate's σ accumulates. None
     where no input has a σ (a user's body); the inputs without one do not count (their σ is unknown, not zero).
+    ``b``: the body (its dataset with it).
     """
-    b = resolve_body(body, dataset)
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     if uncertainties is None and correlations is None:
         sens = cached_pole_sensitivity(b, order)

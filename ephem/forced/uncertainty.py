@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..bodies.catalogue import DEFAULT_DATASET, Body, dynamical_ellipticity, resolve_body, spin_rate_rad_per_day
+from ..bodies.catalogue import Body, dynamical_ellipticity, resolve_body, spin_rate_rad_per_day
 from ..base.constants import ARCSEC, JULIAN_YEAR_DAYS
 from ..base.errors import InvalidInputError
 from ..orbit.geometry import icrf_to_ecliptic_matrix, spin_geometry, unit_vector
@@ -210,11 +210,10 @@ class _Setup:
     rho: np.ndarray
 
 
-def _setup(body, dataset, order, uncertainties, correlations) -> _Setup:
+def _setup(b: Body, order, uncertainties, correlations) -> _Setup:
     # the answers' own validation of the order and of the theory's applicability
 
-    b = resolve_body(body, dataset)
-    m = model_for(b, dataset, order)            # raises NotApplicableError for the Moon
+    m = model_for(b, b.dataset, order)          # raises NotApplicableError for the Moon
     inputs = catalogue_inputs(b, uncertainties)
     keys = [i.key for i in inputs]
     kmax = int(m.nutation.multiple.max()) if m.nutation.multiple.size else 0
@@ -276,12 +275,13 @@ def _scalar_and_terms(vector: np.ndarray, kmax: int) -> tuple[np.ndarray, np.nda
 
 # --------------------------------------------------------------------------- public
 
-def propagate(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None, *,
+def propagate(body: str | int | Body, order: int | None = None, *,
               uncertainties: Mapping[str, float | None] | None = None,
               correlations: Mapping[tuple[str, str], float] | None = None, sensitivities: bool = True) -> dict:
     """Linear 1-σ uncertainties of the precession-nutation outputs from the inputs' 1-σ.
 
-    ``body``: a catalogue name / NAIF id (looked up in ``dataset``) or a :class:`Body`.
+    ``body``: a :class:`Body` (its dataset with it), or a catalogue name / NAIF id of the default dataset (another
+    dataset's body: ``get_body(name, dataset)``).
     ``uncertainties``: {input key: σ or None}, overriding the catalogue's (σ in the unit of
     ``inputs[key]["unit"]``, the catalogue value's own). ``correlations``: {(key, key): ρ};
     without them the inputs are independent.
@@ -303,7 +303,7 @@ def propagate(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int
 
     Raises NotApplicableError where the theory does not apply (the Moon: its Cassini-state answers say "not propagated").
     """
-    st = _setup(body, dataset, order, uncertainties, correlations)
+    st = _setup(resolve_body(body), order, uncertainties, correlations)
     n_in = len(st.inputs)
     which = list(range(n_in)) if sensitivities else [j for j, i in enumerate(st.inputs) if i.sigma is not None]
     J = np.zeros((st.y0.size, n_in))
@@ -359,8 +359,8 @@ def propagate(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int
     return ans
 
 
-def monte_carlo(body: str | int | Body, n: int = 1000, seed: int = 0, dataset: str = DEFAULT_DATASET,
-                order: int | None = None, *, uncertainties: Mapping[str, float | None] | None = None,
+def monte_carlo(body: str | int | Body, n: int = 1000, seed: int = 0, order: int | None = None, *,
+                uncertainties: Mapping[str, float | None] | None = None,
                 correlations: Mapping[tuple[str, str], float] | None = None) -> dict:
     """Monte Carlo check of :func:`propagate`: sample the inputs, recompute, take the sample std.
 
@@ -376,8 +376,8 @@ def monte_carlo(body: str | int | Body, n: int = 1000, seed: int = 0, dataset: s
     """
     if isinstance(n, bool) or not isinstance(n, int) or n < 2:
         raise InvalidInputError("n", f"need an integer number of samples >= 2, got {n!r}")
-    st = _setup(body, dataset, order, uncertainties, correlations)
-    lin = propagate(st.body, st.dataset, order, uncertainties=uncertainties, correlations=correlations)
+    st = _setup(resolve_body(body), order, uncertainties, correlations)
+    lin = propagate(st.body, order, uncertainties=uncertainties, correlations=correlations)
     sig = np.array([(i.sigma or 0.0) * i.factor for i in st.inputs])
     live = np.nonzero(sig > 0.0)[0]          # inputs without a σ stay exactly at their value
     rho = st.rho[np.ix_(live, live)]
@@ -439,7 +439,7 @@ def propagated(b: Body, order: int | None) -> dict:
         u.update(dominant_input={k: None for k in SCALAR_KEYS}, unpropagated_inputs=list(sigmas),
                  no_uncertainty_reasons=no_uncertainty_reasons(b, list(sigmas)), assumptions=list(ASSUMPTIONS))
         return u
-    u = unknown_as_none(propagate(b, b.dataset, order, sensitivities=False))
+    u = unknown_as_none(propagate(b, order, sensitivities=False))
     u["terms"] = [unknown_as_none(t) for t in u["terms"]]
     return u
 

@@ -24,7 +24,7 @@ import pytest
 
 from ephem import api
 from ephem.base.paths import data_dir
-from ephem.bodies.catalogue import dynamical_ellipticity, load_catalogue
+from ephem.bodies.catalogue import dynamical_ellipticity, get_body, load_catalogue
 from ephem.base.constants import ARCSEC, JULIAN_YEAR_DAYS, MAS
 from ephem.orbit.geometry import icrf_to_ecliptic, spin_geometry
 from ephem.orbit.hansen import hansen_series
@@ -604,7 +604,7 @@ def test_every_erratum_has_its_test():
 def test_erratum_itokawa_precession_uncertainty():
     from ephem.forced.uncertainty import propagate
 
-    r = propagate("Itokawa", "petit2014", order=4)
+    r = propagate(get_body("Itokawa", "petit2014"), order=4)
     ours = r["precession_rate_arcsec_per_year_uncertainty"]
     assert ours == pytest.approx(13.0, abs=0.05)          # the pole's 3.9° as 1σ; half a unit of 1 decimal
     slope = abs(-461.5208 * math.tan(math.radians(157.30)))  # Table 4: |ψ̇ tan ε|, arcsec/yr per radian
@@ -631,7 +631,7 @@ def test_itokawa_petit2014_precession_rate_uncertainty():
     theirs.
     Their 6.57 is |ψ̇ tan ε| × 1.95°, half the 3.9° margin, to the last printed digit.
     """
-    r = propagate("Itokawa", "petit2014", order=4)
+    r = propagate(get_body("Itokawa", "petit2014"), order=4)
     assert set(r["inputs"]) == {"pole.ra", "pole.dec"}
     psidot = r["values"]["precession_rate_arcsec_per_year"]
     eps = math.radians(r["values"]["obliquity_deg"])
@@ -645,7 +645,7 @@ def test_itokawa_petit2014_precession_rate_uncertainty():
     assert sig_psi == pytest.approx(13.0, abs=0.1)
     assert sig_psi / PETIT_ITOKAWA_SIGMA == pytest.approx(2.0, abs=0.04)
     # the Monte Carlo agrees with our linear value (the model is nearly linear over ±3.9° here)
-    mc = monte_carlo("Itokawa", 1000, 0, "petit2014", order=4)
+    mc = monte_carlo(get_body("Itokawa", "petit2014"), 1000, 0, order=4)
     assert mc["precession_rate_arcsec_per_year_uncertainty"] == pytest.approx(sig_psi, rel=0.10)
     # theirs: the same slope times half the margin, 6.57 to the printed digit (with 3.9° itself: 13.1)
     assert round(slope * math.radians(DEMURA_MARGIN_DEG / 2), 2) == PETIT_ITOKAWA_SIGMA
@@ -664,7 +664,7 @@ def test_itokawa_shape_uncertainty_is_not_in_petits_number():
     s = a * a + b * b
     grad = np.array([2 * a * c * c / s**2, 2 * b * c * c / s**2, -2 * c / s])
     sig_hd = 0.5 * float(np.linalg.norm(grad))           # ±1 m on a full axis = ±0.5 m on a semi-axis
-    r = propagate("Itokawa", "petit2014", order=4, uncertainties={"inertia.dynamical_ellipticity": sig_hd})
+    r = propagate(get_body("Itokawa", "petit2014"), order=4, uncertainties={"inertia.dynamical_ellipticity": sig_hd})
     shape_part = abs(r["contributions"]["precession_rate_arcsec_per_year"]["inertia.dynamical_ellipticity"])
     assert shape_part == pytest.approx(abs(r["values"]["precession_rate_arcsec_per_year"]) * sig_hd / 0.3828,
                                        rel=1e-3)

@@ -59,7 +59,7 @@ def _perturbed(body, key, delta):
 @pytest.mark.parametrize("order", [None, 4])
 @pytest.mark.parametrize("dataset,name", APPLICABLE)
 def test_replica_reproduces_the_public_answers(dataset, name, order):
-    st = _setup(name, dataset, order, None, None)
+    st = _setup(get_body(name, dataset), order, None, None)
     scalars, terms = _public_numbers(name, dataset, order)
     ours = st.y0[:len(SCALAR_KEYS)]
     # the replica recomputes the model's formulas (measured: within 4.4e-4 of this bound, i.e. 2 ε); 1e-12
@@ -75,7 +75,7 @@ def test_replica_reproduces_the_public_answers(dataset, name, order):
 def test_replica_follows_the_model_for_perturbed_inputs(dataset, name):
     """Every input key moves the Body field it names: the replica at x0 + δ is build_model at the moved body."""
     body = load_catalogue(dataset).get(name)
-    st = _setup(body, dataset, None, None, None)
+    st = _setup(body, None, None, None)
     deltas = {"orbit.a": 0.01, "orbit.e": 0.01, "orbit.i": 0.3, "orbit.node": 2.0, "orbit.peri": 3.0,
               "orbit.mean_anomaly": 5.0, "pole.ra": 2.0, "pole.dec": -1.5, "rotation.period": 0.01,
               "inertia.dynamical_ellipticity": 0.002}
@@ -126,7 +126,7 @@ dynamical_ellipticity = {{ value = 0.3828, unit = "", source = "x" }}
 def test_ecliptic_pole_inputs():
     """A pole given as ecliptic lon/lat (Demura's Itokawa pole) is propagated in those coordinates."""
     body = _ecliptic_pole_body(128.5, -89.66)
-    st = _setup(body, "t", None, None, None)
+    st = _setup(body, None, None, None)
     keys = [i.key for i in st.inputs]
     assert keys[6:8] == ["pole.lon", "pole.lat"]
     np.testing.assert_allclose(st.y0[:len(SCALAR_KEYS)], _public_numbers(body, "t", None)[0], rtol=1e-12)
@@ -143,7 +143,7 @@ def test_ecliptic_pole_inputs():
 
 @pytest.mark.parametrize("dataset,name", APPLICABLE)
 def test_keys_for_every_applicable_body(dataset, name):
-    r = propagate(name, dataset)
+    r = propagate(get_body(name, dataset))
     for key in SCALAR_KEYS:
         assert r[f"{key}_uncertainty"] >= 0.0
         assert key in r["contributions"] and key in r["dominant_input"] and key in r["sensitivities"]
@@ -164,9 +164,9 @@ def test_keys_for_every_applicable_body(dataset, name):
 @pytest.mark.parametrize("dataset", DATASETS)
 def test_moon_is_not_applicable(dataset):
     with pytest.raises(NotApplicableError):
-        propagate("Moon", dataset)
+        propagate(get_body("Moon", dataset))
     with pytest.raises(NotApplicableError):
-        monte_carlo("Moon", 10, 0, dataset)
+        monte_carlo(get_body("Moon", dataset), 10, 0)
 
 
 def test_catalogue_gaps_are_listed():
@@ -181,7 +181,7 @@ def test_catalogue_gaps_are_listed():
     assert set(eros["inputs"]) == {"pole.ra", "pole.dec"}
     assert "rotation.period" in eros["unpropagated_inputs"]
     # an explicit H_d replaces the moments: they are not inputs then
-    ito = propagate("Itokawa", "petit2014")
+    ito = propagate(get_body("Itokawa", "petit2014"))
     assert "inertia.dynamical_ellipticity" in ito["unpropagated_inputs"]
     assert not any(k in ito["unpropagated_inputs"] for k in ("inertia.A", "inertia.B", "inertia.C"))
 
@@ -245,7 +245,7 @@ def test_step_size_does_not_matter():
     import ephem.forced.uncertainty as unc
 
     body = load_catalogue("current").get("Vesta")
-    st = _setup(body, "current", None, SYNTHETIC, None)
+    st = _setup(body, None, SYNTHETIC, None)
     which = list(range(len(st.inputs)))
     sig = np.array([i.sigma * i.factor for i in st.inputs])
     c1, c2 = unc._jacobian(st, which) * sig, unc._jacobian(st, which, step_scale=2.0) * sig
@@ -317,7 +317,7 @@ def test_the_cost_is_two_model_evaluations_per_input(monkeypatch):
     for ds, name in APPLICABLE:
         body = load_catalogue(ds).get(name)
         calls.clear()
-        out = propagate(body, ds)
+        out = propagate(body)
         n_inputs = len(out["sensitivities"]["obliquity_deg"])
         assert 10 <= n_inputs <= 12, (ds, name, n_inputs)
         assert len(calls) == 1 + 2 * n_inputs, (ds, name, len(calls))
@@ -353,7 +353,7 @@ def test_linear_agrees_with_monte_carlo_for_catalogue_sigmas():
 def test_linear_fails_for_a_5_degree_pole_near_the_orbit_normal():
     """petit2014 Ceres: pole ±5° per coordinate, obliquity 3.9°. ε cannot go below 0 and the equinox
     (hence the Sin/Cos split of every term) turns with the pole: linear propagation is wrong here."""
-    mc = monte_carlo("Ceres", 1000, 0, "petit2014", order=4)
+    mc = monte_carlo(get_body("Ceres", "petit2014"), 1000, 0, order=4)
     c = mc["comparison"]
     assert c["precession_rate_arcsec_per_year"]["ratio"] > 1.3   # ψ̇ ∝ cos ε: curvature, not slope
     assert c["obliquity_deg"]["ratio"] < 0.9
