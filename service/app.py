@@ -292,9 +292,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
               step_days: Annotated[float, Query(description="sampling step, days", examples=[10.0])],
               dataset: DatasetQuery = DEFAULT_DATASET_VALUE, order: OrderQuery = None,
               tolerance_mas: ToleranceQuery = None,
-              model: Annotated[Optional[Rung], Query(description="a rung of the fidelity ladder (not with "
-                                                                 "tolerance_mas); default hansen, and for the Earth "
-                                                                 "with the Moon its lunisolar model")] = None,
+              model: Annotated[Optional[Rung], Query(description="a model of the family serving the body (not "
+                                                                 "with tolerance_mas; each family's models: "
+                                                                 "/v1/bodies/{body}/track/models); omitted, the "
+                                                                 "family's default (the answer's model.name)")] = None,
               axis: Annotated[Axis, Query(description="the pole to follow: the figure axis (the body's axis of "
                                                       "largest inertia, which circles the angular momentum by the "
                                                       "free wobble, counted as an error), the angular momentum, "
@@ -430,7 +431,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                                                                "chosen for the kind and span)")] = None,
                  dataset: DatasetQuery = DEFAULT_DATASET_VALUE, order: OrderQuery = None,
                  tolerance_mas: ToleranceQuery = None,
-                 model: Annotated[Optional[Rung], Query(description="a rung of the fidelity ladder")] = None,
+                 model: Annotated[Optional[Rung], Query(description="a model of the family serving the body")] = None,
                  J_arcsec: Annotated[Optional[float], Query(ge=0, le=648000, description="free-wobble amplitude "
                                                                                           "(free-wobble kind)")] = None,
                  dpi: Annotated[float, Query(ge=30, le=300, description="PNG resolution")] = 100,

@@ -115,7 +115,8 @@ class ModelInfo(BaseModel):
     min_spin_orbit_ratio: float
     pole_epoch_jd_tdb: float
     orbit_epoch_jd_tdb: float
-    name: RungName = Field(description="the rung of the fidelity ladder that computed the answer")
+    name: RungName = Field(description="the model that computed the answer (a rung of the fidelity ladder, or the "
+                                       "model of another family)")
     order: Optional[int] = Field(description="e-power order of the Hansen coefficients (series rung), else null")
     description: str
     estimated_error_mas: Optional[float] = Field(
@@ -519,7 +520,8 @@ class TrackIn(BaseModel):
     step_days: float = Field(description="sampling step, days")
     tolerance_mas: Optional[float] = Field(None, gt=0, description="pick the cheapest model whose pole is estimated "
                                                                    "within this many mas of the truth")
-    model: Optional[RungName] = Field(None, description="use this rung of the ladder (not with tolerance_mas)")
+    model: Optional[RungName] = Field(None, description="use this model of the family serving the body (not with "
+                                                        "tolerance_mas)")
     axis: AxisName = Field("figure", description="the pole to follow: the figure axis (its free wobble counted as an "
                                                  "error), the angular momentum, forced_figure (the figure axis's "
                                                  "forced motion, as the IAU's CIP: the free wobble is polar motion), "
