@@ -120,7 +120,10 @@ def register(family: Family, before: str | None = None) -> Family:
     global FAMILIES
     if any(f.name == family.name for f in FAMILIES):
         raise ValueError(f"a family {family.name!r} is registered already")
-    at = 0 if before is None else next(i for i, f in enumerate(FAMILIES) if f.name == before)
+    names = [f.name for f in FAMILIES]
+    if before is not None and before not in names:
+        raise ValueError(f"no family {before!r} is registered to go before; registered: {', '.join(names)}")
+    at = 0 if before is None else names.index(before)
     FAMILIES = FAMILIES[:at] + (family,) + FAMILIES[at:]
     return family
 

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from ephem import api
+from ephem import api, families
 from ephem.base.budget import Cost, Part, charge
 from ephem.base.constants import ARCSEC, JULIAN_YEAR_DAYS
 from ephem.base.errors import InvalidInputError
@@ -153,7 +153,6 @@ def expected_psi_arcsec(jd_tdb, pole_epoch: float) -> np.ndarray:
 
 
 def test_the_registry_chooses_the_toy_for_its_body_alone_and_lists_its_model(toy):
-    from ephem import families
     itokawa, vesta = api.get_body("itokawa"), api.get_body("vesta")
     assert type(families.theory_for(itokawa, ("Sun",)).inner) is ToyTheory
     assert type(families.theory_for(vesta, ("Sun",)).inner).__name__ == "SunLadder"
@@ -165,13 +164,25 @@ def test_unregistering_gives_the_body_back():
     api.register_family(ENTRY)
     api.unregister_family(ENTRY.name)
     assert TOY_MODEL not in api.MODELS
-    from ephem import families
     assert type(families.theory_for(api.get_body("itokawa"), ("Sun",)).inner).__name__ == "SunLadder"
 
 
-def test_a_family_registered_twice_is_refused(toy):
+def test_a_family_registered_twice_or_before_no_family_is_refused(toy):
     with pytest.raises(ValueError, match="registered already"):
         api.register_family(ENTRY)
+    with pytest.raises(ValueError, match="no family 'Nowhere'"):
+        api.register_family(dataclasses.replace(ENTRY, name="OtherToy"), before="Nowhere")
+    assert [f.name for f in families.FAMILIES].count("OtherToy") == 0
+
+
+def test_a_family_goes_before_the_one_named():
+    api.register_family(ENTRY, before="SunLadder")
+    try:
+        names = [f.name for f in families.FAMILIES]
+        assert names.index("ToyTheory") == names.index("SunLadder") - 1
+        assert type(families.theory_for(api.get_body(TOY_BODY), ("Sun",)).inner) is ToyTheory
+    finally:
+        api.unregister_family(ENTRY.name)
 
 
 def test_the_api_answers_with_the_toy(toy):
