@@ -1,0 +1,42 @@
+"""The request's objects (ephem.theory.requests): the model chosen as one value, the epochs as one value."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ephem.bodies.catalogue import get_body
+from ephem.families import theory_for
+from ephem.theory.requests import Epochs, ModelChoice, TrackRequest
+from ephem.theory.results import Estimate
+
+
+def test_an_estimate_gives_the_choice_it_is_of():
+    est = Estimate("second_order", None, {"a": 1e-9}, free_wobble=True, rotation_scale="oppolzer")
+    assert est.choice == ModelChoice("second_order", None, free_wobble=True, rotation_scale=True)
+    assert Estimate("series", 4, {}).choice == ModelChoice("series", 4)
+
+
+def test_a_grid_and_the_same_epochs_as_an_array_are_the_same_epochs():
+    grid = Epochs.grid(2451545.0, 3.5, 5)
+    assert grid.is_grid and grid.count == 5
+    assert grid.stop == pytest.approx(2451545.0 + 14.0, abs=1e-9)
+    anywhere = Epochs.at(grid.jd_tdb)
+    assert not anywhere.is_grid and anywhere.count == 5 and anywhere.stop == grid.stop
+    np.testing.assert_array_equal(anywhere.jd_tdb, grid.jd_tdb)
+    assert Epochs.at(2451545.0).count == 1
+
+
+def test_the_family_fills_in_its_default_model():
+    """The Sun's ladder: exact coefficients by default, the truncated series with an e-order (the choice's)."""
+    vesta = theory_for(get_body("vesta"), ("Sun",))
+    assert vesta.resolved(ModelChoice()).model == "hansen"
+    assert vesta.resolved(ModelChoice(order=4)) == ModelChoice("series", 4)
+    assert vesta.resolved(ModelChoice("numerical")).model == "numerical"
+
+
+def test_the_request_asks_for_the_wobble_and_the_rotation_terms_it_gave():
+    b = get_body("eros")
+    req = TrackRequest(b, ("Sun",), "figure", Epochs.grid(2451545.0, 1.0, 3), choice=ModelChoice("hansen"),
+                       rotation_phase=0.5)
+    assert req.dataset == b.dataset
+    assert req.asked == ModelChoice("hansen", None, free_wobble=False, rotation_scale=True)
