@@ -1,4 +1,4 @@
-"""The choice of a model by tolerance: the one predicted cheapest among those whose estimate meets it.
+"""Every decision a tolerance makes: the candidate predicted cheapest among those whose estimate meets it.
 
 Cheapest as predicted for this request (issue 39).
 

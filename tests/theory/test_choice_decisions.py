@@ -2,7 +2,8 @@
 family's own priced candidates: the Sun's e-order of the rate and the nutation terms, the amplitude cut of the Earth's
 and the Moon's nutation terms. Over their real candidates, each bound made here for all of them: the candidate chosen
 meets the tolerance, no eligible candidate is priced cheaper beyond the tie, none tied with it is bounded tighter,
-none is chosen when none meets it, and no bound dearer than the tie is made."""
+none is chosen when none meets it, and no bound dearer than the tie is made. (The track's model: test_choice.py;
+a history's orbit model: tests/longterm/test_history_choice.py.)"""
 import math
 
 import numpy as np
