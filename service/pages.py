@@ -93,8 +93,12 @@ MY_BODY_GROUPS = (("body", "The body"), ("orbit", "Its orbit (osculating, eclipt
                   ("track", "A track of its spin axis (the POST's track object; leave the start empty for none)"))
 #: the text fields of a body of one's own (the rest are numbers)
 _TEXT_FIELDS = ("name", "orbit.center", "track.start", "track.stop", "track.model", "track.axis")
-#: the select fields of a body of one's own: their options
-_MY_BODY_CHOICES = {"orbit.center": tuple(api.GM_CENTER), "track.model": ("", *api.MODELS), "track.axis": api.AXES}
+def _my_body_choices() -> dict[str, tuple]:
+    """The select fields of a body of one's own: their options, the models read from the families' registry when
+    the page is drawn (a family registered after start-up is offered)."""
+    return {"orbit.center": tuple(api.GM_CENTER), "track.model": ("", *api.MODELS), "track.axis": api.AXES}
+
+
 #: the track form's fields, in the API's names, and the nutation tables' formats offered for download
 TRACK_FIELDS = ("start", "stop", "step_days", "tolerance_mas", "model", "order", "axis", "free_wobble_phase_deg",
                 "free_wobble_J_arcsec", "dataset", "time_scale")
@@ -361,7 +365,7 @@ def install(app: FastAPI) -> None:
                                                                                       TRACK_ROWS_SHOWN))]
             track_csv = "data:text/csv;charset=utf-8," + quote(_track_csv(t))
         return _page("my_body.html", _status(problem), body=form["name"] or "your body", form=form, result=result,
-                     problem=problem, fields=MY_BODY_FIELDS, groups=MY_BODY_GROUPS, choices=_MY_BODY_CHOICES,
+                     problem=problem, fields=MY_BODY_FIELDS, groups=MY_BODY_GROUPS, choices=_my_body_choices(),
                      turned=_turned(form) if result else [], track_rows=track_rows, track_keys=api.TRACK_KEYS,
                      track_csv=track_csv, track_csv_name=downloads.filename(form["name"] or "user body", "user",
                                                                             "track", fmt="csv"),

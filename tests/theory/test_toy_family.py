@@ -253,3 +253,8 @@ def test_the_service_documents_and_answers_with_the_toy(toy, monkeypatch):
     assert r.json()["precession_rate_arcsec_per_year"] == pytest.approx(TOY_RATE_ARCSEC_PER_YEAR, rel=1e-12)
     r = client.get("/v1/bodies/vesta/track", params={**SPAN, "model": TOY_MODEL})
     assert r.status_code == 422 and "toy family" in r.text
+    # the pages: the track page answers with the toy, and both forms offer its model
+    r = client.get("/bodies/itokawa/track", params={**SPAN, "model": TOY_MODEL})
+    assert r.status_code == 200, r.text
+    assert f'<option value="{TOY_MODEL}" selected' in r.text and f"<strong>{TOY_MODEL}</strong>" in r.text
+    assert f'<option value="{TOY_MODEL}"' in client.get("/my-body").text
