@@ -363,7 +363,8 @@ from ephem.base.budget import budget, OverBudgetError
 q = dict(urllib.parse.parse_qsl(urllib.parse.urlsplit({path!r}).query))
 try:
     with budget(1e-12, 1e-12):
-        api.track_arrays("vesta", q["start"], q["stop"], float(q["step_days"]), "current", None, {max_track_samples})
+        api.track_arrays("vesta", q["start"], q["stop"], float(q["step_days"]), dataset="current",
+                         max_samples={max_track_samples})
 except OverBudgetError as e:
     print(json.dumps({{"cpu_s": e.cost.cpu_s, "memory_mb": e.cost.memory_mb, "describe": e.cost.describe()}}))
 """

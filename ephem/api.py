@@ -1,7 +1,9 @@
 """The library's public face: every name a program, the CLI or the HTTP service needs, and nothing else.
 
-Answers are plain dicts with the contract's keys and units in their names (angles in degrees, precession
-and nutation in arcseconds, rates per Julian year, times as JD TDB), made by :mod:`ephem.answers`; the
+Answers are dicts with the contract's keys and units in their names (angles in degrees, precession
+and nutation in arcseconds, rates per Julian year, times as JD TDB), made by :mod:`ephem.answers`: each of a class of
+:mod:`ephem.answers.results` (``TrackAnswer``...), a ``dict`` with ``.to_qtable()`` (astropy, units, ``Time``),
+``.to_dict()`` and a short repr. A function takes the body and the epochs by position, the rest by name; the
 numeric model of a body (radians, days) is :func:`model_for`. Importing this module loads nothing: each name
 loads its module on first use (PEP 562), so a one-body answer pays only for what it runs (the CLI's start-up,
 benchmarks/RESULTS_cli.md); matplotlib, SPICE and Dask load with the first plot, kernel or batch.
@@ -35,6 +37,17 @@ _NAMES = {
     "track": (".answers.requests", "track"),
     "track_arrays": (".answers.requests", "track_arrays"),
     "track_models": (".answers.requests", "track_models"),
+    "Answer": (".answers.results", "Answer"),
+    "BatchAnswer": (".answers.results", "BatchAnswer"),
+    "BodiesAnswer": (".answers.results", "BodiesAnswer"),
+    "BodyRecord": (".answers.results", "BodyRecord"),
+    "FreeMotionAnswer": (".answers.results", "FreeMotionAnswer"),
+    "HistoryAnswer": (".answers.results", "HistoryAnswer"),
+    "ModelsAnswer": (".answers.results", "ModelsAnswer"),
+    "NutationAnswer": (".answers.results", "NutationAnswer"),
+    "PrecessionAnswer": (".answers.results", "PrecessionAnswer"),
+    "PrecessionNutationAnswer": (".answers.results", "PrecessionNutationAnswer"),
+    "TrackAnswer": (".answers.results", "TrackAnswer"),
     "BusyError": (".base.budget", "BusyError"),
     "DeadlineExceededError": (".base.budget", "DeadlineExceededError"),
     "OverBudgetError": (".base.budget", "OverBudgetError"),
@@ -105,6 +118,9 @@ __all__ = [
     "list_bodies", "body_record", "precession", "nutation", "precession_nutation", "track", "track_arrays", "track_models",
     "history", "batch", "free_motion_answer", "free_motion_arrays", "answer_cost", "epoch_grid",
     "TRACK_KEYS", "FREE_MOTION_KEYS", "MAX_TRACK_SAMPLES", "MAX_BATCH_ROWS", "WARN_ESTIMATE_MAS", "REFUSE_ESTIMATE_MAS",
+    # what they return: dicts (the bodies a list) with .to_qtable(), .to_ecsv(), .to_dict() and a short repr
+    "Answer", "TrackAnswer", "PrecessionAnswer", "NutationAnswer", "HistoryAnswer", "FreeMotionAnswer", "ModelsAnswer",
+    "BodyRecord", "BodiesAnswer", "BatchAnswer", "PrecessionNutationAnswer",
     # the numeric model of a body
     "model_for", "MAX_ORDER",
     # bodies

@@ -190,7 +190,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                  "pole_dec_deg": 42.235, "dynamical_ellipticity": 0.168871}]}, **ECSV_CONTENT}}})
     def bodies(request: Request, dataset: DatasetQuery = DEFAULT_DATASET_VALUE,
                format: Annotated[AnswerFormat, Query(description="json, or " + ECSV_TEXT)] = AnswerFormat.json):
-        answer = api.list_bodies(dataset.value)
+        answer = api.list_bodies(dataset=dataset.value)
         if format is AnswerFormat.ecsv:
             return ecsv_response(answer, request, "bodies", dataset.value)
         return answer
@@ -203,7 +203,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                    "reference": {"authors": "Archinal, B. A. et al.", "year": 2018},
                                    "note": None}}}}}}})
     def body_record(body: BodyPath, dataset: DatasetQuery = DEFAULT_DATASET_VALUE):
-        return api.body_record(body, dataset.value)
+        return api.body_record(body, dataset=dataset.value)
 
     @app.get("/v1/bodies/{body}/precession", response_model=schemas.Precession, tags=["theory"],
              response_model_exclude_unset=True, responses={     # ``cassini``: a synchronous rotator's only
@@ -224,7 +224,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                        examples=["sun", "moon,sun"], max_length=100)] = None,
                    format: Annotated[AnswerFormat, Query(description="json, or " + ECSV_TEXT + " (one row)")]
                    = AnswerFormat.json):
-        answer = api.precession(body, dataset.value, order, tolerance_mas, perturbers=perturbers)
+        answer = api.precession(body, dataset=dataset.value, order=order, tolerance_mas=tolerance_mas,
+                                perturbers=perturbers)
         if format is AnswerFormat.ecsv:
             return ecsv_response(answer, request, answer["body"], answer["dataset"], "precession")
         return answer
@@ -262,7 +263,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                                                   "5-8: Sin, Cos, Amp in arcsec, Period in years) "
                                                                   "or amp-period (Tables 9-10: Amp in mas, Period "
                                                                   "in days)")] = TableLayout.sin_cos):
-        ans = api.nutation(body, dataset.value, order, tolerance_mas, perturbers=perturbers, cut_mas=cut_mas,
+        ans = api.nutation(body, dataset=dataset.value, order=order, tolerance_mas=tolerance_mas,
+                           perturbers=perturbers, cut_mas=cut_mas,
                            nonrigid=nonrigid)
         if format is TableFormat.json:
             return ans
@@ -322,11 +324,13 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                    "the lunisolar theory); sun alone for the single-perturber answer",
                        examples=["sun", "moon,sun"], max_length=100)] = None):
         def answer() -> Response:
-            arrays = api.track_arrays(body, start, stop, step_days, dataset.value, order, settings.max_track_samples,
-                                      tolerance_mas, None if model is None else model.value, axis.value,
-                                      free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch,
-                                      perturbers=perturbers, output=format.value,
-                                      rotation_phase_deg=rotation_phase_deg, time_scale=time_scale.value)
+            arrays = api.track_arrays(body, start, stop, step_days, tolerance_mas=tolerance_mas,
+                                      model=None if model is None else model.value, order=order, axis=axis.value,
+                                      free_wobble_phase_deg=free_wobble_phase_deg,
+                                      free_wobble_J_arcsec=free_wobble_J_arcsec, free_wobble_epoch=free_wobble_epoch,
+                                      rotation_phase_deg=rotation_phase_deg, dataset=dataset.value,
+                                      perturbers=perturbers, time_scale=time_scale.value, output=format.value,
+                                      max_samples=settings.max_track_samples)
             if format is TrackFormat.csv:
                 return StreamingResponse(_csv_rows(arrays, time_scale.value), media_type="text/csv; charset=utf-8",
                                          headers=downloads.disposition(downloads.filename(
@@ -353,15 +357,17 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         """Speed against accuracy for a track's request (ephem.api.track_models): every model of the family
         serving the body over these epochs, with its estimated error by term (mas) and predicted cost (CPU ms, MB),
         and the one tolerance_mas picks. Computes no track; the same query charted: track/models.svg, .png."""
-        return finite_json(api.track_models(body, start, stop, step_days, dataset.value, tolerance_mas, axis.value,
-                                            perturbers, settings.max_track_samples))
+        return finite_json(api.track_models(body, start, stop, step_days, dataset=dataset.value,
+                                            tolerance_mas=tolerance_mas, axis=axis.value,
+                                            perturbers=perturbers, max_samples=settings.max_track_samples))
 
     def models_chart_route(ext: str):
         def chart(body: BodyPath, start: ModelsStart, stop: ModelsStop, step_days: ModelsStep,
                   dataset: DatasetQuery = DEFAULT_DATASET_VALUE, tolerance_mas: ToleranceQuery = None,
                   axis: ModelsAxis = Axis("figure"), perturbers: ModelsPerturbers = None,
                   dpi: Annotated[float, Query(ge=30, le=300, description="PNG resolution")] = 100):
-            image = api.track_models_chart(body, start, stop, step_days, dataset.value, tolerance_mas=tolerance_mas,
+            image = api.track_models_chart(body, start, stop, step_days, dataset=dataset.value,
+                                           tolerance_mas=tolerance_mas,
                                            axis=axis.value, perturbers=perturbers, fmt=ext, dpi=dpi,
                                            max_samples=settings.max_track_samples)
             return Response(image, media_type=api.PLOT_CONTENT_TYPES[ext])
@@ -409,8 +415,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         """The spin axis over millennia and millions of years (ephem.longterm.history): obliquity, precession angle, pole
         and the orbit's inclination, with the estimate at each epoch and where the history stops meaning
         anything."""
-        answer = api.history(body, start_year, stop_year, step_years, dataset.value, tolerance_mas, orbit_model,
-                             perturbers, settings.max_track_samples)
+        answer = api.history(body, start_year, stop_year, step_years, dataset=dataset.value,
+                             tolerance_mas=tolerance_mas, orbit_model=orbit_model,
+                             perturbers=perturbers, max_samples=settings.max_track_samples)
         if format is TrackFormat.csv and _all_finite(answer):
             return Response(downloads.history_csv(answer), media_type="text/csv; charset=utf-8",
                             headers=downloads.disposition(downloads.filename(answer["body"], answer["dataset"],
@@ -442,7 +449,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                  free_wobble_J_arcsec: Annotated[Optional[float], Query(
                      ge=0, le=3600, description="as the track's (track kinds)")] = None,
                  free_wobble_epoch: Annotated[Optional[str], Query(description="as the track's (track kinds)")] = None):
-            image = api.render_plot(kind.value, body, start, stop, step_days, ext, dataset.value, dpi=dpi,
+            image = api.render_plot(kind.value, body, start, stop, step_days, fmt=ext, dataset=dataset.value, dpi=dpi,
                                     tolerance_mas=tolerance_mas, model=None if model is None else model.value,
                                     order=order, J_arcsec=J_arcsec, axis=axis.value,
                                     free_wobble_phase_deg=free_wobble_phase_deg,
@@ -474,7 +481,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                  "catalogue's bodies); not with tolerance_mas. Default: the shipped N-body orbit "
                                  "where it covers the span, else the secular one")] = None,
                  dpi: Annotated[float, Query(ge=30, le=300, description="PNG resolution")] = 100):
-            image = api.render_plot(api.HISTORY_PLOT_KIND, body, start_year, stop_year, None, ext, dataset.value,
+            image = api.render_plot(api.HISTORY_PLOT_KIND, body, start_year, stop_year, None, fmt=ext,
+                                    dataset=dataset.value,
                                     dpi=dpi, tolerance_mas=tolerance_mas, step_years=step_years,
                                     orbit_model=orbit_model)
             return Response(image, media_type=api.PLOT_CONTENT_TYPES[ext])
@@ -518,8 +526,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                     dataset: DatasetQuery = DEFAULT_DATASET_VALUE, time_scale: TimeScaleQuery = TimeScale("utc"),
                     format: Annotated[AnswerFormat, Query(description="json, or " + ECSV_TEXT)] = AnswerFormat.json):
         """The torque-free wobble of the figure axis about the angular momentum (ephem.rotation.free_motion)."""
-        answer = api.free_motion_arrays(body, start, stop, step_days, J_arcsec, (method or FreeMethod.auto).value,
-                                        dataset.value, settings.max_track_samples, time_scale=time_scale.value,
+        answer = api.free_motion_arrays(body, start, stop, step_days, J_arcsec=J_arcsec,
+                                        method=(method or FreeMethod.auto).value,
+                                        dataset=dataset.value, max_samples=settings.max_track_samples,
+                                        time_scale=time_scale.value,
                                         output=format.value)
         if format is AnswerFormat.ecsv and _all_finite(answer):
             with host.prepaid():        # its writing was charged with the answer (output="ecsv")
@@ -553,7 +563,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             history = {"start_year": start_year, "stop_year": stop_year, "step_years": step_years}
             path = ""       # its errors name ?step_years=, as the client wrote it
         # the work in a thread (the event loop stays free), in this request's budget (the context is copied)
-        answer = await run_in_threadpool(api.batch, rows, history, settings.max_batch_rows, path)
+        answer = await run_in_threadpool(api.batch, rows, history=history, max_rows=settings.max_batch_rows,
+                                         history_path=path)
         if format is AnswerFormat.ecsv and _all_finite(answer):
             return await run_in_threadpool(ecsv_response, answer, request, "batch", "")
         return finite_json(answer)
@@ -565,7 +576,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         b = user.to_body()
         track = None if user.track is None else user.track.model_dump()
         history = None if user.history is None else user.history.model_dump()
-        return finite_json(api.precession_nutation(b, user.order, track, settings.max_track_samples, history))
+        return finite_json(api.precession_nutation(b, order=user.order, track=track,
+                                                   max_samples=settings.max_track_samples, history_request=history))
 
     return app
 

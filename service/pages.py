@@ -195,15 +195,16 @@ def install(app: FastAPI) -> None:
 
     @app.get("/", include_in_schema=False, response_class=HTMLResponse)
     async def index(request: Request, dataset: str = api.DEFAULT_DATASET):
-        bodies, problem = await _answer(request, lambda: api.list_bodies(dataset))
+        bodies, problem = await _answer(request, lambda: api.list_bodies(dataset=dataset))
         return _page("index.html", _status(problem), bodies=bodies or [], dataset=dataset, problem=problem,
                      datasets=api.available_datasets(), title="Spin axes of the catalogue's bodies")
 
     @app.get("/bodies/{body}", include_in_schema=False, response_class=HTMLResponse)
     async def body_page(request: Request, body: str, dataset: str = api.DEFAULT_DATASET):
         def compute():
-            return {"record": api.body_record(body, dataset), "precession": api.precession(body, dataset),
-                    "nutation": api.nutation(body, dataset)}
+            return {"record": api.body_record(body, dataset=dataset), "precession": api.precession(body,
+                                              dataset=dataset),
+                    "nutation": api.nutation(body, dataset=dataset)}
 
         result, problem = await _answer(request, compute)
         name = result["record"]["name"] if result else body
@@ -245,7 +246,7 @@ def install(app: FastAPI) -> None:
             _check_form(_TrackForm, form)       # every field as the API's query checks it: all the errors at once
             # the API's own parsing: the query's text as the route would get it
             step, tol = _float(step_days, "step_days"), _float(tolerance_mas, "tolerance_mas") if tolerance_mas else None
-            track = api.track_arrays(body, start, stop, step, dataset,
+            track = api.track_arrays(body, start, stop, step, dataset=dataset,
                                      max_samples=request.app.state.settings.max_track_samples, tolerance_mas=tol,
                                      model=model or None, order=_int(order, "order") if order else None, axis=axis,
                                      free_wobble_phase_deg=_optional_float(free_wobble_phase_deg,
@@ -253,11 +254,11 @@ def install(app: FastAPI) -> None:
                                      free_wobble_J_arcsec=_optional_float(free_wobble_J_arcsec, "free_wobble_J_arcsec"),
                                      time_scale=time_scale)
             # speed against accuracy for this scene: every model's estimate and cost over these epochs
-            models = api.track_models(body, start, stop, step, dataset, tolerance_mas=tol, axis=axis,
+            models = api.track_models(body, start, stop, step, dataset=dataset, tolerance_mas=tol, axis=axis,
                                       max_samples=request.app.state.settings.max_track_samples)
             # ... charted from the same answer (the drawing charged, as the .svg route charges it), inline: the
             # points' hover titles work and no second request is made
-            chart = _inline_svg(api.models_chart(models, "svg"))
+            chart = _inline_svg(api.models_chart(models, fmt="svg"))
             return {**track, "models": models, "models_chart": chart,
                     "model_rows": api.track_models_rows(models)}
 
@@ -304,7 +305,7 @@ def install(app: FastAPI) -> None:
         def compute():
             _check_form(_HistoryForm, form)     # every field as the API's query checks it: all the errors at once
             return api.history(body, _float(start_year, "start_year"), _float(stop_year, "stop_year"),
-                               _float(step_years, "step_years"), dataset,
+                               _float(step_years, "step_years"), dataset=dataset,
                                tolerance_mas=_float(tolerance_mas, "tolerance_mas") if tolerance_mas else None,
                                orbit_model=orbit_model or None,
                                max_samples=request.app.state.settings.max_track_samples)
@@ -347,10 +348,11 @@ def install(app: FastAPI) -> None:
                 user = _user_body(form)
                 body = user.to_body()
                 track = None if user.track is None else user.track.model_dump()
-                ans = api.precession_nutation(body, user.order, track, request.app.state.settings.max_track_samples)
+                ans = api.precession_nutation(body, order=user.order, track=track,
+                                              max_samples=request.app.state.settings.max_track_samples)
                 if track is not None:       # its figure, drawn from the same request (inline SVG: it scales)
                     ans["track_chart"] = _inline_svg(api.render_plot(
-                        "precession", body, track["start"], track["stop"], track["step_days"], "svg",
+                        "precession", body, track["start"], track["stop"], track["step_days"], fmt="svg",
                         tolerance_mas=track["tolerance_mas"], model=track["model"], order=user.order,
                         axis=track["axis"])).replace("<svg ", '<svg role="img" aria-labelledby="user-track-caption" ', 1)
                 return ans
@@ -414,7 +416,7 @@ def install(app: FastAPI) -> None:
             if start_year or stop_year or step_years:
                 history = {"start_year": _float(start_year, "start_year"), "stop_year": _float(stop_year, "stop_year"),
                            "step_years": _float(step_years, "step_years")}
-            answer = api.batch(rows, history, _max_rows(request), "")
+            answer = api.batch(rows, history=history, max_rows=_max_rows(request), history_path="")
             # its table as astropy's ECSV too, written (and charged) within the request
             return {**answer, "ecsv": api.to_ecsv(answer, source=str(request.url))}
 
@@ -436,7 +438,7 @@ def install(app: FastAPI) -> None:
                     "curl": f"curl -s -X POST {shlex.quote(url)} -H 'content-type: text/csv' --data-binary @{shlex.quote(name)}",
                     "python": "import csv\nfrom ephem import api\n"
                               f"rows = list(csv.DictReader(open({name!r}, newline='')))\n"
-                              f"api.batch(rows{', ' + repr({k: float(v) for k, v in history.items()}) if history else ''})"}
+                              f"api.batch(rows{', history=' + repr({k: float(v) for k, v in history.items()}) if history else ''})"}
         return _page("batch.html", _status(problem), result=result, problem=problem, form=form,
                      max_rows=_max_rows(request), download=download, shown=TRACK_ROWS_SHOWN,
                      template_url=BATCH_TEMPLATE_URL, download_name=downloads.filename(
@@ -546,8 +548,8 @@ def _about(version: str) -> dict:
         theories.append((f"The spin axis over millennia, the {orbit} orbit", f"{model['spin']}; {model['description']}"))
     sources: dict[tuple, dict] = {}
     for dataset in api.available_datasets():
-        for entry in api.list_bodies(dataset):
-            record = api.body_record(entry["name"], dataset)
+        for entry in api.list_bodies(dataset=dataset):
+            record = api.body_record(entry["name"], dataset=dataset)
             for key, value in record["values"].items():
                 ref = value.get("reference") or {}
                 if not ref:

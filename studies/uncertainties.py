@@ -30,7 +30,7 @@ def answers_table(dataset: str = "current") -> str:
     rows = ["| body | ε (°) | ψ̇ (″/yr) | σ ε (°) | σ ψ̇ (″/yr) | σ H_d | σ K (″/yr) | complete | inputs with σ |",
             "|---|---|---|---|---|---|---|---|---|"]
     for b in load_catalogue(dataset).bodies:
-        p = api.precession(b.name, dataset)
+        p = api.precession(b.name, dataset=dataset)
         u = p["uncertainty"]
         with_sigma = sorted(k for k, m in b.values.items() if m.uncertainty is not None and not k.endswith("epoch")
                             and not k.startswith("inertia.derived_from") and k != "rotation.rate")

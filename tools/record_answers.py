@@ -128,54 +128,57 @@ def plain(obj):
 
 def api_cases(api) -> list[tuple[str, object]]:
     """(case, thunk) for the library's public functions."""
-    cases = [("api list_bodies current", lambda: api.list_bodies(DATASET)),
-             ("api list_bodies petit2014", lambda: api.list_bodies("petit2014"))]
+    cases = [("api list_bodies current", lambda: api.list_bodies(dataset=DATASET)),
+             ("api list_bodies petit2014", lambda: api.list_bodies(dataset="petit2014"))]
     for b in BODIES:
-        cases += [(f"api body_record {b}", lambda b=b: api.body_record(b, DATASET)),
-                  (f"api precession {b}", lambda b=b: api.precession(b, DATASET)),
-                  (f"api nutation {b}", lambda b=b: api.nutation(b, DATASET)),
+        cases += [(f"api body_record {b}", lambda b=b: api.body_record(b, dataset=DATASET)),
+                  (f"api precession {b}", lambda b=b: api.precession(b, dataset=DATASET)),
+                  (f"api nutation {b}", lambda b=b: api.nutation(b, dataset=DATASET)),
                   (f"api track {b}", lambda b=b: api.track(b, SPAN["start"], SPAN["stop"], SPAN["step_days"],
-                                                           DATASET))]
+                                                           dataset=DATASET))]
     for b in BODIES:                       # the other dataset, a long coarse track, a tolerance, the other axis
-        cases += [(f"api precession {b} petit2014", lambda b=b: api.precession(b, "petit2014")),
-                  (f"api nutation {b} petit2014 order=4", lambda b=b: api.nutation(b, "petit2014", 4)),
+        cases += [(f"api precession {b} petit2014", lambda b=b: api.precession(b, dataset="petit2014")),
+                  (f"api nutation {b} petit2014 order=4", lambda b=b: api.nutation(b, dataset="petit2014", order=4)),
                   (f"api track {b} 2000-2040", lambda b=b: api.track(b, "2000-01-01", "2040-01-01", 730.5,
-                                                                      DATASET)),
+                                                                      dataset=DATASET)),
                   (f"api track {b} tolerance_mas=1e5", lambda b=b: api.track(
-                      b, "2025-01-01", "2026-01-01", 73.0, DATASET, tolerance_mas=1e5)),
+                      b, "2025-01-01", "2026-01-01", 73.0, dataset=DATASET, tolerance_mas=1e5)),
                   (f"api track {b} axis=angular_momentum", lambda b=b: api.track(
-                      b, "2025-01-01", "2025-06-01", 50.0, DATASET, axis="angular_momentum")),
+                      b, "2025-01-01", "2025-06-01", 50.0, dataset=DATASET, axis="angular_momentum")),
                   (f"api free_motion_answer {b} J=10", lambda b=b: api.free_motion_answer(
-                      b, "2020-01-01", "2020-01-11", 1.0, 10.0, "auto", DATASET))]
+                      b, "2020-01-01", "2020-01-11", 1.0, J_arcsec=10.0, method="auto", dataset=DATASET))]
     cases += [
-        ("api precession Vesta order=4", lambda: api.precession("Vesta", DATASET, 4)),
-        ("api precession Ceres tolerance_mas=100", lambda: api.precession("Ceres", DATASET, None, 100.0)),
-        ("api precession Earth perturbers=sun", lambda: api.precession("Earth", DATASET, perturbers="sun")),
-        ("api nutation Earth cut_mas=10", lambda: api.nutation("Earth", DATASET, cut_mas=10.0)),
-        ("api nutation Vesta petit2014", lambda: api.nutation("Vesta", "petit2014")),
-        ("api track Vesta tolerance_mas=10", lambda: api.track("Vesta", "2030-01-01", "2030-06-30", 15.0, DATASET,
+        ("api precession Vesta order=4", lambda: api.precession("Vesta", dataset=DATASET, order=4)),
+        ("api precession Ceres tolerance_mas=100", lambda: api.precession("Ceres", dataset=DATASET, order=None,
+                                                                          tolerance_mas=100.0)),
+        ("api precession Earth perturbers=sun", lambda: api.precession("Earth", dataset=DATASET, perturbers="sun")),
+        ("api nutation Earth cut_mas=10", lambda: api.nutation("Earth", dataset=DATASET, cut_mas=10.0)),
+        ("api nutation Vesta petit2014", lambda: api.nutation("Vesta", dataset="petit2014")),
+        ("api track Vesta tolerance_mas=10", lambda: api.track("Vesta", "2030-01-01", "2030-06-30", 15.0,
+                                                               dataset=DATASET,
                                                               tolerance_mas=10.0)),
         ("api track Ceres model=series order=2", lambda: api.track("Ceres", "2030-01-01", "2031-01-01", 60.0,
-                                                                   DATASET, order=2, model="series")),
+                                                                   dataset=DATASET, order=2, model="series")),
         ("api track Mars axis=angular_momentum 2020", lambda: api.track("Mars", "2020-01-01", "2020-06-01", 30.0,
-                                                                   DATASET, axis="angular_momentum")),
+                                                                   dataset=DATASET, axis="angular_momentum")),
         ("api track Mars free_wobble_phase_deg=30", lambda: api.track(
-            "Mars", "2000-01-01", "2010-01-01", 1000.0, DATASET, tolerance_mas=10.0, free_wobble_phase_deg=30.0)),
+            "Mars", "2000-01-01", "2010-01-01", 1000.0, dataset=DATASET, tolerance_mas=10.0,
+            free_wobble_phase_deg=30.0)),
         ("api history Ceres", lambda: api.history("Ceres", HISTORY["start_year"], HISTORY["stop_year"],
-                                                  HISTORY["step_years"], DATASET)),
-        ("api history Ceres orbit_model=secular", lambda: api.history("Ceres", -20000, 0, 5000, DATASET,
+                                                  HISTORY["step_years"], dataset=DATASET)),
+        ("api history Ceres orbit_model=secular", lambda: api.history("Ceres", -20000, 0, 5000, dataset=DATASET,
                                                                       orbit_model="secular")),
-        ("api history Itokawa (not applicable)", lambda: api.history("Itokawa", -2000, 0, 1000, DATASET)),
+        ("api history Itokawa (not applicable)", lambda: api.history("Itokawa", -2000, 0, 1000, dataset=DATASET)),
         ("api batch user asteroid", lambda: api.batch(batch_rows())),
         ("api batch user asteroid with history", lambda: api.batch(batch_rows()[:1],
-                                                                   {**HISTORY, "step_years": 1000})),
+                                                                   history={**HISTORY, "step_years": 1000})),
         ("api free_motion_answer Mars", lambda: api.free_motion_answer("Mars", "2020-01-01", "2020-03-01", 5.0,
                                                                        dataset=DATASET)),
         ("api free_motion_answer Vesta J=10 series", lambda: api.free_motion_answer(
-            "Vesta", "2020-01-01", "2020-01-03", 0.25, 10.0, "series", DATASET)),
+            "Vesta", "2020-01-01", "2020-01-03", 0.25, J_arcsec=10.0, method="series", dataset=DATASET)),
         ("api free_motion_answer Eros J=100 numeric", lambda: api.free_motion_answer(
-            "Eros", "2020-01-01", "2020-01-02", 0.1, 100.0, "numeric", DATASET)),
-        ("api precession Pluto (unknown)", lambda: api.precession("Pluto", DATASET)),
+            "Eros", "2020-01-01", "2020-01-02", 0.1, J_arcsec=100.0, method="numeric", dataset=DATASET)),
+        ("api precession Pluto (unknown)", lambda: api.precession("Pluto", dataset=DATASET)),
     ]
     return cases
 

@@ -16,25 +16,49 @@ from ..batch import distributed
 from ..batch import population as pop
 from ..exports.qtable import to_ecsv
 from ..longterm.history import MAX_HISTORY_SAMPLES, MAX_SPAN_YEARS
+from .results import BatchAnswer
 
 #: the most rows :func:`batch` takes in one call (the service's is EPHEM_MAX_BATCH_ROWS); a catalogue streams through
 #: ``ephem batch`` (ephem.batch.distributed, on Dask) instead
 MAX_BATCH_ROWS = 100_000
 
 
-def batch(rows, history: dict | None = None, max_rows: int = MAX_BATCH_ROWS, history_path: str = "history.") -> dict:
-    """Precession and nutation of several bodies at once, synchronously (:mod:`ephem.batch.population`): ``rows`` a list of
-    {column: value} (docs/batch_input.md: the orbit, the pole, the period, one inertia form, optional ``_sigma``
-    columns); ``history`` {start_year, stop_year, step_years} adds each body's obliquity range and period (its
-    errors name ``history_path`` + the key: the service passes "" when the client gave them as query parameters).
+def batch(rows: list[dict], *, history: dict | None = None, max_rows: int = MAX_BATCH_ROWS,
+          history_path: str = "history.") -> BatchAnswer:
+    """Precession and nutation of several bodies of the caller's at once, synchronously (:mod:`ephem.batch.population`).
 
-    Returns ``rows`` (one {output column: value} per input row, in order: docs/batch.md; a bad row has its reason
-    in ``error`` and nulls, the others are unaffected), ``columns`` (the output columns, in order) and ``model``.
-    A malformed request (rows not a list of objects, an unknown column, a bad history) raises
-    :class:`InvalidInputError` naming its path (``rows[3]``, ``rows[0].colour``, ``history.step_years``); a cell
-    that is not a number (or not text, for ``name``) is its row's ``error``, as in ``ephem batch``.
-    The cost is charged before the work, each row at its own eccentricity (:func:`ephem.batch.population.batch_cost`),
-    and a batch above the service's threshold for large work takes its turn before any row is computed.
+    A bad row has its reason in ``error`` and nulls, the others are unaffected; a cell that is not a number (or not
+    text, for ``name``) is its row's ``error``, as in ``ephem batch``. The cost is charged before the work, each row at
+    its own eccentricity (:func:`ephem.batch.population.batch_cost`), and a batch above the service's threshold for large
+    work takes its turn before any row is computed.
+
+    Parameters
+    ----------
+    rows : list of dict
+        One {column: value} per body (docs/batch_input.md: the orbit, the pole, the period, one inertia form,
+        optional ``_sigma`` columns; angles in degrees, the period in hours).
+    history : dict, optional
+        {start_year, stop_year, step_years} (Julian years from J2000.0 TDB): adds each body's obliquity range (deg) and
+        period (yr) over it.
+    max_rows : int
+        The most rows taken (default :data:`MAX_BATCH_ROWS`; the service's is EPHEM_MAX_BATCH_ROWS).
+    history_path : str
+        The prefix of the history's errors (``history.`` + the key; the service passes "" when the client gave them as
+        query parameters).
+
+    Returns
+    -------
+    BatchAnswer
+        A dict: ``rows`` (one {output column: value} per input row, in order: docs/batch.md, units in the column
+        names), ``columns`` (the output columns, in order) and ``model``. ``.to_qtable()``: a row per body.
+
+    Raises
+    ------
+    InvalidInputError
+        Naming its path (``rows[3]``, ``rows[0].colour``, ``history.step_years``), for a malformed request: rows not a
+        list of objects, an unknown column, a bad history.
+    OverBudgetError
+        When the batch's predicted cost exceeds the budget in force.
     """
     if not isinstance(rows, list):
         raise InvalidInputError("rows", "expected a list of objects, one per body, with the columns of "
@@ -64,7 +88,7 @@ def batch(rows, history: dict | None = None, max_rows: int = MAX_BATCH_ROWS, his
         raise
     checkpoint()    # the whole batch is charged: a large one takes its turn (or is refused busy) before any row
     out = pop.spoil_rows(pop.evaluate(columns, spec), bad)     # a cell that is not a number spoils its row only
-    return batch_answer(out)
+    return BatchAnswer(batch_answer(out))
 
 
 def batch_answer(out: Mapping) -> dict:
@@ -99,8 +123,52 @@ def write_ecsv_partition(out: Mapping, path: str, source: str) -> None:
 
 
 def run_batch(input_path, out_path, **options):
-    """:func:`ephem.batch.distributed.run` with ECSV among its output formats (``output_format="ecsv"``: each
-    partition written by :func:`write_ecsv_partition`); what ``ephem.api.run_batch`` and ``ephem batch`` call."""
+    """:func:`ephem.batch.distributed.run` with ECSV among its output formats: a catalogue on Dask.
+
+    Each body of ``input_path`` answered into ``out_path/part-NNNNN.<format>`` (``output_format="ecsv"``: each partition
+    written by :func:`write_ecsv_partition`); what ``ephem.api.run_batch`` and ``ephem batch`` call.
+
+    Parameters
+    ----------
+    input_path : str or Path
+        The input table, CSV or Parquet (by suffix), with the columns of docs/batch_input.md.
+    out_path : str or Path
+        The output folder.
+    scheduler : str, optional
+        The address of an existing dask scheduler (``tcp://host:port``); default a local cluster.
+    workers : int, optional
+        The local cluster's processes (default: the cores); with ``scheduler``, how many workers to wait for.
+    partition_rows : int
+        Rows per partition (default 50 000).
+    output_format : str
+        "parquet" (default), "csv" or "ecsv".
+    history : HistorySpec, optional
+        The history columns' span (:class:`ephem.batch.population.HistorySpec`, Julian years).
+    progress : callable, optional
+        ``progress(done, total)``, called with the partitions done.
+    fresh : bool
+        Delete an earlier batch in ``out_path`` first (default: resume it).
+    log : callable, optional
+        ``log(message)`` gets the notes (the split, resume, the prediction, the dashboard link).
+    writers : mapping, optional
+        More output formats, {format: write(output columns, path, source)}; default ECSV's.
+    **options
+        The keywords above, passed to :func:`ephem.batch.distributed.run`.
+
+    Returns
+    -------
+    BatchResult
+        The partitions written, skipped and failed, the rows, the time taken.
+
+    Raises
+    ------
+    MissingExtraError
+        Without dask.distributed or pyarrow (the ``batch`` extra).
+    InvalidInputError
+        Naming the field, before any work, for a bad input or setting.
+    BatchFailed
+        After the run, when partitions failed even after their retries.
+    """
     options.setdefault("writers", {"ecsv": write_ecsv_partition})
     return distributed.run(input_path, out_path, **options)
 

@@ -55,7 +55,9 @@ import gc
 import io
 import math
 import threading
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -64,7 +66,7 @@ from . import requests as answers
 from ..base.errors import InvalidInputError, count_text
 from ..base.grids import SAFE_SPACINGS, resolution
 from ..base.times import to_jd_tdb
-from ..bodies.catalogue import DEFAULT_DATASET, resolve_body
+from ..bodies.catalogue import DEFAULT_DATASET, Body, resolve_body
 from ..longterm.history import MAX_SPAN_YEARS
 from ..orbit.kepler import mean_motion_rad_per_day
 from ..rotation.free_motion import free_motion
@@ -72,6 +74,11 @@ from ..exports.plot_drawing import (draw_free_wobble, draw_nutation_loop, draw_o
                            draw_precession, new_figure, period_text)
 from ..exports import work_precision
 from ..base.budget import Cost, Part, charge
+from .requests import Epoch
+
+if TYPE_CHECKING:       # the types of the annotations only: matplotlib loads with the first figure
+    from astropy.units import Quantity
+    from matplotlib.figure import Figure
 
 #: The kinds of plot, as ``figure(kind, …)`` takes them.
 KINDS = ("precession", "nutation-loop", "obliquity", "free-wobble", "obliquity-history")
@@ -274,7 +281,7 @@ def _history_data(body, start, stop, step_years, dataset: str, tolerance_mas, or
     y0, y1 = _year_span(start, stop)
     step = default_step_years(y0, y1) if step_years is None else _check_step_years(step_years, y0, y1)
     try:
-        return answers.history(body, y0, y1, step, dataset, tolerance_mas=tolerance_mas, orbit_model=orbit_model,
+        return answers.history(body, y0, y1, step, dataset=dataset, tolerance_mas=tolerance_mas, orbit_model=orbit_model,
                            perturbers=perturbers, max_samples=MAX_PLOT_POINTS)
     except InvalidInputError as exc:     # the history's own names for the plot's start and stop
         field = {"start_year": "start", "stop_year": "stop"}.get(exc.field)
@@ -283,12 +290,12 @@ def _history_data(body, start, stop, step_years, dataset: str, tolerance_mas, or
         raise InvalidInputError(field, exc.reason, exc.body) from exc
 
 
-def data(kind: str, body, start, stop, step_days: float | None = None, dataset: str = DEFAULT_DATASET, *,
-         tolerance_mas: float | None = None, model: str | None = None, order: int | None = None,
-         J_arcsec: float | None = None, method: str = "auto", step_years: float | None = None,
-         orbit_model: str | None = None, perturbers=None, axis: str = "figure",
-         free_wobble_phase_deg: float | None = None, free_wobble_J_arcsec: float | None = None,
-         free_wobble_epoch=None) -> dict:
+def data(kind: str, body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity | None = None, *,
+         tolerance_mas: float | Quantity | None = None, model: str | None = None, orbit_model: str | None = None,
+         order: int | None = None, axis: str = "figure", free_wobble_phase_deg: float | Quantity | None = None,
+         free_wobble_J_arcsec: float | Quantity | None = None, free_wobble_epoch: Epoch | None = None,
+         J_arcsec: float | Quantity | None = None, method: str = "auto", step_years: float | Quantity | None = None,
+         dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None) -> dict:
     """The arrays a plot draws: :func:`ephem.answers.requests.track_arrays` for the track kinds,
     :func:`ephem.answers.requests.free_motion_arrays` for ``free-wobble``, :func:`ephem.answers.requests.history` for
     ``obliquity-history`` (same arguments as :func:`figure`)."""
@@ -306,7 +313,7 @@ def data(kind: str, body, start, stop, step_days: float | None = None, dataset: 
         step_days = default_step_days(kind, b, start, stop, dataset, J_arcsec, method)
     if kind == "free-wobble":
         # validate the step first (a number, positive, within the cap), then refuse an aliasing one
-        answers.epoch_grid(start, stop, step_days, MAX_PLOT_POINTS)
+        answers.epoch_grid(start, stop, step_days, max_samples=MAX_PLOT_POINTS)
         fast = _fastest_wobble_period(_wobble_periods(b, t0, J_arcsec, method))
         if step_days > fast / _MIN_PER_CYCLE:
             raise InvalidInputError("step_days", f"a step of {step_days:.6g} d aliases the free wobble, whose "
@@ -326,34 +333,83 @@ def data(kind: str, body, start, stop, step_days: float | None = None, dataset: 
     return ans
 
 
-def figure(kind: str, body, start, stop, step_days: float | None = None, dataset: str = DEFAULT_DATASET, *,
-           tolerance_mas: float | None = None, model: str | None = None, order: int | None = None,
-           J_arcsec: float | None = None, method: str = "auto", step_years: float | None = None,
-           orbit_model: str | None = None, perturbers=None, axis: str = "figure",
-           free_wobble_phase_deg: float | None = None, free_wobble_J_arcsec: float | None = None,
-           free_wobble_epoch=None):
+def figure(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
+           step_days: float | Quantity | None = None, *,
+           tolerance_mas: float | Quantity | None = None, model: str | None = None, orbit_model: str | None = None,
+           order: int | None = None, axis: str = "figure", free_wobble_phase_deg: float | Quantity | None = None,
+           free_wobble_J_arcsec: float | Quantity | None = None, free_wobble_epoch: Epoch | None = None,
+           J_arcsec: float | Quantity | None = None, method: str = "auto", step_years: float | Quantity | None = None,
+           dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None) -> Figure:
     """A :class:`matplotlib.figure.Figure` (Agg canvas, no pyplot state) of one kind of plot.
 
-    ``kind``: one of :data:`KINDS` (module docstring: what each draws, its units and the paper
-    figure it reproduces). ``start``/``stop``: ISO 8601 strings (UTC unless a scale is named) or
-    JD TDB numbers. ``step_days``: sampling step in days, or None for :func:`default_step_days`;
-    at most :data:`MAX_PLOT_POINTS` epochs. Track kinds take ``tolerance_mas``, ``model``, ``order``,
-    ``axis`` and the free wobble's ``free_wobble_phase_deg``, ``free_wobble_J_arcsec`` and ``free_wobble_epoch``
-    as :func:`ephem.answers.requests.track_arrays` (the figure of a track is drawn from that track); ``free-wobble`` takes ``J_arcsec`` (required for
-    a body without a published amplitude: only Earth, Moon, Mars and Eros have one) and ``method``
-    as :func:`ephem.answers.requests.free_motion_arrays`.
+    The module's docstring says what each kind draws, its units and the paper figure it reproduces. Track kinds are
+    drawn from :func:`ephem.answers.requests.track_arrays`'s track, ``free-wobble`` from
+    :func:`ephem.answers.requests.free_motion_arrays`, ``obliquity-history`` from :func:`ephem.answers.requests.history`;
+    an option of one kind given to another is refused naming it.
 
-    ``obliquity-history`` is the exception: its ``start``/``stop`` are Julian years from J2000.0 TDB
-    (numbers or numeric strings, negative in the past), its step is ``step_years`` (None for
-    :func:`default_step_years`; at most :data:`MAX_PLOT_POINTS` epochs), and it takes ``tolerance_mas``,
-    ``orbit_model`` ("secular" or "nbody") and ``perturbers`` as :func:`ephem.answers.requests.history`; ``step_days``,
-    ``model``, ``order``, ``J_arcsec`` and ``method`` do not apply to it (and its options to no other kind).
+    Parameters
+    ----------
+    kind : str
+        One of :data:`KINDS`: "precession", "nutation-loop", "obliquity", "free-wobble", "obliquity-history".
+    body : str, int or Body
+        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    start, stop : str, float or astropy.time.Time
+        The span: ISO 8601 text (UTC unless a scale is named), a JD TDB or a ``Time``; for ``obliquity-history``
+        Julian years from J2000.0 TDB (numbers or numeric strings, negative in the past).
+    step_days : float or Quantity, optional
+        The step, days (None: :func:`default_step_days`); at most :data:`MAX_PLOT_POINTS` epochs. Not for
+        ``obliquity-history``.
+    tolerance_mas : float or Quantity, optional
+        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
+        meets it over these epochs answers (not with ``model`` or ``order``).
+        A history's: the orbit model's tolerance.
+    model : str, optional
+        A model named instead (one of ``ephem.api.MODELS`` that the body's family has); default the family's own.
+    orbit_model : str, optional
+        ``obliquity-history`` only: "secular" or "nbody", as :func:`ephem.answers.requests.history`.
+    order : int, optional
+        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
+    axis : str
+        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
+        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
+        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
+    free_wobble_phase_deg : float or Quantity, optional
+        The figure axis's position angle about the angular momentum at ``free_wobble_epoch``, degrees from the ICRF
+        north through east: with it the track can add the free wobble (and does, with a named model).
+    free_wobble_J_arcsec : float or Quantity, optional
+        The free wobble's amplitude J, arcseconds; default the published one (only with ``free_wobble_phase_deg``).
+    free_wobble_epoch : str, float or astropy.time.Time, optional
+        The epoch of ``free_wobble_phase_deg``; default the pole epoch (only with ``free_wobble_phase_deg``).
+    J_arcsec : float or Quantity, optional
+        ``free-wobble`` only: the wobble's amplitude, arcseconds (required for a body without a published one: only the
+        Earth, the Moon, Mars and Eros have one).
+    method : str
+        ``free-wobble`` only: "auto" (default), "series" or "numeric".
+    step_years : float or Quantity, optional
+        ``obliquity-history`` only: the step, Julian years (None: :func:`default_step_years`).
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    perturbers : str or sequence of str, optional
+        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
+        ("sun", ["Sun"], "moon,sun").
 
-    Raises :class:`~ephem.base.errors.InvalidInputError` (naming the field) for bad input,
-    :class:`~ephem.base.errors.UnknownBodyError` for an unknown body, and whatever the model raises
-    (:class:`~ephem.base.errors.NotApplicableError` where no theory serves the body's track).
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure, axes in units (arcsec, mas or deg; years or days), free of pyplot's global state.
+
+    Raises
+    ------
+    InvalidInputError
+        Naming the field, for bad input (an option given to a kind it does not apply to among them).
+    UnknownBodyError
+        For an unknown body.
+    NotApplicableError
+        Where no theory serves the body's track.
+    MissingExtraError
+        Without matplotlib (the ``plots`` extra).
     """
-    ans = data(kind, body, start, stop, step_days, dataset, tolerance_mas=tolerance_mas, model=model,
+    ans = data(kind, body, start, stop, step_days, dataset=dataset, tolerance_mas=tolerance_mas, model=model,
                order=order, J_arcsec=J_arcsec, method=method, step_years=step_years, orbit_model=orbit_model,
                perturbers=perturbers, axis=axis, free_wobble_phase_deg=free_wobble_phase_deg,
                free_wobble_J_arcsec=free_wobble_J_arcsec, free_wobble_epoch=free_wobble_epoch)
@@ -406,19 +462,89 @@ def figure_bytes(fig, fmt: str = "png", dpi: float = DEFAULT_DPI) -> bytes:
     return buf.getvalue()
 
 
-def render(kind: str, body, start, stop, step_days: float | None = None, fmt: str = "png",
-           dataset: str = DEFAULT_DATASET, *, dpi: float = DEFAULT_DPI, tolerance_mas: float | None = None,
-           model: str | None = None, order: int | None = None, J_arcsec: float | None = None,
-           method: str = "auto", step_years: float | None = None, orbit_model: str | None = None,
-           perturbers=None, axis: str = "figure", free_wobble_phase_deg: float | None = None,
-           free_wobble_J_arcsec: float | None = None, free_wobble_epoch=None) -> bytes:
-    """The plot :func:`figure` draws, as ``fmt`` bytes: "png" (``image/png``, ``dpi`` dots per inch,
-    30-300, default 100: 800 x 600 px for ``precession``) or "svg" (``image/svg+xml``).
-    :data:`CONTENT_TYPES` maps the format to its media type."""
+def render(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
+           step_days: float | Quantity | None = None, *,
+           tolerance_mas: float | Quantity | None = None, model: str | None = None, orbit_model: str | None = None,
+           order: int | None = None, axis: str = "figure", free_wobble_phase_deg: float | Quantity | None = None,
+           free_wobble_J_arcsec: float | Quantity | None = None, free_wobble_epoch: Epoch | None = None,
+           J_arcsec: float | Quantity | None = None, method: str = "auto", step_years: float | Quantity | None = None,
+           dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None,
+           fmt: str = "png", dpi: float = DEFAULT_DPI) -> bytes:
+    """The plot :func:`figure` draws, as PNG or SVG bytes (what ``ephem.api.render_plot`` is).
+
+    The bytes carry no timestamp and SVG ids follow from the figure alone: the same request gives the same bytes.
+
+    Parameters
+    ----------
+    kind : str
+        One of :data:`KINDS`: "precession", "nutation-loop", "obliquity", "free-wobble", "obliquity-history".
+    body : str, int or Body
+        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    start, stop : str, float or astropy.time.Time
+        The span: ISO 8601 text (UTC unless a scale is named), a JD TDB or a ``Time``; for ``obliquity-history``
+        Julian years from J2000.0 TDB (numbers or numeric strings, negative in the past).
+    step_days : float or Quantity, optional
+        The step, days (None: :func:`default_step_days`); at most :data:`MAX_PLOT_POINTS` epochs. Not for
+        ``obliquity-history``.
+    tolerance_mas : float or Quantity, optional
+        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
+        meets it over these epochs answers (not with ``model`` or ``order``).
+        A history's: the orbit model's tolerance.
+    model : str, optional
+        A model named instead (one of ``ephem.api.MODELS`` that the body's family has); default the family's own.
+    orbit_model : str, optional
+        ``obliquity-history`` only: "secular" or "nbody", as :func:`ephem.answers.requests.history`.
+    order : int, optional
+        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
+    axis : str
+        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
+        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
+        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
+    free_wobble_phase_deg : float or Quantity, optional
+        The figure axis's position angle about the angular momentum at ``free_wobble_epoch``, degrees from the ICRF
+        north through east: with it the track can add the free wobble (and does, with a named model).
+    free_wobble_J_arcsec : float or Quantity, optional
+        The free wobble's amplitude J, arcseconds; default the published one (only with ``free_wobble_phase_deg``).
+    free_wobble_epoch : str, float or astropy.time.Time, optional
+        The epoch of ``free_wobble_phase_deg``; default the pole epoch (only with ``free_wobble_phase_deg``).
+    J_arcsec : float or Quantity, optional
+        ``free-wobble`` only: the wobble's amplitude, arcseconds (required for a body without a published one: only the
+        Earth, the Moon, Mars and Eros have one).
+    method : str
+        ``free-wobble`` only: "auto" (default), "series" or "numeric".
+    step_years : float or Quantity, optional
+        ``obliquity-history`` only: the step, Julian years (None: :func:`default_step_years`).
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    perturbers : str or sequence of str, optional
+        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
+        ("sun", ["Sun"], "moon,sun").
+    fmt : str
+        "png" (default) or "svg"; :data:`CONTENT_TYPES` maps it to its media type.
+    dpi : float
+        A PNG's resolution, dots per inch, 30 to 300 (default 100: 800 x 600 px for ``precession``).
+
+    Returns
+    -------
+    bytes
+        The image: ``image/png`` or ``image/svg+xml``.
+
+    Raises
+    ------
+    InvalidInputError
+        Naming the field, for bad input (an option given to a kind it does not apply to among them).
+    UnknownBodyError
+        For an unknown body.
+    NotApplicableError
+        Where no theory serves the body's track.
+    MissingExtraError
+        Without matplotlib (the ``plots`` extra).
+    """
     _check_fmt(fmt)
     _check_dpi(dpi)
     charge(drawing_cost(fmt, dpi))      # before the data: its checkpoint then admits the request with the drawing
-    return _written_once(figure(kind, body, start, stop, step_days, dataset, tolerance_mas=tolerance_mas, model=model,
+    return _written_once(figure(kind, body, start, stop, step_days, dataset=dataset, tolerance_mas=tolerance_mas,
+                                model=model,
                                 order=order, J_arcsec=J_arcsec, method=method, step_years=step_years,
                                 orbit_model=orbit_model, perturbers=perturbers, axis=axis,
                                 free_wobble_phase_deg=free_wobble_phase_deg, free_wobble_J_arcsec=free_wobble_J_arcsec,
@@ -478,27 +604,90 @@ def chart_cost(models: int, fmt: str = "svg", dpi: float = DEFAULT_DPI) -> Cost:
                       CHART_BASE_MB + CHART_PIXEL_BYTES * pixels / (1024.0 * 1024.0)),))
 
 
-def models_chart(answer: dict, fmt: str = "svg", dpi: float = DEFAULT_DPI) -> bytes:
-    """The work-precision chart (:mod:`ephem.exports.work_precision`) of a :func:`ephem.answers.requests.track_models`
-    answer: each model's estimated error (mas) against its predicted cost (CPU ms), the tolerance, the chosen model;
-    "svg" (a ``<title>`` on every point: its model, order, error and cost, shown on hover) or "png" at ``dpi``.
-    Charges the drawing's cost (:func:`chart_cost`) first; the same answer gives the same bytes."""
+def models_chart(answer: dict, *, fmt: str = "svg", dpi: float = DEFAULT_DPI) -> bytes:
+    """The work-precision chart of a :func:`ephem.answers.requests.track_models` answer.
+
+    Each model's estimated error (mas) against its predicted cost (CPU ms), the tolerance, the chosen model
+    (:mod:`ephem.exports.work_precision`). Charges the drawing's cost (:func:`chart_cost`) first; the same answer gives
+    the same bytes.
+
+    Parameters
+    ----------
+    answer : dict
+        The :func:`ephem.answers.requests.track_models` answer (a :class:`~ephem.answers.results.ModelsAnswer`).
+    fmt : str
+        "svg" (default; a ``<title>`` on every point: its model, order, error and cost, shown on hover) or "png".
+    dpi : float
+        A PNG's resolution, dots per inch, 30 to 300.
+
+    Returns
+    -------
+    bytes
+        The chart as ``image/svg+xml`` or ``image/png``.
+    """
     fmt, dpi = _check_fmt(fmt), _check_dpi(dpi)
     charge(chart_cost(len(answer["models"]), fmt, dpi), answer.get("body"))
     data = _written_once(work_precision.figure(answer), fmt, dpi)
     return data if fmt == "png" else work_precision.svg_with_titles(data.decode("utf-8"), answer).encode("utf-8")
 
 
-def track_models_chart(body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET, *,
-                       tolerance_mas: float | None = None, axis: str = "figure", perturbers=None, fmt: str = "svg",
-                       dpi: float = DEFAULT_DPI, max_samples: int = answers.MAX_TRACK_SAMPLES) -> bytes:
-    """Speed against accuracy for one request, charted: :func:`ephem.answers.requests.track_models` (same
-    arguments: every model serving ``body`` over these epochs, its estimate and predicted cost, the one
-    ``tolerance_mas`` picks) drawn by :func:`models_chart` as ``fmt`` ("svg" or "png", ``dpi`` 30-300)."""
+def track_models_chart(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity, *,
+                       tolerance_mas: float | Quantity | None = None, axis: str = "figure",
+                       dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None,
+                       fmt: str = "svg", dpi: float = DEFAULT_DPI,
+                       max_samples: int = answers.MAX_TRACK_SAMPLES) -> bytes:
+    """Speed against accuracy for one request, charted: :func:`ephem.answers.requests.track_models`, drawn.
+
+    Every model serving ``body`` over these epochs, its estimate and predicted cost, the one ``tolerance_mas`` picks,
+    drawn by :func:`models_chart`.
+
+    Parameters
+    ----------
+    body : str, int or Body
+        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    start, stop : str, float or astropy.time.Time
+        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
+        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
+    step_days : float or Quantity
+        The step between epochs, days (a ``Quantity`` in any unit of time).
+    tolerance_mas : float or Quantity, optional
+        The tolerance whose choice the chart shows, milliarcseconds.
+    axis : str
+        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
+        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
+        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    perturbers : str or sequence of str, optional
+        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
+        ("sun", ["Sun"], "moon,sun").
+    fmt : str
+        "svg" (default) or "png".
+    dpi : float
+        A PNG's resolution, dots per inch, 30 to 300.
+    max_samples : int
+        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
+
+    Returns
+    -------
+    bytes
+        The chart as ``image/svg+xml`` or ``image/png``.
+
+    Raises
+    ------
+    InvalidInputError
+        Naming the field, for bad input (an option given to a kind it does not apply to among them).
+    UnknownBodyError
+        For an unknown body.
+    NotApplicableError
+        Where no theory serves the body's track.
+    MissingExtraError
+        Without matplotlib (the ``plots`` extra).
+    """
     fmt, dpi = _check_fmt(fmt), _check_dpi(dpi)
-    ans = answers.track_models(body, start, stop, step_days, dataset, tolerance_mas=tolerance_mas, axis=axis,
+    ans = answers.track_models(body, start, stop, step_days, tolerance_mas=tolerance_mas, axis=axis, dataset=dataset,
                                perturbers=perturbers, max_samples=max_samples)
-    return models_chart(ans, fmt, dpi)
+    return models_chart(ans, fmt=fmt, dpi=dpi)
 
 
 # --- the figures of docs/plots.md -----------------------------------------------------------------

@@ -63,7 +63,9 @@ from __future__ import annotations
 
 import math
 from datetime import UTC, datetime
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..base.errors import InvalidInputError
 from ..base.grids import SAFE_SPACINGS, resolution
@@ -75,35 +77,74 @@ from ..exports.pck_kernel import PckResult, angles_owner
 from ..exports.pck_text import ascii_text, comment_lines, data_block, time_text
 from ..families import theory_for
 from . import requests
+from .requests import Epoch
+
+if TYPE_CHECKING:
+    from astropy.units import Quantity
 
 
-def _track(*args, **kwargs) -> dict:
+def _track(body, start, stop, step_days, dataset, **kwargs) -> dict:
     """The fit's track: :func:`ephem.answers.requests.track_arrays`, looked up at each call (the stability tests
-    perturb it there), without the calendar dates (the fit reads jd_tdb)."""
-    return requests.track_arrays(*args, **{"time_scale": None, **kwargs})
+    perturb it there), without the calendar dates (the fit reads jd_tdb). The fit gives the dataset fifth, after
+    the epochs (:func:`ephem.exports.pck_fit.fit_body`), where the answer takes it by name."""
+    return requests.track_arrays(body, start, stop, step_days, dataset=dataset, **{"time_scale": None, **kwargs})
 
 
-def write_pck(bodies, start, stop, dataset: str = DEFAULT_DATASET, tolerance_mas: float | None = None,
-              model: str | None = None, order: int | None = None, axis: str = "figure", perturbers=None,
-              fit_tolerance_mas: float | None = None, max_angles: int = DEFAULT_MAX_ANGLES,
+def write_pck(bodies: str | int | Body | Sequence[str | int | Body], start: Epoch, stop: Epoch, *,
+              tolerance_mas: float | Quantity | None = None, model: str | None = None, order: int | None = None,
+              axis: str = "figure", dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None,
+              fit_tolerance_mas: float | Quantity | None = None, max_angles: int = DEFAULT_MAX_ANGLES,
               generated: datetime | None = None) -> PckResult:
     """A NAIF text PCK (``KPL/PCK``) of the bodies' poles over [start, stop], fitted to ephem's track.
 
-    ``bodies``: one or a list of names, NAIF ids or :class:`~ephem.bodies.catalogue.Body` (with a ``naif_id``).
-    ``start``, ``stop``: ISO 8601 (UTC unless a scale is named) or JD TDB. ``dataset``,
-    ``tolerance_mas``, ``model``, ``order``, ``axis``, ``perturbers``: the track's model, as in
-    :func:`ephem.answers.requests.track` (the Earth with the Moon: the lunisolar series' terms are the frequencies).
-    ``fit_tolerance_mas``: the largest angle (mas) allowed between the kernel's pole and the track
-    anywhere in the span; by default the fit aims at :data:`~ephem.exports.pck_fit.FIT_AIM_MAS` and accepts up to
-    :data:`~ephem.exports.pck_fit.FIT_LIMIT_MAS` (each at most a tenth of the model's estimated error). ``max_angles``: the
-    nutation-precession angles allowed per body (default 100, the limit of SPICE toolkits before N0067;
-    at most 200). ``generated``: the time stamped in the comments (default now).
+    The fit (the module's docstring) follows the track of :func:`ephem.answers.requests.track` with this model (the
+    Earth with the Moon: the lunisolar series' terms are the frequencies); by default it aims at
+    :data:`~ephem.exports.pck_fit.FIT_AIM_MAS` and accepts up to :data:`~ephem.exports.pck_fit.FIT_LIMIT_MAS` (each at
+    most a tenth of the model's estimated error).
 
-    Returns a :class:`PckResult`: ``text``, per-body fits (``fit_error_mas``, ``models``), the span.
-    Raises :class:`~ephem.base.errors.UnknownBodyError` for an unknown body,
-    :class:`~ephem.base.errors.NotApplicableError` where no theory holds (a Moon under the Sun alone), and
-    :class:`~ephem.base.errors.InvalidInputError` naming the field for bad inputs, and ``stop`` for a span
-    the fit cannot follow within the limit.
+    Parameters
+    ----------
+    bodies : str, int, Body or sequence of them
+        One body or a list: names, NAIF ids or :class:`~ephem.bodies.catalogue.Body` (with a ``naif_id``).
+    start, stop : str, float or astropy.time.Time
+        The span: ISO 8601 text (UTC unless a scale is named), a JD TDB or a ``Time``.
+    tolerance_mas : float or Quantity, optional
+        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
+        meets it over these epochs answers (not with ``model`` or ``order``).
+    model : str, optional
+        A model named instead (one of ``ephem.api.MODELS`` that the body's family has); default the family's own.
+    order : int, optional
+        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
+    axis : str
+        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
+        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
+        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    perturbers : str or sequence of str, optional
+        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
+        ("sun", ["Sun"], "moon,sun").
+    fit_tolerance_mas : float or Quantity, optional
+        The largest angle allowed between the kernel's pole and the track anywhere in the span, milliarcseconds.
+    max_angles : int
+        The nutation-precession angles allowed per body: default 100, the limit of SPICE toolkits before N0067; at
+        most 200.
+    generated : datetime, optional
+        The time stamped in the comments (default now).
+
+    Returns
+    -------
+    PckResult
+        ``text`` (the kernel, ASCII), per-body fits (``fit_error_mas``, ``models``) and the span (JD TDB and UTC).
+
+    Raises
+    ------
+    UnknownBodyError
+        For an unknown body.
+    NotApplicableError
+        Where no theory holds (a Moon under the Sun alone).
+    InvalidInputError
+        Naming the field, for bad inputs; ``stop`` for a span the fit cannot follow within the limit.
     """
     t0 = to_jd_tdb(start, "start")
     t1 = to_jd_tdb(stop, "stop")
@@ -158,8 +199,27 @@ def write_pck(bodies, start, stop, dataset: str = DEFAULT_DATASET, tolerance_mas
                      start_utc=time_text(t0, "utc"), stop_utc=time_text(t1, "utc"), generated_utc=stamp)
 
 
-def write_pck_file(path, bodies, start, stop, **kwargs) -> PckResult:
-    """:func:`write_pck` with the text written to ``path`` (conventionally ``*.tpc``, ASCII); returns the result."""
+def write_pck_file(path: str | Path, bodies: str | int | Body | Sequence[str | int | Body], start: Epoch, stop: Epoch,
+                   **kwargs) -> PckResult:
+    """:func:`write_pck` with the text written to ``path`` (conventionally ``*.tpc``, ASCII).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file written.
+    bodies : str, int, Body or sequence of them
+        As :func:`write_pck`.
+    start, stop : str, float or astropy.time.Time
+        As :func:`write_pck`.
+    **kwargs
+        :func:`write_pck`'s keywords (``tolerance_mas``, ``model``, ``order``, ``axis``, ``dataset``, ``perturbers``,
+        ``fit_tolerance_mas``, ``max_angles``, ``generated``).
+
+    Returns
+    -------
+    PckResult
+        As :func:`write_pck`.
+    """
     result = write_pck(bodies, start, stop, **kwargs)
     Path(path).write_text(result.text, encoding="ascii")
     return result

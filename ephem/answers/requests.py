@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Union
 
 import numpy as np
 
@@ -29,12 +31,21 @@ from ..theory.interface import refuse
 from ..theory.requests import Epochs, ModelChoice
 from ..theory.results import selection
 from . import render
+from .results import (BodiesAnswer, BodyRecord, FreeMotionAnswer, HistoryAnswer, ModelsAnswer, NutationAnswer,
+                      PrecessionAnswer, PrecessionNutationAnswer, TrackAnswer)
 from ..forced.catalogue_sigmas import input_sigmas
 from ..forced.pole_uncertainty import pole_uncertainty
 from ..forced.uncertainty import propagated
 from ..base.grids import check_step
 from ..base.times import check_calendar_scale, to_jd_tdb
 from ..base.units import in_unit, with_units
+
+if TYPE_CHECKING:       # the types of the annotations only: astropy loads with the first answer that needs it
+    from astropy.time import Time
+    from astropy.units import Quantity
+
+#: an epoch as the answers take it: ISO 8601 text (UTC unless a scale is named), a JD TDB number or an astropy Time
+Epoch = Union[str, float, "Time"]
 
 #: Highest e-power order served: the exact-rational series costs ~0.7 s to build at 30 and grows
 #: steeply beyond (a request could tie up a worker); exact Hansen coefficients have no such limit.
@@ -73,16 +84,25 @@ def _perturbers(b: Body, perturbers) -> tuple[str, ...]:
     return resolve_perturbers(perturbers, b)
 
 
-def warm_up(dataset: str = DEFAULT_DATASET) -> None:
+def warm_up(*, dataset: str = DEFAULT_DATASET) -> None:
     """Build the caches the Earth's answers share, so the first request does not pay for them.
 
     The lunisolar series (FFT of the Moon's and the Sun's forcing, about 1.5 s), its cut-free
     companion and the track's error-estimate ingredients: about 2.3 s once per process, after
     which an Earth precession, nutation or track answer takes milliseconds; and the Moon's libration
-    series (read from data/moon_librations: 0.1 s; built, 2 s a moment set, if the catalogue's moments change). Also the rational
-    Hansen series every e-order is cut from (~0.1 s), which every track's error estimate needs and
+    series (read from data/moon_librations: 0.1 s; built, 2 s a moment set, if the catalogue's moments change). Also the
+    rational Hansen series every e-order is cut from (~0.1 s), which every track's error estimate needs and
     no request's cost counts; and a short history, which loads the orbit's spline (scipy.interpolate: 0.5 s, more
     than a whole 4-Myr history since issue 33). The service calls it at start-up.
+
+    Parameters
+    ----------
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+
+    Returns
+    -------
+    None
     """
     hansen_series(4)
     track("moon", "2000-01-01", "2000-01-02", 1.0, dataset=dataset)    # the Moon's shipped libration series
@@ -92,22 +112,53 @@ def warm_up(dataset: str = DEFAULT_DATASET) -> None:
     history("ceres", -1000.0, 0.0, 500.0, dataset=dataset)
 
 
-def list_bodies(dataset: str = DEFAULT_DATASET) -> list[dict]:
+def list_bodies(*, dataset: str = DEFAULT_DATASET) -> BodiesAnswer:
+    """The catalogue's bodies, one row each: name, NAIF id, kind, orbit, period, pole and H_d.
+
+    Parameters
+    ----------
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+
+    Returns
+    -------
+    BodiesAnswer
+        A list of dicts: ``name``, ``naif_id``, ``kind``, ``dataset``, ``a_au`` (au), ``e``, ``orbit_center``,
+        ``rotation_period_hours`` (h), ``pole_ra_deg``, ``pole_dec_deg`` (deg, ICRF), ``dynamical_ellipticity``.
+        ``.to_qtable()`` gives it as an astropy ``QTable``.
+    """
     cat = load_catalogue(dataset)
-    return [{
+    return BodiesAnswer([{
         "name": b.name, "naif_id": b.naif_id, "kind": b.kind, "dataset": b.dataset,
         "a_au": b.orbit.a_au, "e": b.orbit.e, "orbit_center": b.orbit.center,
         "rotation_period_hours": b.rotation_period_hours,
         "pole_ra_deg": b.pole.ra_deg, "pole_dec_deg": b.pole.dec_deg,
         "dynamical_ellipticity": b.hd,
-    } for b in cat.bodies]
+    } for b in cat.bodies])
 
 
-def body_record(body: str | int, dataset: str = DEFAULT_DATASET) -> dict:
-    """The full catalogue record: every value with unit, uncertainty (or the reason none is published) and resolved
-    source, the values derived from others (``inertia.derived_from.*`` are the inputs of the moments), and the
-    correlations of their errors (``correlations``: [{inputs: [key, key], value: ρ}]), and the interior model of
-    the forced nutation (``interior``: :meth:`ephem.bodies.interior.Interior.as_dict`, data/interiors.toml)."""
+def body_record(body: str | int, *, dataset: str = DEFAULT_DATASET) -> BodyRecord:
+    """The full catalogue record of a body: every value with its unit, 1-sigma and source.
+
+    Each value carries its unit, uncertainty (or the reason none is published) and resolved source; the values derived
+    from others (``inertia.derived_from.*`` are the inputs of the moments), the correlations of their errors
+    (``correlations``: [{inputs: [key, key], value: ρ}]), and the interior model of the forced nutation
+    (``interior``: :meth:`ephem.bodies.interior.Interior.as_dict`, data/interiors.toml).
+
+    Parameters
+    ----------
+    body : str or int
+        A catalogue name (any case) or NAIF id.
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+
+    Returns
+    -------
+    BodyRecord
+        A dict: ``name``, ``naif_id``, ``kind``, ``dataset``, ``orbit_center``, ``dynamical_ellipticity``,
+        ``perturbers``, ``values`` ({key: {value, unit, uncertainty, source, reference, note}}), ``correlations``,
+        ``interior``. Not table-shaped: ``.to_qtable()`` says so.
+    """
     b = get_body(body, dataset)
     refs = load_references()
     values = {}
@@ -115,55 +166,146 @@ def body_record(body: str | int, dataset: str = DEFAULT_DATASET) -> dict:
         values[key] = {"value": m.value, "unit": m.unit, "uncertainty": m.uncertainty,
                        "no_uncertainty": m.no_uncertainty, "source": m.source, "reference": refs.get(m.source),
                        "note": m.note}
-    return {"name": b.name, "naif_id": b.naif_id, "kind": b.kind, "dataset": b.dataset,
-            "orbit_center": b.orbit.center, "dynamical_ellipticity": b.hd,
-            "dynamical_ellipticity_from": b.hd_from, "perturbers": list(b.perturbers), "values": values,
-            "correlations": [{"inputs": list(pair), "value": rho} for pair, rho in b.correlations.items()],
-            "interior": interior_record(b.name)}
+    return BodyRecord({"name": b.name, "naif_id": b.naif_id, "kind": b.kind, "dataset": b.dataset,
+                       "orbit_center": b.orbit.center, "dynamical_ellipticity": b.hd,
+                       "dynamical_ellipticity_from": b.hd_from, "perturbers": list(b.perturbers), "values": values,
+                       "correlations": [{"inputs": list(pair), "value": rho} for pair, rho in b.correlations.items()],
+                       "interior": interior_record(b.name)})
 
 
-def precession(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None,
-               tolerance_mas: float | None = None, quantities: bool = False, perturbers=None) -> dict:
+def precession(body: str | int | Body, *, tolerance_mas: float | Quantity | None = None, order: int | None = None,
+               dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None,
+               quantities: bool = False) -> PrecessionAnswer:
     """Obliquity, H_d, K and the precession rate ψ̇ (Petit et al. Table 4 columns).
 
     ``tolerance_mas`` picks the lowest e-order whose truncated nutation stays within it
-    (the rate is then the truncated one); ``model`` reports what was used.
+    (the rate is then the truncated one); ``model`` reports what was used. With the Moon among the perturbers the
+    Earth's rate is the lunisolar theory's (:mod:`ephem.earth.family`); the Sun alone reproduces the
+    single-perturber answer.
 
-    ``perturbers``: None for the catalogue's (the Earth: the Moon and the Sun), or names ("sun",
-    ["Sun"], "moon,sun"). With the Moon the Earth's rate is the lunisolar theory's
-    (:mod:`ephem.earth.family`); the Sun alone reproduces the single-perturber answer.
+    Parameters
+    ----------
+    body : str, int or Body
+        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    tolerance_mas : float or Quantity, optional
+        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
+        meets it over these epochs answers (not with ``model`` or ``order``).
+    order : int, optional
+        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    perturbers : str or sequence of str, optional
+        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
+        ("sun", ["Sun"], "moon,sun").
+    quantities : bool
+        True: every unit-named number as an astropy ``Quantity`` and ``jd_tdb`` as a TDB ``Time``; default plain
+        numbers (lists).
+
+    Returns
+    -------
+    PrecessionAnswer
+        A dict: ``obliquity_deg`` (deg), ``dynamical_ellipticity``, ``scaling_factor_arcsec_per_year`` (K) and
+        ``precession_rate_arcsec_per_year`` (arcsec per Julian year), each with its ``_uncertainty`` (1-sigma, null:
+        unknown), the geodesic precession, ``perturbers`` and ``model``. ``.to_qtable()``: a one-row table.
+
+    Raises
+    ------
+    UnknownBodyError
+        For a body the catalogue does not have.
+    InvalidInputError
+        Naming the field, for a bad input.
+    NotApplicableError
+        Where no theory serves the request (with the reason).
+    OverBudgetError
+        When the request's predicted cost exceeds the budget in force (a host's, as the service's).
     """
     start = time.perf_counter()
     b = resolve_body(body, dataset)
     per = _perturbers(b, perturbers)
     tol, order = _tolerance(tolerance_mas), check_order(order)
     ans = render.with_perturbers(render.precession(theory_for(b, per).precession(order, tol, start)), b, per)
-    return with_units(ans) if quantities else ans
+    return PrecessionAnswer(with_units(ans) if quantities else ans)
 
 
-def answer_cost(b: Body, order: int | None, nutation: bool = False, tolerance: bool = False) -> cost.Cost:
-    """What a precession (or, with ``nutation``, a nutation) answer for ``b`` under its catalogue perturbers
-    will cost (:meth:`ephem.theory.interface.SpinAxisTheory.answer_cost`)."""
-    return theory_for(b, b.perturbers).answer_cost(order, nutation, tolerance)
+def answer_cost(body: Body, *, order: int | None = None, nutation: bool = False, tolerance: bool = False) -> cost.Cost:
+    """What a precession (or, with ``nutation``, a nutation) answer for a body will cost.
+
+    Under the body's catalogue perturbers (:meth:`ephem.theory.interface.SpinAxisTheory.answer_cost`); a host charges it
+    before the work (:func:`ephem.base.budget.charge`).
+
+    Parameters
+    ----------
+    body : Body
+        The body (:func:`ephem.api.resolve_body` gives it from a name).
+    order : int, optional
+        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
+    nutation : bool
+        The cost of the nutation answer (its terms) rather than the precession's.
+    tolerance : bool
+        Whether the request gives a tolerance (the order is then chosen, at the cost of the candidates).
+
+    Returns
+    -------
+    Cost
+        The predicted CPU seconds and memory (MB) of the answer, by part.
+    """
+    return theory_for(body, body.perturbers).answer_cost(order, nutation, tolerance)
 
 
-def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int | None = None,
-             tolerance_mas: float | None = None, quantities: bool = False, perturbers=None,
-             cut_mas: float | None = None, nonrigid: bool = False) -> dict:
+def nutation(body: str | int | Body, *, tolerance_mas: float | Quantity | None = None, order: int | None = None,
+             cut_mas: float | None = None, nonrigid: bool = False, dataset: str = DEFAULT_DATASET,
+             perturbers: str | Sequence[str] | None = None, quantities: bool = False) -> NutationAnswer:
     """Nutation terms: Δψ = Σ S sin kM + C cos kM (likewise Δε), arcsec.
 
     ``tolerance_mas`` picks the lowest e-order whose terms move the pole by no more than
-    that from the exact-coefficient series (the bound in ``model.estimated_error_mas``).
+    that from the exact-coefficient series (the bound in ``model.estimated_error_mas``). With the Moon among the
+    perturbers (the Earth) the terms are the lunisolar series' in the Delaunay arguments: each carries
+    ``delaunay_multipliers`` [l, l′, F, D, Ω] (and ``multiple`` null), signed periods (negative where the argument
+    decreases) and its Poisson rates; ``cut_mas`` or ``tolerance_mas`` (the largest cut whose omitted terms move the
+    pole by no more than that in all) chooses the amplitude cut.
 
-    ``perturbers`` as :func:`precession`. With the Moon (the Earth) the terms are the lunisolar
-    series' in the Delaunay arguments: each carries ``delaunay_multipliers`` [l, l′, F, D, Ω] (and
-    ``multiple`` null), signed periods (negative where the argument decreases) and its Poisson rates;
-    ``cut_mas`` (default 0.1) or ``tolerance_mas`` (the largest cut whose omitted terms move the pole by
-    no more than that in all) chooses the amplitude cut.
+    Parameters
+    ----------
+    body : str, int or Body
+        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    tolerance_mas : float or Quantity, optional
+        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
+        meets it over these epochs answers (not with ``model`` or ``order``).
+    order : int, optional
+        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
+    cut_mas : float, optional
+        The lunisolar series' amplitude cut, milliarcseconds (default 0.1); the Earth with the Moon only.
+    nonrigid : bool
+        The terms with the body's interior model applied (data/interiors.toml): Mars' liquid core, the Earth's IERS
+        1996 transfer function; ``model.name`` is then "nonrigid". A rigid body is refused (not applicable) with the
+        catalogue's reason.
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    perturbers : str or sequence of str, optional
+        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
+        ("sun", ["Sun"], "moon,sun").
+    quantities : bool
+        True: every unit-named number as an astropy ``Quantity`` and ``jd_tdb`` as a TDB ``Time``; default plain
+        numbers (lists).
 
-    ``nonrigid``: the terms with the body's interior model applied (data/interiors.toml): Mars' liquid core (each
-    circular component times T(σ), the 1σ with the core parameters'), the Earth's IERS 1996 transfer function;
-    ``model.name`` is then "nonrigid". A rigid body is refused (not applicable) with the catalogue's reason.
+    Returns
+    -------
+    NutationAnswer
+        A dict: ``terms`` (each ``multiple`` or ``delaunay_multipliers``, ``period_days`` (d), the sine and cosine
+        coefficients in longitude and obliquity (arcsec) with their 1-sigma), the argument and its rate
+        (``mean_motion_deg_per_day``), the half peak-to-peak nutation (arcsec), ``perturbers`` and ``model``.
+        ``.to_qtable()``: a row per term.
+
+    Raises
+    ------
+    UnknownBodyError
+        For a body the catalogue does not have.
+    InvalidInputError
+        Naming the field, for a bad input.
+    NotApplicableError
+        Where no theory serves the request (with the reason).
+    OverBudgetError
+        When the request's predicted cost exceeds the budget in force (a host's, as the service's).
     """
     start = time.perf_counter()
     b = resolve_body(body, dataset)
@@ -173,7 +315,7 @@ def nutation(body: str | int | Body, dataset: str = DEFAULT_DATASET, order: int 
         raise InvalidInputError("nonrigid", f"must be true or false, got {nonrigid!r}", b.name)
     ans = render.with_perturbers(render.nutation(theory_for(b, per).nutation(order, tol, cut_mas, start,
                                                                              nonrigid=nonrigid)), b, per)
-    return with_units(ans) if quantities else ans
+    return NutationAnswer(with_units(ans) if quantities else ans)
 
 
 def _within(part: str, answer):
@@ -192,17 +334,47 @@ def _within(part: str, answer):
         raise exc.within(f"{part}.") from None
 
 
-def precession_nutation(body: Body, order: int | None = None, track: dict | None = None,
-                        max_samples: int = MAX_TRACK_SAMPLES, history_request: dict | None = None) -> dict:
-    """The POST answer for a body of the user's own: ``precession``, ``nutation`` and, with ``track``
-    (the keyword arguments of :func:`track_arrays`: start, stop, step_days, tolerance_mas, model, axis,
-    free_wobble_*), ``track`` (arrays), and with ``history_request`` (the keyword arguments of :func:`history`:
-    start_year, stop_year, step_years, tolerance_mas, orbit_model), ``history``.
+def precession_nutation(body: Body, *, order: int | None = None, track: dict | None = None,
+                        history_request: dict | None = None,
+                        max_samples: int = MAX_TRACK_SAMPLES) -> PrecessionNutationAnswer:
+    """The POST answer for a body of the user's own: its precession, nutation and optionally track and history.
 
     Every part's cost is charged before any part is computed (the track's own check comes first, then
     the two answers'); errors in the track's inputs name their full path (``track.step_days``).
+
+    Parameters
+    ----------
+    body : Body
+        The body of the user's own (orbit, pole, period, moments).
+    order : int, optional
+        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
+    track : dict, optional
+        The keyword arguments of :func:`track_arrays` (``start``, ``stop``, ``step_days``, ``tolerance_mas``,
+        ``model``, ``axis``, ``free_wobble_*``...): with it the answer has ``track``.
+    history_request : dict, optional
+        The keyword arguments of :func:`history` (``start_year``, ``stop_year``, ``step_years``, ``tolerance_mas``,
+        ``orbit_model``): with it the answer has ``history``.
+    max_samples : int
+        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
+
+    Returns
+    -------
+    PrecessionNutationAnswer
+        A dict of answers: ``precession`` (:class:`PrecessionAnswer`), ``nutation`` (:class:`NutationAnswer`) and,
+        when asked, ``track`` (:class:`TrackAnswer`, numpy arrays) and ``history`` (:class:`HistoryAnswer`).
+
+    Raises
+    ------
+    UnknownBodyError
+        For a body the catalogue does not have.
+    InvalidInputError
+        Naming the field, for a bad input.
+    NotApplicableError
+        Where no theory serves the request (with the reason).
+    OverBudgetError
+        When the request's predicted cost exceeds the budget in force (a host's, as the service's).
     """
-    charge(answer_cost(body, check_order(order), nutation=True), body.name)
+    charge(answer_cost(body, order=check_order(order), nutation=True), body.name)
     ans = {}
     if track is not None:
         ans["track"] = _within("track", lambda: track_arrays(body, order=order, max_samples=max_samples, **track))
@@ -211,28 +383,96 @@ def precession_nutation(body: Body, order: int | None = None, track: dict | None
     with prepaid():     # charged above
         ans["precession"] = precession(body, order=order)
         ans["nutation"] = nutation(body, order=order)
-    return {k: ans[k] for k in ("precession", "nutation", "track", "history") if k in ans}
+    return PrecessionNutationAnswer({k: ans[k] for k in ("precession", "nutation", "track", "history") if k in ans})
 
 
-def history(body: str | int | Body, start_year, stop_year, step_years, dataset: str = DEFAULT_DATASET,
-            tolerance_mas=None, orbit_model: str | None = None, perturbers=None,
-            max_samples: int = MAX_HISTORY_SAMPLES, progress=None) -> dict:
-    """The spin axis over millennia and millions of years (:func:`ephem.longterm.history.spin_axis_history`): times in Julian
-    years from J2000.0 TDB (negative: the past), the orbit model chosen by ``tolerance_mas`` or named by
-    ``orbit_model`` ("secular" or "nbody"), through the theory serving the body under ``perturbers``."""
+def history(body: str | int | Body, start_year: float, stop_year: float, step_years: float | Quantity, *,
+            tolerance_mas: float | Quantity | None = None, orbit_model: str | None = None,
+            dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None,
+            max_samples: int = MAX_HISTORY_SAMPLES,
+            progress: Callable[[float], None] | None = None) -> HistoryAnswer:
+    """The spin axis over millennia and millions of years (:func:`ephem.longterm.history.spin_axis_history`).
+
+    The orbit model is chosen by ``tolerance_mas`` or named by ``orbit_model``; the spin equation, averaged over the
+    rotation and the orbit, through the theory serving the body under ``perturbers``.
+
+    Parameters
+    ----------
+    body : str, int or Body
+        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    start_year, stop_year : float
+        The first and last epochs, Julian years from J2000.0 TDB (negative: the past); at most 20 Myr apart.
+    step_years : float or Quantity
+        The step between epochs, Julian years.
+    tolerance_mas : float or Quantity, optional
+        The largest error the obliquity may be estimated to carry, milliarcseconds: the cheapest orbit model meeting
+        it answers (not with ``orbit_model``).
+    orbit_model : str, optional
+        "secular" or "nbody" (the shipped N-body orbit, -3 to +1 Myr); default: by tolerance, else the N-body orbit
+        where it is shipped.
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    perturbers : str or sequence of str, optional
+        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
+        ("sun", ["Sun"], "moon,sun").
+    max_samples : int
+        The most epochs allowed (default ``MAX_HISTORY_SAMPLES``).
+    progress : callable, optional
+        Called with the fraction done (0 to 1) as the integration advances.
+
+    Returns
+    -------
+    HistoryAnswer
+        A dict: per epoch ``year`` (Julian years from J2000.0 TDB), ``obliquity_deg``, ``precession_angle_deg``,
+        ``pole_ra_deg``, ``pole_dec_deg``, ``orbit_inclination_deg``, ``estimated_error_deg``, ``obliquity_error_deg``
+        (deg); ``meaningful_from_year``/``meaningful_to_year``; ``perturbers`` and ``model``. ``.to_qtable()``: a row
+        per epoch.
+
+    Raises
+    ------
+    UnknownBodyError
+        For a body the catalogue does not have.
+    InvalidInputError
+        Naming the field, for a bad input.
+    NotApplicableError
+        Where no theory serves the request (with the reason).
+    OverBudgetError
+        When the request's predicted cost exceeds the budget in force (a host's, as the service's).
+    """
     b = resolve_body(body, dataset)
     per = _perturbers(b, perturbers)
     result = spin_axis_history(b, theory_for(b, per), start_year, stop_year, step_years, _tolerance(tolerance_mas),
                                orbit_model, max_samples, progress)
-    return render.with_perturbers(render.history(result), b, per)
+    return HistoryAnswer(render.with_perturbers(render.history(result), b, per))
 
 
-def epoch_grid(start, stop, step_days: float, max_samples: int = MAX_TRACK_SAMPLES) -> tuple[float, float, int]:
+def epoch_grid(start: Epoch, stop: Epoch, step_days: float | Quantity, *,
+               max_samples: int = MAX_TRACK_SAMPLES) -> tuple[float, float, int]:
     """(first JD TDB, step in days, count) of the evenly spaced epochs from start to stop.
 
     stop is included when it falls on the grid. Every grid of the library's tracks, figures and kernels is made
     here: a step finer than the span's Julian dates resolve (:func:`ephem.base.grids.check_step`) is refused naming
     ``step_days``, never computed.
+
+    Parameters
+    ----------
+    start, stop : str, float or astropy.time.Time
+        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
+        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
+    step_days : float or Quantity
+        The step between epochs, days (a ``Quantity`` in any unit of time).
+    max_samples : int
+        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
+
+    Returns
+    -------
+    tuple of (float, float, int)
+        The first epoch (JD TDB, days), the step (days) and the number of epochs.
+
+    Raises
+    ------
+    InvalidInputError
+        Naming ``start``, ``stop`` or ``step_days``.
     """
     t0 = to_jd_tdb(start, "start")
     t1 = to_jd_tdb(stop, "stop")
@@ -269,20 +509,83 @@ def _wobble_request(b: Body, axis: str, phase_deg, J_arcsec, epoch):
     return make_wobble(b, phase_deg, J_arcsec, None if epoch is None else to_jd_tdb(epoch, "free_wobble_epoch"))
 
 
-def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,
-                 order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES,
-                 tolerance_mas: float | None = None, model: str | None = None, axis: str = "figure",
-                 free_wobble_phase_deg: float | None = None, free_wobble_J_arcsec: float | None = None,
-                 free_wobble_epoch=None, perturbers=None, output: str = "json",
-                 rotation_phase_deg: float | None = None, time_scale: str | None = "utc") -> dict:
+def track_arrays(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity, *,
+                 tolerance_mas: float | Quantity | None = None, model: str | None = None, order: int | None = None,
+                 axis: str = "figure", free_wobble_phase_deg: float | Quantity | None = None,
+                 free_wobble_J_arcsec: float | Quantity | None = None, free_wobble_epoch: Epoch | None = None,
+                 rotation_phase_deg: float | Quantity | None = None, dataset: str = DEFAULT_DATASET,
+                 perturbers: str | Sequence[str] | None = None, time_scale: str | None = "utc",
+                 output: str = "json", max_samples: int = MAX_TRACK_SAMPLES) -> TrackAnswer:
     """As :func:`track`, with numpy arrays instead of lists (for streaming and numerical use).
 
-    ``output``: how the caller will write the answer out (``json``, ``csv`` or ``ecsv``), which its cost includes.
-    ``time_scale`` None leaves out the calendar dates (a figure's or a kernel's track, which no person reads)."""
+    ``time_scale`` None leaves out the calendar dates (a figure's or a kernel's track, which no person reads).
+
+    Parameters
+    ----------
+    body : str, int or Body
+        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    start, stop : str, float or astropy.time.Time
+        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
+        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
+    step_days : float or Quantity
+        The step between epochs, days (a ``Quantity`` in any unit of time).
+    tolerance_mas : float or Quantity, optional
+        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
+        meets it over these epochs answers (not with ``model`` or ``order``).
+    model : str, optional
+        A model named instead (one of ``ephem.api.MODELS`` that the body's family has); default the family's own.
+    order : int, optional
+        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
+    axis : str
+        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
+        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
+        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
+    free_wobble_phase_deg : float or Quantity, optional
+        The figure axis's position angle about the angular momentum at ``free_wobble_epoch``, degrees from the ICRF
+        north through east: with it the track can add the free wobble (and does, with a named model).
+    free_wobble_J_arcsec : float or Quantity, optional
+        The free wobble's amplitude J, arcseconds; default the published one (only with ``free_wobble_phase_deg``).
+    free_wobble_epoch : str, float or astropy.time.Time, optional
+        The epoch of ``free_wobble_phase_deg``; default the pole epoch (only with ``free_wobble_phase_deg``).
+    rotation_phase_deg : float or Quantity, optional
+        The angle of the body's long (least-inertia) axis in its equator from the orbit's ascending node on the equator
+        at the pole epoch, degrees: with it the track can add the rotation-scale (semi-diurnal) terms.
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    perturbers : str or sequence of str, optional
+        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
+        ("sun", ["Sun"], "moon,sun").
+    time_scale : str or None
+        The scale of the epochs' calendar dates, "utc" (default), "tt" or "tdb"; None for none.
+    output : str
+        How the caller will write the answer out, "json" (default), "csv" or "ecsv": its cost is charged with it.
+    max_samples : int
+        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
+
+    Returns
+    -------
+    TrackAnswer
+        A dict: ``body``, ``dataset``; per epoch, as numpy arrays, ``jd_tdb`` (JD TDB, days), the calendar dates, ``psi_arcsec``,
+        ``delta_psi_arcsec``, ``delta_epsilon_arcsec`` (arcsec), ``obliquity_deg``, ``pole_ra_deg``, ``pole_dec_deg``
+        (deg, ICRF), ``pole_uncertainty_deg`` (deg, 1-sigma from the catalogue's); ``obliquity_deg_uncertainty``;
+        ``perturbers``; ``model`` (``name``, ``order``, ``estimated_error_mas``, ``cost_ms``, warnings...).
+        ``.to_qtable()`` gives it as an astropy ``QTable``.
+
+    Raises
+    ------
+    UnknownBodyError
+        For a body the catalogue does not have.
+    InvalidInputError
+        Naming the field, for a bad input.
+    NotApplicableError
+        Where no theory serves the request (with the reason).
+    OverBudgetError
+        When the request's predicted cost exceeds the budget in force (a host's, as the service's).
+    """
     begin = time.perf_counter()
     b = resolve_body(body, dataset)
     time_scale = None if time_scale is None else check_calendar_scale(time_scale)
-    t0, step, count = epoch_grid(start, stop, step_days, max_samples)
+    t0, step, count = epoch_grid(start, stop, step_days, max_samples=max_samples)
     order, tol, name = check_order(order), _tolerance(tolerance_mas), _rung(model)
     check_axis(axis, b.name)
     if tol is not None and (order is not None or name is not None):
@@ -355,19 +658,64 @@ def track_arrays(body: str | int | Body, start, stop, step_days: float, dataset:
         pole_sigma = pole_uncertainty(b, tr.jd_tdb, order)
     ans = render.track(b, tr, info, chosen, axis, wobble if with_wobble else None, sigma, pole_sigma,
                        theory.track_cut_mas, scale, time_scale)
-    return render.with_perturbers(ans, b, per)
+    return TrackAnswer(render.with_perturbers(ans, b, per))
 
 
-def track_models(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,
-                 tolerance_mas: float | None = None, axis: str = "figure", perturbers=None,
-                 max_samples: int = MAX_TRACK_SAMPLES) -> dict:
-    """Speed against accuracy for one request: every model of the family serving ``body`` with its estimated
-    error over these epochs (by term) and its predicted cost (:mod:`ephem.theory.cost`), in the family's order
-    (the order in which a tolerance tries them), and which one ``tolerance_mas`` picks: the first within it, as
-    :func:`track` chooses. Charges the estimates' cost first; computes no track. A model that cannot serve these
-    epochs says why."""
+def track_models(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity, *,
+                 tolerance_mas: float | Quantity | None = None, axis: str = "figure",
+                 dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None,
+                 max_samples: int = MAX_TRACK_SAMPLES) -> ModelsAnswer:
+    """Speed against accuracy for one request: every model serving the body, its estimated error and its cost.
+
+    Every model of the family serving ``body`` with its estimated error over these epochs (by term) and its predicted
+    cost (:mod:`ephem.theory.cost`), in the family's order (the order in which a tolerance tries them), and which one
+    ``tolerance_mas`` picks: the first within it, as :func:`track` chooses. Charges the estimates' cost first; computes
+    no track. A model that cannot serve these epochs says why.
+
+    Parameters
+    ----------
+    body : str, int or Body
+        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    start, stop : str, float or astropy.time.Time
+        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
+        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
+    step_days : float or Quantity
+        The step between epochs, days (a ``Quantity`` in any unit of time).
+    tolerance_mas : float or Quantity, optional
+        The tolerance whose choice the answer shows, milliarcseconds.
+    axis : str
+        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
+        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
+        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    perturbers : str or sequence of str, optional
+        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
+        ("sun", ["Sun"], "moon,sun").
+    max_samples : int
+        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
+
+    Returns
+    -------
+    ModelsAnswer
+        A dict: ``models`` (each ``name``, ``order``, ``estimated_error_mas`` (mas) and its ``error_terms_mas``,
+        ``estimated_cpu_ms`` (ms), ``estimated_memory_mb`` (MB), ``available``/``why_not``, ``eligible``, ``chosen``),
+        ``chosen``, ``why_chosen``, the epochs (``start_jd_tdb``, ``stop_jd_tdb``, ``epochs``) and ``tolerance_mas``.
+        Its chart: :func:`ephem.api.models_chart`.
+
+    Raises
+    ------
+    UnknownBodyError
+        For a body the catalogue does not have.
+    InvalidInputError
+        Naming the field, for a bad input.
+    NotApplicableError
+        Where no theory serves the request (with the reason).
+    OverBudgetError
+        When the request's predicted cost exceeds the budget in force (a host's, as the service's).
+    """
     b = resolve_body(body, dataset)
-    t0, step, count = epoch_grid(start, stop, step_days, max_samples)
+    t0, step, count = epoch_grid(start, stop, step_days, max_samples=max_samples)
     tol = _tolerance(tolerance_mas)
     check_axis(axis, b.name)
     per = _perturbers(b, perturbers)
@@ -382,7 +730,7 @@ def track_models(body: str | int | Body, start, stop, step_days: float, dataset:
             choice = choose(estimates, costs, tol, lambda made: refuse(made, tol, b.name, False))
         except NotApplicableError:
             choice = None
-    return render.track_models(b, theory, estimates, costs, choice, tol, (t0, t_end, count))
+    return ModelsAnswer(render.track_models(b, theory, estimates, costs, choice, tol, (t0, t_end, count)))
 
 
 #: the warning an answer carries for each error term its estimate could not include
@@ -416,53 +764,97 @@ def _meaningful(b: Body, estimate: float | None, info: dict) -> None:
                                 "deg, these poles are rough; bring the epochs nearer the pole epoch for better")
 
 
-def track(body: str | int | Body, start, stop, step_days: float, dataset: str = DEFAULT_DATASET,
-          order: int | None = None, max_samples: int = MAX_TRACK_SAMPLES, tolerance_mas: float | None = None,
-          model: str | None = None, axis: str = "figure", free_wobble_phase_deg: float | None = None,
-          free_wobble_J_arcsec: float | None = None, free_wobble_epoch=None, quantities: bool = False,
-          perturbers=None, rotation_phase_deg: float | None = None, time_scale: str = "utc") -> dict:
-    """Spin-axis track: ψ, Δψ, Δε (arcsec), obliquity and pole RA/Dec (deg) at each epoch, and the epochs as
-    calendar dates beside ``jd_tdb``.
+def track(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity, *,
+          tolerance_mas: float | Quantity | None = None, model: str | None = None, order: int | None = None,
+          axis: str = "figure", free_wobble_phase_deg: float | Quantity | None = None,
+          free_wobble_J_arcsec: float | Quantity | None = None, free_wobble_epoch: Epoch | None = None,
+          rotation_phase_deg: float | Quantity | None = None, dataset: str = DEFAULT_DATASET,
+          perturbers: str | Sequence[str] | None = None, time_scale: str = "utc", quantities: bool = False,
+          max_samples: int = MAX_TRACK_SAMPLES) -> TrackAnswer:
+    """Spin-axis track: ψ, Δψ, Δε (arcsec), obliquity and pole RA/Dec (deg) at each epoch, with calendar dates.
 
-    ``time_scale``: the scale of those dates, "utc" (default; key ``utc_iso``), "tt" (``tt_iso``) or "tdb"
-    (``tdb_iso``): ISO 8601 to the millisecond (:func:`ephem.base.times.calendar_dates`). ``jd_tdb`` stays the
-    epochs' exact value; :func:`ephem.api.to_qtable` gives the answer as an astropy ``QTable`` with ``jd_tdb`` as a
-    TDB ``Time``.
+    ``tolerance_mas`` lets the family's fidelity ladder (:mod:`ephem.sun.ladder`) pick the cheapest model whose pole is
+    estimated within that many milliarcseconds of the truth at every epoch; ``model`` and ``order`` choose one
+    explicitly. The answer's ``model`` reports ``name``, ``order``, ``estimated_error_mas`` and ``cost_ms``. The Earth
+    with the Moon (its default) is served by the ``lunisolar`` model (:mod:`ephem.earth.family`), whose estimate holds
+    against IAU 2006/2000A over 1900-2100 (outside, not applicable); ``perturbers="sun"`` gives the single-perturber
+    ladder. The figure axis is the body's axis of largest inertia, which circles the angular momentum by the free wobble;
+    the Moon's mean-Earth pole (``axis="mean_rotation"``, the IAU's) is 78.56″ from its figure axis. Without
+    ``rotation_phase_deg`` the ladder can add the Oppolzer offset alone, and the semi-diurnal terms of
+    :mod:`ephem.forced.rotation_scale` stay in the ``rotation_averaging`` error term.
 
-    ``tolerance_mas`` lets the fidelity ladder (:mod:`ephem.sun.ladder`) pick the cheapest model
-    whose pole is estimated within that many milliarcseconds of the truth at every epoch;
-    ``model`` (a rung name) and ``order`` choose one explicitly. The answer's ``model``
-    reports ``name``, ``order``, ``estimated_error_mas`` and ``cost_ms``.
+    Times may be astropy ``Time``, unit-named arguments ``Quantity`` (:mod:`ephem.base.units`).
 
-    ``axis``: "figure" (default; the body's axis of largest inertia, which circles the angular
-    momentum by the free wobble, counted as an error unless followed), "angular_momentum", or "forced_figure" (the
-    figure axis's forced motion, as the IAU's celestial intermediate pole: the free wobble is polar motion, neither
-    added nor an error), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's mean-Earth pole, the
-    IAU's, whose figure axis, DE421's principal axis, is 78.56″ from it; other families refuse it).
-    ``free_wobble_phase_deg`` (the figure
-    axis's position angle about the angular momentum at ``free_wobble_epoch``, default the pole
-    epoch, from the ICRF north through east, with the angular momentum in the body's b2-b3 plane
-    then) lets the track add the free wobble when the tolerance needs it (or always, with a named
-    model); ``free_wobble_J_arcsec`` overrides the published amplitude.
+    Parameters
+    ----------
+    body : str, int or Body
+        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    start, stop : str, float or astropy.time.Time
+        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
+        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
+    step_days : float or Quantity
+        The step between epochs, days (a ``Quantity`` in any unit of time).
+    tolerance_mas : float or Quantity, optional
+        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
+        meets it over these epochs answers (not with ``model`` or ``order``).
+    model : str, optional
+        A model named instead (one of ``ephem.api.MODELS`` that the body's family has); default the family's own.
+    order : int, optional
+        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
+    axis : str
+        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
+        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
+        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
+    free_wobble_phase_deg : float or Quantity, optional
+        The figure axis's position angle about the angular momentum at ``free_wobble_epoch``, degrees from the ICRF
+        north through east: with it the track can add the free wobble (and does, with a named model).
+    free_wobble_J_arcsec : float or Quantity, optional
+        The free wobble's amplitude J, arcseconds; default the published one (only with ``free_wobble_phase_deg``).
+    free_wobble_epoch : str, float or astropy.time.Time, optional
+        The epoch of ``free_wobble_phase_deg``; default the pole epoch (only with ``free_wobble_phase_deg``).
+    rotation_phase_deg : float or Quantity, optional
+        The angle of the body's long (least-inertia) axis in its equator from the orbit's ascending node on the equator
+        at the pole epoch, degrees: with it the track can add the rotation-scale (semi-diurnal) terms.
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    perturbers : str or sequence of str, optional
+        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
+        ("sun", ["Sun"], "moon,sun").
+    time_scale : str
+        The scale of the epochs' calendar dates beside ``jd_tdb``: "utc" (default; key ``utc_iso``), "tt" (``tt_iso``)
+        or "tdb" (``tdb_iso``), ISO 8601 to the millisecond.
+    quantities : bool
+        True: every unit-named number as an astropy ``Quantity`` and ``jd_tdb`` as a TDB ``Time``; default plain
+        numbers (lists).
+    max_samples : int
+        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
 
-    ``rotation_phase_deg``: the angle of the body's long (A, least-inertia) axis in its equator from the
-    ascending node of the orbit on the equator at the pole epoch (counted towards the pole's right-hand
-    sense). With it a track can add the semi-diurnal terms of :mod:`ephem.forced.rotation_scale` (and does, with a
-    named model); without it the ladder can add the Oppolzer offset alone, and the semi-diurnal terms stay
-    in ``rotation_averaging``.
+    Returns
+    -------
+    TrackAnswer
+        A dict: ``body``, ``dataset``; per epoch ``jd_tdb`` (JD TDB, days), the calendar dates, ``psi_arcsec``,
+        ``delta_psi_arcsec``, ``delta_epsilon_arcsec`` (arcsec), ``obliquity_deg``, ``pole_ra_deg``, ``pole_dec_deg``
+        (deg, ICRF), ``pole_uncertainty_deg`` (deg, 1-sigma from the catalogue's); ``obliquity_deg_uncertainty``;
+        ``perturbers``; ``model`` (``name``, ``order``, ``estimated_error_mas``, ``cost_ms``, warnings...).
+        ``.to_qtable()`` gives it as an astropy ``QTable``.
 
-    ``perturbers`` as :func:`precession`. The Earth with the Moon (its default) is served by the
-    ``lunisolar`` model (:mod:`ephem.earth.family`), whose estimate holds against IAU 2006/2000A over
-    1900-2100 (outside, not applicable); ``perturbers="sun"`` gives the single-perturber ladder.
-
-    Times may be astropy ``Time``, unit-named arguments ``Quantity`` (:mod:`ephem.base.units`);
-    ``quantities=True`` returns Quantity arrays and a TDB ``Time`` for ``jd_tdb``.
+    Raises
+    ------
+    UnknownBodyError
+        For a body the catalogue does not have.
+    InvalidInputError
+        Naming the field, for a bad input.
+    NotApplicableError
+        Where no theory serves the request (with the reason).
+    OverBudgetError
+        When the request's predicted cost exceeds the budget in force (a host's, as the service's).
     """
-    ans = track_arrays(body, start, stop, step_days, dataset, order, max_samples, tolerance_mas, model, axis,
-                       free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch, perturbers,
-                       rotation_phase_deg=rotation_phase_deg, time_scale=time_scale)
+    ans = track_arrays(body, start, stop, step_days, tolerance_mas=tolerance_mas, model=model, order=order, axis=axis,
+                       free_wobble_phase_deg=free_wobble_phase_deg, free_wobble_J_arcsec=free_wobble_J_arcsec,
+                       free_wobble_epoch=free_wobble_epoch, rotation_phase_deg=rotation_phase_deg, dataset=dataset,
+                       perturbers=perturbers, time_scale=time_scale, max_samples=max_samples)
     if quantities:
-        return with_units(ans)
+        return TrackAnswer(with_units(ans))
     for key in TRACK_KEYS:
         ans[key] = ans[key].tolist()
     if ans.get("pole_uncertainty_deg") is not None:
@@ -474,19 +866,61 @@ FREE_MOTION_KEYS = ("jd_tdb", "figure_axis_offset_x_arcsec", "figure_axis_offset
                     "wobble_angle_J_arcsec", "andoyer_nu_deg")
 
 
-def free_motion_arrays(body: str | int | Body, start, stop, step_days: float, J_arcsec: float | None = None,
-                       method: str = "auto", dataset: str = DEFAULT_DATASET,
-                       max_samples: int = MAX_TRACK_SAMPLES, time_scale: str | None = "utc",
-                       output: str = "json") -> dict:
-    """The torque-free wobble: the figure axis's offsets from the angular momentum (arcsec) over time,
-    the angle J and Andoyer's ν, and the periods (see :mod:`ephem.rotation.free_motion`). J defaults to the
-    published amplitude (Lara 2014 Table 1: Earth, Moon, Mars, Eros). ``time_scale``: the scale of the epochs'
-    calendar dates beside ``jd_tdb`` (utc, tt, tdb; None: none), as :func:`track`'s; ``output`` as
-    :func:`track_arrays`'."""
+def free_motion_arrays(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity, *,
+                       J_arcsec: float | Quantity | None = None, method: str = "auto", dataset: str = DEFAULT_DATASET,
+                       time_scale: str | None = "utc", output: str = "json",
+                       max_samples: int = MAX_TRACK_SAMPLES) -> FreeMotionAnswer:
+    """The torque-free wobble: the figure axis's offsets from the angular momentum (arcsec) over time.
+
+    With the angle J and Andoyer's ν, and the periods (see :mod:`ephem.rotation.free_motion`). J defaults to the
+    published amplitude (Lara 2014 Table 1: Earth, Moon, Mars, Eros).
+
+    Parameters
+    ----------
+    body : str, int or Body
+        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    start, stop : str, float or astropy.time.Time
+        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
+        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
+    step_days : float or Quantity
+        The step between epochs, days (a ``Quantity`` in any unit of time).
+    J_arcsec : float or Quantity, optional
+        The wobble's amplitude J (the angle between the angular momentum and the C axis), arcseconds; required for a
+        body without a published one.
+    method : str
+        "auto" (default), "series" (Lie series) or "numeric" (integration), :func:`ephem.rotation.free_motion.free_motion`.
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    time_scale : str or None
+        The scale of the epochs' calendar dates, "utc" (default), "tt" or "tdb"; None for none.
+    output : str
+        How the caller will write the answer out, "json" (default), "csv" or "ecsv": its cost is charged with it.
+    max_samples : int
+        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
+
+    Returns
+    -------
+    FreeMotionAnswer
+        A dict: per epoch (numpy arrays) ``jd_tdb`` (JD TDB), the calendar dates, ``figure_axis_offset_x_arcsec``,
+        ``figure_axis_offset_y_arcsec``, ``wobble_angle_J_arcsec`` (arcsec), ``andoyer_nu_deg`` (deg); the periods
+        ``wobble_period_days`` and ``precession_period_days`` (d), ``mode``, ``method``, ``J_arcsec``,
+        ``moments_over_C``. ``.to_qtable()``: a row per epoch.
+
+    Raises
+    ------
+    UnknownBodyError
+        For a body the catalogue does not have.
+    InvalidInputError
+        Naming the field, for a bad input.
+    NotApplicableError
+        Where no theory serves the request (with the reason).
+    OverBudgetError
+        When the request's predicted cost exceeds the budget in force (a host's, as the service's).
+    """
 
     b = resolve_body(body, dataset)
     time_scale = None if time_scale is None else check_calendar_scale(time_scale)
-    t0, step, count = epoch_grid(start, stop, step_days, max_samples)
+    t0, step, count = epoch_grid(start, stop, step_days, max_samples=max_samples)
     if output not in cost.SERIALISATIONS:
         raise InvalidInputError("format", f"must be one of {', '.join(cost.SERIALISATIONS)}, got {output!r}", b.name)
     rotations = step * (count - 1) * 24.0 / b.rotation_period_hours
@@ -494,17 +928,57 @@ def free_motion_arrays(body: str | int | Body, start, stop, step_days: float, J_
                       cost.serialised(count, len(FREE_MOTION_KEYS) + (time_scale is not None), output))
                      + ((cost.calendar_dates(count),) if time_scale is not None else ())), b.name)
     checkpoint()    # charged: the service admits its memory (and a large one takes its turn) before the series is summed
-    return render.free_motion(free_motion(b, t0 + step * np.arange(count), in_unit(J_arcsec, "arcsec", "J_arcsec"),
-                                          method), time_scale)
+    return FreeMotionAnswer(render.free_motion(free_motion(b, t0 + step * np.arange(count),
+                                                           in_unit(J_arcsec, "arcsec", "J_arcsec"), method), time_scale))
 
 
-def free_motion_answer(body: str | int | Body, start, stop, step_days: float, J_arcsec: float | None = None,
-                       method: str = "auto", dataset: str = DEFAULT_DATASET, quantities: bool = False,
-                       time_scale: str = "utc") -> dict:
-    """As :func:`free_motion_arrays`, with lists (or, with ``quantities=True``, Quantity arrays)."""
-    ans = free_motion_arrays(body, start, stop, step_days, J_arcsec, method, dataset, time_scale=time_scale)
+def free_motion_answer(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity, *,
+                       J_arcsec: float | Quantity | None = None, method: str = "auto", dataset: str = DEFAULT_DATASET,
+                       time_scale: str = "utc", quantities: bool = False) -> FreeMotionAnswer:
+    """As :func:`free_motion_arrays`, with lists (or, with ``quantities=True``, Quantity arrays).
+
+    Parameters
+    ----------
+    body : str, int or Body
+        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    start, stop : str, float or astropy.time.Time
+        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
+        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
+    step_days : float or Quantity
+        The step between epochs, days (a ``Quantity`` in any unit of time).
+    J_arcsec : float or Quantity, optional
+        The wobble's amplitude J, arcseconds; required for a body without a published one.
+    method : str
+        "auto" (default), "series" or "numeric".
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    time_scale : str
+        The scale of the epochs' calendar dates beside ``jd_tdb``: "utc" (default; key ``utc_iso``), "tt" (``tt_iso``)
+        or "tdb" (``tdb_iso``), ISO 8601 to the millisecond.
+    quantities : bool
+        True: every unit-named number as an astropy ``Quantity`` and ``jd_tdb`` as a TDB ``Time``; default plain
+        numbers (lists).
+
+    Returns
+    -------
+    FreeMotionAnswer
+        As :func:`free_motion_arrays`', the per-epoch values as lists (or Quantity and Time).
+
+    Raises
+    ------
+    UnknownBodyError
+        For a body the catalogue does not have.
+    InvalidInputError
+        Naming the field, for a bad input.
+    NotApplicableError
+        Where no theory serves the request (with the reason).
+    OverBudgetError
+        When the request's predicted cost exceeds the budget in force (a host's, as the service's).
+    """
+    ans = free_motion_arrays(body, start, stop, step_days, J_arcsec=J_arcsec, method=method, dataset=dataset,
+                             time_scale=time_scale)
     if quantities:
-        return with_units(ans)
+        return FreeMotionAnswer(with_units(ans))
     for key in FREE_MOTION_KEYS:
         ans[key] = np.asarray(ans[key]).tolist()
     return ans

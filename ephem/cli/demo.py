@@ -23,14 +23,14 @@ def demo(dataset: str = DatasetOpt):
     from .. import api
 
     try:
-        bodies = [b["name"] for b in api.list_bodies(dataset)]
+        bodies = [b["name"] for b in api.list_bodies(dataset=dataset)]
     except api.EphemError as exc:
         fail(exc, api.NotApplicableError)
     typer.echo(f"Precession rates ({dataset} dataset)")
     rows = []
     for name in bodies:
         try:
-            p = api.precession(name, dataset)
+            p = api.precession(name, dataset=dataset)
             rows.append({"body": name, "obliquity_deg": round(p["obliquity_deg"], 4),
                          "H_d": round(p["dynamical_ellipticity"], 6),
                          "K_arcsec_per_yr": round(p["scaling_factor_arcsec_per_year"], 4),
@@ -46,7 +46,7 @@ def demo(dataset: str = DatasetOpt):
     # Delaunay arguments, not in harmonics of the mean anomaly: not what the title says.
     for name in sorted(bodies, key=lambda n: n.lower() != "vesta"):
         try:
-            terms = api.nutation(name, dataset)["terms"][:6]
+            terms = api.nutation(name, dataset=dataset)["terms"][:6]
         except api.EphemError:          # its row above says why
             continue
         if terms and all(t.get("multiple") is not None for t in terms):

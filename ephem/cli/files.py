@@ -42,12 +42,12 @@ def tables(names: Optional[list[str]] = typer.Argument(None, metavar="[BODY]..."
     from .. import api
 
     try:
-        bodies = names or [b["name"] for b in api.list_bodies(dataset)]
+        bodies = names or [b["name"] for b in api.list_bodies(dataset=dataset)]
         answers, skipped = [], []
         with typer.progressbar(bodies, label="tables", item_show_func=lambda b: b or "", file=sys.stderr) as bar:
             for name in bar:
                 try:
-                    answers.append(api.nutation(name, dataset, order))
+                    answers.append(api.nutation(name, dataset=dataset, order=order))
                 except api.NotApplicableError as exc:
                     skipped.append(str(exc))
         written = api.write_tables(answers, out, [f.value for f in formats], [x.value for x in layouts])
@@ -89,7 +89,7 @@ def plot(name: str = typer.Argument(..., metavar="BODY"),
     try:
         if fmt not in api.PLOT_CONTENT_TYPES:
             raise api.InvalidInputError("out", f"the file must end in .png or .svg, got {out.name!r}")
-        image = api.render_plot(kind, name, start, stop, step_days, fmt, dataset, dpi=dpi,
+        image = api.render_plot(kind, name, start, stop, step_days, fmt=fmt, dataset=dataset, dpi=dpi,
                                 tolerance_mas=tolerance_mas, model=model, order=order, J_arcsec=j_arcsec,
                                 step_years=step_years, orbit_model=orbit_model)
     except api.EphemError as exc:

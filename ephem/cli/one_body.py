@@ -41,7 +41,7 @@ def bodies(dataset: str = DatasetOpt, fmt: Format = FormatOpt):
     from .. import api
 
     try:
-        rows = api.list_bodies(dataset)
+        rows = api.list_bodies(dataset=dataset)
     except api.EphemError as exc:
         fail(exc, api.NotApplicableError)
     emit(rows, fmt, rows, _ecsv(api, rows))
@@ -78,7 +78,7 @@ def body(name: str = typer.Argument(..., metavar="BODY"), dataset: str = Dataset
     from .. import api
 
     try:
-        record = api.body_record(name, dataset)
+        record = api.body_record(name, dataset=dataset)
     except api.EphemError as exc:
         fail(exc, api.NotApplicableError)
     if fmt is RecordFormat.json:
@@ -105,7 +105,7 @@ def precession(name: str = typer.Argument(..., metavar="BODY"), dataset: str = D
     from .. import api
 
     try:
-        ans = api.precession(name, dataset, order, tolerance_mas, perturbers=perturbers)
+        ans = api.precession(name, dataset=dataset, order=order, tolerance_mas=tolerance_mas, perturbers=perturbers)
     except api.EphemError as exc:
         fail(exc, api.NotApplicableError)
     emit(ans, fmt, [flat_answer(ans)], _ecsv(api, ans))
@@ -129,7 +129,8 @@ def nutation(name: str = typer.Argument(..., metavar="BODY"), dataset: str = Dat
     from .. import api
 
     try:
-        ans = api.nutation(name, dataset, order, tolerance_mas, perturbers=perturbers, cut_mas=cut_mas,
+        ans = api.nutation(name, dataset=dataset, order=order, tolerance_mas=tolerance_mas, perturbers=perturbers,
+                           cut_mas=cut_mas,
                            nonrigid=nonrigid)
     except api.EphemError as exc:
         fail(exc, api.NotApplicableError)
@@ -201,7 +202,8 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
         fail(api.InvalidInputError("out", "writes the chart of the models' comparison: give --models too"),
              api.NotApplicableError)
     try:
-        ans = api.track(name, start, stop, step_days, dataset, order, tolerance_mas=tolerance_mas, model=model,
+        ans = api.track(name, start, stop, step_days, dataset=dataset, order=order, tolerance_mas=tolerance_mas,
+                        model=model,
                         axis=axis, free_wobble_phase_deg=wobble_phase, free_wobble_J_arcsec=wobble_j,
                         free_wobble_epoch=wobble_epoch, perturbers=perturbers, rotation_phase_deg=rotation_phase,
                         time_scale=time_scale.value)
@@ -240,10 +242,10 @@ def _track_models(name: str, start: str, stop: str, step_days: float, dataset: s
         chart = None if out is None else Path(out).suffix.lower().lstrip(".")
         if chart is not None and chart not in api.PLOT_CONTENT_TYPES:
             raise api.InvalidInputError("out", f"the chart's file must end in .svg or .png, got {Path(out).name!r}")
-        ans = api.track_models(name, start, stop, step_days, dataset, tolerance_mas=tolerance_mas, axis=axis,
+        ans = api.track_models(name, start, stop, step_days, dataset=dataset, tolerance_mas=tolerance_mas, axis=axis,
                                perturbers=perturbers)
         if chart is not None:
-            image = api.models_chart(ans, chart)
+            image = api.models_chart(ans, fmt=chart)
     except api.EphemError as exc:
         fail(exc, api.NotApplicableError)
     if image is not None:
@@ -297,8 +299,9 @@ def history(name: str = typer.Argument(..., metavar="BODY"),
         if bar is not None:
             bar.__enter__()
         try:
-            ans = api.history(name, start_year, stop_year, step_years, dataset, tolerance_mas, orbit_model,
-                              perturbers, progress=progress)
+            ans = api.history(name, start_year, stop_year, step_years, dataset=dataset, tolerance_mas=tolerance_mas,
+                              orbit_model=orbit_model,
+                              perturbers=perturbers, progress=progress)
         finally:
             if bar is not None:
                 bar.__exit__(None, None, None)
@@ -331,7 +334,7 @@ def free_motion(name: str = typer.Argument(..., metavar="BODY"),
     from .. import api
 
     try:
-        ans = api.free_motion_answer(name, start, stop, step_days, j_arcsec, method, dataset,
+        ans = api.free_motion_answer(name, start, stop, step_days, J_arcsec=j_arcsec, method=method, dataset=dataset,
                                      time_scale=time_scale.value)
     except api.EphemError as exc:
         fail(exc, api.NotApplicableError)

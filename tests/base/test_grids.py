@@ -130,5 +130,5 @@ def test_the_history_plot_of_a_breath_of_time_labels_years_since_its_start():
 
     factor, label = history_time_axis([-4.99e-210, 2.34e-145])
     assert factor == pytest.approx(1e-145, rel=1e-12) and label.startswith("years since -4.99e-210")
-    png = api.render_plot(api.HISTORY_PLOT_KIND, "Eros", -4.99e-210, 2.34e-145, None, "png", dpi=60)
+    png = api.render_plot(api.HISTORY_PLOT_KIND, "Eros", -4.99e-210, 2.34e-145, None, fmt="png", dpi=60)
     assert png.startswith(b"\x89PNG")

@@ -129,7 +129,7 @@ def test_the_dataset_records_its_files_and_what_they_did_not_give(user_dir):
     assert eros["orbit.e"].source == "import:orbits:mpcorb_sample.dat"
     assert eros["orbit.e"].note == "no uncertainty given in the import" and eros["orbit.e"].uncertainty is None
     assert "TT - TDB < 2 ms" in eros["orbit.epoch"].note
-    record = api.body_record("eros", "recorded")
+    record = api.body_record("eros", dataset="recorded")
     assert record["values"]["pole.dec"]["uncertainty"] == pytest.approx(0.02, rel=READ_BACK)
 
 

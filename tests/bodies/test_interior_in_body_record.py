@@ -63,8 +63,8 @@ def test_ceres_is_rigid_with_a_reason_and_the_earth_has_the_iers_resonance():
 
 @pytest.mark.parametrize("dataset", ["current", "petit2014"])
 def test_every_catalogue_body_has_one_in_its_record(dataset):
-    for row in api.list_bodies(dataset):
-        interior = api.body_record(row["name"], dataset)["interior"]
+    for row in api.list_bodies(dataset=dataset):
+        interior = api.body_record(row["name"], dataset=dataset)["interior"]
         assert interior["model"] in ("rigid", "transfer_function"), row["name"]
         assert interior["why"] if interior["model"] == "rigid" else interior["reference"], row["name"]
 

@@ -158,11 +158,11 @@ def test_a_count_over_the_cap_is_the_integer_count():
     for stop, step, count in [(jd + 100077.3, 1.0, "100078"), (jd + 1e6, 1e-12, "about 1e+18"),
                               (jd + 10.0, 5e-324, "more than 1e+308")]:      # the count overflows to inf
         with pytest.raises(InvalidInputError) as info:
-            api.epoch_grid(jd, stop, step, 100_000)
+            api.epoch_grid(jd, stop, step, max_samples=100_000)
         assert info.value.field == "step_days"
         assert info.value.reason.startswith(f"{count} samples exceed the cap of 100000; "), info.value.reason
     # a part step past the last sample is not a sample: 99 999.5 days at 1 d are 100 000 samples, within the cap
-    assert api.epoch_grid(jd, jd + 99999.5, 1.0, 100_000)[2] == 100_000
+    assert api.epoch_grid(jd, jd + 99999.5, 1.0, max_samples=100_000)[2] == 100_000
     # the CLI's cap (10^6) through the option parser and the library
     err = refused(["track", "vesta", "--start", "2451545", "--stop", "3451545.4", "--step-days", "1"], "step_days")
     assert "1000001 samples exceed the cap of 1000000" in err

@@ -360,7 +360,7 @@ def check_pck(case: Case, result) -> None:
     spice.furnsh(str(path))
     try:
         assert spice.bodfnd(naif, "POLE_RA") and spice.bodfnd(naif, "POLE_DEC") and spice.bodfnd(naif, "PM")
-        ans = api.track(fam.body, "2000-03-01", "2000-03-01", 1.0, fam.dataset)
+        ans = api.track(fam.body, "2000-03-01", "2000-03-01", 1.0, dataset=fam.dataset)
         jd = ans["jd_tdb"][0]
         z = spice.tipbod("J2000", naif, (jd - 2451545.0) * 86400.0)[2]
         ra, dec = math.radians(ans["pole_ra_deg"][0]), math.radians(ans["pole_dec_deg"][0])
@@ -375,7 +375,7 @@ def check_demo(case: Case, result) -> None:
     assert result.stdout.startswith(f"Precession rates ({case.variant} dataset)\n")
     first, second = result.stdout.split("\n\n", 1)
     header, rows = parse_table(first.split("\n", 1)[1])
-    assert header[0] == "body" and [r[0] for r in rows] == [b["name"] for b in api.list_bodies(case.variant)]
+    assert header[0] == "body" and [r[0] for r in rows] == [b["name"] for b in api.list_bodies(dataset=case.variant)]
     title, table = second.split("\n", 1)
     assert re.fullmatch(r"Nutation of \w+ \(arcsec\), harmonics of the mean anomaly", title)
     header, rows = parse_table(table)

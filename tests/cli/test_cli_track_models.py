@@ -82,7 +82,7 @@ def test_out_writes_the_chart(tmp_path, want, suffix):
     assert res.exit_code == 0, res.output
     data = out.read_bytes()
     assert f"wrote {out} ({len(data)} bytes)" in res.stderr
-    assert data == api.models_chart(want, suffix)
+    assert data == api.models_chart(want, fmt=suffix)
     if suffix == "svg":
         root = ET.fromstring(data)
         assert root.get("role") == "img"

@@ -145,7 +145,7 @@ def test_sun_only_reproduces_the_answers_before_the_moon():
     assert tr["model"]["name"] == "hansen" and tr["model"]["estimated_error_mas"] == same(1064.2934460185702 + geodesic)
     assert tr["model"]["error_terms_mas"]["orbit_motion"] == same(50.371370081093275, 1069.8)
     # petit2014's Earth was not given an explicit H_d: its Sun-only answer is unchanged as it stands
-    p = api.precession("earth", "petit2014", perturbers="sun")
+    p = api.precession("earth", dataset="petit2014", perturbers="sun")
     assert p["precession_rate_arcsec_per_year"] == same(15.973722824565026)
     for ans in (p, n, tr):
         assert ans["perturbers"] == ["Sun"] and any("leaves out the Moon" in w for w in ans["model"]["warnings"])

@@ -132,7 +132,7 @@ ANSWERS = {
     "track_arrays_tt": lambda: api.track_arrays("mars", "2030-01-01", "2030-02-01", 10.0, time_scale="tt"),
     "free_motion": lambda: api.free_motion_answer("mars", "2030-01-01", "2030-01-03", 0.5, time_scale="tdb"),
     "history": lambda: api.history("ceres", -1000.0, 0.0, 250.0),
-    "batch": lambda: api.batch(USER_ROWS, {"start_year": -400, "stop_year": 0, "step_years": 200}),
+    "batch": lambda: api.batch(USER_ROWS, history={"start_year": -400, "stop_year": 0, "step_years": 200}),
 }
 
 

@@ -21,7 +21,7 @@ FORMAT_NAMES = tuple(FORMATS)
 
 @pytest.fixture(scope="module")
 def vesta():
-    return api.nutation("vesta", "petit2014", order=4)
+    return api.nutation("vesta", dataset="petit2014", order=4)
 
 
 def latex_problems(text: str) -> list[str]:
@@ -147,7 +147,7 @@ def test_cli_writes_the_whole_catalogue(tmp_path):
     res = CliRunner().invoke(app, ["tables", "--dataset", "current", "--out", str(tmp_path)])
     assert res.exit_code == 0, res.output
     assert "skipped" not in res.stderr          # every body answers, the Moon with its physical librations
-    bodies = [b["name"] for b in api.list_bodies("current")]
+    bodies = [b["name"] for b in api.list_bodies(dataset="current")]
     files = sorted(p.name for p in tmp_path.iterdir())
     assert len(files) == len(bodies) * 2 * 4
     assert "vesta_current_amp-period.tex" in files and "earth_current_sin-cos.json" in files
@@ -240,6 +240,6 @@ def test_earth_tables_carry_the_arguments_in_every_format(earth, layout):
 
 
 def test_asteroid_tables_keep_their_columns():
-    vesta = api.nutation("vesta", "petit2014", order=4)
+    vesta = api.nutation("vesta", dataset="petit2014", order=4)
     assert render_nutation(vesta, "csv").splitlines()[0].startswith("component,multiple,arg,")
     assert "Delaunay" not in render_nutation(vesta, "markdown")

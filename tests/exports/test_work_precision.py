@@ -33,7 +33,7 @@ def vesta() -> dict:
 
 @pytest.fixture(scope="module")
 def vesta_svg(vesta) -> ET.Element:
-    return ET.fromstring(api.models_chart(vesta, "svg"))
+    return ET.fromstring(api.models_chart(vesta, fmt="svg"))
 
 
 def _points(root: ET.Element) -> dict[int, ET.Element]:
@@ -107,9 +107,9 @@ def test_the_unavailable_are_left_out_and_listed(vesta, vesta_svg):
 
 
 def test_the_same_answer_gives_the_same_bytes(vesta):
-    assert api.models_chart(vesta, "svg") == api.models_chart(vesta, "svg")
-    png = api.models_chart(vesta, "png", 50)
-    assert png == api.models_chart(vesta, "png", 50)
+    assert api.models_chart(vesta, fmt="svg") == api.models_chart(vesta, fmt="svg")
+    png = api.models_chart(vesta, fmt="png", dpi=50)
+    assert png == api.models_chart(vesta, fmt="png", dpi=50)
     from PIL import Image
 
     with Image.open(io.BytesIO(png)) as im:
@@ -133,7 +133,7 @@ def _synthetic(tolerance, **extra) -> dict:
 
 def test_without_the_eligible_key_eligibility_is_available_and_within_the_tolerance():
     ans = _synthetic(100.0)
-    root = ET.fromstring(figures.models_chart(ans, "svg"))
+    root = ET.fromstring(figures.models_chart(ans, fmt="svg"))
     points = _points(root)
     assert set(points) == {0, 1, 2}
     assert [("ineligible" in points[i].get("class")) for i in (0, 1, 2)] == [True, False, False]
@@ -143,7 +143,7 @@ def test_without_the_eligible_key_eligibility_is_available_and_within_the_tolera
     assert [r["variant"] for r in rows] == ["", "", "+wobble +rotation scale", ""]
     # no tolerance: every available model is eligible, none chosen, no line
     free = _synthetic(None)
-    root = ET.fromstring(figures.models_chart(free, "svg"))
+    root = ET.fromstring(figures.models_chart(free, fmt="svg"))
     assert not [g for g in _points(root).values() if "ineligible" in g.get("class") or "chosen" in g.get("class")]
     assert not [e for e in root.iter() if e.get("id") == "wp-tolerance"]
     assert [r["eligible"] for r in wp.model_rows(free)] == [True, True, True, False]
@@ -153,7 +153,7 @@ def test_the_answers_eligible_key_wins_over_the_fallback():
     ans = _synthetic(100.0)
     ans["models"][1]["eligible"] = False          # as a rule beyond the tolerance might say
     assert [r["eligible"] for r in wp.model_rows(ans)][:2] == [False, False]
-    assert "ineligible" in _points(ET.fromstring(figures.models_chart(ans, "svg")))[1].get("class")
+    assert "ineligible" in _points(ET.fromstring(figures.models_chart(ans, fmt="svg")))[1].get("class")
 
 
 def test_a_tolerance_far_from_every_estimate_is_noted_not_drawn():
@@ -172,19 +172,19 @@ def test_the_drawing_is_charged_before_it_is_drawn(vesta, monkeypatch):
     cost = figures.chart_cost(len(vesta["models"]), "svg")
     with host.budget(cost.cpu_s * 0.5, 1000.0):
         with pytest.raises(api.OverBudgetError) as refused:
-            figures.models_chart(vesta, "svg")
+            figures.models_chart(vesta, fmt="svg")
     assert refused.value.field == "format" and not drawn
     png = figures.chart_cost(len(vesta["models"]), "png", 300)
     assert png.cpu_s > 1.5 * cost.cpu_s                  # the PNG's pixels, at 300 dpi
     with host.budget(0.5 * (cost.cpu_s + png.cpu_s), 1000.0):
         with pytest.raises(api.OverBudgetError) as refused:
-            figures.models_chart(vesta, "png", 300)
+            figures.models_chart(vesta, fmt="png", dpi=300)
     assert refused.value.field == "dpi" and not drawn
 
 
 def test_bad_format_or_dpi_names_the_field(vesta):
     with pytest.raises(api.InvalidInputError) as bad:
-        figures.models_chart(vesta, "pdf")
+        figures.models_chart(vesta, fmt="pdf")
     assert bad.value.field == "fmt"
     with pytest.raises(api.InvalidInputError) as bad:
         api.track_models_chart("vesta", "2025-01-01", "2026-01-01", 30.0, fmt="png", dpi=1000)

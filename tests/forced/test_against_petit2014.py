@@ -84,7 +84,7 @@ def _series(body):
 def test_scaling_factor_from_the_printed_orbital_period(body):
     # K = 3 n² H_d / ω with n from the period the paper prints (Tables 5-10); independent of Table 4's K.
     # Budget: Table 4's 4-digit H_d (Vesta's dataset H_d is Table 3's 0.169167; K implies 0.169191)
-    p = api.precession(body, "petit2014", order=4)
+    p = api.precession(body, dataset="petit2014", order=4)
     assert p["scaling_factor_arcsec_per_year"] == pytest.approx(TABLE4[body]["scaling_factor_arcsec_per_year"],
                                                                 rel=HD_ROUNDING)
 
@@ -92,7 +92,7 @@ def test_scaling_factor_from_the_printed_orbital_period(body):
 @pytest.mark.parametrize("body", ["Eros", "Steins", "Itokawa"])
 def test_scaling_factor_table4_where_it_fixes_a(body):
     # a is derived from Table 4's K with the dataset's H_d: K comes back to half a unit of its 4th decimal
-    p = api.precession(body, "petit2014", order=4)
+    p = api.precession(body, dataset="petit2014", order=4)
     assert p["scaling_factor_arcsec_per_year"] == pytest.approx(TABLE4[body]["scaling_factor_arcsec_per_year"],
                                                                 abs=5e-5)
 
@@ -116,7 +116,7 @@ def test_precession_rate_table4(body):
     # - Steins, Itokawa: 1e-3 relative for the orbit's e: the dataset's elements (2015, 2020) have
     #   e = 0.145433 and 0.280117 where Table 4 implies 0.1470 and 0.2805 (obliquity_evidence), i.e.
     #   7e-4 and 3.4e-4 in ψ̇ (measured)
-    p = api.precession(body, "petit2014", order=4)
+    p = api.precession(body, dataset="petit2014", order=4)
     printed = TABLE4[body]["precession_rate_arcsec_per_year"]
     if body == "Eros":
         assert p["precession_rate_arcsec_per_year"] == pytest.approx(printed, abs=5e-5)
@@ -127,7 +127,7 @@ def test_precession_rate_table4(body):
 
 def test_vesta_precession_rate_is_13_67():
     # the default (exact-e) model, 13.6713, against Table 4's 13.6728 at 2 decimals: budget half a unit, ±0.005
-    p = api.precession("vesta", "petit2014")
+    p = api.precession("vesta", dataset="petit2014")
     assert round(p["precession_rate_arcsec_per_year"], 2) == 13.67
 
 
@@ -147,7 +147,7 @@ def test_dynamical_ellipticity_of_vesta_table3_is_table4():
 def test_nutation_semi_amplitudes_table4(body):
     # budget: half a unit of the 4th decimal, the 4-digit H_d and the truncated obliquity the dataset
     # carries (measured: Vesta 1.1e-4 and 2.4e-4 relative, Ceres 2e-5)
-    n = api.nutation(body, "petit2014", order=4)
+    n = api.nutation(body, dataset="petit2014", order=4)
     expected = {"Vesta": (5.1460, 2.2122), "Ceres": (3.1834, None)}[body]
     rel = HD_ROUNDING + OBLIQUITY_TRUNCATION[body]
     assert n["delta_psi_half_peak_to_peak_arcsec"] == pytest.approx(expected[0], rel=rel, abs=5e-5)
@@ -218,7 +218,7 @@ def test_tables_9_10_our_model_and_rambaux(row):
 
 @pytest.fixture(scope="module")
 def vesta():
-    return api.nutation("vesta", "petit2014", order=4)
+    return api.nutation("vesta", dataset="petit2014", order=4)
 
 
 def test_amp_period_layout_reproduces_petit_tables_9_and_10(vesta):
@@ -461,7 +461,7 @@ def test_erratum_ceres_table4_delta_epsilon():
     fixed = rows[:4] + [(rows[4][0], -0.0005)] + rows[5:]
     # budget: half a unit of the erratum's 4 decimals; the printed 0.1813 is 32 half-units away
     assert _half_ptp(fixed) == pytest.approx(0.1830, abs=5e-5)
-    ours = api.nutation("ceres", "petit2014", order=4)["delta_epsilon_half_peak_to_peak_arcsec"]
+    ours = api.nutation("ceres", dataset="petit2014", order=4)["delta_epsilon_half_peak_to_peak_arcsec"]
     assert ours == pytest.approx(0.1829, abs=5e-5)
     assert abs(ours - 0.1813) > 1e-3
 
@@ -536,7 +536,7 @@ def test_erratum_eros_precession_rate():
     assert 89.0 <= lo and hi < 89.01 and lo > 89.005
     # the dataset carries the obliquity that gives the printed ψ̇ (half a unit of its 4th decimal,
     # ψ̇ being rounded) with the printed K (half a unit); Table 4's 89.00 would give 2.8635
-    p = api.precession("eros", "petit2014", order=4)
+    p = api.precession("eros", dataset="petit2014", order=4)
     assert p["precession_rate_arcsec_per_year"] == pytest.approx(2.8456, abs=5e-5)
     assert p["scaling_factor_arcsec_per_year"] == pytest.approx(304.0953, abs=5e-5)
     assert p["obliquity_deg"] == pytest.approx(89.006257, abs=5e-7)  # the toml's 6 decimals

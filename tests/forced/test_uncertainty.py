@@ -26,8 +26,8 @@ SYNTHETIC = {"orbit.a": 1e-5, "orbit.e": 1e-4, "orbit.i": 0.01, "orbit.node": 0.
 def _public_numbers(body, dataset, order):
     # the replica is the single-perturber (Sun) theory's: the Earth's default answer is the lunisolar one
     # (ephem.earth.family), whose uncertainties are not propagated (tests/earth/test_earth.py)
-    p = api.precession(body, dataset, order, perturbers="sun")
-    nu = api.nutation(body, dataset, order, perturbers="sun")
+    p = api.precession(body, dataset=dataset, order=order, perturbers="sun")
+    nu = api.nutation(body, dataset=dataset, order=order, perturbers="sun")
     scalars = [p["obliquity_deg"], p["precession_rate_arcsec_per_year"], p["dynamical_ellipticity"],
                p["scaling_factor_arcsec_per_year"], nu["delta_psi_half_peak_to_peak_arcsec"],
                nu["delta_epsilon_half_peak_to_peak_arcsec"]]
@@ -147,7 +147,7 @@ def test_keys_for_every_applicable_body(dataset, name):
     for key in SCALAR_KEYS:
         assert r[f"{key}_uncertainty"] >= 0.0
         assert key in r["contributions"] and key in r["dominant_input"] and key in r["sensitivities"]
-    nu = api.nutation(name, dataset, perturbers="sun")      # propagate() is the Sun-only theory's
+    nu = api.nutation(name, dataset=dataset, perturbers="sun")      # propagate() is the Sun-only theory's
     assert [t["multiple"] for t in r["terms"]] == [t["multiple"] for t in nu["terms"]]
     for t in r["terms"]:
         for key in TERM_KEYS:

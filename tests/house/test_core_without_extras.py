@@ -133,7 +133,7 @@ def attempt(f, *args, **kw):
         return [type(exc).__name__, isinstance(exc, ImportError), isinstance(exc, EphemError), str(exc)]
     return None
 out = {
-    "plot": attempt(api.render_plot, "obliquity", "Vesta", "2040-01-01", "2041-01-01", 30.0, "png"),
+    "plot": attempt(api.render_plot, "obliquity", "Vesta", "2040-01-01", "2041-01-01", 30.0, fmt="png"),
     "chart": attempt(api.track_models_chart, "Vesta", "2025-01-01", "2026-01-01", 30.0, tolerance_mas=100.0),
     "batch": attempt(api.run_batch, "rows.csv", "out"),
     "nbody": attempt(api.history, "Ceres", -1000.0, 0.0, 100.0, dataset="petit2014", orbit_model="nbody"),

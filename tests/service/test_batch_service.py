@@ -183,7 +183,7 @@ def test_two_hundred_eccentric_rows_are_refused_at_once_with_their_estimate(tmp_
     assert body["errors"][0]["field"] == "rows[0].e"
     assert body["estimated_cpu_s"] > body["budget_cpu_s"] == settings.max_request_cpu_s
     # an upper bound of the work: at least the single-body estimate of the same body's precession, per row
-    one = api.answer_cost(_single_body(E99), None).cpu_s
+    one = api.answer_cost(_single_body(E99), order=None).cpu_s
     assert one >= cost.hansen_fft_s(hansen.fft_length(0.99, None)) > 0.1
     assert body["estimated_cpu_s"] >= 200 * one
 
@@ -264,7 +264,7 @@ def test_a_history_row_is_priced_with_the_model_its_secular_spin_builds(client, 
     body = _problem(client.post("/v1/batch?start_year=-1000&stop_year=0&step_years=100", json=[row] * 3), 422,
                     "over-budget")
     assert body["errors"][0]["field"] == "rows[0].e"
-    assert body["estimated_cpu_s"] >= 3 * api.answer_cost(_single_body(row), None, nutation=True).cpu_s
+    assert body["estimated_cpu_s"] >= 3 * api.answer_cost(_single_body(row), order=None, nutation=True).cpu_s
 
 
 def test_a_history_is_priced_from_its_poles_epoch(client, monkeypatch):

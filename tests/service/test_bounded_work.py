@@ -178,7 +178,7 @@ def test_track_errors_in_the_post_name_the_full_path(client):
 
 def test_the_budget_is_charged_before_the_work_and_sums_the_parts():
     b = Body("x", Orbit(2.36, 0.5, 7.0, 0.0, 0.0, 0.0, 2451545.0), Pole(10.0, 20.0), 5.0, dynamical_ellipticity=0.1)
-    c = api.answer_cost(b, None, nutation=True)
+    c = api.answer_cost(b, order=None, nutation=True)
     assert c.cpu_s > 0 and c.memory_mb > 0
     with budget.budget(cpu_s=c.cpu_s * 0.5, memory_mb=1e6):
         with pytest.raises(OverBudgetError) as info:

@@ -19,7 +19,7 @@ from ephem import api
 from service.app import create_app
 from service.settings import Settings
 
-BODIES = [b["name"] for b in api.list_bodies("current")]
+BODIES = [b["name"] for b in api.list_bodies(dataset="current")]
 LATEX = {"Δψ sin ε": r"$\Delta\psi \sin\varepsilon$", "Δψ": r"$\Delta\psi$", "Δε": r"$\Delta\varepsilon$"}
 
 

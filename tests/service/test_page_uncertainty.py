@@ -16,7 +16,7 @@ from ephem import api
 from service.app import create_app
 from service.settings import Settings
 
-BODIES = [b["name"] for b in api.list_bodies("current")]
+BODIES = [b["name"] for b in api.list_bodies(dataset="current")]
 PRECESSION_KEYS = ("precession_rate_arcsec_per_year", "observable_precession_rate_arcsec_per_year", "obliquity_deg",
                    "dynamical_ellipticity", "scaling_factor_arcsec_per_year")
 

@@ -65,7 +65,7 @@ def test_body_record_by_name_or_naif_id(client, ref):
 
 def test_precession_matches_the_library(client):
     r = client.get("/v1/bodies/vesta/precession?dataset=petit2014").json()
-    lib = json.loads(json.dumps(api.precession("vesta", "petit2014")))
+    lib = json.loads(json.dumps(api.precession("vesta", dataset="petit2014")))
     assert r["model"].pop("cost_ms") >= 0 and lib["model"].pop("cost_ms") >= 0  # wall time differs per call
     assert r == lib
     assert round(r["precession_rate_arcsec_per_year"], 2) == 13.67

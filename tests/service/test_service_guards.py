@@ -73,7 +73,8 @@ def test_an_over_budget_refusal_reports_the_whole_requests_estimate():
     b = Body(USER["name"], Orbit(o["a_au"], 0.95, o["i_deg"], o["node_deg"], o["peri_deg"], o["mean_anomaly_deg"],
                                  o["epoch_jd_tdb"]), Pole(p["ra_deg"], p["dec_deg"], p["epoch_jd_tdb"]),
              USER["rotation_period_hours"], dynamical_ellipticity=USER["dynamical_ellipticity"])
-    settings = Settings(warm_up=False, max_request_cpu_s=round(1.05 * api.answer_cost(b, None, nutation=True).cpu_s, 3),
+    settings = Settings(warm_up=False, max_request_cpu_s=round(1.05 * api.answer_cost(b, order=None,
+                                                                                      nutation=True).cpu_s, 3),
                         max_request_memory_mb=2048.0, worker_request_memory_mb=2048.0)     # refused for its CPU
     with TestClient(create_app(settings)) as client:
         r = client.post("/v1/precession-nutation", json=_user(

@@ -246,7 +246,7 @@ def test_free_motion_method_chosen_is_stable(name, J_arcsec):
     b = get_body(name)
 
     def choice(body):
-        ans = api.free_motion_answer(body, "2000-01-01", "2001-01-01", 30.0, J_arcsec)
+        ans = api.free_motion_answer(body, "2000-01-01", "2001-01-01", 30.0, J_arcsec=J_arcsec)
         return ans["method"], ans["mode"]
 
     ref = _or_reason(lambda: choice(b))
