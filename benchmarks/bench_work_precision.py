@@ -48,7 +48,7 @@ def _first_version():
 
 def _draw(module, answer: dict, fmt: str, dpi: float) -> float:
     t = time.process_time()
-    data = figures.figure_bytes(module.figure(answer), fmt, dpi)
+    data = figures.figure_bytes(module.figure(answer), fmt=fmt, dpi=dpi)
     if fmt == "svg":
         module.svg_with_titles(data.decode("utf-8"), answer)
     return time.process_time() - t

@@ -92,9 +92,22 @@ def batch(rows: list[dict], *, history: dict | None = None, max_rows: int = MAX_
 
 
 def batch_answer(out: Mapping) -> dict:
-    """The batch answer ({columns, rows, model}) from the core's output columns (:func:`ephem.batch.population.evaluate`,
-    bad rows spoiled): one row object per row, NaN as null, a nutation multiple as an integer. :func:`batch` returns
-    it and ``ephem batch --format ecsv`` writes it per partition (:func:`write_ecsv_partition`)."""
+    """The batch answer ({columns, rows, model}) from the core's output columns.
+
+    From :func:`ephem.batch.population.evaluate`, bad rows spoiled: one row object per row, NaN as null, a nutation
+    multiple as an integer. :func:`batch` returns it and ``ephem batch --format ecsv`` writes it per partition
+    (:func:`write_ecsv_partition`).
+
+    Parameters
+    ----------
+    out : Mapping
+        {output column: array}, one value per row (units in the column names).
+
+    Returns
+    -------
+    dict
+        ``columns`` (in order), ``rows`` (one {column: value} each) and ``model``.
+    """
     def plain(key, v):
         if isinstance(v, (float, np.floating)):
             return None if not math.isfinite(v) else int(v) if key.endswith("_multiple") else float(v)
@@ -111,11 +124,26 @@ def batch_answer(out: Mapping) -> dict:
 
 
 def write_ecsv_partition(out: Mapping, path: str, source: str) -> None:
-    """One partition of ``ephem batch --format ecsv``: the core's output columns as POST /v1/batch's ECSV (the
-    same answer, :func:`batch_answer`, through :func:`ephem.exports.qtable.to_ecsv`: units from the column names,
-    descriptions, the model and ``source`` in the YAML header), written to ``path``. Runs on a dask worker (the
-    engine, :mod:`ephem.batch.distributed`, gets it from :func:`run_batch`: the batch package sits below the
-    exports and cannot import it)."""
+    """One partition of ``ephem batch --format ecsv``, written as POST /v1/batch's ECSV.
+
+    The same answer (:func:`batch_answer`) through :func:`ephem.exports.qtable.to_ecsv`: units from the column names,
+    descriptions, the model and ``source`` in the YAML header. Runs on a dask worker (the engine,
+    :mod:`ephem.batch.distributed`, gets it from :func:`run_batch`: the batch package sits below the exports and cannot
+    import it).
+
+    Parameters
+    ----------
+    out : Mapping
+        The core's output columns of the partition, one value per row.
+    path : str
+        The file written.
+    source : str
+        The input and the partition, written in the header.
+
+    Returns
+    -------
+    None
+    """
     flat = [k for k, v in out.items() if np.ndim(v) != 1]
     if flat:
         raise ValueError(f"ECSV takes one value per row and column; {flat[0]!r} has {np.ndim(out[flat[0]])} dimensions")

@@ -174,15 +174,36 @@ def _fastest_wobble_period(periods: tuple[float, float]) -> float:
     return min(finite) if finite else math.inf
 
 
-def default_step_days(kind: str, body, start, stop, dataset: str = DEFAULT_DATASET,
-                      J_arcsec: float | None = None, method: str = "auto") -> float:
+def default_step_days(kind: str, body: str | int | Body, start: Epoch, stop: Epoch, *,
+                      J_arcsec: float | Quantity | None = None, method: str = "auto",
+                      dataset: str = DEFAULT_DATASET) -> float:
     """The step (days) :func:`figure` uses when none is given.
 
     Tracks: about 2000 epochs over the span, but at least 100 per orbit (the nutation's shortest
-    terms, M/6, keep ~16 samples per cycle). Free wobble: 32 epochs per cycle of the faster of the
+    terms, M/6, keep ~16 samples per cycle). Free wobble: 64 epochs per cycle of the faster of the
     wobble and the figure axis's precession about L (23.9 h for the Earth). Either way no more than
     :data:`MAX_PLOT_POINTS` epochs; a free-wobble span too long to resolve within that cap is refused
     (``stop``), since a coarser step would alias the cone.
+
+    Parameters
+    ----------
+    kind : str
+        One of :data:`KINDS` but ``obliquity-history`` (see :func:`default_step_years`).
+    body : str, int or Body
+        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    start, stop : str, float or astropy.time.Time
+        The span: ISO 8601 text (UTC unless a scale is named), a JD TDB or a ``Time``.
+    J_arcsec : float or Quantity, optional
+        ``free-wobble``: the wobble's amplitude, arcseconds (default the published one).
+    method : str
+        ``free-wobble``: "auto" (default), "series" or "numeric".
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+
+    Returns
+    -------
+    float
+        The step, days: never finer than the span's Julian dates resolve.
     """
     _check_kind(kind)
     if kind == HISTORY_KIND:
@@ -240,10 +261,22 @@ def _nice(x: float) -> float:
     return min(candidates, key=lambda c: abs(math.log(c / x)))
 
 
-def default_step_years(start, stop) -> float:
-    """The step (Julian years) ``obliquity-history`` uses when none is given: the span over 1000 rounded to a
-    nice number ({1, 2, 2.5, 5} x 10^k), at least :data:`MIN_DEFAULT_STEP_YEARS`, and no more than
-    :data:`MAX_PLOT_POINTS` epochs. ``start``/``stop``: Julian years from J2000.0 TDB."""
+def default_step_years(start: float | str, stop: float | str) -> float:
+    """The step (Julian years) ``obliquity-history`` uses when none is given.
+
+    The span over 1000 rounded to a nice number ({1, 2, 2.5, 5} x 10^k), at least :data:`MIN_DEFAULT_STEP_YEARS`, and
+    no more than :data:`MAX_PLOT_POINTS` epochs.
+
+    Parameters
+    ----------
+    start, stop : float or str
+        The span, Julian years from J2000.0 TDB (negative: the past).
+
+    Returns
+    -------
+    float
+        The step, Julian years.
+    """
     y0, y1 = _year_span(start, stop)
     span = y1 - y0
     step = max(_nice(span / _HISTORY_TARGET_POINTS), MIN_DEFAULT_STEP_YEARS)
@@ -296,9 +329,39 @@ def data(kind: str, body: str | int | Body, start: Epoch, stop: Epoch, step_days
          free_wobble_J_arcsec: float | Quantity | None = None, free_wobble_epoch: Epoch | None = None,
          J_arcsec: float | Quantity | None = None, method: str = "auto", step_years: float | Quantity | None = None,
          dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None) -> dict:
-    """The arrays a plot draws: :func:`ephem.answers.requests.track_arrays` for the track kinds,
-    :func:`ephem.answers.requests.free_motion_arrays` for ``free-wobble``, :func:`ephem.answers.requests.history` for
-    ``obliquity-history`` (same arguments as :func:`figure`)."""
+    """The arrays a plot draws, the answer :func:`figure` draws from.
+
+    :func:`ephem.answers.requests.track_arrays` for the track kinds, :func:`ephem.answers.requests.free_motion_arrays`
+    for ``free-wobble``, :func:`ephem.answers.requests.history` for ``obliquity-history``; an option of one kind given to
+    another is refused naming it.
+
+    Parameters
+    ----------
+    kind : str
+        One of :data:`KINDS`.
+    body : str, int or Body
+        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    start, stop : str, float or astropy.time.Time
+        As :func:`figure`'s (Julian years from J2000.0 TDB for ``obliquity-history``).
+    step_days : float or Quantity, optional
+        The step, days (None: :func:`default_step_days`).
+    tolerance_mas, model, orbit_model, order, axis : optional
+        As :func:`figure`'s.
+    free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch : optional
+        As :func:`figure`'s (deg, arcsec, an epoch).
+    J_arcsec, method, step_years : optional
+        As :func:`figure`'s (arcsec; Julian years).
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    perturbers : str or sequence of str, optional
+        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
+        ("sun", ["Sun"], "moon,sun").
+
+    Returns
+    -------
+    TrackAnswer, FreeMotionAnswer or HistoryAnswer
+        The answer drawn, with numpy arrays and no calendar dates.
+    """
     _check_kind(kind)
     _check_options(kind, {"tolerance_mas": tolerance_mas, "model": model, "order": order,
                           "J_arcsec": J_arcsec, "method": method, "step_days": step_days,
@@ -310,7 +373,7 @@ def data(kind: str, body: str | int | Body, start: Epoch, stop: Epoch, step_days
     b = resolve_body(body, dataset)
     t0, _ = _span(start, stop)
     if step_days is None:
-        step_days = default_step_days(kind, b, start, stop, dataset, J_arcsec, method)
+        step_days = default_step_days(kind, b, start, stop, J_arcsec=J_arcsec, method=method, dataset=dataset)
     if kind == "free-wobble":
         # validate the step first (a number, positive, within the cap), then refuse an aliasing one
         answers.epoch_grid(start, stop, step_days, max_samples=MAX_PLOT_POINTS)
@@ -444,9 +507,25 @@ def _check_dpi(dpi) -> float:
     return float(dpi)
 
 
-def figure_bytes(fig, fmt: str = "png", dpi: float = DEFAULT_DPI) -> bytes:
-    """A figure as PNG or SVG bytes (no timestamp, no software tag, SVG ids from :data:`SVG_HASH_SALT`: the
-    same figure gives the same bytes, which the service's strong ETag promises)."""
+def figure_bytes(fig: Figure, *, fmt: str = "png", dpi: float = DEFAULT_DPI) -> bytes:
+    """A figure as PNG or SVG bytes, the same bytes for the same figure.
+
+    No timestamp, no software tag, SVG ids from :data:`SVG_HASH_SALT`: what the service's strong ETag promises.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    fmt : str
+        "png" (default) or "svg".
+    dpi : float
+        A PNG's resolution, dots per inch, 30 to 300.
+
+    Returns
+    -------
+    bytes
+        The image.
+    """
     fmt, dpi = _check_fmt(fmt), _check_dpi(dpi)
     buf = io.BytesIO()
     if fmt == "png":
@@ -559,7 +638,7 @@ def _written_once(fig, fmt: str, dpi: float) -> bytes:
     The young generations, where the figure's objects still are, are collected right after (~1 ms, against
     150 ms to draw and write the figure); the caller holds no reference to the figure."""
     try:
-        return figure_bytes(fig, fmt, dpi)
+        return figure_bytes(fig, fmt=fmt, dpi=dpi)
     finally:
         del fig
         gc.collect(1)
@@ -588,16 +667,44 @@ FIGURE_BASE_MB = 4.0
 
 
 def drawing_cost(fmt: str, dpi: float) -> Cost:
-    """The memory of drawing a track or history figure as ``fmt`` (at ``dpi`` for PNG), charged before its data (the
-    CPU of the drawing is not priced here: 0)."""
+    """The memory of drawing a track or history figure as ``fmt``, charged before its data.
+
+    The CPU of the drawing is not priced here (0).
+
+    Parameters
+    ----------
+    fmt : str
+        "png" or "svg".
+    dpi : float
+        A PNG's resolution, dots per inch.
+
+    Returns
+    -------
+    Cost
+        One part: the figure's base (MB) and a PNG's pixels at :data:`CHART_PIXEL_BYTES` each.
+    """
     pixels = FIGURE_AREA_IN2 * dpi * dpi if fmt == "png" else 0.0
     return Cost((Part("dpi" if fmt == "png" else "format", f"the figure drawn as {fmt}", 0.0,
                       FIGURE_BASE_MB + CHART_PIXEL_BYTES * pixels / (1024.0 * 1024.0)),))
 
 
 def chart_cost(models: int, fmt: str = "svg", dpi: float = DEFAULT_DPI) -> Cost:
-    """The predicted cost of drawing a work-precision chart of ``models`` models as ``fmt`` (at ``dpi`` for PNG):
-    charged before it is drawn (:func:`models_chart`)."""
+    """The predicted cost of drawing a work-precision chart, charged before it is drawn (:func:`models_chart`).
+
+    Parameters
+    ----------
+    models : int
+        The number of models drawn.
+    fmt : str
+        "svg" (default) or "png".
+    dpi : float
+        A PNG's resolution, dots per inch.
+
+    Returns
+    -------
+    Cost
+        One part: CPU seconds (:data:`CHART_BASE_S`, per model and per pixel) and memory (MB).
+    """
     pixels = work_precision.FIGSIZE[0] * work_precision.FIGSIZE[1] * dpi * dpi if fmt == "png" else 0.0
     return Cost((Part("dpi" if fmt == "png" else "format", f"the work-precision chart of {models} models as {fmt}",
                       CHART_BASE_S + CHART_MODEL_S * models + CHART_PIXEL_S * pixels,
@@ -709,10 +816,22 @@ DOC_FIGURES = (
 
 
 def regenerate_doc_figures(out_dir: str | Path = "docs/figures", dpi: float = 110) -> list[Path]:
-    """Write the PNG and SVG of every :data:`DOC_FIGURES` entry into ``out_dir``; returns the paths.
+    """Write the PNG and SVG of every :data:`DOC_FIGURES` entry into ``out_dir``.
 
     The files are reproducible byte for byte (fixed SVG ids, no dates). Run from the repository
     root: ``python -c "from ephem.answers.figures import regenerate_doc_figures as r; r()"``.
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        The folder written (default docs/figures).
+    dpi : float
+        The PNGs' resolution, dots per inch (default 110).
+
+    Returns
+    -------
+    list of Path
+        The files written.
     """
     import matplotlib
 
@@ -728,6 +847,6 @@ def regenerate_doc_figures(out_dir: str | Path = "docs/figures", dpi: float = 11
             fig = figure(kind, body, start, stop, dataset=dataset)
             for fmt in CONTENT_TYPES:
                 path = out / f"{stem}.{fmt}"
-                path.write_bytes(figure_bytes(fig, fmt, dpi))
+                path.write_bytes(figure_bytes(fig, fmt=fmt, dpi=dpi))
                 written.append(path)
     return written
