@@ -28,7 +28,7 @@ from ..forced.precession_nutation import check_order
 from ..families import MODELS, refuse_model, theory_for
 from ..theory.choice import choose
 from ..theory.interface import refuse
-from ..theory.requests import Epochs, ModelChoice
+from ..theory.requests import Epochs, ModelChoice, TrackRequest
 from ..theory.results import selection
 from . import render
 from .results import (BodiesAnswer, BodyRecord, FreeMotionAnswer, HistoryAnswer, ModelsAnswer, NutationAnswer,
@@ -599,7 +599,6 @@ def track_arrays(body: str | int | Body, start: Epoch, stop: Epoch, step_days: f
     theory.check_request(ModelChoice(name, order))
     wobble = _wobble_request(b, axis, in_unit(free_wobble_phase_deg, "deg", "free_wobble_phase_deg"),
                              in_unit(free_wobble_J_arcsec, "arcsec", "free_wobble_J_arcsec"), free_wobble_epoch)
-    theory = theory.with_wobble(wobble)
     phase = in_unit(rotation_phase_deg, "deg", "rotation_phase_deg")
     if phase is not None:
         check_angle(b.name, "rotation_phase_deg", phase)
@@ -609,18 +608,21 @@ def track_arrays(body: str | int | Body, start: Epoch, stop: Epoch, step_days: f
         if not theory.models_rotation_scale:
             raise InvalidInputError("rotation_phase_deg", f"{theory.summary} does not model the rotation "
                                     "scale: leave it out", b.name)
-        theory = theory.with_rotation_phase(math.radians(phase))
-    t_end = t0 + step * (count - 1)
+    # the request, checked, as one value: the family set as it asks, and the model asked for by name (its track adds
+    # the free wobble and the rotation-scale terms the request gave)
+    request = TrackRequest(b, per, axis, Epochs.grid(t0, step, count), tol, ModelChoice(name, order), wobble,
+                           None if phase is None else math.radians(phase))
+    theory = theory.for_request(request)
+    asked = request.asked
+    t_end = request.epochs.stop
     output = cost.Cost((cost.serialised(count, len(TRACK_KEYS) + (time_scale is not None), output),)
                        + ((cost.calendar_dates(count),) if time_scale is not None else ()))
-    # the model asked for by name: its track adds the free wobble and the rotation-scale terms the request gave
-    asked = ModelChoice(name, order, wobble is not None, phase is not None)
     # the estimates, and the named model's own cost, charged before anything is built
     charge((theory.choice_cost(t0, t_end, count) if tol is not None
             else theory.named_estimate_cost(asked, t0, t_end, count)
             + theory.track_cost(asked, t0, t_end, count) + output),
            b.name)
-    t = t0 + step * np.arange(count)
+    t = request.epochs.jd_tdb
     choice = None
     if tol is not None:
         choice = theory.choose(t, tol, t0, t_end, count)
@@ -634,7 +636,7 @@ def track_arrays(body: str | int | Body, start: Epoch, stop: Epoch, step_days: f
             name, order, est.free_wobble, est.rotation_scale is not None))
     name, order = model.model, model.order
     checkpoint()    # the track is charged: a large one takes its turn (or is refused busy) before it is built
-    tr = theory.track(model, Epochs.grid(t0, step, count))
+    tr = theory.track(model, request.epochs)
     with_wobble = wobble is not None and model.free_wobble
     estimate = None if est is None or not est.available else est.total
     info = theory.describe(model)

@@ -39,7 +39,7 @@ from ..base.constants import FORCED_FIGURE, JULIAN_CENTURY_DAYS, MAS, followed_a
 from ..base.errors import NotApplicableError
 from ..forced.precession_nutation import Track
 from .choice import choose
-from .requests import Epochs, ModelChoice
+from .requests import Epochs, ModelChoice, TrackRequest
 from .results import Estimate, NutationResult, PrecessionResult
 
 #: what to suggest when the largest term of the best estimate is a theory's own limit
@@ -194,6 +194,11 @@ class SpinAxisTheory(Pricing):
     def with_rotation_phase(self, rotation_phase: float | None) -> "SpinAxisTheory":
         """The same family with the body's rotation phase (radians; :mod:`ephem.forced.rotation_scale`)."""
         return type(self)(self.body, self.perturbers, self.requested_axis, self.wobble, rotation_phase)
+
+    def for_request(self, request: TrackRequest) -> "SpinAxisTheory":
+        """The same family set as ``request`` asks (its free wobble and rotation phase; the body, perturbers and axis
+        are the family's, :func:`ephem.families.theory_for` made it for them)."""
+        return self.with_wobble(request.wobble).with_rotation_phase(request.rotation_phase)
 
     @classmethod
     @abstractmethod
