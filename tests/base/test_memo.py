@@ -10,7 +10,6 @@ import numpy as np
 
 from ephem import api
 from ephem.base import memo
-from ephem.sun import bounds
 
 
 class _Slots:
