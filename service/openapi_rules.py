@@ -6,6 +6,8 @@ The parameters' and the body's bounds
 """
 from __future__ import annotations
 
+import re
+
 from ephem.api import (KNOWN_PERTURBERS, LAPLACE_LIMIT, MAX_ANGLE_DEG, MAX_NUMERICAL_ORBITS, MAX_PLOT_POINTS,
                        MIN_ROTATION_PERIOD_HOURS, SERIES_MAX_DELTA, TIME_PATTERN_ECMA, ut1_span)
 
@@ -19,8 +21,16 @@ from .settings import Settings
 # physics). tests/service/test_schemathesis.py holds the service to exactly these: a schema-valid request is refused
 # only for a rule written here.
 
-_NAME = "|".join("".join(f"[{c.upper()}{c.lower()}]" for c in n.lower()) for n in KNOWN_PERTURBERS)
-PERTURBERS_PATTERN = rf"^\s*(?:{_NAME})\s*(?:,\s*(?:{_NAME})\s*)*$"
+
+def perturbers_pattern() -> str:
+    """The ``perturbers`` query's pattern: a comma-separated list of the names, any case, of ephem.api.KNOWN_PERTURBERS
+    as it stands (a perturber registered after this module's import is in the document an app makes then)."""
+    name = "|".join("".join(f"[{c.upper()}{c.lower()}]" if c.isalpha() else re.escape(c) for c in n.lower())
+                    for n in KNOWN_PERTURBERS)
+    return rf"^\s*(?:{name})\s*(?:,\s*(?:{name})\s*)*$"
+
+
+PERTURBERS_PATTERN = perturbers_pattern()
 _JD = {"exclusiveMinimum": 0, "exclusiveMaximum": 1e7}
 _POSITIVE = {"exclusiveMinimum": 0}
 #: constraints of query parameters, by name, in every operation that has them
@@ -188,7 +198,9 @@ def document_rules(schema: dict, settings: Settings) -> dict:
         op["description"] = (op.get("description", "").rstrip() + "\n\n**Rules** (422 invalid-input naming the "
                              "field, unless said otherwise):\n" + rules).lstrip()
         for param in op.get("parameters", []):
-            if param["name"] in PARAMETER_RULES:
+            if param["name"] == "perturbers":
+                _constrain(param["schema"], {"pattern": perturbers_pattern()})
+            elif param["name"] in PARAMETER_RULES:
                 _constrain(param["schema"], PARAMETER_RULES[param["name"]])
     components = schema["components"]["schemas"]
     for (component, field), rules in BODY_RULES.items():

@@ -23,6 +23,18 @@ def known_model(name: str) -> str:
     return name
 
 
+def known_centre(name: str) -> str:
+    """``name`` if it is an orbit centre the library knows (ephem.api.GM_CENTER, read at each request: a centre
+    registered after this module was imported, ephem.api.register_centres, is known), else a Literal's 422."""
+    if name not in GM_CENTER:
+        names = [repr(c) for c in GM_CENTER]
+        raise PydanticCustomError("literal_error", "Input should be {expected}",
+                                  {"expected": " or ".join(filter(None, (", ".join(names[:-1]), names[-1])))})
+    return name
+
+
+CentreName = Annotated[str, AfterValidator(known_centre), GetPydanticSchema(
+    get_pydantic_json_schema=lambda core, handler: {"type": "string", "enum": list(GM_CENTER)})]
 # the names come from the library (one source each): the models of ephem.families (their enum in the schema made when
 # the app's OpenAPI is, from the registry then), the axes of ephem.sun.ladder
 RungName = Annotated[str, AfterValidator(known_model), GetPydanticSchema(
@@ -488,8 +500,8 @@ class OrbitIn(BaseModel):
     peri_deg: float = Angle("argument of perihelion, deg")
     mean_anomaly_deg: float = Angle("mean anomaly at the epoch, deg")
     epoch_jd_tdb: float = Field(description="epoch of the elements, JD TDB")
-    center: Literal[tuple(GM_CENTER)] = Field("Sun", description="the body orbited (and torquing): the Sun, or the "
-                                                                "Earth for a satellite of it")
+    center: CentreName = Field("Sun", description="the body orbited (and torquing): the Sun, the Earth for a "
+                                                  "satellite of it, or a centre a family's data adds")
     node_rate_deg_per_year: Optional[float] = Field(
         None, description="a synchronous satellite (rotation period = orbital period): the rate of its orbit's node "
                           "on its Laplace plane, deg per Julian year (negative: regressing); the Laplace plane is the "

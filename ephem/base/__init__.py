@@ -1,6 +1,7 @@
 """The foundation: constants, errors, units, time parsing, the work budget, bounded caches and where the data live.
 
 - :mod:`ephem.base.budget`: A request's budget: predicted costs charged before the work, and a deadline while it runs.
+- :mod:`ephem.base.centres`: The centres an orbit may name and the perturbers a body may name, read from data/centres.toml on first use.
 - :mod:`ephem.base.constants`: Physical and astronomical constants (SI unless the name says otherwise).
 - :mod:`ephem.base.disk_cache`: Arrays built from shipped data, kept on disk between processes.
 - :mod:`ephem.base.errors`: Exceptions raised by the science core.

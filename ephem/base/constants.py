@@ -25,15 +25,8 @@ ARCSEC = math.pi / 648_000.0
 #: Radians per milliarcsecond.
 MAS = ARCSEC / 1000.0
 
-#: Gravitational parameter of each orbit centre the catalogue may name.
-GM_CENTER = {"Sun": GM_SUN, "Earth": GM_EARTH}
-#: Radius of each orbit centre, AU: a pericentre inside it is no orbit. The Sun: IAU 2015 Resolution B3's
-#: nominal radius, 695 700 km; the Earth: its equatorial radius, 6378.1366 km (IERS Conventions 2010).
-CENTER_RADIUS_AU = {"Sun": 695_700.0 / 149_597_870.7, "Earth": 6378.1366 / 149_597_870.7}
-#: Largest semi-major axis of a bound orbit about each centre, AU: the centre's Hill sphere, beyond which
-#: another body's pull dominates. The Sun in the Galactic tide: ~1.1 pc = 2.3e5 AU (tidal radius of the
-#: Oort cloud); the Earth under the Sun: a (m/3M)^(1/3) = 0.0100 AU.
-CENTER_HILL_AU = {"Sun": 2.3e5, "Earth": 0.0100}
+# The orbit centres' GM, radius and Hill radius are data (data/centres.toml), read by ephem.base.centres.
+
 #: Julian dates accepted anywhere (times and epochs alike), open interval: 4713 BC to AD 22666.
 JD_RANGE = (0.0, 1e7)
 #: The poles a spin-axis track can follow: the figure axis (the body's axis of largest inertia, which circles the

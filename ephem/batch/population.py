@@ -29,7 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..bodies.catalogue import Body, MAX_ANGLE_DEG, MIN_ROTATION_PERIOD_HOURS, Orbit, Pole, spin_rate_rad_per_day
-from ..base.constants import ARCSEC, CENTER_HILL_AU, CENTER_RADIUS_AU, J2000_JD, JD_RANGE, JULIAN_YEAR_DAYS, MAS
+from ..base.centres import CENTER_HILL_AU, CENTER_RADIUS_AU
+from ..base.constants import ARCSEC, J2000_JD, JD_RANGE, JULIAN_YEAR_DAYS, MAS
 from ..orbit.geometry import icrf_to_ecliptic_matrix, spin_angles, unit_vector
 from ..orbit.hansen import exact_available, fft_lengths, hansen_exact_many
 from ..bodies.inertia import hd_of_moments, moments_from_ellipsoid

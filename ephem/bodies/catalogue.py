@@ -23,7 +23,8 @@ from dataclasses import dataclass, field, fields
 from functools import lru_cache
 from pathlib import Path
 
-from ..base.constants import CENTER_HILL_AU, CENTER_RADIUS_AU, GM_CENTER, J2000_JD, JD_RANGE
+from ..base.centres import CENTER_HILL_AU, CENTER_RADIUS_AU, GM_CENTER, KNOWN_PERTURBERS, admissions
+from ..base.constants import J2000_JD, JD_RANGE
 from ..base.errors import InvalidInputError, NotApplicableError, UnknownBodyError
 from .datasets import available_datasets, dataset_file
 from .inertia import hd_of_moments
@@ -35,9 +36,6 @@ from ..orbit.geometry import ecliptic_to_icrf, lon_lat
 from ..orbit.kepler import mean_motion_rad_per_day
 
 DEFAULT_DATASET = "current"
-#: Bodies that may torque a body (the ``perturbers`` of a record): an orbit's centre, or the Moon
-#: (for the Earth only: :mod:`ephem.earth.lunisolar`).
-KNOWN_PERTURBERS = ("Sun", "Earth", "Moon")
 
 
 def dynamical_ellipticity(A: float, B: float, C: float, body: str | None = None) -> float:
@@ -207,7 +205,7 @@ class Body:
     #: (``[[body.correlation]]``) or as a derivation implies them (moments from one polar moment, ephem.bodies.inertia)
     correlations: dict = field(default_factory=dict, compare=False, repr=False)
     #: The bodies whose torque moves the spin axis (canonical names, :data:`KNOWN_PERTURBERS`);
-    #: None: the orbit's centre alone. Only the Earth may add the Moon.
+    #: None: the orbit's centre alone. Another perturber where data/centres.toml admits it (the Moon: the Earth's).
     perturbers: tuple[str, ...] | None = None
 
     def __hash__(self) -> int:
@@ -278,7 +276,8 @@ class Body:
 
 
 def is_earth(body: Body) -> bool:
-    """The Earth (by name or NAIF id 399): the one body whose perturbers may include the Moon."""
+    """The Earth (by name or NAIF id 399): the body the lunisolar model is wired to (data/centres.toml admits the
+    Moon as its perturber)."""
     return body.naif_id == 399 or body.name.strip().lower() == "earth"
 
 
@@ -310,8 +309,9 @@ def resolve_perturbers(value, body: Body) -> tuple[str, ...]:
 
     Unknown or repeated names raise :class:`InvalidInputError` (field ``perturbers``); a known body
     the theory cannot take as a perturber of this one raises :class:`NotApplicableError`: the
-    single-perturber theory is torqued by the orbit's centre, and only the Earth has a second
-    perturber, the Moon (:mod:`ephem.earth.lunisolar`).
+    single-perturber theory is torqued by the orbit's centre, and another perturber acts on the bodies
+    data/centres.toml admits it for (:func:`ephem.base.centres.admissions`: the Moon on the Earth,
+    :mod:`ephem.earth.lunisolar`).
     """
     centre = body.orbit.center
     if value is None:
@@ -335,16 +335,23 @@ def resolve_perturbers(value, body: Body) -> tuple[str, ...]:
         out.append(p)
     if not out:
         raise InvalidInputError("perturbers", "give at least one perturber", body.name)
+    rules = admissions()
     for p in out:
-        if p == "Moon":
-            if not is_earth(body) or centre != "Sun":
-                raise NotApplicableError(body.name, "the Moon as a perturber is modelled for the Earth only "
-                                         "(ephem.earth.lunisolar: Kinoshita's lunisolar theory of the Earth); the "
-                                         f"single-perturber theory takes its torque from the orbit's centre, the {centre}")
-        elif p != centre:
-            raise NotApplicableError(body.name, f"{p} is not the orbit's centre ({centre}): the single-perturber "
-                                     "theory takes its torque from the orbit's centre, and only the Earth has a "
-                                     "second perturber (the Moon)")
+        if p == centre:
+            continue
+        own = [a for a in rules if a.perturber == p]
+        if any(a.admits(body.name, body.naif_id, centre) for a in own):
+            continue
+        if own:
+            where = " and ".join(dict.fromkeys(f"the {a.body or f'bodies about the {a.center}'}" for a in own))
+            raise NotApplicableError(body.name, f"the {p} as a perturber is modelled for {where} only "
+                                     f"({'; '.join(dict.fromkeys(a.theory for a in own))}); the single-perturber "
+                                     f"theory takes its torque from the orbit's centre, the {centre}")
+        others = "; ".join(dict.fromkeys(f"the {a.body or f'bodies about the {a.center}'} (the {a.perturber})"
+                                         for a in rules))
+        raise NotApplicableError(body.name, f"{p} is not the orbit's centre ({centre}): the single-perturber "
+                                 "theory takes its torque from the orbit's centre, and a second perturber is "
+                                 f"modelled only for {others or 'no body'} (data/centres.toml)")
     return tuple(out)
 
 

@@ -33,7 +33,8 @@ import numpy as np
 
 from ..forced.cassini import CassiniState, SynchronousOrbit, cassini_state, check_synchronous, free_librations
 from ..bodies.catalogue import Body
-from ..base.constants import (ARCSEC, AU_M, DAY_S, GENERAL_PRECESSION_ARCSEC_PER_CENTURY, GM_CENTER, GM_SUN, J2000_JD,
+from ..base.centres import GM_CENTER
+from ..base.constants import (ARCSEC, AU_M, DAY_S, GENERAL_PRECESSION_ARCSEC_PER_CENTURY, GM_SUN, J2000_JD,
                               JULIAN_CENTURY_DAYS, JULIAN_YEAR_DAYS)
 from ..base.errors import NotApplicableError
 from ..orbit.geometry import carry, icrf_to_ecliptic_matrix, lon_lat, unit_vector

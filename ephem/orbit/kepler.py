@@ -8,7 +8,8 @@ import math
 
 import numpy as np
 
-from ..base.constants import AU_M, DAY_S, GM_CENTER
+from ..base.centres import GM_CENTER
+from ..base.constants import AU_M, DAY_S
 
 
 def mean_motion_rad_per_day(a_au, center: str = "Sun", mass_ratio: float = 0.0):

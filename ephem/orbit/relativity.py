@@ -15,7 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..base.constants import AU_M, GM_CENTER, SPEED_OF_LIGHT_M_S
+from ..base.centres import GM_CENTER
+from ..base.constants import AU_M, SPEED_OF_LIGHT_M_S
 from .kepler import mean_motion_rad_per_day, true_anomaly
 
 
