@@ -52,7 +52,7 @@ _NAMES = {
     "DeadlineExceededError": (".base.budget", "DeadlineExceededError"),
     "OverBudgetError": (".base.budget", "OverBudgetError"),
     "AXES": (".base.constants", "AXES"),
-    "GM_CENTER": (".base.constants", "GM_CENTER"),
+    "GM_CENTER": (".base.centres", "GM_CENTER"),
     "EphemError": (".base.errors", "EphemError"),
     "InvalidInputError": (".base.errors", "InvalidInputError"),
     "NotApplicableError": (".base.errors", "NotApplicableError"),
@@ -63,7 +63,7 @@ _NAMES = {
     "calendar_dates": (".base.times", "calendar_dates"),
     "ut1_span": (".base.times", "ut1_span"),
     "DEFAULT_DATASET": (".bodies.catalogue", "DEFAULT_DATASET"),
-    "KNOWN_PERTURBERS": (".bodies.catalogue", "KNOWN_PERTURBERS"),
+    "KNOWN_PERTURBERS": (".base.centres", "KNOWN_PERTURBERS"),
     "MAX_ANGLE_DEG": (".bodies.catalogue", "MAX_ANGLE_DEG"),
     "MIN_ROTATION_PERIOD_HOURS": (".bodies.catalogue", "MIN_ROTATION_PERIOD_HOURS"),
     "Body": (".bodies.catalogue", "Body"),
@@ -104,6 +104,8 @@ _NAMES = {
     "Family": (".families", "Family"),
     "register_family": (".families", "register"),
     "unregister_family": (".families", "unregister"),
+    "register_centres": (".base.centres", "register_centres"),
+    "unregister_centres": (".base.centres", "unregister_centres"),
     "MAX_ORDER": (".forced.precession_nutation", "MAX_ORDER"),
     "model_for": (".forced.precession_nutation", "model_for"),
     "icrf_to_ecliptic_matrix": (".orbit.geometry", "icrf_to_ecliptic_matrix"),
@@ -139,8 +141,9 @@ __all__ = [
     "HistorySpec", "shipped_orbit_span",
     # errors
     "EphemError", "InvalidInputError", "NotApplicableError", "UnknownBodyError", "MissingExtraError",
-    # a family of theories from outside the library (a plug-in): its registry entry
-    "Family", "register_family", "unregister_family",
+    # a family of theories from outside the library (a plug-in): its registry entry, and its centres' and perturbers'
+    # data (a file of data/centres.toml's form)
+    "Family", "register_family", "unregister_family", "register_centres", "unregister_centres",
     # what a budget raises: a host (the service) sets it, and the caches, through ephem.host
     "BusyError", "DeadlineExceededError", "OverBudgetError",
 ]
