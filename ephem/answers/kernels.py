@@ -83,11 +83,11 @@ if TYPE_CHECKING:
     from astropy.units import Quantity
 
 
-def _track(body, start, stop, step_days, dataset, **kwargs) -> dict:
+def _track(body, start, stop, step_days, **kwargs) -> dict:
     """The fit's track: :func:`ephem.answers.requests.track_arrays`, looked up at each call (the stability tests
-    perturb it there), without the calendar dates (the fit reads jd_tdb). The fit gives the dataset fifth, after
-    the epochs (:func:`ephem.exports.pck_fit.fit_body`), where the answer takes it by name."""
-    return requests.track_arrays(body, start, stop, step_days, dataset=dataset, **{"time_scale": None, **kwargs})
+    perturb it there), without the calendar dates (the fit reads jd_tdb). The fit gives a body, which carries its
+    dataset, and the model asked for by keyword (:func:`ephem.exports.pck_fit.fit_body`)."""
+    return requests.track_arrays(body, start, stop, step_days, **{"time_scale": None, **kwargs})
 
 
 def write_pck(bodies: str | int | Body | Sequence[str | int | Body], start: Epoch, stop: Epoch, *,
