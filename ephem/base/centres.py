@@ -271,6 +271,12 @@ class _Perturbers(Sequence):
     def __len__(self) -> int:
         return len(self._names())
 
+    def __iter__(self):
+        return iter(self._names())
+
+    def __contains__(self, name) -> bool:
+        return name in self._names()
+
     def __eq__(self, other) -> bool:
         return isinstance(other, Sequence) and tuple(self) == tuple(other)
 

@@ -343,16 +343,25 @@ def resolve_perturbers(value, body: Body) -> tuple[str, ...]:
         if any(a.admits(body.name, body.naif_id, centre) for a in own):
             continue
         if own:
-            where = " and ".join(dict.fromkeys(f"the {a.body or f'bodies about the {a.center}'}" for a in own))
+            where = " and ".join(dict.fromkeys(_admitted(a) for a in own))
             raise NotApplicableError(body.name, f"the {p} as a perturber is modelled for {where} only "
                                      f"({'; '.join(dict.fromkeys(a.theory for a in own))}); the single-perturber "
                                      f"theory takes its torque from the orbit's centre, the {centre}")
-        others = "; ".join(dict.fromkeys(f"the {a.body or f'bodies about the {a.center}'} (the {a.perturber})"
-                                         for a in rules))
+        others = "; ".join(dict.fromkeys(f"{_named(a.perturber)} on {_admitted(a)}" for a in rules))
         raise NotApplicableError(body.name, f"{p} is not the orbit's centre ({centre}): the single-perturber "
-                                 "theory takes its torque from the orbit's centre, and a second perturber is "
-                                 f"modelled only for {others or 'no body'} (data/centres.toml)")
+                                 "theory takes its torque from the orbit's centre, and a second perturber acts only "
+                                 f"where data/centres.toml admits it: {others or 'nowhere'}")
     return tuple(out)
+
+
+def _named(name: str) -> str:
+    """A centre's or a perturber's name with its article ("the Earth"), a body's without ("Itokawa")."""
+    return f"the {name}" if name in KNOWN_PERTURBERS else name
+
+
+def _admitted(admission) -> str:
+    """The bodies an admission of a perturber names ("the Earth", "the bodies about the Sun"), for a refusal."""
+    return _named(admission.body) if admission.body else f"the bodies about {_named(admission.center)}"
 
 
 # --------------------------------------------------------------------------- loading
