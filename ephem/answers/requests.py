@@ -509,6 +509,101 @@ def _wobble_request(b: Body, axis: str, phase_deg, J_arcsec, epoch):
     return make_wobble(b, phase_deg, J_arcsec, None if epoch is None else to_jd_tdb(epoch, "free_wobble_epoch"))
 
 
+def track_request(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity, *,
+                  tolerance_mas: float | Quantity | None = None, model: str | None = None, order: int | None = None,
+                  axis: str = "figure", free_wobble_phase_deg: float | Quantity | None = None,
+                  free_wobble_J_arcsec: float | Quantity | None = None, free_wobble_epoch: Epoch | None = None,
+                  rotation_phase_deg: float | Quantity | None = None, dataset: str = DEFAULT_DATASET,
+                  perturbers: str | Sequence[str] | None = None,
+                  max_samples: int = MAX_TRACK_SAMPLES) -> TrackRequest:
+    """The track request a notebook holds: the public keywords checked, as one frozen ``TrackRequest``.
+
+    Every check of a track's inputs is made here, and only here: :func:`track` and :func:`track_arrays` compute the
+    request this returns. So a bad input is refused naming its field before any work, the same way on every surface, and
+    a request can be made, looked at and kept before it is computed. The request carries the body (its dataset with it),
+    the perturbers, the axis, the epochs (an even grid, JD TDB), the tolerance (radians), the model asked for, the free
+    wobble and the rotation phase (radians).
+
+    Parameters
+    ----------
+    body : str, int or Body
+        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    start, stop : str, float or astropy.time.Time
+        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
+        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
+    step_days : float or Quantity
+        The step between epochs, days (a ``Quantity`` in any unit of time).
+    tolerance_mas : float or Quantity, optional
+        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
+        meets it over these epochs answers (not with ``model`` or ``order``).
+    model : str, optional
+        A model named instead (one of ``ephem.api.MODELS`` that the body's family has); default the family's own.
+    order : int, optional
+        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
+    axis : str
+        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
+        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
+        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
+    free_wobble_phase_deg : float or Quantity, optional
+        The figure axis's position angle about the angular momentum at ``free_wobble_epoch``, degrees from the ICRF
+        north through east: with it the track can add the free wobble (and does, with a named model).
+    free_wobble_J_arcsec : float or Quantity, optional
+        The free wobble's amplitude J, arcseconds; default the published one (only with ``free_wobble_phase_deg``).
+    free_wobble_epoch : str, float or astropy.time.Time, optional
+        The epoch of ``free_wobble_phase_deg``; default the pole epoch (only with ``free_wobble_phase_deg``).
+    rotation_phase_deg : float or Quantity, optional
+        The angle of the body's long (least-inertia) axis in its equator from the orbit's ascending node on the equator
+        at the pole epoch, degrees: with it the track can add the rotation-scale (semi-diurnal) terms.
+    dataset : str
+        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    perturbers : str or sequence of str, optional
+        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
+        ("sun", ["Sun"], "moon,sun").
+    max_samples : int
+        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
+
+    Returns
+    -------
+    TrackRequest
+        The checked request (:class:`ephem.theory.requests.TrackRequest`, frozen): ``body``, ``perturbers``, ``axis``,
+        ``epochs`` (``start`` JD TDB, ``step`` days, ``count``), ``tolerance`` (radians, or None), ``choice`` (the model
+        and e-order named), ``wobble`` and ``rotation_phase`` (radians, or None).
+
+    Raises
+    ------
+    UnknownBodyError
+        For a body the catalogue does not have.
+    InvalidInputError
+        Naming the field, for a bad input (a model the body's family does not have among them).
+    NotApplicableError
+        Where no theory serves the body under these perturbers and axis.
+    """
+    b = resolve_body(body, dataset)
+    t0, step, count = epoch_grid(start, stop, step_days, max_samples=max_samples)
+    order, tol, name = check_order(order), _tolerance(tolerance_mas), _rung(model)
+    check_axis(axis, b.name)
+    if tol is not None and (order is not None or name is not None):
+        raise InvalidInputError("tolerance_mas", "give a tolerance, or a model and order, not both")
+    per = _perturbers(b, perturbers)
+    theory = theory_for(b, per, axis)
+    if name is not None and name not in theory.models:
+        refuse_model(theory, name)
+    theory.check_request(ModelChoice(name, order))
+    wobble = _wobble_request(b, axis, in_unit(free_wobble_phase_deg, "deg", "free_wobble_phase_deg"),
+                             in_unit(free_wobble_J_arcsec, "arcsec", "free_wobble_J_arcsec"), free_wobble_epoch)
+    phase = in_unit(rotation_phase_deg, "deg", "rotation_phase_deg")
+    if phase is not None:
+        check_angle(b.name, "rotation_phase_deg", phase)
+        if wobble is not None:
+            raise InvalidInputError("rotation_phase_deg", "the rotation-scale terms and a modelled free wobble are "
+                                    "not combined: give the rotation phase or the wobble's phase, not both", b.name)
+        if not theory.models_rotation_scale:
+            raise InvalidInputError("rotation_phase_deg", f"{theory.summary} does not model the rotation "
+                                    "scale: leave it out", b.name)
+    return TrackRequest(b, per, axis, Epochs.grid(t0, step, count), tol, ModelChoice(name, order), wobble,
+                        None if phase is None else math.radians(phase))
+
+
 def track_arrays(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity, *,
                  tolerance_mas: float | Quantity | None = None, model: str | None = None, order: int | None = None,
                  axis: str = "figure", free_wobble_phase_deg: float | Quantity | None = None,
@@ -583,36 +678,22 @@ def track_arrays(body: str | int | Body, start: Epoch, stop: Epoch, step_days: f
         When the request's predicted cost exceeds the budget in force (a host's, as the service's).
     """
     begin = time.perf_counter()
-    b = resolve_body(body, dataset)
+    # the request, checked, as one value (track_request: every check of a track's inputs): the family set as it
+    # asks, and the model asked for by name (its track adds the free wobble and the rotation-scale terms the request
+    # gave)
+    request = track_request(body, start, stop, step_days, tolerance_mas=tolerance_mas, model=model, order=order,
+                            axis=axis, free_wobble_phase_deg=free_wobble_phase_deg,
+                            free_wobble_J_arcsec=free_wobble_J_arcsec, free_wobble_epoch=free_wobble_epoch,
+                            rotation_phase_deg=rotation_phase_deg, dataset=dataset, perturbers=perturbers,
+                            max_samples=max_samples)
+    b, per, wobble = request.body, request.perturbers, request.wobble
+    t0, step, count = request.epochs.start, request.epochs.step, request.epochs.count
+    tol, name, order = request.tolerance, request.choice.model, request.choice.order
     time_scale = None if time_scale is None else check_calendar_scale(time_scale)
-    t0, step, count = epoch_grid(start, stop, step_days, max_samples=max_samples)
-    order, tol, name = check_order(order), _tolerance(tolerance_mas), _rung(model)
-    check_axis(axis, b.name)
-    if tol is not None and (order is not None or name is not None):
-        raise InvalidInputError("tolerance_mas", "give a tolerance, or a model and order, not both")
-    per = _perturbers(b, perturbers)
     if output not in cost.SERIALISATIONS:
         raise InvalidInputError("format", f"must be one of {', '.join(cost.SERIALISATIONS)}, got {output!r}", b.name)
-    theory = theory_for(b, per, axis)
-    if name is not None and name not in theory.models:
-        refuse_model(theory, name)
-    theory.check_request(ModelChoice(name, order))
-    wobble = _wobble_request(b, axis, in_unit(free_wobble_phase_deg, "deg", "free_wobble_phase_deg"),
-                             in_unit(free_wobble_J_arcsec, "arcsec", "free_wobble_J_arcsec"), free_wobble_epoch)
-    phase = in_unit(rotation_phase_deg, "deg", "rotation_phase_deg")
-    if phase is not None:
-        check_angle(b.name, "rotation_phase_deg", phase)
-        if wobble is not None:
-            raise InvalidInputError("rotation_phase_deg", "the rotation-scale terms and a modelled free wobble are "
-                                    "not combined: give the rotation phase or the wobble's phase, not both", b.name)
-        if not theory.models_rotation_scale:
-            raise InvalidInputError("rotation_phase_deg", f"{theory.summary} does not model the rotation "
-                                    "scale: leave it out", b.name)
-    # the request, checked, as one value: the family set as it asks, and the model asked for by name (its track adds
-    # the free wobble and the rotation-scale terms the request gave)
-    request = TrackRequest(b, per, axis, Epochs.grid(t0, step, count), tol, ModelChoice(name, order), wobble,
-                           None if phase is None else math.radians(phase))
-    theory = theory.for_request(request)
+    theory = theory_for(b, per, request.axis).for_request(request)
+    phase = in_unit(rotation_phase_deg, "deg", "rotation_phase_deg")     # the answer reports it as given
     asked = request.asked
     t_end = request.epochs.stop
     output = cost.Cost((cost.serialised(count, len(TRACK_KEYS) + (time_scale is not None), output),)
