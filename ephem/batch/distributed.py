@@ -102,7 +102,7 @@ def _check_history(history) -> None:
 
 # ------------------------------------------------------------------ the engine
 
-def run(input_path, out_path, *, scheduler: str | None = None, workers: int | None = None,
+def run(input_path: str | Path, out_path: str | Path, *, scheduler: str | None = None, workers: int | None = None,
         partition_rows: int = 50_000, output_format: str = "parquet", history=None,
         progress: Callable[[int, int], None] | None = None, fresh: bool = False,
         log: Callable[[str], None] | None = None,
