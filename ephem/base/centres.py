@@ -18,6 +18,7 @@ constants were (695 700 km / 149 597 870.7 km per AU).
 """
 from __future__ import annotations
 
+import dataclasses
 import os
 import threading
 import tomllib
@@ -149,8 +150,9 @@ def parse_centres(text: str, origin: str) -> tuple[list[Centre], list[Admission]
     return centres, admissions
 
 
-def _add(centres: list[Centre], admissions: list[Admission]) -> None:
-    """Add to the tables (under the lock), refusing a centre known already and a torque about no known centre."""
+def _add(centres: list[Centre], admissions: list[Admission]) -> tuple[str, ...]:
+    """Add to the tables (under the lock), refusing a centre known already and a torque about no known centre; the
+    names added (the centres, then the perturbers, as the tables spell them)."""
     known = {c.lower() for c in _CENTRES}
     for c in centres:
         if c.name.lower() in known:
@@ -161,8 +163,14 @@ def _add(centres: list[Centre], admissions: list[Admission]) -> None:
         if a.center.lower() not in names:
             raise ValueError(f"{a.origin}: perturber {a.perturber!r} torques bodies about {a.center!r}, which is "
                              f"no known centre ({', '.join(names.values())})")
+    # a name written in another case is the known one (the orbit's centre and the perturbers are matched as spelt)
+    perturbers = {**names, **{p.lower(): p for p in dict.fromkeys(a.perturber for a in _ADMISSIONS)}}
+    admissions = [dataclasses.replace(a, center=names[a.center.lower()],
+                                      perturber=perturbers.setdefault(a.perturber.lower(), a.perturber))
+                  for a in admissions]
     _CENTRES.update({c.name: c for c in centres})
     _ADMISSIONS.extend(admissions)
+    return tuple(dict.fromkeys([*(c.name for c in centres), *(a.perturber for a in admissions)]))
 
 
 def _load() -> None:
@@ -210,10 +218,8 @@ def register_centres(path: str | os.PathLike) -> tuple[str, ...]:
     if str(path) in {c.origin for c in centres().values()} | {a.origin for a in admissions()}:
         raise ValueError(f"{path} is registered already")
     found = parse_centres(path.read_text(encoding="utf-8"), str(path))
-    centres()
     with _LOCK:
-        _add(*found)
-    return tuple(dict.fromkeys([*(c.name for c in found[0]), *(a.perturber for a in found[1])]))
+        return _add(*found)
 
 
 def unregister_centres(path: str | os.PathLike) -> None:

@@ -108,3 +108,18 @@ def test_a_refused_registration_adds_nothing(tmp_path):
     with pytest.raises(ValueError, match="shipped centres"):
         centres.unregister_centres(centres.data_file())
     assert math.isfinite(centres.GM_CENTER["Sun"])
+
+
+def test_a_name_in_another_case_is_the_known_one(tmp_path):
+    path = tmp_path / "cased.toml"
+    path.write_text(GOOD + '[[perturber]]\nname = "sun"\ntheory = "t"\ntorques = [{ center = "toyprimary" }]\n'
+                    '[[perturber]]\nname = "MOON"\ntheory = "t"\ntorques = [{ center = "toyprimary" }]\n',
+                    encoding="utf-8")
+    assert centres.register_centres(path) == ("Toyprimary", "Sun", "Moon")
+    try:
+        assert tuple(centres.KNOWN_PERTURBERS) == ("Sun", "Earth", "Toyprimary", "Moon")
+        assert {(a.perturber, a.center) for a in centres.admissions() if a.origin == str(path)} == {
+            ("Sun", "Toyprimary"), ("Moon", "Toyprimary")}
+    finally:
+        centres.unregister_centres(path)
+    assert tuple(centres.KNOWN_PERTURBERS) == ("Sun", "Earth", "Moon")
