@@ -449,3 +449,12 @@ def rotation_averaging_samples(body: Body, first: float, last: float) -> int:
     n = mean_motion_rad_per_day(body.orbit.a_au, body.orbit.center)
     return sum(sampled_epochs(body.orbit.e, abs(s) * n / (2.0 * math.pi))
                for s in _averaging_sides(body.pole.epoch_jd_tdb, first, last))
+
+
+def rotation_averaging_sides(body: Body, first: float, last: float) -> int:
+    """The sides of t₀ on which :func:`rotation_averaging_bound` bounds epochs spanning [first, last] (JD TDB), each
+    with its own fixed work in each call (:func:`ephem.forced.rotation_scale.error_terms`): 2 for a span across t₀,
+    else 1; 0 for a sphere (no torque to average). From the body's parameters alone, for its price."""
+    if body.hd == 0.0:
+        return 0
+    return len(_averaging_sides(body.pole.epoch_jd_tdb, first, last))

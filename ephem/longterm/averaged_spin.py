@@ -113,13 +113,14 @@ class SpinConstants:
         """:func:`integrate` along ``orbit``."""
         return integrate(self, orbit, years, progress)
 
-    def cost(self, span_years: float, epochs: int):
+    def cost(self, span_years: float, epochs: int, sides: int = 1):
         """What :meth:`history` costs over ``span_years`` at ``epochs`` epochs (:func:`ephem.theory.cost.spin_history`),
-        the splitting's steps per orbit sample as :func:`split_steps` sets them on the body's own orbit."""
+        the splitting's steps per orbit sample as :func:`split_steps` sets them on the body's own orbit; ``sides``:
+        of the epoch the epochs reach (:func:`integrate` runs outward to each, its fixed work once a side)."""
         scale = 1.0 + math.hypot(self.constant_sigma or 0.0, DEFAULT_CONSTANT_PROBE) \
             + abs(self.constant_drift) * span_years
         rate = (abs(self.orbit_constant) + abs(self.fixed_constant)) * scale + abs(self.geodesic_rate)
-        return spin_history(span_years, epochs, steps_per_sample(rate))
+        return spin_history(span_years, epochs, steps_per_sample(rate), sides)
 
 
 def steps_per_sample(rate_rad_per_year: float) -> int:

@@ -51,7 +51,7 @@ from ..base.errors import InvalidInputError, NotApplicableError, count_text
 from ..base.extras import DISTRIBUTION, missing
 from ..base.grids import check_step
 from ..orbit.geometry import angle_between
-from .averaged_spin import MEANINGFUL_LIMIT, ORBIT_SAMPLE_YEARS, SpinHistory, outward_max
+from .averaged_spin import MEANINGFUL_LIMIT, ORBIT_SAMPLE_YEARS, SpinConstants, SpinHistory, outward_max
 from .nbody_orbit import (DT_DAYS, SHIPPED_ASTEROIDS, SHIPPED_BODIES, SHIPPED_PLANETS, load_metadata,
                           nbody_cost_seconds, nbody_orbit_history, shipped_loaded, shipped_orbit_history,
                           shipped_sample_noise)
@@ -344,9 +344,12 @@ def history_cost(spin, choice: OrbitChoice, lo: float, hi: float, count: int) ->
     own = getattr(spin, "orbit_points", None)      # a spin whose own price counts its reads of the orbit says how many
     points = own(span, count) if own is not None else 2 * (int(math.ceil(span / ORBIT_SAMPLE_YEARS)) + 1 + count)
     per = SECULAR_POINT_S if choice.name == "secular" else SPLINE_POINT_S
+    # the averaged spin (SpinConstants) integrates from its epoch outward, its fixed work once on each side reached
+    sides = cost.pole_epoch_sides(t0, min(lo, hi), max(lo, hi))
+    spin_cost = spin.cost(span, count, sides) if isinstance(spin, SpinConstants) else spin.cost(span, count)
     return choice.cost + cost.Cost((cost.Part("step_years", f"the {choice.name} orbit at {points} epochs",
                                               points * per, points * 56.0 / cost.MB),     # 7 float64 a point
-                                    spin.cost(span, count)))
+                                    spin_cost))
 
 
 def spin_axis_history(b: Body, theory, start_year, stop_year, step_years, tolerance: float | None = None,

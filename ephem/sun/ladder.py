@@ -69,7 +69,8 @@ from ..base.errors import InvalidInputError
 from ..bodies.catalogue import Body
 from ..forced import rotation_scale
 from ..forced.interior_response import interior_terms
-from ..forced.physics_errors import orbit_motion_bound, rotation_averaging_bound, rotation_averaging_samples
+from ..forced.physics_errors import (orbit_motion_bound, rotation_averaging_bound, rotation_averaging_samples,
+                                     rotation_averaging_sides)
 from ..forced.precession_nutation import PrecessionNutation, Track, cached_model, check_domain
 from ..forced.rigid_numerics import body_moments
 from ..forced.second_order import SecondOrderTheory
@@ -253,7 +254,8 @@ class Ladder:
         k = cost.body_harmonics(b)
         if rung is None:
             parts = [cost.track_answer(count), cost.ladder_estimates_kept(count) if self._estimates_kept(start, stop, count)
-                     else cost.ladder_estimates(count, k, rotation_averaging_samples(b, start, stop))]
+                     else cost.ladder_estimates(count, k, rotation_averaging_samples(b, start, stop),
+                                                rotation_averaging_sides(b, start, stop), count <= MEMO_EPOCHS)]
             if not cached_model.cached(b, None):
                 parts.append(cost.model_build(e))
             if not cached_theory.cached(b):

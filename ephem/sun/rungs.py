@@ -161,6 +161,12 @@ class TrackPrice:
     def e(self) -> float:
         return self.body.orbit.e
 
+    @property
+    def sides(self) -> int:
+        """The sides of the pole epoch the epochs reach (:func:`ephem.theory.cost.pole_epoch_sides`): the mean track
+        is integrated from it to each."""
+        return cost.pole_epoch_sides(self.body.pole.epoch_jd_tdb, self.start, self.stop)
+
 
 @dataclass(frozen=True)
 class EstimateInputs:
@@ -272,7 +278,7 @@ def real_orbit_kept(body: Body, start: float, stop: float) -> bool:
 
 
 def _real_orbit_cost(p: TrackPrice) -> list:
-    parts = [cost.integrated_track(p.count), cost.spin_integration(p.orbits, p.e, p.count, real_orbit=True)]
+    parts = [cost.integrated_track(p.count, p.sides), cost.spin_integration(p.orbits, p.e, p.count, real_orbit=True)]
     t0 = p.body.pole.epoch_jd_tdb
     if not real_orbit_kept(p.body, p.start, p.stop):
         # integrated from the elements' epoch through the pole's and the track's (once per span: kept)
@@ -304,7 +310,7 @@ RUNGS: tuple[Rung, ...] = (
     Rung("second_order", "second order in the torque: the equinox drift re-phases the nutation, plus the "
                          "second-order mean rates",
          ("second order in the torque", FIXED_ORBIT),
-         lambda p: [cost.second_order(p.count, p.harmonics)],
+         lambda p: [cost.second_order(p.count, p.harmonics, p.sides)],
          lambda ladder, m, t, order: second_order_track(m, ladder.theory, t),
          lambda ladder, x: [rung_estimate("second_order", None, {"higher_order": x.theory["higher_order"],
                                                                  "geodesic": x.theory["geodesic_rephasing"]},
@@ -314,14 +320,14 @@ RUNGS: tuple[Rung, ...] = (
          ("second order in the torque", FIXED_ORBIT,
           "a liquid core in a rigid mantle: T(sigma) = 1 + F sigma/(sigma - sigma_FCN) on every circular component "
           "(F and P_FCN from data/interiors.toml; the mantle's elasticity estimated as interior_mantle)"),
-         lambda p: [cost.second_order(p.count, p.harmonics),
+         lambda p: [cost.second_order(p.count, p.harmonics, p.sides),
                     cost.harmonic_sum(p.count, p.harmonics, "step_days", "the core's change")],
          lambda ladder, m, t, order: nonrigid_track(ladder, m, ladder.theory, t),
          _nonrigid_estimates),
     # the numerical rungs: the second-order mean track is subtracted from the integrated pole
     Rung("numerical", "rotation-averaged torque integrated numerically along the fixed Keplerian orbit",
          (FIXED_ORBIT,),
-         lambda p: [cost.integrated_track(p.count), cost.spin_integration(p.orbits, p.e, p.count)],
+         lambda p: [cost.integrated_track(p.count, p.sides), cost.spin_integration(p.orbits, p.e, p.count)],
          _numerical_track, _numerical_estimates),
     Rung("real_orbit", "rotation-averaged torque integrated along the real orbit (DE421 and planetary perturbations)",
          ("orbit from DE421 (planets) or integrated under the DE421 planets (asteroids)",),

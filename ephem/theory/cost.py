@@ -84,6 +84,17 @@ def track_answer(epochs: int) -> Part:
 
 # --- the pieces every model is made of ------------------------------------------------------------
 
+def pole_epoch_sides(pole_epoch: float, first: float, last: float) -> int:
+    """The sides of the pole epoch t₀ (any time unit, as ``first`` and ``last``) that epochs spanning [first, last]
+    reach: 1, or 2 for a span across t₀. The models that integrate or sum from t₀ outward (the second-order mean
+    track, :meth:`ephem.forced.second_order.SecondOrderTheory.mean_track`; the averaged spin,
+    :func:`ephem.longterm.averaged_spin.integrate`; the rotation averaging's bound,
+    :func:`ephem.forced.physics_errors.rotation_averaging_bound`) do their fixed work once on each side; a span
+    at t₀ alone or on one side of it counts one, the side the fixed units were measured on."""
+    return max(1, int(last > pole_epoch) + int(first < pole_epoch))
+
+
+
 def harmonics(e: float, order: int | None, relative_floor: float = 1e-16) -> tuple[int, int]:
     """(FFT samples N, harmonics K) of the nutation series at eccentricity ``e``.
 
@@ -156,17 +167,25 @@ def theory_build(k: int) -> Part:
                 _u("theory_base_s") + _u("theory_harmonic2_s") * k * k, 0.5 + 16.0 * k * k / MB)
 
 
-def ladder_estimates(epochs: int, k: int, averaging_samples: int = 0) -> Part:
+def ladder_estimates(epochs: int, k: int, averaging_samples: int = 0, averaging_sides: int = 1,
+                     weighed: bool = True) -> Part:
     """Every rung's error estimate over the epochs (:meth:`ephem.sun.ladder.Ladder.estimates`): a fixed part (the
     theory terms from the body's tables, the truncation bound of each e-order, the geodesic and interior terms), a
     pass over the epochs (the orbit's motion: Kepler's equation at each, slower as the eccentricity, and with it the
     ``k`` harmonics, grows) and the rotation averaging's samples of the span from the pole epoch
     (``averaging_samples``: :func:`ephem.forced.physics_errors.rotation_averaging_samples`, up to ~4000 for 20
-    orbits; none beyond, where its bounds take no samples)."""
+    orbits; none beyond, where its bounds take no samples). The bound works from the pole epoch to each side the
+    epochs reach (``averaging_sides``, :func:`pole_epoch_sides`; the fixed part holds one): each further side costs
+    its fixed work in every call (``estimates_averaging_side_s``, the estimates' two calls). ``weighed``: the new
+    estimates are kept (:func:`ephem.sun.ladder._cached_estimates`, up to its epochs' limit), weighed first against
+    the per-body caches' byte budget (:mod:`ephem.base.memo`): ``estimates_weighed_s``, whatever the epochs."""
+    extra_sides = max(0, averaging_sides - 1)
     return Part("step_days", f"the error estimates of every model at {epochs} epochs"
-                + (f" ({averaging_samples} samples of the span for the rotation averaging)" if averaging_samples else ""),
+                + (f" ({averaging_samples} samples of the span for the rotation averaging)" if averaging_samples else "")
+                + (" (the rotation averaging on both sides of the pole epoch)" if extra_sides else ""),
                 _u("estimates_base_s") + epochs * (_u("estimates_epoch_s") + k * _u("estimates_harmonic_s"))
-                + averaging_samples * _u("estimates_averaging_sample_s"),
+                + averaging_samples * _u("estimates_averaging_sample_s")
+                + extra_sides * _u("estimates_averaging_side_s") + (_u("estimates_weighed_s") if weighed else 0.0),
                 max(epochs, averaging_samples) * _u("track_bytes_per_epoch") / MB)
 
 
@@ -225,19 +244,29 @@ def estimate_tables(e: float) -> Part:
                 _u("tables_base_mb") + _u("tables_mb_per_harmonic") * k)
 
 
-def second_order(epochs: int, k: int) -> Part:
-    """The second-order theory's track (:func:`ephem.sun.rungs.second_order_track`): its mean track (a fixed part)
-    and the re-phased nutation of ``k`` harmonics at every epoch."""
-    return Part("step_days", f"the second-order theory at {epochs} epochs x {k} harmonics",
-                _u("second_order_base_s") + epochs * (_u("second_order_epoch_s") + _u("second_order_harmonic_s") * k),
+def mean_track(sides: int = 1) -> float:
+    """CPU seconds of the second-order mean track (:meth:`ephem.forced.second_order.SecondOrderTheory.mean_track`:
+    DOP853 from the pole epoch to the farthest epoch on each of the ``sides`` it reaches, :func:`pole_epoch_sides`):
+    ``second_order_base_s`` for the first side, ``second_order_side_s`` for the other."""
+    return _u("second_order_base_s") + max(0, sides - 1) * _u("second_order_side_s")
+
+
+def second_order(epochs: int, k: int, sides: int = 1) -> Part:
+    """The second-order theory's track (:func:`ephem.sun.rungs.second_order_track`): its mean track (a fixed part
+    for each side of the pole epoch the epochs reach, :func:`mean_track`) and the re-phased nutation of ``k``
+    harmonics at every epoch."""
+    return Part("step_days", f"the second-order theory at {epochs} epochs x {k} harmonics"
+                + (" (its mean track integrated to both sides of the pole epoch)" if sides > 1 else ""),
+                mean_track(sides) + epochs * (_u("second_order_epoch_s") + _u("second_order_harmonic_s") * k),
                 epochs * _u("track_bytes_per_epoch") / MB + harmonic_work_mb(epochs, k))
 
 
-def integrated_track(epochs: int) -> Part:
+def integrated_track(epochs: int, sides: int = 1) -> Part:
     """The numerical rungs' track from the integrated pole vectors (:func:`ephem.sun.rungs.track_from_vectors`):
-    the second-order mean track to read the nutation off (a fixed part) and the angles at every epoch."""
+    the second-order mean track to read the nutation off (a fixed part for each side of the pole epoch the epochs
+    reach, :func:`mean_track`) and the angles at every epoch."""
     return Part("step_days", f"the track from the integrated pole at {epochs} epochs",
-                _u("second_order_base_s") + epochs * _u("vectors_epoch_s"), epochs * _u("track_bytes_per_epoch") / MB)
+                mean_track(sides) + epochs * _u("vectors_epoch_s"), epochs * _u("track_bytes_per_epoch") / MB)
 
 
 def spin_integration(orbits: float, e: float, epochs: int, real_orbit: bool = False) -> Part:
@@ -274,14 +303,17 @@ def free_rotation(method: str, epochs: int, rotations: float) -> Part:
                 epochs * per_bytes / MB)
 
 
-def spin_history(span_years: float, epochs: int, steps_per_sample: int = 1) -> Part:
+def spin_history(span_years: float, epochs: int, steps_per_sample: int = 1, sides: int = 1) -> Part:
     """The averaged spin equation integrated over ``span_years`` (both sides of the epoch together) with its
     neighbours (:func:`ephem.longterm.averaged_spin.integrate`'s splitting), then the requested epochs. The steps
     cut the orbit's 500-year samples in ``steps_per_sample`` (a power of two, :func:`ephem.longterm.averaged_spin.
     split_steps` on the body's own orbit): the work is per year of span and per step. The unit is the shipped
-    catalogue's slowest per year at one step per sample (Eros, whose noisy orbit asks for 1.8 on average)."""
-    return Part("stop_year", f"the averaged spin integrated over {span_years:.4g} years",
-                _u("base_s") + _u("spin_history_base_s")
+    catalogue's slowest per year at one step per sample (Eros, whose noisy orbit asks for 1.8 on average). The
+    integration runs from the epoch outward on each of the ``sides`` of it the span reaches (:func:`pole_epoch_sides`),
+    each with its own start, splitting and read-out: ``spin_history_side_s`` for the second."""
+    return Part("stop_year", f"the averaged spin integrated over {span_years:.4g} years"
+                + (" on both sides of its epoch" if sides > 1 else ""),
+                _u("base_s") + _u("spin_history_base_s") + max(0, sides - 1) * _u("spin_history_side_s")
                 + span_years * steps_per_sample * _u("spin_history_s_per_year")
                 + epochs * _u("history_epoch_s"),
                 _u("spin_history_base_mb") + epochs * _u("history_bytes_per_epoch") / MB
