@@ -414,6 +414,60 @@ def build_cases() -> list[Case]:
                  lambda m=m, t=t: rungs.second_order_track(m, second_order_theory(m), t), None, quick,
                  extra={"n": n, "k": k}, why=WHY_BLOCK))
 
+    # --- the pole epoch's two sides (issue 39): the work done from it outward, once on each side ------------
+    # warm (the body's model and theory built), a span across J2000 (1950-2050) against one on one side of it
+    # (2000-2050): the second-order mean track, the rotation averaging's bound (the estimates' two calls), the
+    # long-term model's averaged spin; and the new estimates' weighing into the byte pool (estimates() against
+    # _estimates(), the memo emptied before each)
+    from ephem.forced.physics_errors import rotation_averaging_bound, rotation_averaging_sides
+    from ephem.families import theory_for
+    from ephem.longterm import averaged_spin, history as long_term_history
+    from ephem.sun import ladder as ladder_module
+    side_cases = (("mars", True), ("steins", False), ("itokawa", True))
+    for name, quick in side_cases:
+        b = get_body(name)
+        th = tables.cached_theory(b)
+        m = cached_model(b)
+        for label, lo, hi in (("across", 1950.0, 2050.0), ("one side", 2000.0, 2050.0)):
+            t = J2000 + (np.linspace(lo, hi, 1000) - 2000.0) * 365.25
+            sides = cost.pole_epoch_sides(J2000, t[0], t[-1])
+            extra = {"body": name, "side": label}
+            add(Case("pole_epoch_sides", f"second-order mean track, {name}, {lo:.0f}-{hi:.0f}, 1000 epochs",
+                     part(cost.Part("", "", cost.mean_track(sides), 0.0)), lambda th=th, t=t: th.mean_track(t)(t),
+                     None, quick, trace=False, reps=15, extra={**extra, "what": "mean_track"}))
+            t10 = t[::111]
+            # each side's fixed work (the first one's is in estimates_base_s), and its samples where it takes them
+            n_sides = rotation_averaging_sides(b, t10[0], t10[-1])
+            samples = ladder_module.rotation_averaging_samples(b, t10[0], t10[-1])
+            add(Case("pole_epoch_sides", f"rotation averaging's bound (two calls), {name}, {lo:.0f}-{hi:.0f}"
+                     + (f" ({samples} samples)" if samples else ""),
+                     part(cost.Part("", "", n_sides * cost.unit("estimates_averaging_side_s")
+                                    + samples * cost.unit("estimates_averaging_sample_s"), 0.0)),
+                     lambda b=b, m=m, t=t10: [rotation_averaging_bound(b, m, t, "figure", x) for x in ("none", "oppolzer")],
+                     None, quick, trace=False, reps=15, extra={**extra, "what": "averaging", "samples": samples}))
+        spin = theory_for(b, b.perturbers).secular_spin()
+        t0 = spin.epoch_years
+        for label, lo, hi in (("across", t0 - 50.0, t0 + 50.0), ("one side", t0, t0 + 100.0)):
+            years = np.linspace(lo, hi, 11)
+            orbit = long_term_history.default_orbit(b, spin.orbit_body, lo, hi).orbit
+            sides = cost.pole_epoch_sides(t0, lo, hi)
+            add(Case("pole_epoch_sides", f"long-term averaged spin, {name}, {lo - t0:+.0f} to {hi - t0:+.0f} years "
+                                         "from its epoch, 11 epochs",
+                     part(spin.cost(hi - lo, 11, sides)),
+                     lambda spin=spin, orbit=orbit, years=years: averaged_spin.integrate(spin, orbit, years), None,
+                     quick, trace=False, reps=15, extra={"body": name, "side": label, "what": "spin_history"}))
+        lad = ladder_module.Ladder(b)
+        t = J2000 + (np.linspace(2030.0, 2040.0, 10) - 2000.0) * 365.25
+        lad.estimates(t)
+        k = cost.body_harmonics(b)
+        samples = ladder_module.rotation_averaging_samples(b, t[0], t[-1])
+        for label, work, weighed in (("estimates()", lambda lad=lad, t=t: lad.estimates(t), True),
+                                     ("_estimates()", lambda lad=lad, t=t: lad._estimates(t), False)):
+            add(Case("pole_epoch_sides", f"every rung's estimates, {name}, 2030-2040, 10 epochs: {label}",
+                     part(cost.ladder_estimates(10, k, samples, 1, weighed)), work,
+                     ladder_module._cached_estimates.cache_clear, quick, trace=False, reps=15,
+                     extra={"body": name, "what": "weighed" if weighed else "unweighed"}))
+
     # --- the spin axis integrated (numerical, real_orbit rungs) -----------------------------------
     from ephem.forced.integration import integrate_spin_axis
     # tracemalloc slows the Python right-hand side several times: the memory of two is traced, the rest by RSS
@@ -623,6 +677,30 @@ def fit_units(cases: list[Case]) -> list[tuple[str, float, float | None, str]]:
     so = by.get("second_order", [])
     if so:
         per_epoch_and_harmonic(so, "second_order_epoch_s", "second_order_harmonic_s", "second_order")
+    sides = by.get("pole_epoch_sides", [])
+
+    def pair(what: str, first: str, second: str, key: str = "side") -> list[tuple[str, float]]:
+        """(body, CPU of the ``first`` case less the ``second``'s) of each body's pair of ``what`` cases."""
+        got = {}
+        for c in sides:
+            if c.extra["what"] in what.split("|") and not c.extra.get("samples"):   # a side's fixed work alone
+                got.setdefault(c.extra["body"], {})[c.extra.get(key, c.extra["what"])] = c.m.cpu_s
+        return [(b, v[first] - v[second]) for b, v in got.items() if first in v and second in v]
+
+    for key, what, first, second, how in (
+            ("second_order_side_s", "mean_track", "across", "one side",
+             "largest CPU across J2000 (1950-2050) less one side (2000-2050), 1000 epochs"),
+            ("estimates_averaging_side_s", "averaging", "across", "one side",
+             "largest CPU across J2000 less one side, the bound's two calls (bodies it does not sample there)"),
+            ("spin_history_side_s", "spin_history", "across", "one side",
+             "largest CPU of the averaged spin across its epoch (-50 to +50 years) less one side (0 to +100)")):
+        diffs = pair(what, first, second)
+        if diffs:
+            row(key, max(d for _, d in diffs), how + " (" + ", ".join(f"{b} {1e3 * d:.2f} ms" for b, d in diffs) + ")")
+    weighed = pair("weighed|unweighed", "weighed", "unweighed", key="what")
+    if weighed:
+        row("estimates_weighed_s", max(d for _, d in weighed), "largest CPU of estimates() less _estimates(), 10 "
+            "epochs (" + ", ".join(f"{b} {1e3 * d:.2f} ms" for b, d in weighed) + ")")
     sp = [c for c in by.get("spin_integration", []) if c.extra["n"] <= 1000]
     if sp:
         row("spin_orbit_s", max(c.m.cpu_s * math.sqrt(1.0 - c.extra["e"]) / c.extra["orbits"] for c in sp),
@@ -709,6 +787,8 @@ UNITS = {
     "half_peak_to_peak": "extrema_harmonic_s",
     "harmonic_sum": "epoch_s, harmonic_s, track_bytes_per_epoch",
     "second_order": "base_s, second_order_epoch_s, second_order_harmonic_s, track_bytes_per_epoch",
+    "pole_epoch_sides": "second_order_base_s, second_order_side_s, estimates_averaging_side_s, spin_history_base_s, "
+                        "spin_history_side_s, estimates_base_s, estimates_weighed_s (a span across the pole epoch)",
     "spin_integration": "base_s, spin_orbit_s, dense_output_s, track_bytes_per_epoch, spin_bytes_per_orbit",
     "orbit_integration": "path_base_s, path_s_per_year, path_mb_per_year",
     "free_rotation": "base_s, free_exact_epoch_s, free_series_epoch_s, free_series_build_s, rigid_s_per_rotation, "
