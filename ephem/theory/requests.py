@@ -15,10 +15,12 @@ one value, so a new setting of a model is one field here rather than a parameter
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..base.constants import MAS
 from ..bodies.catalogue import Body
 
 
@@ -105,3 +107,22 @@ class TrackRequest:
         """The model asked for by name (no tolerance), its track with the free wobble where the request gave its
         phase and the rotation-scale terms where it gave the rotation phase."""
         return replace(self.choice, free_wobble=self.wobble is not None, rotation_scale=self.rotation_phase is not None)
+
+    def __repr__(self) -> str:
+        """One short line (a notebook prints it; the dataclass's own printed the whole Body): the body and its
+        dataset, the perturbers, the axis, the epochs' count and span (JD TDB, and the step in days on a grid), the
+        tolerance (mas) or the model named (and its e-order), and the wobble and rotation phase where given."""
+        e = self.epochs
+        span = f"JD {e.start:.10g}" + ("" if e.count < 2 else f" to {e.stop:.10g}")
+        if e.is_grid:
+            span += f" by {e.step:g} d"
+        if self.tolerance is not None:
+            model = f"tolerance {self.tolerance / MAS:.6g} mas"
+        else:
+            model = f"model {self.choice.model or 'default'}" + (
+                "" if self.choice.order is None else f" order {self.choice.order}")
+        extras = "".join(("" if self.wobble is None else ", free wobble",
+                          "" if self.rotation_phase is None
+                          else f", rotation phase {math.degrees(self.rotation_phase):.6g} deg"))
+        return (f"TrackRequest({self.body.name} ({self.dataset}) under {', '.join(self.perturbers)}, "
+                f"axis {self.axis}, {e.count} epoch{'s' if e.count != 1 else ''} {span}, {model}{extras})")

@@ -40,3 +40,21 @@ def test_the_request_asks_for_the_wobble_and_the_rotation_terms_it_gave():
                        rotation_phase=0.5)
     assert req.dataset == b.dataset
     assert req.asked == ModelChoice("hansen", None, free_wobble=False, rotation_scale=True)
+
+
+def test_the_request_prints_on_one_short_line_not_the_whole_body():
+    """A notebook prints the request: the body's name and dataset, the perturbers, the axis, the epochs' count and
+    span, the tolerance or the model named; not the Body's every value (the dataclass's repr ran to ~800 characters)."""
+    from ephem import api
+    req = api.track_request("Vesta", "2040-01-01", "2040-02-01", 1.0, dataset="petit2014", tolerance_mas=5.0)
+    text = repr(req)
+    assert len(text) < 200 and "\n" not in text
+    for part in ("Vesta (petit2014)", "under Sun", "axis figure", "32 epochs", f"{req.epochs.start:.10g}",
+                 f"{req.epochs.stop:.10g}", "by 1 d", "tolerance 5 mas"):
+        assert part in text, (part, text)
+    assert "values" not in text and "Measured" not in text      # nothing of the Body's record
+    named = repr(TrackRequest(get_body("eros"), ("Sun",), "angular_momentum", Epochs.at([2451545.0]),
+                              choice=ModelChoice("series", 4), rotation_phase=0.5))
+    assert "Eros (current)" in named and "1 epoch JD 2451545" in named and "model series order 4" in named
+    assert "rotation phase 28.6479 deg" in named and "tolerance" not in named
+    assert "model default" in repr(api.track_request("Earth", "2040-01-01", "2040-01-02", 1.0))
