@@ -90,6 +90,8 @@ _NAMES = {
     "PLOT_KINDS": (".answers.figures", "KINDS"),
     "MAX_PLOT_POINTS": (".answers.figures", "MAX_PLOT_POINTS"),
     "render_plot": (".answers.figures", "render"),
+    "plot_request": (".answers.figures", "plot_request"),
+    "PlotRequest": (".answers.figures", "PlotRequest"),
     "track_models_chart": (".answers.figures", "track_models_chart"),
     "models_chart": (".answers.figures", "models_chart"),
     "track_models_rows": (".exports.work_precision", "model_rows"),
@@ -140,7 +142,7 @@ __all__ = [
     "to_qtable", "to_ecsv", "ECSV_MEDIA_TYPE", "TABLE_KINDS",
     # exports: nutation tables, plots, SPICE kernels; catalogue import; batches of bodies
     "render_nutation", "write_tables", "FORMATS", "LAYOUTS", "DELAUNAY_NAMES", "render_plot", "PLOT_KINDS",
-    "HISTORY_PLOT_KIND", "PLOT_DPI_RANGE", "track_models_chart", "models_chart", "track_models_rows",
+    "plot_request", "PlotRequest", "HISTORY_PLOT_KIND", "PLOT_DPI_RANGE", "track_models_chart", "models_chart", "track_models_rows",
     "PLOT_CONTENT_TYPES", "MAX_PLOT_POINTS", "write_pck", "write_pck_file", "import_catalogue", "run_batch", "BatchFailed",
     "HistorySpec", "shipped_orbit_span",
     # errors

@@ -56,6 +56,7 @@ import io
 import math
 import threading
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -75,6 +76,7 @@ from ..exports.plot_drawing import (draw_free_wobble, draw_nutation_loop, draw_o
 from ..exports import work_precision
 from ..base.budget import Cost, Part, charge
 from .requests import Epoch
+from ..theory.requests import TrackRequest
 
 if TYPE_CHECKING:       # the types of the annotations only: matplotlib loads with the first figure
     from astropy.units import Quantity
@@ -175,8 +177,7 @@ def _fastest_wobble_period(periods: tuple[float, float]) -> float:
 
 
 def default_step_days(kind: str, body: str | int | Body, start: Epoch, stop: Epoch, *,
-                      J_arcsec: float | Quantity | None = None, method: str = "auto",
-                      dataset: str = DEFAULT_DATASET) -> float:
+                      J_arcsec: float | Quantity | None = None, method: str = "auto") -> float:
     """The step (days) :func:`figure` uses when none is given.
 
     Tracks: about 2000 epochs over the span, but at least 100 per orbit (the nutation's shortest
@@ -190,15 +191,14 @@ def default_step_days(kind: str, body: str | int | Body, start: Epoch, stop: Epo
     kind : str
         One of :data:`KINDS` but ``obliquity-history`` (see :func:`default_step_years`).
     body : str, int or Body
-        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+        The body: a name (any case) or NAIF id of the current catalogue, or a :class:`~ephem.bodies.catalogue.Body`
+        (a catalogue's, with its dataset, or the user's own).
     start, stop : str, float or astropy.time.Time
         The span: ISO 8601 text (UTC unless a scale is named), a JD TDB or a ``Time``.
     J_arcsec : float or Quantity, optional
         ``free-wobble``: the wobble's amplitude, arcseconds (default the published one).
     method : str
         ``free-wobble``: "auto" (default), "series" or "numeric".
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
 
     Returns
     -------
@@ -208,7 +208,7 @@ def default_step_days(kind: str, body: str | int | Body, start: Epoch, stop: Epo
     _check_kind(kind)
     if kind == HISTORY_KIND:
         raise InvalidInputError("kind", f"{HISTORY_KIND} samples in Julian years: see default_step_years")
-    b = resolve_body(body, dataset)
+    b = resolve_body(body)
     t0, t1 = _span(start, stop)
     span = t1 - t0
     if kind == "free-wobble":
@@ -310,105 +310,53 @@ def _check_step_years(step_years, y0: float, y1: float) -> float:
 
 # --- entry points ---------------------------------------------------------------------------------
 
-def _history_data(body, start, stop, step_years, dataset: str, tolerance_mas, orbit_model, perturbers) -> dict:
-    y0, y1 = _year_span(start, stop)
-    step = default_step_years(y0, y1) if step_years is None else _check_step_years(step_years, y0, y1)
-    try:
-        return answers.history(body, y0, y1, step, dataset=dataset, tolerance_mas=tolerance_mas, orbit_model=orbit_model,
-                           perturbers=perturbers, max_samples=MAX_PLOT_POINTS)
-    except InvalidInputError as exc:     # the history's own names for the plot's start and stop
-        field = {"start_year": "start", "stop_year": "stop"}.get(exc.field)
-        if field is None:
-            raise
-        raise InvalidInputError(field, exc.reason, exc.body) from exc
+@dataclass(frozen=True, repr=False)
+class PlotRequest:
+    """One plot request, checked (:func:`plot_request`): what :func:`figure` draws and :func:`data` computes.
+
+    ``kind`` (:data:`KINDS`), ``body`` (its dataset with it), the span ``start``-``stop`` (JD TDB; for
+    ``obliquity-history`` Julian years from J2000.0 TDB) and the ``step`` (days; years for the history), the default
+    filled in. The track kinds carry their :class:`~ephem.theory.requests.TrackRequest` (``track``: the model asked
+    for, the axis, the free wobble, the perturbers); ``free-wobble`` its ``J_arcsec`` and ``method``;
+    ``obliquity-history`` its ``perturbers`` (canonical names), ``tolerance_mas`` and ``orbit_model`` as given,
+    which the history answer (:func:`ephem.answers.requests.history`) checks where it checks them for every
+    caller."""
+
+    kind: str
+    body: Body
+    start: float
+    stop: float
+    step: float
+    track: TrackRequest | None = None
+    J_arcsec: object = None
+    method: str = "auto"
+    perturbers: tuple[str, ...] | None = None
+    tolerance_mas: object = None
+    orbit_model: str | None = None
+
+    def __repr__(self) -> str:
+        """One short line: the kind, the body and its dataset, the span and the step (and the track's request)."""
+        unit = "yr" if self.kind == HISTORY_KIND else "d"
+        where = "" if self.kind == HISTORY_KIND else "JD "
+        text = (f"PlotRequest({self.kind} of {self.body.name} ({self.body.dataset}), {where}{self.start:.10g} to "
+                f"{self.stop:.10g} by {self.step:g} {unit}")
+        return text + ("" if self.track is None else f", {self.track!r}") + ")"
 
 
-def data(kind: str, body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity | None = None, *,
-         tolerance_mas: float | Quantity | None = None, model: str | None = None, orbit_model: str | None = None,
-         order: int | None = None, axis: str = "figure", free_wobble_phase_deg: float | Quantity | None = None,
-         free_wobble_J_arcsec: float | Quantity | None = None, free_wobble_epoch: Epoch | None = None,
-         J_arcsec: float | Quantity | None = None, method: str = "auto", step_years: float | Quantity | None = None,
-         dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None) -> dict:
-    """The arrays a plot draws, the answer :func:`figure` draws from.
+def plot_request(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
+                 step_days: float | Quantity | None = None, *,
+                 tolerance_mas: float | Quantity | None = None, model: str | None = None,
+                 orbit_model: str | None = None, order: int | None = None, axis: str = "figure",
+                 free_wobble_phase_deg: float | Quantity | None = None,
+                 free_wobble_J_arcsec: float | Quantity | None = None, free_wobble_epoch: Epoch | None = None,
+                 J_arcsec: float | Quantity | None = None, method: str = "auto",
+                 step_years: float | Quantity | None = None, dataset: str = DEFAULT_DATASET,
+                 perturbers: str | Sequence[str] | None = None) -> PlotRequest:
+    """A plot's request, its inputs checked once, before any work: what :func:`figure` draws.
 
-    :func:`ephem.answers.requests.track_arrays` for the track kinds, :func:`ephem.answers.requests.free_motion_arrays`
-    for ``free-wobble``, :func:`ephem.answers.requests.history` for ``obliquity-history``; an option of one kind given to
-    another is refused naming it.
-
-    Parameters
-    ----------
-    kind : str
-        One of :data:`KINDS`.
-    body : str, int or Body
-        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
-    start, stop : str, float or astropy.time.Time
-        As :func:`figure`'s (Julian years from J2000.0 TDB for ``obliquity-history``).
-    step_days : float or Quantity, optional
-        The step, days (None: :func:`default_step_days`).
-    tolerance_mas, model, orbit_model, order, axis : optional
-        As :func:`figure`'s.
-    free_wobble_phase_deg, free_wobble_J_arcsec, free_wobble_epoch : optional
-        As :func:`figure`'s (deg, arcsec, an epoch).
-    J_arcsec, method, step_years : optional
-        As :func:`figure`'s (arcsec; Julian years).
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
-    perturbers : str or sequence of str, optional
-        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
-        ("sun", ["Sun"], "moon,sun").
-
-    Returns
-    -------
-    TrackAnswer, FreeMotionAnswer or HistoryAnswer
-        The answer drawn, with numpy arrays and no calendar dates.
-    """
-    _check_kind(kind)
-    _check_options(kind, {"tolerance_mas": tolerance_mas, "model": model, "order": order,
-                          "J_arcsec": J_arcsec, "method": method, "step_days": step_days,
-                          "step_years": step_years, "orbit_model": orbit_model, "perturbers": perturbers,
-                          "axis": axis, "free_wobble_phase_deg": free_wobble_phase_deg,
-                          "free_wobble_J_arcsec": free_wobble_J_arcsec, "free_wobble_epoch": free_wobble_epoch})
-    if kind == HISTORY_KIND:
-        return _history_data(body, start, stop, step_years, dataset, tolerance_mas, orbit_model, perturbers)
-    b = resolve_body(body, dataset)
-    t0, _ = _span(start, stop)
-    if step_days is None:
-        step_days = default_step_days(kind, b, start, stop, J_arcsec=J_arcsec, method=method, dataset=dataset)
-    if kind == "free-wobble":
-        # validate the step first (a number, positive, within the cap), then refuse an aliasing one
-        answers.epoch_grid(start, stop, step_days, max_samples=MAX_PLOT_POINTS)
-        fast = _fastest_wobble_period(_wobble_periods(b, t0, J_arcsec, method))
-        if step_days > fast / _MIN_PER_CYCLE:
-            raise InvalidInputError("step_days", f"a step of {step_days:.6g} d aliases the free wobble, whose "
-                                    f"fastest cycle takes {period_text(fast)}: use at most "
-                                    f"{fast / _MIN_PER_CYCLE:.6g} d (or leave the step out for the default)", b.name)
-        ans = answers.free_motion_arrays(b, start, stop, step_days, J_arcsec=J_arcsec, method=method, dataset=dataset,
-                                     max_samples=MAX_PLOT_POINTS, time_scale=None)     # a figure reads jd_tdb
-    else:
-        ans = answers.track_arrays(b, start, stop, step_days, dataset=dataset, order=order,
-                               max_samples=MAX_PLOT_POINTS, tolerance_mas=tolerance_mas, model=model, axis=axis,
-                               free_wobble_phase_deg=free_wobble_phase_deg,
-                               free_wobble_J_arcsec=free_wobble_J_arcsec, free_wobble_epoch=free_wobble_epoch,
-                               time_scale=None)
-    if np.size(ans["jd_tdb"]) < 2:
-        raise InvalidInputError("step_days", f"a step of {step_days:.6g} d leaves a single epoch between start and "
-                                "stop; a plot needs at least two", b.name)
-    return ans
-
-
-def figure(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
-           step_days: float | Quantity | None = None, *,
-           tolerance_mas: float | Quantity | None = None, model: str | None = None, orbit_model: str | None = None,
-           order: int | None = None, axis: str = "figure", free_wobble_phase_deg: float | Quantity | None = None,
-           free_wobble_J_arcsec: float | Quantity | None = None, free_wobble_epoch: Epoch | None = None,
-           J_arcsec: float | Quantity | None = None, method: str = "auto", step_years: float | Quantity | None = None,
-           dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None) -> Figure:
-    """A :class:`matplotlib.figure.Figure` (Agg canvas, no pyplot state) of one kind of plot.
-
-    The module's docstring says what each kind draws, its units and the paper figure it reproduces. Track kinds are
-    drawn from :func:`ephem.answers.requests.track_arrays`'s track, ``free-wobble`` from
-    :func:`ephem.answers.requests.free_motion_arrays`, ``obliquity-history`` from :func:`ephem.answers.requests.history`;
-    an option of one kind given to another is refused naming it.
+    An option of one kind given to another is refused naming it; the span, the step (its default filled in,
+    :func:`default_step_days` or :func:`default_step_years`) and, for the track kinds, the track's every input
+    (:func:`ephem.answers.requests.track_request`, at most :data:`MAX_PLOT_POINTS` epochs) are checked here.
 
     Parameters
     ----------
@@ -458,8 +406,9 @@ def figure(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
 
     Returns
     -------
-    matplotlib.figure.Figure
-        The figure, axes in units (arcsec, mas or deg; years or days), free of pyplot's global state.
+    PlotRequest
+        The checked request (frozen): ``kind``, ``body``, the span and step, and the track's request, the wobble's or
+        the history's options.
 
     Raises
     ------
@@ -469,20 +418,118 @@ def figure(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
         For an unknown body.
     NotApplicableError
         Where no theory serves the body's track.
+    """
+    _check_kind(kind)
+    _check_options(kind, {"tolerance_mas": tolerance_mas, "model": model, "order": order,
+                          "J_arcsec": J_arcsec, "method": method, "step_days": step_days,
+                          "step_years": step_years, "orbit_model": orbit_model, "perturbers": perturbers,
+                          "axis": axis, "free_wobble_phase_deg": free_wobble_phase_deg,
+                          "free_wobble_J_arcsec": free_wobble_J_arcsec, "free_wobble_epoch": free_wobble_epoch})
+    if kind == HISTORY_KIND:
+        y0, y1 = _year_span(start, stop)
+        step = default_step_years(y0, y1) if step_years is None else _check_step_years(step_years, y0, y1)
+        b = resolve_body(body, dataset)
+        return PlotRequest(kind, b, y0, y1, step, perturbers=answers.request_perturbers(b, perturbers),
+                           tolerance_mas=tolerance_mas, orbit_model=orbit_model)
+    b = resolve_body(body, dataset)
+    t0, t1 = _span(start, stop)
+    if step_days is None:
+        step_days = default_step_days(kind, b, start, stop, J_arcsec=J_arcsec, method=method)
+    if kind == "free-wobble":
+        # validate the step first (a number, positive, within the cap), then refuse an aliasing one
+        answers.epoch_grid(start, stop, step_days, max_samples=MAX_PLOT_POINTS)
+        fast = _fastest_wobble_period(_wobble_periods(b, t0, J_arcsec, method))
+        if step_days > fast / _MIN_PER_CYCLE:
+            raise InvalidInputError("step_days", f"a step of {step_days:.6g} d aliases the free wobble, whose "
+                                    f"fastest cycle takes {period_text(fast)}: use at most "
+                                    f"{fast / _MIN_PER_CYCLE:.6g} d (or leave the step out for the default)", b.name)
+        return PlotRequest(kind, b, t0, t1, step_days, J_arcsec=J_arcsec, method=method)
+    track = answers.track_request(b, start, stop, step_days, tolerance_mas=tolerance_mas, model=model, order=order,
+                                  axis=axis, free_wobble_phase_deg=free_wobble_phase_deg,
+                                  free_wobble_J_arcsec=free_wobble_J_arcsec, free_wobble_epoch=free_wobble_epoch,
+                                  max_samples=MAX_PLOT_POINTS)
+    return PlotRequest(kind, b, t0, t1, step_days, track=track)
+
+
+def _history_data(request: PlotRequest) -> dict:
+    """The history a plot draws: :func:`ephem.answers.requests.history` over the request's years."""
+    try:
+        return answers.history(request.body, request.start, request.stop, request.step,
+                               tolerance_mas=request.tolerance_mas, orbit_model=request.orbit_model,
+                               perturbers=request.perturbers, max_samples=MAX_PLOT_POINTS)
+    except InvalidInputError as exc:     # the history's own names for the plot's start and stop
+        field = {"start_year": "start", "stop_year": "stop"}.get(exc.field)
+        if field is None:
+            raise
+        raise InvalidInputError(field, exc.reason, exc.body) from exc
+
+
+def data(request: PlotRequest) -> dict:
+    """The arrays a plot draws, the answer :func:`figure` draws from.
+
+    :func:`ephem.answers.requests.track_arrays_of` the request's track for the track kinds,
+    :func:`ephem.answers.requests.free_motion_arrays` for ``free-wobble``, :func:`ephem.answers.requests.history` for
+    ``obliquity-history``.
+
+    Parameters
+    ----------
+    request : PlotRequest
+        The plot's request, checked (:func:`plot_request`).
+
+    Returns
+    -------
+    TrackAnswer, FreeMotionAnswer or HistoryAnswer
+        The answer drawn, with numpy arrays and no calendar dates.
+    """
+    if request.kind == HISTORY_KIND:
+        return _history_data(request)
+    b = request.body
+    if request.kind == "free-wobble":
+        ans = answers.free_motion_arrays(b, request.start, request.stop, request.step, J_arcsec=request.J_arcsec,
+                                         method=request.method, max_samples=MAX_PLOT_POINTS,
+                                         time_scale=None)     # a figure reads jd_tdb
+    else:
+        ans = answers.track_arrays_of(request.track, time_scale=None)
+    if np.size(ans["jd_tdb"]) < 2:
+        raise InvalidInputError("step_days", f"a step of {request.step:.6g} d leaves a single epoch between start and "
+                                "stop; a plot needs at least two", b.name)
+    return ans
+
+
+def figure(request: PlotRequest) -> Figure:
+    """A :class:`matplotlib.figure.Figure` (Agg canvas, no pyplot state) of one plot request.
+
+    The module's docstring says what each kind draws, its units and the paper figure it reproduces. Track kinds are
+    drawn from the request's track (:func:`ephem.answers.requests.track_arrays_of`), ``free-wobble`` from
+    :func:`ephem.answers.requests.free_motion_arrays`, ``obliquity-history`` from
+    :func:`ephem.answers.requests.history`.
+
+    Parameters
+    ----------
+    request : PlotRequest
+        The plot's request, checked (:func:`plot_request`).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure, axes in units (arcsec, mas or deg; years or days), free of pyplot's global state.
+
+    Raises
+    ------
+    NotApplicableError
+        Where the track's own error estimate makes it meaningless.
     MissingExtraError
         Without matplotlib (the ``plots`` extra).
     """
-    ans = data(kind, body, start, stop, step_days, dataset=dataset, tolerance_mas=tolerance_mas, model=model,
-               order=order, J_arcsec=J_arcsec, method=method, step_years=step_years, orbit_model=orbit_model,
-               perturbers=perturbers, axis=axis, free_wobble_phase_deg=free_wobble_phase_deg,
-               free_wobble_J_arcsec=free_wobble_J_arcsec, free_wobble_epoch=free_wobble_epoch)
+    ans = data(request)
+    kind = request.kind
     fig = new_figure(kind)
     if kind == HISTORY_KIND:
         draw_obliquity_history(fig, ans)
     elif kind == "free-wobble":
         draw_free_wobble(fig, ans)
     else:
-        orbit_days = _orbital_period_days(resolve_body(body, dataset))
+        orbit_days = _orbital_period_days(request.body)
         {"precession": draw_precession, "nutation-loop": draw_nutation_loop, "obliquity": draw_obliquity}[kind](
             fig, ans, orbit_days)
     return fig
@@ -622,12 +669,12 @@ def render(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
     _check_fmt(fmt)
     _check_dpi(dpi)
     charge(drawing_cost(fmt, dpi))      # before the data: its checkpoint then admits the request with the drawing
-    return _written_once(figure(kind, body, start, stop, step_days, dataset=dataset, tolerance_mas=tolerance_mas,
-                                model=model,
-                                order=order, J_arcsec=J_arcsec, method=method, step_years=step_years,
-                                orbit_model=orbit_model, perturbers=perturbers, axis=axis,
-                                free_wobble_phase_deg=free_wobble_phase_deg, free_wobble_J_arcsec=free_wobble_J_arcsec,
-                                free_wobble_epoch=free_wobble_epoch), fmt, dpi)
+    request = plot_request(kind, body, start, stop, step_days, dataset=dataset, tolerance_mas=tolerance_mas,
+                           model=model, order=order, J_arcsec=J_arcsec, method=method, step_years=step_years,
+                           orbit_model=orbit_model, perturbers=perturbers, axis=axis,
+                           free_wobble_phase_deg=free_wobble_phase_deg, free_wobble_J_arcsec=free_wobble_J_arcsec,
+                           free_wobble_epoch=free_wobble_epoch)      # the request made, and checked, once
+    return _written_once(figure(request), fmt, dpi)
 
 
 def _written_once(fig, fmt: str, dpi: float) -> bytes:
@@ -844,7 +891,7 @@ def regenerate_doc_figures(out_dir: str | Path = "docs/figures", dpi: float = 11
             if stop is None:
                 start = to_jd_tdb(start, "start")
                 stop = start + _orbital_period_days(resolve_body(body, dataset))
-            fig = figure(kind, body, start, stop, dataset=dataset)
+            fig = figure(plot_request(kind, body, start, stop, dataset=dataset))
             for fmt in CONTENT_TYPES:
                 path = out / f"{stem}.{fmt}"
                 path.write_bytes(figure_bytes(fig, fmt=fmt, dpi=dpi))

@@ -76,12 +76,15 @@ def _rung(name) -> str | None:
     return name
 
 
-def _perturbers(b: Body, perturbers) -> tuple[str, ...]:
-    """The perturbers of a request: the catalogue's (None), or validated names (a list, or a comma-separated
-    string such as "moon,sun")."""
-    if perturbers is None:
+def request_perturbers(b: Body, given) -> tuple[str, ...]:
+    """The perturbers a request's ``perturbers`` keyword gives (``given``, as the caller wrote it): the body's own
+    (None; the catalogue's, which for the Earth add the Moon to the orbit's centre), or the names validated
+    (:func:`~ephem.bodies.catalogue.resolve_perturbers`: a list, or a comma-separated string such as "moon,sun").
+    Where a public answer or a request (:func:`track_request`, :func:`ephem.answers.figures.plot_request`) is made
+    from the keyword; below it the perturbers travel with the request or the family."""
+    if given is None:
         return b.perturbers
-    return resolve_perturbers(perturbers, b)
+    return resolve_perturbers(given, b)
 
 
 def warm_up(*, dataset: str = DEFAULT_DATASET) -> None:
@@ -221,7 +224,7 @@ def precession(body: str | int | Body, *, tolerance_mas: float | Quantity | None
     """
     start = time.perf_counter()
     b = resolve_body(body, dataset)
-    per = _perturbers(b, perturbers)
+    per = request_perturbers(b, perturbers)
     tol, order = _tolerance(tolerance_mas), check_order(order)
     ans = render.with_perturbers(render.precession(theory_for(b, per).precession(order, tol, start)), b, per)
     return PrecessionAnswer(with_units(ans) if quantities else ans)
@@ -309,7 +312,7 @@ def nutation(body: str | int | Body, *, tolerance_mas: float | Quantity | None =
     """
     start = time.perf_counter()
     b = resolve_body(body, dataset)
-    per = _perturbers(b, perturbers)
+    per = request_perturbers(b, perturbers)
     tol, order = _tolerance(tolerance_mas), check_order(order)
     if not isinstance(nonrigid, bool):
         raise InvalidInputError("nonrigid", f"must be true or false, got {nonrigid!r}", b.name)
@@ -440,7 +443,7 @@ def history(body: str | int | Body, start_year: float, stop_year: float, step_ye
         When the request's predicted cost exceeds the budget in force (a host's, as the service's).
     """
     b = resolve_body(body, dataset)
-    per = _perturbers(b, perturbers)
+    per = request_perturbers(b, perturbers)
     result = spin_axis_history(b, theory_for(b, per), start_year, stop_year, step_years, _tolerance(tolerance_mas),
                                orbit_model, max_samples, progress)
     return HistoryAnswer(render.with_perturbers(render.history(result), b, per))
@@ -584,7 +587,7 @@ def track_request(body: str | int | Body, start: Epoch, stop: Epoch, step_days: 
     check_axis(axis, b.name)
     if tol is not None and (order is not None or name is not None):
         raise InvalidInputError("tolerance_mas", "give a tolerance, or a model and order, not both")
-    per = _perturbers(b, perturbers)
+    per = request_perturbers(b, perturbers)
     theory = theory_for(b, per, axis)
     if name is not None and name not in theory.models:
         refuse_model(theory, name)
@@ -686,6 +689,21 @@ def track_arrays(body: str | int | Body, start: Epoch, stop: Epoch, step_days: f
                             free_wobble_J_arcsec=free_wobble_J_arcsec, free_wobble_epoch=free_wobble_epoch,
                             rotation_phase_deg=rotation_phase_deg, dataset=dataset, perturbers=perturbers,
                             max_samples=max_samples)
+    return track_arrays_of(request, time_scale=time_scale, output=output, begin=begin,
+                           rotation_phase_deg=in_unit(rotation_phase_deg, "deg", "rotation_phase_deg"))
+
+
+def track_arrays_of(request: TrackRequest, *, time_scale: str | None = "utc", output: str = "json",
+                    begin: float | None = None, rotation_phase_deg: float | None = None) -> TrackAnswer:
+    """The track of a checked request (:func:`track_request`), as :func:`track_arrays` computes it.
+
+    What a caller holding the request computes (a figure's track: :mod:`ephem.answers.figures`), so the request is
+    made, and its inputs checked, once. ``time_scale`` (None: no calendar dates) and ``output`` as
+    :func:`track_arrays`'s; ``begin`` the ``time.perf_counter()`` the answer's ``cost_ms`` counts from (default: now);
+    ``rotation_phase_deg`` the rotation phase as the caller gave it, degrees, which the answer reports (the request
+    holds it in radians).
+    """
+    begin = time.perf_counter() if begin is None else begin
     b, per, wobble = request.body, request.perturbers, request.wobble
     t0, step, count = request.epochs.start, request.epochs.step, request.epochs.count
     tol, name, order = request.tolerance, request.choice.model, request.choice.order
@@ -693,7 +711,7 @@ def track_arrays(body: str | int | Body, start: Epoch, stop: Epoch, step_days: f
     if output not in cost.SERIALISATIONS:
         raise InvalidInputError("format", f"must be one of {', '.join(cost.SERIALISATIONS)}, got {output!r}", b.name)
     theory = theory_for(b, per, request.axis).for_request(request)
-    phase = in_unit(rotation_phase_deg, "deg", "rotation_phase_deg")     # the answer reports it as given
+    phase = rotation_phase_deg      # the answer reports it as given
     asked = request.asked
     t_end = request.epochs.stop
     output = cost.Cost((cost.serialised(count, len(TRACK_KEYS) + (time_scale is not None), output),)
@@ -739,7 +757,7 @@ def track_arrays(body: str | int | Body, start: Epoch, stop: Epoch, step_days: f
         with_sigma = sum(1 for s in input_sigmas(b).values() if s)
         charge(cost.pole_uncertainty(b, with_sigma, count, order), b.name)
         pole_sigma = pole_uncertainty(b, tr.jd_tdb, order)
-    ans = render.track(b, tr, info, chosen, axis, wobble if with_wobble else None, sigma, pole_sigma,
+    ans = render.track(b, tr, info, chosen, request.axis, wobble if with_wobble else None, sigma, pole_sigma,
                        theory.track_cut_mas, scale, time_scale)
     return TrackAnswer(render.with_perturbers(ans, b, per))
 
@@ -801,7 +819,7 @@ def track_models(body: str | int | Body, start: Epoch, stop: Epoch, step_days: f
     t0, step, count = epoch_grid(start, stop, step_days, max_samples=max_samples)
     tol = _tolerance(tolerance_mas)
     check_axis(axis, b.name)
-    per = _perturbers(b, perturbers)
+    per = request_perturbers(b, perturbers)
     theory = theory_for(b, per, axis)
     t_end = t0 + step * (count - 1)
     charge(theory.choice_cost(t0, t_end, count), b.name)

@@ -24,6 +24,16 @@ REPO = Path(__file__).resolve().parents[2]
 START, STOP, STEP = "2020-01-01", "2030-01-01", 5.0   # a decade of Vesta, 5-day step: 731 epochs
 
 
+def figure(*args, **options):
+    """The figure of a plot request made from render_plot's arguments (plots.plot_request: its inputs checked)."""
+    return plots.figure(plots.plot_request(*args, **options))
+
+
+def plot_data(*args, **options):
+    """The arrays drawn for a plot request made from render_plot's arguments."""
+    return plots.data(plots.plot_request(*args, **options))
+
+
 def julian_epoch(jd):
     return 2000.0 + (np.asarray(jd) - 2451545.0) / 365.25
 
@@ -45,7 +55,7 @@ def close(a, b):
 # --- the plotted data are the API's arrays --------------------------------------------------------
 
 def test_precession_lines_are_the_track(vesta_track):
-    fig = plots.figure("precession", "Vesta", START, STOP, STEP)
+    fig = figure("precession", "Vesta", START, STOP, STEP)
     top, bottom = fig.axes
     psi, dpsi = vesta_track["psi_arcsec"], vesta_track["delta_psi_arcsec"]
     assert np.max(np.abs(psi)) < 36000.0 and "[arcsec]" in top.get_ylabel()   # below 10°: arcsec
@@ -61,7 +71,7 @@ def test_precession_lines_are_the_track(vesta_track):
 def test_precession_switches_to_degrees_when_psi_is_large():
     # Itokawa precesses by about -460"/yr (Petit et al. 2014): ψ is past 10° by 2100
     ans = api.track_arrays("Itokawa", "2100-01-01", "2102-01-01", 10.0)
-    fig = plots.figure("precession", "Itokawa", "2100-01-01", "2102-01-01", 10.0)
+    fig = figure("precession", "Itokawa", "2100-01-01", "2102-01-01", 10.0)
     assert np.min(ans["psi_arcsec"]) < -36000.0
     assert "[deg]" in fig.axes[0].get_ylabel()
     close(fig.axes[0].lines[0].get_ydata(), ans["psi_arcsec"] / 3600.0)
@@ -70,7 +80,7 @@ def test_precession_switches_to_degrees_when_psi_is_large():
 
 def test_short_span_time_axis_is_days_since_start():
     ans = api.track_arrays("Earth", "2020-01-01", "2020-03-01", 1.0)
-    fig = plots.figure("precession", "Earth", "2020-01-01", "2020-03-01", 1.0)
+    fig = figure("precession", "Earth", "2020-01-01", "2020-03-01", 1.0)
     x = fig.axes[1].lines[0].get_xdata()
     close(x, ans["jd_tdb"] - ans["jd_tdb"][0])
     assert x[0] == 0.0 and x[-1] == pytest.approx(60.0)
@@ -78,7 +88,7 @@ def test_short_span_time_axis_is_days_since_start():
 
 
 def test_nutation_loop_lines_are_the_track(vesta_track):
-    fig = plots.figure("nutation-loop", "Vesta", START, STOP, STEP)
+    fig = figure("nutation-loop", "Vesta", START, STOP, STEP)
     (ax,) = fig.axes
     x = vesta_track["delta_psi_arcsec"] * np.sin(np.radians(vesta_track["obliquity_deg"]))
     close(ax.lines[0].get_xdata(), x)
@@ -90,7 +100,7 @@ def test_nutation_loop_lines_are_the_track(vesta_track):
 def test_nutation_loop_in_mas_when_small():
     # Ceres: the loop is under 0.3" (Petit et al. 2014 Tables 7-8)
     ans = api.track_arrays("Ceres", START, STOP, STEP)
-    fig = plots.figure("nutation-loop", "Ceres", START, STOP, STEP)
+    fig = figure("nutation-loop", "Ceres", START, STOP, STEP)
     ax = fig.axes[0]
     assert "[mas]" in ax.get_xlabel() and "[mas]" in ax.get_ylabel()
     close(ax.lines[0].get_ydata(), ans["delta_epsilon_arcsec"] * 1000.0)
@@ -98,7 +108,7 @@ def test_nutation_loop_in_mas_when_small():
 
 def test_nutation_loop_says_when_the_scales_differ():
     # Eros: Δε ~30" but Δψ sin ε < 1" (ε ≈ 89°): drawn to separate scales, and labelled so
-    fig = plots.figure("nutation-loop", "Eros", START, STOP, STEP)
+    fig = figure("nutation-loop", "Eros", START, STOP, STEP)
     ax = fig.axes[0]
     assert ax.get_aspect() != 1.0
     assert "unequal scales" in ax.get_xlabel()
@@ -106,7 +116,7 @@ def test_nutation_loop_says_when_the_scales_differ():
 
 
 def test_obliquity_offsets_from_the_labelled_mean(vesta_track):
-    fig = plots.figure("obliquity", "Vesta", START, STOP, STEP)
+    fig = figure("obliquity", "Vesta", START, STOP, STEP)
     ax = fig.axes[0]
     eps = vesta_track["obliquity_deg"]
     ref = round(float(np.mean(eps)), 6)
@@ -124,7 +134,7 @@ def test_obliquity_reference_only_for_small_ranges():
 
 def test_free_wobble_lines_are_the_free_motion():
     ans = api.free_motion_arrays("Earth", "2030-01-01", "2030-01-11", 0.05)
-    fig = plots.figure("free-wobble", "Earth", "2030-01-01", "2030-01-11", 0.05)
+    fig = figure("free-wobble", "Earth", "2030-01-01", "2030-01-11", 0.05)
     space, body = fig.axes
     close(space.lines[0].get_xdata(), ans["figure_axis_offset_x_arcsec"])
     close(space.lines[0].get_ydata(), ans["figure_axis_offset_y_arcsec"])
@@ -137,8 +147,8 @@ def test_free_wobble_lines_are_the_free_motion():
 
 
 def test_dataset_reaches_the_data_and_the_title():
-    cur = plots.figure("nutation-loop", "Itokawa", START, STOP, 10.0)
-    old = plots.figure("nutation-loop", "Itokawa", START, STOP, 10.0, dataset="petit2014")
+    cur = figure("nutation-loop", "Itokawa", START, STOP, 10.0)
+    old = figure("nutation-loop", "Itokawa", START, STOP, 10.0, dataset="petit2014")
     ans = api.track_arrays("Itokawa", START, STOP, 10.0, dataset="petit2014")
     close(old.axes[0].lines[0].get_ydata(), ans["delta_epsilon_arcsec"])
     # the two catalogues differ (obliquity 178.7° against 157.3°): so must the loops
@@ -154,9 +164,9 @@ def test_every_axis_label_has_a_unit_and_the_title_names_body_and_dataset(kind):
     body, stop, step = ("Earth", "2030-01-03", 0.02) if kind == "free-wobble" else ("Vesta", STOP, STEP)
     if kind == plots.HISTORY_KIND:      # start/stop in Julian years from J2000.0, the step in years
         body, stop = "Ceres", 1e5
-        fig = plots.figure(kind, body, -2e5, stop, step_years=1000.0)
+        fig = figure(kind, body, -2e5, stop, step_years=1000.0)
     else:
-        fig = plots.figure(kind, body, START if kind != "free-wobble" else "2030-01-01", stop, step)
+        fig = figure(kind, body, START if kind != "free-wobble" else "2030-01-01", stop, step)
     assert all(ax.get_ylabel() for ax in fig.axes)                 # every panel: a y label
     assert any(ax.get_xlabel() for ax in fig.axes)                 # shared time axes: one x label
     for text in labels(fig):
@@ -170,7 +180,7 @@ def test_every_axis_label_has_a_unit_and_the_title_names_body_and_dataset(kind):
 
 
 def test_title_names_the_model_rung():
-    fig = plots.figure("precession", "Vesta", START, STOP, 30.0, model="series", order=4)
+    fig = figure("precession", "Vesta", START, STOP, 30.0, model="series", order=4)
     assert "model: series N=4" in fig.get_suptitle()
 
 
@@ -218,7 +228,7 @@ def test_default_track_step_resolves_every_orbit_and_respects_the_cap():
     # three millennia of the Earth: 100 steps per orbit would be 300 000 epochs; the cap wins
     long = plots.default_step_days("precession", "Earth", "1000-01-01", "4000-01-01")
     assert api.epoch_grid("1000-01-01", "4000-01-01", long)[2] <= plots.MAX_PLOT_POINTS
-    fig = plots.figure("precession", "Itokawa", START, STOP)        # no step given
+    fig = figure("precession", "Itokawa", START, STOP)        # no step given
     assert 2 < len(fig.axes[0].lines[0].get_xdata()) <= plots.MAX_PLOT_POINTS
 
 
@@ -236,20 +246,20 @@ def field_of(excinfo) -> str:
 
 
 @pytest.mark.parametrize("call, field", [
-    (lambda: plots.figure("histogram", "Vesta", START, STOP, STEP), "kind"),
+    (lambda: figure("histogram", "Vesta", START, STOP, STEP), "kind"),
     (lambda: plots.render("precession", "Vesta", START, STOP, STEP, fmt="jpeg"), "fmt"),
     (lambda: plots.render("precession", "Vesta", START, STOP, STEP, dpi=5000), "dpi"),
-    (lambda: plots.figure("precession", "Vesta", START, STOP, 0.001), "step_days"),      # 3.65 M points
-    (lambda: plots.figure("precession", "Vesta", START, STOP, -1.0), "step_days"),
-    (lambda: plots.figure("precession", "Vesta", STOP, START, STEP), "stop"),
-    (lambda: plots.figure("precession", "Vesta", START, START, STEP), "stop"),
-    (lambda: plots.figure("precession", "Vesta", "2020-01-01", "2020-01-05", 10.0), "step_days"),
-    (lambda: plots.figure("precession", "Vesta", "not a date", STOP, STEP), "start"),
-    (lambda: plots.figure("obliquity", "Vesta", START, STOP, STEP, J_arcsec=1.0), "J_arcsec"),
-    (lambda: plots.figure("free-wobble", "Earth", START, STOP, None, tolerance_mas=1.0), "tolerance_mas"),
-    (lambda: plots.figure("free-wobble", "Earth", "2030-01-01", "2031-01-01", 1.0), "step_days"),   # aliasing
-    (lambda: plots.figure("free-wobble", "Earth", "2000-01-01", "2100-01-01"), "stop"),           # too long
-    (lambda: plots.figure("free-wobble", "Vesta", "2030-01-01", "2030-01-02"), "J_arcsec"),
+    (lambda: figure("precession", "Vesta", START, STOP, 0.001), "step_days"),      # 3.65 M points
+    (lambda: figure("precession", "Vesta", START, STOP, -1.0), "step_days"),
+    (lambda: figure("precession", "Vesta", STOP, START, STEP), "stop"),
+    (lambda: figure("precession", "Vesta", START, START, STEP), "stop"),
+    (lambda: figure("precession", "Vesta", "2020-01-01", "2020-01-05", 10.0), "step_days"),
+    (lambda: figure("precession", "Vesta", "not a date", STOP, STEP), "start"),
+    (lambda: figure("obliquity", "Vesta", START, STOP, STEP, J_arcsec=1.0), "J_arcsec"),
+    (lambda: figure("free-wobble", "Earth", START, STOP, None, tolerance_mas=1.0), "tolerance_mas"),
+    (lambda: figure("free-wobble", "Earth", "2030-01-01", "2031-01-01", 1.0), "step_days"),   # aliasing
+    (lambda: figure("free-wobble", "Earth", "2000-01-01", "2100-01-01"), "stop"),           # too long
+    (lambda: figure("free-wobble", "Vesta", "2030-01-01", "2030-01-02"), "J_arcsec"),
 ])
 def test_bad_input_names_the_field(call, field):
     with pytest.raises(InvalidInputError) as excinfo:
@@ -259,20 +269,20 @@ def test_bad_input_names_the_field(call, field):
 
 def test_unknown_body():
     with pytest.raises(UnknownBodyError, match="Pluto"):
-        plots.figure("precession", "Pluto", START, STOP, STEP)
+        figure("precession", "Pluto", START, STOP, STEP)
 
 
 def test_free_wobble_without_published_J_needs_one():
     with pytest.raises(InvalidInputError, match="give the wobble amplitude J"):
-        plots.figure("free-wobble", "Vesta", "2030-01-01", "2030-01-02")
-    fig = plots.figure("free-wobble", "Vesta", "2030-01-01", "2030-01-02", J_arcsec=10.0)
+        figure("free-wobble", "Vesta", "2030-01-01", "2030-01-02")
+    fig = figure("free-wobble", "Vesta", "2030-01-01", "2030-01-02", J_arcsec=10.0)
     assert "J₀ = 10″" in fig.get_suptitle()
     assert np.max(np.hypot(fig.axes[0].lines[0].get_xdata(), fig.axes[0].lines[0].get_ydata())) == \
         pytest.approx(10.0, rel=1e-6)
 
 
 def test_synchronous_rotator_track_is_drawn():
-    fig = plots.figure("precession", "Moon", START, STOP, STEP)
+    fig = figure("precession", "Moon", START, STOP, STEP)
     assert "Moon" in fig.get_suptitle()
 
 
@@ -285,7 +295,7 @@ def test_regenerate_doc_figures_writes_png_and_svg(tmp_path, monkeypatch):
     assert (tmp_path / "loop.png").read_bytes().startswith(PNG_SIGNATURE)
     ET.parse(tmp_path / "loop.svg")
     # stop=None is one orbit: the loop closes on itself
-    y = plots.figure("nutation-loop", "Ceres", START,
+    y = figure("nutation-loop", "Ceres", START,
                      api.epoch_grid(START, START, 1.0)[0] + plots._orbital_period_days(api.resolve_body("Ceres")),
                      ).axes[0].lines[0].get_ydata()
     assert abs(y[-1] - y[0]) < 0.01 * np.ptp(y)
@@ -343,7 +353,7 @@ def ceres_history():
 
 @pytest.fixture(scope="module")
 def ceres_history_figure():
-    return plots.figure(HISTORY, "Ceres", Y0, Y1, step_years=YSTEP)
+    return figure(HISTORY, "Ceres", Y0, Y1, step_years=YSTEP)
 
 
 def test_history_figure_draws_the_history_answer(ceres_history, ceres_history_figure):
@@ -386,7 +396,7 @@ def test_history_hatches_where_it_stops_meaning_anything(monkeypatch):
     monkeypatch.setattr(answers, "history", lambda *a, **k: fake)
     assert plot_drawing.meaningless_spans(fake) == [pytest.approx((-10_000.0, -4000.0), abs=1e-9),
                                              pytest.approx((2000.0, 5000.0), abs=1e-9)]
-    fig = plots.figure(HISTORY, "Mars", -10_000, 5_000, step_years=500)
+    fig = figure(HISTORY, "Mars", -10_000, 5_000, step_years=500)
     top, middle, bottom = fig.axes
     for ax in (top, middle, bottom):                              # both hatched spans on every panel
         spans = sorted(tuple(np.round(p.get_extents().transformed(ax.transData.inverted()).intervalx, 6))
@@ -411,9 +421,9 @@ def test_history_default_step_is_a_nice_number():
 
 
 def test_history_takes_numeric_strings_and_a_default_step(ceres_history):
-    ans = plots.data(HISTORY, "Ceres", "-2e5", " 1e5 ", step_years="1000")
+    ans = plot_data(HISTORY, "Ceres", "-2e5", " 1e5 ", step_years="1000")
     np.testing.assert_array_equal(ans["year"], ceres_history["year"])
-    fig = plots.figure(HISTORY, "Ceres", -1e4, 0)                 # default step: 100 years
+    fig = figure(HISTORY, "Ceres", -1e4, 0)                 # default step: 100 years
     assert np.diff(fig.axes[0].lines[0].get_xdata())[0] == pytest.approx(100.0 / 1e3)
 
 
@@ -428,24 +438,24 @@ def test_history_png_and_svg(ceres_history_figure):
 
 
 @pytest.mark.parametrize("call, field", [
-    (lambda: plots.figure(HISTORY, "Ceres", "three million years ago", 0), "start"),
-    (lambda: plots.figure(HISTORY, "Ceres", "2020-01-01", 0), "start"),          # a date: not for this kind
-    (lambda: plots.figure(HISTORY, "Ceres", -1e5, "soon"), "stop"),
-    (lambda: plots.figure(HISTORY, "Ceres", float("nan"), 0), "start"),
-    (lambda: plots.figure(HISTORY, "Ceres", 1e5, -1e5), "stop"),                  # stop before start
-    (lambda: plots.figure(HISTORY, "Ceres", 1e5, 1e5), "stop"),                   # no span
-    (lambda: plots.figure(HISTORY, "Ceres", -2e7, 1e6), "stop"),                  # beyond 20 Myr
-    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, step_years=0), "step_years"),
-    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, step_years=-5), "step_years"),
-    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, step_years=0.5), "step_years"),     # 200 001 epochs
-    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, step_years=2e5), "step_years"),     # a single epoch
-    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, step_years="x"), "step_years"),
-    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, 10.0), "step_days"),
-    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, model="hansen"), "model"),
-    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, J_arcsec=1.0), "J_arcsec"),
-    (lambda: plots.figure(HISTORY, "Ceres", -1e5, 0, orbit_model="kepler"), "orbit_model"),
-    (lambda: plots.figure("precession", "Vesta", START, STOP, STEP, step_years=10.0), "step_years"),
-    (lambda: plots.figure("obliquity", "Vesta", START, STOP, STEP, orbit_model="nbody"), "orbit_model"),
+    (lambda: figure(HISTORY, "Ceres", "three million years ago", 0), "start"),
+    (lambda: figure(HISTORY, "Ceres", "2020-01-01", 0), "start"),          # a date: not for this kind
+    (lambda: figure(HISTORY, "Ceres", -1e5, "soon"), "stop"),
+    (lambda: figure(HISTORY, "Ceres", float("nan"), 0), "start"),
+    (lambda: figure(HISTORY, "Ceres", 1e5, -1e5), "stop"),                  # stop before start
+    (lambda: figure(HISTORY, "Ceres", 1e5, 1e5), "stop"),                   # no span
+    (lambda: figure(HISTORY, "Ceres", -2e7, 1e6), "stop"),                  # beyond 20 Myr
+    (lambda: figure(HISTORY, "Ceres", -1e5, 0, step_years=0), "step_years"),
+    (lambda: figure(HISTORY, "Ceres", -1e5, 0, step_years=-5), "step_years"),
+    (lambda: figure(HISTORY, "Ceres", -1e5, 0, step_years=0.5), "step_years"),     # 200 001 epochs
+    (lambda: figure(HISTORY, "Ceres", -1e5, 0, step_years=2e5), "step_years"),     # a single epoch
+    (lambda: figure(HISTORY, "Ceres", -1e5, 0, step_years="x"), "step_years"),
+    (lambda: figure(HISTORY, "Ceres", -1e5, 0, 10.0), "step_days"),
+    (lambda: figure(HISTORY, "Ceres", -1e5, 0, model="hansen"), "model"),
+    (lambda: figure(HISTORY, "Ceres", -1e5, 0, J_arcsec=1.0), "J_arcsec"),
+    (lambda: figure(HISTORY, "Ceres", -1e5, 0, orbit_model="kepler"), "orbit_model"),
+    (lambda: figure("precession", "Vesta", START, STOP, STEP, step_years=10.0), "step_years"),
+    (lambda: figure("obliquity", "Vesta", START, STOP, STEP, orbit_model="nbody"), "orbit_model"),
     (lambda: plots.default_step_days(HISTORY, "Ceres", -1e5, 0), "kind"),
 ])
 def test_history_bad_input_names_the_field(call, field):
@@ -456,9 +466,9 @@ def test_history_bad_input_names_the_field(call, field):
 
 def test_history_not_applicable_and_unknown_body():
     with pytest.raises(NotApplicableError, match="Itokawa"):
-        plots.figure(HISTORY, "Itokawa", Y0, Y1, step_years=YSTEP)
+        figure(HISTORY, "Itokawa", Y0, Y1, step_years=YSTEP)
     with pytest.raises(UnknownBodyError):
-        plots.figure(HISTORY, "Pluto", Y0, Y1, step_years=YSTEP)
+        figure(HISTORY, "Pluto", Y0, Y1, step_years=YSTEP)
 
 
 def test_history_cli_takes_negative_years(tmp_path):

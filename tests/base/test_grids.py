@@ -112,16 +112,16 @@ def test_a_kernel_over_a_span_its_fit_cannot_resolve_is_refused_naming_stop():
 
 def test_a_plot_over_a_few_spacings_draws_them_and_a_shorter_one_is_refused_naming_stop():
     """The default step of a plot is never finer than the dates resolve; its time axis is in µs, not 0.0000000005 d."""
-    from ephem.answers.figures import data
+    from ephem.answers.figures import data, plot_request
     from ephem.exports.plot_drawing import time_axis
 
-    ans = data("precession", "ceres", J2000, J2000 + 10 * ULP_AT_J2000)
+    ans = data(plot_request("precession", "ceres", J2000, J2000 + 10 * ULP_AT_J2000))
     assert ans["jd_tdb"].size >= 2 and np.all(np.diff(ans["jd_tdb"]) > 0.0)
     x, label = time_axis(ans["jd_tdb"])
     assert label.startswith("µs since") and ans["jd_tdb"][-1] - J2000 <= 10 * ULP_AT_J2000
     assert x[-1] == pytest.approx((ans["jd_tdb"][-1] - J2000) * 86400e6, rel=1e-9) and x[-1] > 100.0
     with pytest.raises(InvalidInputError) as err:
-        data("precession", "ceres", J2000, J2000 + 2 * ULP_AT_J2000)
+        plot_request("precession", "ceres", J2000, J2000 + 2 * ULP_AT_J2000)
     assert err.value.field == "stop"
 
 

@@ -44,10 +44,6 @@ EXCEPTIONS: dict[str, dict[str, str]] = {
         "ephem/sun/bounds.py:_series_coefficients": "a model object's coefficients to an e-order",
         "ephem/sun/bounds.py:truncation_bound": "a model object's truncation bound at an e-order",
         "ephem/sun/bounds.py:_truncation_parts": "the parts of that bound",
-        # the plot's keywords as api.render_plot takes them, passed on to the track answer that makes the request
-        # (their signatures are the public answers' own, keyword for keyword)
-        "ephem/answers/figures.py:data": "api.render_plot's keywords, passed on to the track answer",
-        "ephem/answers/figures.py:figure": "api.render_plot's keywords, passed on to data()",
     },
     "dataset": {
         # the catalogue itself: where a dataset's name becomes its bodies
@@ -60,11 +56,7 @@ EXCEPTIONS: dict[str, dict[str, str]] = {
         "ephem/bodies/datasets.py:dataset_file": "where a dataset's file is",
         # exported by ephem.api (api.model_for) and taking a body's name: the name is looked up in the dataset
         "ephem/forced/precession_nutation.py:model_for": "public (api.model_for): a name looked up in a dataset",
-        # the public answers' keywords passed on as they are: where the request is made from them
-        "ephem/answers/figures.py:data": "api.render_plot's dataset, passed on to the answer it draws",
-        "ephem/answers/figures.py:figure": "api.render_plot's dataset, passed on to data()",
-        "ephem/answers/figures.py:_history_data": "api.render_plot's dataset, passed on to the history answer",
-        "ephem/answers/figures.py:default_step_days": "a body's name looked up for the plot's default step",
+        # the host's start-up and the CLI's track --models, where the request is made from the keywords
         "ephem/answers/requests.py:warm_up": "the host's start-up: the dataset whose caches it fills",
         "ephem/cli/one_body.py:_track_models": "the track command's --models branch: the command's options",
     },
@@ -80,11 +72,6 @@ EXCEPTIONS: dict[str, dict[str, str]] = {
         "ephem/theory/interface.py:SpinAxisTheory.serves": "the family's test, declared",
         "ephem/families.py:theory_for": "the family serving a body under its perturbers: where the family is made",
         "ephem/theory/interface.py:SpinAxisTheory.__init__": "the family made for a request holds its perturbers",
-        # the public answers' keyword: validated where the request is made
-        "ephem/answers/requests.py:_perturbers": "the answers' perturbers keyword validated into canonical names",
-        "ephem/answers/figures.py:data": "api.render_plot's perturbers, passed on to the answer it draws",
-        "ephem/answers/figures.py:figure": "api.render_plot's perturbers, passed on to data()",
-        "ephem/answers/figures.py:_history_data": "api.render_plot's perturbers, passed on to the history answer",
         "ephem/cli/one_body.py:_track_models": "the track command's --models branch: the command's options",
         # the numeric layer: the forcing summed over the named bodies, each a key of the series' caches
         "ephem/earth/lunisolar.py:orbital_spectrum": "the FFT of the named bodies' orbital functions (disk cache)",
@@ -102,7 +89,7 @@ EXCEPTIONS: dict[str, dict[str, str]] = {
 }
 
 #: the most exceptions of each kind: a new one is a decision, made here with its reason above
-LIMITS = {"order+model": 6, "dataset": 14, "perturbers": 26}
+LIMITS = {"order+model": 4, "dataset": 10, "perturbers": 22}
 
 
 def _functions(tree: ast.AST, prefix: str = ""):
