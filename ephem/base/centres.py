@@ -77,6 +77,9 @@ _LOCK = threading.Lock()
 _CENTRES: dict[str, Centre] = {}
 _ADMISSIONS: list[Admission] = []
 _LOADED = False
+#: every centre this process has known, by its name in lower case -> (GM, radius, Hill radius): the caches of per-body
+#: work are keyed by the body, not by its centre's values, so a centre taken out may come back only as it was
+_EVER: dict[str, tuple[float, float, float]] = {}
 
 
 def data_file() -> Path:
@@ -157,6 +160,11 @@ def _add(centres: list[Centre], admissions: list[Admission]) -> tuple[str, ...]:
     for c in centres:
         if c.name.lower() in known:
             raise ValueError(f"{c.origin}: centre {c.name!r} is known already ({_CENTRES.get(c.name, c).origin})")
+        before = _EVER.get(c.name.lower())
+        if before is not None and before != (c.gm_m3_s2, c.radius_au, c.hill_au):
+            raise ValueError(f"{c.origin}: centre {c.name!r} was known to this process with other values (GM, "
+                             "radius or Hill radius); answers computed with those may be cached: give it another "
+                             "name, or start a new process")
         known.add(c.name.lower())
     names = {c.lower(): c for c in [*_CENTRES, *(c.name for c in centres)]}
     for a in admissions:
@@ -169,6 +177,7 @@ def _add(centres: list[Centre], admissions: list[Admission]) -> tuple[str, ...]:
                                       perturber=perturbers.setdefault(a.perturber.lower(), a.perturber))
                   for a in admissions]
     _CENTRES.update({c.name: c for c in centres})
+    _EVER.update({c.name.lower(): (c.gm_m3_s2, c.radius_au, c.hill_au) for c in centres})
     _ADMISSIONS.extend(admissions)
     return tuple(dict.fromkeys([*(c.name for c in centres), *(a.perturber for a in admissions)]))
 
@@ -211,7 +220,8 @@ def register_centres(path: str | os.PathLike) -> tuple[str, ...]:
     -------
     tuple of str
         The names of the centres and perturbers it added (:func:`unregister_centres` takes the file out again). A
-        centre known already, a torque about no known centre or a malformed value raises ValueError naming the
+        centre known already (or known earlier in this process with other values: its answers may be cached),
+        a torque about no known centre or a malformed value raises ValueError naming the
         file and the field, and adds nothing.
     """
     path = Path(path)

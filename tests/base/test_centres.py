@@ -63,7 +63,7 @@ def test_the_moon_torques_the_earth_alone():
 
 GOOD = """
 [[centre]]
-name = "Toyprimary"
+name = "Toyunit"
 gm = { value = 35.0, unit = "km3 / s2", source = "toy" }
 radius = { value = 400.0, unit = "m", source = "toy" }
 hill = { value = 100.0, unit = "km", source = "toy" }
@@ -79,9 +79,9 @@ def test_a_file_of_the_same_form_converts_its_units():
 
 
 @pytest.mark.parametrize("text, field", [
-    (GOOD.replace('unit = "km3 / s2"', 'unit = "kg"'), "centre 'Toyprimary'.gm: unit 'kg'"),
-    (GOOD.replace(', source = "toy" }\nradius', ' }\nradius'), "centre 'Toyprimary'.gm: expected a table"),
-    (GOOD.replace("value = 35.0", "value = -35.0"), "centre 'Toyprimary'.gm: the value must be a positive"),
+    (GOOD.replace('unit = "km3 / s2"', 'unit = "kg"'), "centre 'Toyunit'.gm: unit 'kg'"),
+    (GOOD.replace(', source = "toy" }\nradius', ' }\nradius'), "centre 'Toyunit'.gm: expected a table"),
+    (GOOD.replace("value = 35.0", "value = -35.0"), "centre 'Toyunit'.gm: the value must be a positive"),
     (GOOD.replace("value = 100.0", "value = 0.1"), "Hill radius"),
     (GOOD + '[[perturber]]\nname = "Toymoon"\ntheory = "t"\ntorques = [{ body = "X" }]\n', "perturber 'Toymoon'.torques"),
     (GOOD + '[[perturber]]\nname = "Toymoon"\ntorques = [{ center = "Sun" }]\n', "perturber 'Toymoon': say which"),
@@ -96,7 +96,7 @@ def test_a_malformed_file_is_refused_naming_its_field(text, field):
 def test_a_refused_registration_adds_nothing(tmp_path):
     before = (dict(centres.GM_CENTER), tuple(centres.KNOWN_PERTURBERS))
     clash = tmp_path / "clash.toml"
-    clash.write_text(GOOD + GOOD.replace("Toyprimary", "Sun"), encoding="utf-8")
+    clash.write_text(GOOD + GOOD.replace("Toyunit", "Sun"), encoding="utf-8")
     with pytest.raises(ValueError, match="'Sun' is known already"):
         centres.register_centres(clash)
     nowhere = tmp_path / "nowhere.toml"
@@ -112,14 +112,31 @@ def test_a_refused_registration_adds_nothing(tmp_path):
 
 def test_a_name_in_another_case_is_the_known_one(tmp_path):
     path = tmp_path / "cased.toml"
-    path.write_text(GOOD + '[[perturber]]\nname = "sun"\ntheory = "t"\ntorques = [{ center = "toyprimary" }]\n'
-                    '[[perturber]]\nname = "MOON"\ntheory = "t"\ntorques = [{ center = "toyprimary" }]\n',
+    path.write_text(GOOD + '[[perturber]]\nname = "sun"\ntheory = "t"\ntorques = [{ center = "toyunit" }]\n'
+                    '[[perturber]]\nname = "MOON"\ntheory = "t"\ntorques = [{ center = "toyunit" }]\n',
                     encoding="utf-8")
-    assert centres.register_centres(path) == ("Toyprimary", "Sun", "Moon")
+    assert centres.register_centres(path) == ("Toyunit", "Sun", "Moon")
     try:
-        assert tuple(centres.KNOWN_PERTURBERS) == ("Sun", "Earth", "Toyprimary", "Moon")
+        assert tuple(centres.KNOWN_PERTURBERS) == ("Sun", "Earth", "Toyunit", "Moon")
         assert {(a.perturber, a.center) for a in centres.admissions() if a.origin == str(path)} == {
-            ("Sun", "Toyprimary"), ("Moon", "Toyprimary")}
+            ("Sun", "Toyunit"), ("Moon", "Toyunit")}
     finally:
         centres.unregister_centres(path)
     assert tuple(centres.KNOWN_PERTURBERS) == ("Sun", "Earth", "Moon")
+
+
+def test_a_centre_taken_out_comes_back_only_with_its_values(tmp_path):
+    """The per-body caches are keyed by the body, not by its centre's GM: a centre re-registered with other values
+    would be answered from what its first values computed, so it is refused, naming the centre."""
+    first, same, other = (tmp_path / f"{n}.toml" for n in ("first", "same", "other"))
+    first.write_text(GOOD.replace("Toyunit", "Toyreturning"), encoding="utf-8")
+    same.write_text(GOOD.replace("Toyunit", "Toyreturning"), encoding="utf-8")
+    other.write_text(GOOD.replace("Toyunit", "Toyreturning").replace("value = 35.0", "value = 36.0"),
+                     encoding="utf-8")
+    centres.register_centres(first)
+    centres.unregister_centres(first)
+    with pytest.raises(ValueError, match="'Toyreturning' was known to this process with other values"):
+        centres.register_centres(other)
+    assert "Toyreturning" not in centres.GM_CENTER
+    assert centres.register_centres(same) == ("Toyreturning",)
+    centres.unregister_centres(same)
