@@ -37,6 +37,7 @@ _NAMES = {
     "track": (".answers.requests", "track"),
     "track_arrays": (".answers.requests", "track_arrays"),
     "track_models": (".answers.requests", "track_models"),
+    "track_models_of": (".answers.requests", "track_models_of"),
     "track_request": (".answers.requests", "track_request"),
     "TrackRequest": (".theory.requests", "TrackRequest"),
     "Answer": (".answers.results", "Answer"),
@@ -127,8 +128,8 @@ __all__ = [
     # what they return: dicts (the bodies a list) with .to_qtable(), .to_ecsv(), .to_dict() and a short repr
     "Answer", "TrackAnswer", "PrecessionAnswer", "NutationAnswer", "HistoryAnswer", "FreeMotionAnswer", "ModelsAnswer",
     "BodyRecord", "BodiesAnswer", "BatchAnswer", "PrecessionNutationAnswer",
-    # a track request checked and kept as one frozen object (what track computes)
-    "track_request", "TrackRequest",
+    # a track request checked and kept as one frozen object (what track computes; track_models_of compares its models)
+    "track_request", "TrackRequest", "track_models_of",
     # the numeric model of a body
     "model_for", "MAX_ORDER",
     # bodies

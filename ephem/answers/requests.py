@@ -820,10 +820,45 @@ def track_models(body: str | int | Body, start: Epoch, stop: Epoch, step_days: f
     tol = _tolerance(tolerance_mas)
     check_axis(axis, b.name)
     per = request_perturbers(b, perturbers)
-    theory = theory_for(b, per, axis)
-    t_end = t0 + step * (count - 1)
+    return track_models_of(TrackRequest(b, per, axis, Epochs.grid(t0, step, count), tol))
+
+
+def track_models_of(request: TrackRequest) -> ModelsAnswer:
+    """:func:`track_models` of a request made and kept (:func:`track_request`): every model compared over its epochs.
+
+    The request names no model: its body, perturbers, axis, epochs and tolerance are compared as
+    :func:`track_models` compares its keywords' (a request asking for a model, an e-order, the free wobble or the
+    rotation phase is refused naming the field: they choose one track, which a comparison of every model does not
+    compute). What the CLI's ``ephem track --models`` computes from the request its options make.
+
+    Parameters
+    ----------
+    request : TrackRequest
+        The checked request (:func:`ephem.api.track_request`), without a model, e-order, wobble or rotation phase.
+
+    Returns
+    -------
+    ModelsAnswer
+        As :func:`track_models`'s.
+
+    Raises
+    ------
+    InvalidInputError
+        Naming the field the request gave that a comparison takes none of.
+    NotApplicableError
+        Where no theory serves the request (with the reason).
+    OverBudgetError
+        When the request's predicted cost exceeds the budget in force (a host's, as the service's).
+    """
+    b, tol, epochs = request.body, request.tolerance, request.epochs
+    for field, given in (("model", request.choice.model), ("order", request.choice.order),
+                         ("free_wobble_phase_deg", request.wobble), ("rotation_phase_deg", request.rotation_phase)):
+        if given is not None:
+            raise InvalidInputError(field, "applies to one track, not to the comparison of every model", b.name)
+    theory = theory_for(b, request.perturbers, request.axis)
+    t0, t_end, count = epochs.start, epochs.stop, epochs.count
     charge(theory.choice_cost(t0, t_end, count), b.name)
-    estimates = theory.estimates(t0 + step * np.arange(count))      # every one: the comparison is asked for
+    estimates = theory.estimates(epochs.jd_tdb)      # every one: the comparison is asked for
     costs = theory.plan_costs(estimates, t0, t_end, count)           # the prices a track's choice ranks
     choice = None
     if tol is not None:

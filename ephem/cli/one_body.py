@@ -192,11 +192,17 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
         if fmt is Format.ecsv:
             fail(api.InvalidInputError("format", "ecsv writes the track's table: the comparison of the models "
                                        "prints as json, csv or table"), api.NotApplicableError)
-        _track_models(name, start, stop, step_days, dataset, fmt, tolerance_mas, axis, perturbers, out,
-                      {"order": order, "model": model, "free_wobble_phase_deg": wobble_phase,
-                       "free_wobble_J_arcsec": wobble_j, "free_wobble_epoch": wobble_epoch,
-                       "rotation_phase_deg": rotation_phase, "time_scale": None if time_scale is TimeScale.utc
-                       else time_scale.value})
+        try:
+            chart = _models_chart(out, {"order": order, "model": model, "free_wobble_phase_deg": wobble_phase,
+                                        "free_wobble_J_arcsec": wobble_j, "free_wobble_epoch": wobble_epoch,
+                                        "rotation_phase_deg": rotation_phase,
+                                        "time_scale": None if time_scale is TimeScale.utc else time_scale.value})
+            # the request, checked once where every track's is (ephem.api.track_request), its models then compared
+            request = api.track_request(name, start, stop, step_days, tolerance_mas=tolerance_mas, axis=axis,
+                                        dataset=dataset, perturbers=perturbers)
+        except api.EphemError as exc:
+            fail(exc, api.NotApplicableError)
+        _track_models(request, fmt, out, chart)
         return
     if out is not None:
         fail(api.InvalidInputError("out", "writes the chart of the models' comparison: give --models too"),
@@ -226,24 +232,30 @@ def track(name: str = typer.Argument(..., metavar="BODY"),
     emit(ans, fmt, rows, _ecsv(api, ans))
 
 
-def _track_models(name: str, start: str, stop: str, step_days: float, dataset: str, fmt: Format,
-                  tolerance_mas: Optional[float], axis: str, perturbers: Optional[str], out: Optional[str],
-                  track_only: dict) -> None:
-    """``ephem track --models``: every model over these epochs (ephem.api.track_models), printed, and with
-    ``out`` its work-precision chart written (ephem.api.models_chart, as the suffix says)."""
+def _models_chart(out: Optional[str], track_only: dict) -> Optional[str]:
+    """``ephem track --models``' own checks, before the request is made: no option of the track alone
+    (``track_only``, the command's), and ``out`` a chart's file; the chart's format (its suffix), or None."""
+    from .. import api
+
+    given = [k for k, v in track_only.items() if v is not None]
+    if given:
+        raise api.InvalidInputError(given[0], "applies to the track, not to --models (the comparison takes "
+                                    "--tolerance-mas, --axis, --perturbers and --dataset)")
+    chart = None if out is None else Path(out).suffix.lower().lstrip(".")
+    if chart is not None and chart not in api.PLOT_CONTENT_TYPES:
+        raise api.InvalidInputError("out", f"the chart's file must end in .svg or .png, got {Path(out).name!r}")
+    return chart
+
+
+def _track_models(request, fmt: Format, out: Optional[str], chart: Optional[str]) -> None:
+    """``ephem track --models``: every model over the request's epochs (ephem.api.track_models_of, the request an
+    ``ephem.api.TrackRequest``), printed, and with ``out`` its work-precision chart written (ephem.api.models_chart,
+    as the suffix ``chart`` says)."""
     from .. import api
 
     image = None
     try:
-        given = [k for k, v in track_only.items() if v is not None]
-        if given:
-            raise api.InvalidInputError(given[0], "applies to the track, not to --models (the comparison takes "
-                                        "--tolerance-mas, --axis, --perturbers and --dataset)")
-        chart = None if out is None else Path(out).suffix.lower().lstrip(".")
-        if chart is not None and chart not in api.PLOT_CONTENT_TYPES:
-            raise api.InvalidInputError("out", f"the chart's file must end in .svg or .png, got {Path(out).name!r}")
-        ans = api.track_models(name, start, stop, step_days, dataset=dataset, tolerance_mas=tolerance_mas, axis=axis,
-                               perturbers=perturbers)
+        ans = api.track_models_of(request)
         if chart is not None:
             image = api.models_chart(ans, fmt=chart)
     except api.EphemError as exc:

@@ -56,9 +56,8 @@ EXCEPTIONS: dict[str, dict[str, str]] = {
         "ephem/bodies/datasets.py:dataset_file": "where a dataset's file is",
         # exported by ephem.api (api.model_for) and taking a body's name: the name is looked up in the dataset
         "ephem/forced/precession_nutation.py:model_for": "public (api.model_for): a name looked up in a dataset",
-        # the host's start-up and the CLI's track --models, where the request is made from the keywords
+        # the host's start-up: where the caches are filled for a catalogue
         "ephem/answers/requests.py:warm_up": "the host's start-up: the dataset whose caches it fills",
-        "ephem/cli/one_body.py:_track_models": "the track command's --models branch: the command's options",
     },
     "perturbers": {
         # the families' test of a body under its perturbers, which chooses the family (ephem.families)
@@ -72,7 +71,6 @@ EXCEPTIONS: dict[str, dict[str, str]] = {
         "ephem/theory/interface.py:SpinAxisTheory.serves": "the family's test, declared",
         "ephem/families.py:theory_for": "the family serving a body under its perturbers: where the family is made",
         "ephem/theory/interface.py:SpinAxisTheory.__init__": "the family made for a request holds its perturbers",
-        "ephem/cli/one_body.py:_track_models": "the track command's --models branch: the command's options",
         # the numeric layer: the forcing summed over the named bodies, each a key of the series' caches
         "ephem/earth/lunisolar.py:orbital_spectrum": "the FFT of the named bodies' orbital functions (disk cache)",
         "ephem/earth/lunisolar.py:_spectrum_arrays": "its arrays",
@@ -89,7 +87,7 @@ EXCEPTIONS: dict[str, dict[str, str]] = {
 }
 
 #: the most exceptions of each kind: a new one is a decision, made here with its reason above
-LIMITS = {"order+model": 4, "dataset": 10, "perturbers": 22}
+LIMITS = {"order+model": 4, "dataset": 9, "perturbers": 21}
 
 
 def _functions(tree: ast.AST, prefix: str = ""):

@@ -19,9 +19,9 @@ import pytest
 
 from ephem import api
 
-#: the names a public function may take by position: what it is about and its epochs
+#: the names a public function may take by position: what it is about and its epochs (or the request holding them)
 POSITIONAL = {"kind", "body", "bodies", "rows", "answer", "path", "input_path", "out_path",
-              "start", "stop", "step_days", "start_year", "stop_year", "step_years"}
+              "start", "stop", "step_days", "start_year", "stop_year", "step_years", "request"}
 
 
 def public_functions() -> list[tuple[str, object]]:

@@ -58,3 +58,18 @@ def test_the_request_prints_on_one_short_line_not_the_whole_body():
     assert "Eros (current)" in named and "1 epoch JD 2451545" in named and "model series order 4" in named
     assert "rotation phase 28.6479 deg" in named and "tolerance" not in named
     assert "model default" in repr(api.track_request("Earth", "2040-01-01", "2040-01-02", 1.0))
+
+
+def test_a_kept_request_compares_the_models_its_keywords_compare():
+    """api.track_models_of(request) is api.track_models of the same keywords (ephem track --models computes it from
+    the request its options make); a request naming one track's model or rotation phase is refused naming it."""
+    from ephem import api
+    from ephem.base.errors import InvalidInputError
+    keywords = dict(tolerance_mas=50.0, perturbers="sun", dataset="petit2014")
+    kept = api.track_models_of(api.track_request("earth", "2040-01-01", "2040-03-01", 0.5, **keywords))
+    assert kept == api.track_models("earth", "2040-01-01", "2040-03-01", 0.5, **keywords)
+    assert kept["epochs"] == 121 and len(kept["models"]) >= 2
+    for field, options in (("model", dict(model="hansen")), ("rotation_phase_deg", dict(rotation_phase_deg=10.0))):
+        with pytest.raises(InvalidInputError) as err:
+            api.track_models_of(api.track_request("eros", "2040-01-01", "2040-01-02", 1.0, **options))
+        assert err.value.field == field
