@@ -335,11 +335,14 @@ class PlotRequest:
     orbit_model: str | None = None
 
     def __repr__(self) -> str:
-        """One short line: the kind, the body and its dataset, the span and the step (and the track's request)."""
+        """One short line: the kind, the body and its dataset, the span and the step (and the track's request, or the
+        history's perturbers); not the Body's every value."""
         unit = "yr" if self.kind == HISTORY_KIND else "d"
         where = "" if self.kind == HISTORY_KIND else "JD "
         text = (f"PlotRequest({self.kind} of {self.body.name} ({self.body.dataset}), {where}{self.start:.10g} to "
                 f"{self.stop:.10g} by {self.step:g} {unit}")
+        if self.perturbers is not None:
+            text += f", under {', '.join(self.perturbers)}"
         return text + ("" if self.track is None else f", {self.track!r}") + ")"
 
 

@@ -534,3 +534,21 @@ def test_history_route_not_applicable_and_unknown(web):
     r = web.get("/v1/bodies/itokawa/history.png?start_year=-1e5&stop_year=0&step_years=1000")
     assert r.status_code == 422 and r.json()["type"].endswith("not-applicable")
     assert web.get("/v1/bodies/pluto/history.png?start_year=-1e5&stop_year=0").status_code == 404
+
+
+def test_a_plot_request_is_checked_once_and_prints_on_one_line():
+    """api.plot_request makes the request render_plot draws: the track kinds carry their TrackRequest (the track's
+    checks), the history its canonical perturbers; its repr is one short line, not the Body's every value."""
+    req = api.plot_request("precession", "Vesta", START, STOP, STEP, dataset="petit2014", model="series", order=4)
+    assert isinstance(req, api.PlotRequest) and isinstance(req.track, api.TrackRequest)
+    assert req.body.dataset == "petit2014" and req.track.epochs.count == 731 and req.track.choice.order == 4
+    assert req.step == STEP and req.start == req.track.epochs.start
+    text = repr(req)
+    assert text.startswith("PlotRequest(precession of Vesta (petit2014), JD ") and "731 epochs" in text
+    assert len(text) < 300 and "values" not in text
+    history = api.plot_request(HISTORY, "Earth", -1e4, 0, perturbers="sun")
+    assert history.perturbers == ("Sun",) and history.track is None and history.step == 100.0
+    assert repr(history) == "PlotRequest(obliquity-history of Earth (current), -10000 to 0 by 100 yr, under Sun)"
+    with pytest.raises(InvalidInputError) as err:      # refused when made, before any work
+        api.plot_request("precession", "Vesta", START, STOP, STEP, model="hansen", order=3)
+    assert err.value.field == "order"
