@@ -24,14 +24,17 @@
   in compiled code that never reaches a check) ends the worker process, which the supervisor
   (gunicorn) replaces. It is armed only under a supervisor (``EPHEM_SUPERVISED``), never in a bare
   uvicorn or the tests' client, where it would take the service down.
-- And the worker's memory, bounded by ``worker_rss_mb`` (``EPHEM_WORKER_RSS_MB``). What a worker keeps after its
+- And the worker's memory, bounded by ``worker_rss_mb`` (``EPHEM_WORKER_RSS_MB``, 400 MB), which the allowance for
+  the requests in flight and the per-body caches follow (:func:`service.settings.derived_memory`): the worker's own
+  memory, its caches, its requests' allowance and a measured slack sum within it, and a request charged above
+  :data:`TRIM_AFTER_REQUEST_MB` returns its freed memory to the system as it ends. What a worker keeps after its
   requests is its code, the per-body caches (``EPHEM_MODEL_CACHE_MB``, bounded in bytes) and what the C allocator
   holds freed but not returned to the system: glibc gives each thread of the worker's pool an arena of its own (up
   to 8 per core) and keeps freed blocks in each, so a worker grew to 500-800 MB over 2,000-8,000 varied requests
   while its caches held 64 MB (benchmarks/RESULTS_memory_soak.md). Under the supervisor the worker keeps two
   arenas and maps large blocks on their own (:data:`ALLOCATOR`), the watchdog hands the freed memory back
-  (``malloc_trim``, ~1 ms) about once a second while requests come, and a worker still above the bound when it
-  goes idle is recycled gracefully (SIGTERM: its requests finish, the supervisor starts a fresh one), one worker
+  (``malloc_trim``, ~1 ms) about once a second while requests come, and a worker still above what it may keep
+  (``Settings.worker_keep_mb``: the bound less the allowance and the slack) when it goes idle is recycled gracefully (SIGTERM: its requests finish, the supervisor starts a fresh one), one worker
   of the service at a time.
 """
 from __future__ import annotations
@@ -61,17 +64,32 @@ from .settings import Settings
 log = logging.getLogger("ephem.service")
 
 
+#: a request whose charged peak memory (``Budget.peak_memory_mb``) is above this, MB, hands the allocator's freed memory
+#: back to the system as it ends (``malloc_trim``), before its share of the worker's allowance is given back; the
+#: smaller ones leave it to the watchdog's trim, once a second. The arithmetic: the trim costs 0.3-1.6 ms in a worker
+#: of ~300 MB; a request predicted at 4 MB touched at least ~2 MB of fresh pages (the predictions are upper values,
+#: about twice the measured), ~0.8 ms at the ~0.4 ms per MB measured here, and the soak's requests above it (tracks
+#: with a tolerance, figures) take 28-500 ms at their median, so the trim adds ~0.2-4 % to those alone. What a
+#: request below it frees is under 4 MB and reused by the next request before the once-a-second trim: with up to 4
+#: requests at once, under 16 MB of the slack service.settings.RSS_SLACK_MB (32 MB) stays unreturned
+TRIM_AFTER_REQUEST_MB = 4.0
+
+
 class RequestBudget:
     """ASGI middleware: every HTTP request runs under the service's budget (a context variable, which
-    the thread pool running the routes inherits), and is known to the watchdog while it runs."""
+    the thread pool running the routes inherits), and is known to the watchdog while it runs. A request whose charged
+    peak memory was above ``trim_after_mb`` returns the allocator's freed memory to the system as it ends, before its
+    share of the worker's allowance is given back (the next request admitted finds it returned)."""
 
     def __init__(self, app, settings: Settings, watchdog: "Watchdog | None" = None,
-                 heavy: "HeavySlots | None" = None, memory: "MemoryAllowance | None" = None):
+                 heavy: "HeavySlots | None" = None, memory: "MemoryAllowance | None" = None,
+                 trim_after_mb: float | None = TRIM_AFTER_REQUEST_MB):
         self.app = app
         self.settings = settings
         self.watchdog = watchdog
         self.heavy = heavy
         self.memory = memory
+        self.trim_after_mb = trim_after_mb
 
     async def __call__(self, scope, receive, send):
         if scope["type"] != "http":
@@ -79,10 +97,13 @@ class RequestBudget:
         s = self.settings
         token = self.watchdog.enter(scope) if self.watchdog is not None else None
         admission = _Admission(self.heavy, self.memory) if self.heavy is not None or self.memory is not None else None
+        b = None
         try:
-            with budget(s.max_request_cpu_s, s.max_request_memory_mb, s.request_deadline_s, admit=admission):
+            with budget(s.max_request_cpu_s, s.max_request_memory_mb, s.request_deadline_s, admit=admission) as b:
                 await self.app(scope, receive, send)     # a streamed answer holds its slot until sent
         finally:
+            if b is not None and self.trim_after_mb is not None and b.peak_memory_mb > self.trim_after_mb:
+                release_free_memory()   # ~1 ms (ctypes lets the interpreter's lock go meanwhile): the work is freed
             if admission is not None:
                 admission.release()
             if token is not None:
@@ -285,7 +306,8 @@ class Watchdog:
         if self.recycle is not None and not self.recycle.take():
             return "wait"
         self.recycling = True
-        log.warning("worker %d holds %.0f MB after its requests (limit %.0f MB, EPHEM_WORKER_RSS_MB): restarting it",
+        log.warning("worker %d holds %.0f MB after its requests (it may keep %.0f MB: EPHEM_WORKER_RSS_MB less its "
+                    "requests' allowance and the slack): restarting it",
                     os.getpid(), rss, self.rss_limit_mb)
         os.kill(os.getpid(), signal.SIGTERM)     # graceful: the supervisor starts a fresh worker
         return "recycle"
@@ -406,7 +428,7 @@ def install(app: FastAPI, settings: Settings) -> None:
     watchdog = None
     if settings.supervised:
         tune_allocator()                # before the worker's thread pool starts (its threads are made on demand)
-        watchdog = Watchdog(settings.request_deadline_s, settings.hard_kill_after_s, settings.worker_rss_mb,
+        watchdog = Watchdog(settings.request_deadline_s, settings.hard_kill_after_s, settings.worker_keep_mb,
                             recycle=RecycleTurns(settings.lock_dir))
     settings.check()                    # the memory settings' coherence: a clear error at start-up, not a 503 later
     heavy = HeavySlots(settings.heavy_request_cpu_s, settings.heavy_slots, settings.lock_dir)

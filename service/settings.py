@@ -21,8 +21,8 @@ def _int_env(name: str, default: int, minimum: int = 1) -> int:
     return value
 
 
-def _float_env(name: str, default: float, zero: bool = False) -> float:
-    """A number from the environment: positive and finite (``zero``: or 0)."""
+def _float_env(name: str, default: float | None, zero: bool = False) -> float | None:
+    """A number from the environment: positive and finite (``zero``: or 0); ``default`` when unset."""
     raw = os.environ.get(name)
     if raw is None or raw.strip() == "":
         return default
@@ -59,6 +59,38 @@ def _url_env(name: str) -> str | None:
     return raw.rstrip("/")
 
 
+#: what a worker keeps after its requests besides its per-body caches, MB: code, tables, the libraries imported on
+#: first use (matplotlib, scipy), Python's pools and the allocator's kept pages. Measured idle through the memory
+#: soak's 4,000-8,000 requests: 288-320 MB with the caches full at 64 MB, so 224-256 MB; the largest is taken
+KEPT_FIXED_MB = 256.0
+#: what a worker's RSS held beyond that, its caches and its requests' predicted peaks, MB: the memory the requests
+#: below service.guards.TRIM_AFTER_REQUEST_MB (4 MB) freed and the once-a-second trim has not yet returned (less
+#: than 4 MB each and reused by the next, up to 4 requests at once: < 16 MB), the requests with no checkpoint, which
+#: are not counted (measured under 3.3 MB each), and the allocator's fragments; see benchmarks/RESULTS_memory_soak.md
+RSS_SLACK_MB = 32.0
+#: the share of the room (the bound less KEPT_FIXED_MB and RSS_SLACK_MB) the requests in flight get by default; the
+#: per-body caches get the rest: 80 and 32 MB of 112 at 400
+REQUESTS_SHARE = 5.0 / 7.0
+
+
+def derived_memory(worker_rss_mb: float, worker_request_memory_mb: float | None = None,
+                   model_cache_mb: float | None = None) -> tuple[float, float]:
+    """The worker's allowance for its requests in flight and its per-body caches' budget, MB, each as set or, unset,
+    from the bound ``worker_rss_mb``: the room ``worker_rss_mb - KEPT_FIXED_MB - RSS_SLACK_MB``, REQUESTS_SHARE of it
+    to the requests and the rest to the caches (at 400 MB: 112, so 80 and 32); one set, the other is the rest of the
+    room. May be negative for a bound too small: :meth:`Settings.check` says so."""
+    room = worker_rss_mb - KEPT_FIXED_MB - RSS_SLACK_MB
+    # rounded down to 0.1 MB, so that the derived parts never sum above the room
+    if worker_request_memory_mb is not None:
+        requests = worker_request_memory_mb
+    elif model_cache_mb is not None:
+        requests = math.floor(10.0 * (room - model_cache_mb)) / 10.0
+    else:
+        requests = math.floor(10.0 * room * REQUESTS_SHARE) / 10.0
+    caches = model_cache_mb if model_cache_mb is not None else math.floor(10.0 * (room - requests)) / 10.0
+    return requests, caches
+
+
 @dataclass(frozen=True)
 class Settings:
     #: largest number of epochs in one track (422 beyond): 10^5 is 12 MB of JSON, ~0.05 s of one core; at
@@ -82,14 +114,14 @@ class Settings:
     #: At most worker_request_memory_mb (checked at start-up, :meth:`check`): a request over what a worker may hold
     #: for all its requests could never run; unset, it is worker_request_memory_mb (was 500 MB, which let one
     #: request alone take a worker past its 400-MB bound)
-    max_request_memory_mb: float = 80.0
+    max_request_memory_mb: float | None = None
     #: the predicted peak memory of the requests running at once in one worker, summed, MB (service/guards.py,
     #: MemoryAllowance): a request that does not fit waits up to memory_wait_s for others to finish, then gets 503
-    #: busy with Retry-After. The default keeps a worker's RSS under 400 MB: what it keeps after its requests,
-    #: ~300-320 MB through the memory soak's 8,000 requests, plus 80 MB in flight, 320 + 80 = 400 (the predictions
-    #: are upper values, about twice what the requests take: benchmarks/RESULTS_memory_soak.md). Raise it with the
-    #: RSS a worker may reach (worker_rss_mb is what it may keep; the two together are the bound under load)
-    worker_request_memory_mb: float = 80.0
+    #: busy with Retry-After. Unset, it follows worker_rss_mb: 5/7 of what the bound leaves beyond the worker's own
+    #: memory and the slack, ``(worker_rss_mb - KEPT_FIXED_MB - RSS_SLACK_MB) * 5/7``, 80 MB at 400
+    #: (:func:`derived_memory`; the predictions are upper values, about twice what the requests take:
+    #: benchmarks/RESULTS_memory_soak.md)
+    worker_request_memory_mb: float | None = None
     #: how long a request waits for the worker's memory before 503 busy, seconds (a request holds a thread of the
     #: worker's pool while it waits; one on the event loop never waits)
     memory_wait_s: float = 2.0
@@ -107,13 +139,16 @@ class Settings:
     hard_kill_after_s: float = 10.0
     #: each worker's address-space ceiling, MB (set by service/gunicorn_conf.py; MemoryError beyond: 503)
     worker_memory_mb: float = 3072.0
-    #: the resident memory (RSS) a worker may keep after its requests, MB: above it the watchdog returns the
-    #: allocator's freed memory to the system and, if the worker still holds more, recycles it gracefully, one
-    #: worker at a time (under a supervisor only; service/guards.py). What a worker keeps is ~150 MB of code and
-    #: tables, the per-body caches (model_cache_mb) and the figures' library once used: keep this above ~300 MB +
-    #: model_cache_mb - 64, or the workers recycle again and again. Through the memory soak's 8,000 requests a worker
-    #: kept 300-320 MB, where it grew to 500-770 MB before (benchmarks/RESULTS_memory_soak.md)
-    worker_rss_mb: float = 384.0
+    #: the bound on a worker's resident memory (RSS), MB, at any time, its requests in flight included: the one
+    #: memory setting, which the others follow unless set (:func:`derived_memory`): a worker keeps its own memory
+    #: (KEPT_FIXED_MB) and its per-body caches (model_cache_mb), its requests in flight hold at most
+    #: worker_request_memory_mb by their predictions, and RSS_SLACK_MB is what the samples held beyond these; the
+    #: four sum within this (checked at start-up, :meth:`check`). What a worker may keep after its requests is the
+    #: rest, :attr:`worker_keep_mb` (288 MB at 400): above it, when idle, the watchdog returns the allocator's freed
+    #: memory to the system and, if the worker still holds more, recycles it gracefully, one worker at a time (under a
+    #: supervisor only; service/guards.py). Before the bound: a worker grew to 500-770 MB over 8,000 requests
+    #: (benchmarks/RESULTS_memory_soak.md)
+    worker_rss_mb: float = 400.0
     #: the requests one keep-alive connection carries: the last is answered with ``Connection: close`` and the
     #: connection closed after it (make serve's httptools protocol, service/server.py), so that the client reconnects
     #: and the kernel spreads the connections over the workers again
@@ -129,8 +164,10 @@ class Settings:
     max_batch_rows: int = 200
     #: the bytes a worker's per-body caches (models, theories, the ladder's tables, uncertainties: ephem.base.memo) hold
     #: together, MB: the bodies are the clients', and one eccentric body's entries weigh megabytes (a cache
-    #: counted in entries let 512 of them walk a worker to its recycle threshold)
-    model_cache_mb: float = 64.0
+    #: counted in entries let 512 of them walk a worker to its recycle threshold). Unset, it follows worker_rss_mb:
+    #: what the bound leaves beyond the worker's own memory, the slack and worker_request_memory_mb, 32 MB at 400
+    #: (it was 64 MB, with the 400-MB bound then unmet under load)
+    model_cache_mb: float | None = None
     #: how long a client or a shared cache (a reverse proxy, a CDN) may keep a GET answer without asking again,
     #: seconds: ``Cache-Control: public, max-age=N`` (0: ``no-cache``, every reuse revalidated with the ETag, a
     #: 304 when unchanged; service/caching.py). An answer is a pure function of the request, the version and
@@ -140,6 +177,20 @@ class Settings:
     #: to the thread pool and back (~0.1 ms of CPU each way); beyond, the thread pool (service/offload.py). The
     #: loop is held at most about this long by one request. 0: every request in the thread pool
     inline_cpu_ms: float = 5.0
+
+    def __post_init__(self):
+        # the memory settings left unset follow the bound (worker_rss_mb): one setting the others derive from
+        requests, caches = derived_memory(self.worker_rss_mb, self.worker_request_memory_mb, self.model_cache_mb)
+        object.__setattr__(self, "worker_request_memory_mb", requests)
+        object.__setattr__(self, "model_cache_mb", caches)
+        if self.max_request_memory_mb is None:
+            object.__setattr__(self, "max_request_memory_mb", requests)
+
+    @property
+    def worker_keep_mb(self) -> float:
+        """What a worker may keep after its requests, MB: the bound less its requests' allowance and the slack (288 MB
+        at the defaults); the watchdog recycles an idle worker above it (service/guards.py, Watchdog)."""
+        return self.worker_rss_mb - self.worker_request_memory_mb - RSS_SLACK_MB
 
     def check(self) -> "Settings":
         """The settings that must agree, checked at start-up (:func:`service.guards.install`): raises ``SystemExit``
@@ -152,11 +203,23 @@ class Settings:
         if self.worker_request_memory_mb >= self.worker_memory_mb:
             raise SystemExit(f"EPHEM_WORKER_REQUEST_MEMORY_MB ({self.worker_request_memory_mb:g} MB) must be below the "
                              f"worker's address-space ceiling EPHEM_WORKER_MEMORY_MB ({self.worker_memory_mb:g} MB)")
+        if self.worker_request_memory_mb <= 0 or self.model_cache_mb <= 0 or (
+                KEPT_FIXED_MB + self.model_cache_mb + self.worker_request_memory_mb + RSS_SLACK_MB
+                > self.worker_rss_mb * (1.0 + 1e-12)):
+            raise SystemExit(f"EPHEM_WORKER_RSS_MB ({self.worker_rss_mb:g} MB, the bound on a worker's resident memory) "
+                             f"must hold what a worker keeps ({KEPT_FIXED_MB:g} MB), its per-body caches "
+                             f"(EPHEM_MODEL_CACHE_MB, {self.model_cache_mb:g} MB), its requests in flight "
+                             f"(EPHEM_WORKER_REQUEST_MEMORY_MB, {self.worker_request_memory_mb:g} MB) and a slack of "
+                             f"{RSS_SLACK_MB:g} MB, each positive: raise the bound or lower the others (unset, they "
+                             f"follow the bound, which must then exceed {KEPT_FIXED_MB + RSS_SLACK_MB:g} MB)")
         return self
 
     @classmethod
     def from_env(cls) -> "Settings":
-        worker_request_memory_mb = _float_env("EPHEM_WORKER_REQUEST_MEMORY_MB", cls.worker_request_memory_mb)
+        worker_rss_mb = _float_env("EPHEM_WORKER_RSS_MB", cls.worker_rss_mb)
+        worker_request_memory_mb, model_cache_mb = derived_memory(
+            worker_rss_mb, _float_env("EPHEM_WORKER_REQUEST_MEMORY_MB", None),
+            _float_env("EPHEM_MODEL_CACHE_MB", None))
         return cls(max_track_samples=_int_env("EPHEM_MAX_TRACK_SAMPLES", cls.max_track_samples),
                    max_body_bytes=_int_env("EPHEM_MAX_BODY_BYTES", cls.max_body_bytes),
                    max_header_bytes=_int_env("EPHEM_MAX_HEADER_BYTES", cls.max_header_bytes, minimum=1024),
@@ -172,11 +235,11 @@ class Settings:
                    request_deadline_s=_float_env("EPHEM_REQUEST_DEADLINE_S", cls.request_deadline_s),
                    hard_kill_after_s=_float_env("EPHEM_HARD_KILL_AFTER_S", cls.hard_kill_after_s),
                    worker_memory_mb=_float_env("EPHEM_WORKER_MEMORY_MB", cls.worker_memory_mb),
-                   worker_rss_mb=_float_env("EPHEM_WORKER_RSS_MB", cls.worker_rss_mb),
+                   worker_rss_mb=worker_rss_mb,
                    keepalive_max_requests=_int_env("EPHEM_KEEPALIVE_MAX_REQUESTS", cls.keepalive_max_requests),
                    keepalive_max_s=_float_env("EPHEM_KEEPALIVE_MAX_S", cls.keepalive_max_s),
                    supervised=_bool_env("EPHEM_SUPERVISED", cls.supervised),
                    max_batch_rows=_int_env("EPHEM_MAX_BATCH_ROWS", cls.max_batch_rows),
-                   model_cache_mb=_float_env("EPHEM_MODEL_CACHE_MB", cls.model_cache_mb),
+                   model_cache_mb=model_cache_mb,
                    cache_max_age_s=_int_env("EPHEM_CACHE_MAX_AGE_S", cls.cache_max_age_s, minimum=0),
                    inline_cpu_ms=_float_env("EPHEM_INLINE_CPU_MS", cls.inline_cpu_ms, zero=True)).check()

@@ -146,13 +146,14 @@ def test_one_worker_of_the_service_recycles_at_a_time(kills, memory, tmp_path):
 
 
 def test_the_service_s_watchdog_takes_its_limit_from_the_setting(monkeypatch):
-    monkeypatch.setenv("EPHEM_WORKER_RSS_MB", "123.5")
+    monkeypatch.setenv("EPHEM_WORKER_RSS_MB", "523.5")
     settings = Settings.from_env()
-    assert settings.worker_rss_mb == 123.5
+    assert settings.worker_rss_mb == 523.5
     monkeypatch.setattr(guards, "tune_allocator", lambda: [])   # the test process's allocator untouched
     app = create_app(Settings(warm_up=False, supervised=True, worker_rss_mb=settings.worker_rss_mb))
     budget = next(m for m in app.user_middleware if m.cls is RequestBudget)
-    assert budget.kwargs["watchdog"].rss_limit_mb == 123.5
+    # what an idle worker may keep: the bound less its requests' allowance and the slack (service/settings.py)
+    assert budget.kwargs["watchdog"].rss_limit_mb == settings.worker_keep_mb < 523.5 - settings.worker_request_memory_mb
 
 
 def test_the_allocator_is_tuned_where_the_environment_leaves_it(monkeypatch):

@@ -14,9 +14,10 @@ from fastapi.testclient import TestClient
 from ephem import api
 from ephem.base.budget import Cost, Part, budget, charge, checkpoint
 from service.app import create_app
-from service.guards import MemoryAllowance
+from service import guards
+from service.guards import TRIM_AFTER_REQUEST_MB, MemoryAllowance
 from service.problems import PROBLEM
-from service.settings import Settings
+from service.settings import KEPT_FIXED_MB, RSS_SLACK_MB, Settings
 
 #: a bound on every wait for another thread (never asserted: a test failing by it hangs no longer than this)
 PATIENCE_S = 60.0
@@ -137,6 +138,8 @@ def test_a_free_motion_is_counted_before_its_series_is_summed():
 
 def test_the_per_request_memory_follows_the_workers_allowance_and_may_not_exceed_it(monkeypatch):
     monkeypatch.delenv("EPHEM_MAX_REQUEST_MEMORY_MB", raising=False)
+    monkeypatch.delenv("EPHEM_MODEL_CACHE_MB", raising=False)
+    monkeypatch.setenv("EPHEM_WORKER_RSS_MB", "600")           # room for 200 MB in flight (see below)
     monkeypatch.setenv("EPHEM_WORKER_REQUEST_MEMORY_MB", "200")
     s = Settings.from_env()
     assert s.worker_request_memory_mb == 200.0 and s.max_request_memory_mb == 200.0
@@ -149,18 +152,96 @@ def test_the_per_request_memory_follows_the_workers_allowance_and_may_not_exceed
     with pytest.raises(SystemExit, match="EPHEM_MAX_REQUEST_MEMORY_MB"):
         create_app(Settings(warm_up=False, max_request_memory_mb=500.0))       # the app checks them too
     with pytest.raises(SystemExit, match="EPHEM_WORKER_MEMORY_MB"):
-        Settings(worker_request_memory_mb=4000.0, max_request_memory_mb=100.0).check()
+        Settings(worker_request_memory_mb=4000.0, max_request_memory_mb=100.0, worker_rss_mb=5000.0).check()
 
 
 def test_the_defaults_keep_a_worker_under_its_400_mb_bound():
-    # what a worker keeps after its requests (~320 MB in the memory soak) plus its requests' allowance
+    # what a worker keeps besides its caches (256 MB measured), the caches, the requests in flight and the slack
     s = Settings()
     assert s.check() is s
+    assert s.worker_rss_mb == 400.0
     assert s.max_request_memory_mb <= s.worker_request_memory_mb
-    assert 320.0 + s.worker_request_memory_mb <= 400.0
+    assert KEPT_FIXED_MB + s.model_cache_mb + s.worker_request_memory_mb + RSS_SLACK_MB <= 400.0
+    assert s.worker_keep_mb + s.worker_request_memory_mb + RSS_SLACK_MB <= 400.0
 
 
-# ------------------------------------------------------------------ what the soak found above its prediction
+@pytest.mark.parametrize("bound_mb", [290.0, 320.0, 400.0, 433.3, 512.0, 2048.0])
+def test_the_memory_settings_follow_the_bound_and_sum_within_it(monkeypatch, bound_mb):
+    for name in ("EPHEM_WORKER_REQUEST_MEMORY_MB", "EPHEM_MAX_REQUEST_MEMORY_MB", "EPHEM_MODEL_CACHE_MB"):
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.setenv("EPHEM_WORKER_RSS_MB", str(bound_mb))
+    s = Settings.from_env()                                      # checked
+    assert s == Settings(worker_rss_mb=bound_mb)                 # the same derivation from the environment and in code
+    assert s.worker_request_memory_mb > 0 and s.model_cache_mb > 0
+    assert s.max_request_memory_mb == s.worker_request_memory_mb
+    assert KEPT_FIXED_MB + s.model_cache_mb + s.worker_request_memory_mb + RSS_SLACK_MB <= bound_mb
+    assert bound_mb - 0.2 < KEPT_FIXED_MB + s.model_cache_mb + s.worker_request_memory_mb + RSS_SLACK_MB  # all used
+    # what an idle worker may keep holds its own memory and full caches: it is not recycled for what it must keep
+    assert s.worker_keep_mb >= KEPT_FIXED_MB + s.model_cache_mb
+
+
+def test_settings_that_do_not_fit_the_bound_are_refused_at_start_up(monkeypatch):
+    with pytest.raises(SystemExit, match="EPHEM_WORKER_RSS_MB"):
+        Settings(worker_rss_mb=280.0).check()                    # under what a worker keeps and the slack
+    with pytest.raises(SystemExit, match="EPHEM_WORKER_REQUEST_MEMORY_MB"):
+        Settings(worker_request_memory_mb=150.0).check()         # 256 + 150 + 32 > 400 with no caches left
+    with pytest.raises(SystemExit, match="EPHEM_MODEL_CACHE_MB"):
+        Settings(model_cache_mb=64.0, worker_request_memory_mb=80.0).check()     # the old defaults: 432 MB
+    with pytest.raises(SystemExit, match="EPHEM_WORKER_RSS_MB"):
+        create_app(Settings(warm_up=False, model_cache_mb=64.0, worker_request_memory_mb=80.0))   # checked there too
+    # one of the two set, the other is the rest of the room
+    assert Settings(model_cache_mb=64.0).check().worker_request_memory_mb == pytest.approx(48.0)
+    assert Settings(worker_rss_mb=432.0, model_cache_mb=64.0).check().worker_request_memory_mb == pytest.approx(80.0)
+    assert Settings(worker_request_memory_mb=100.0).check().model_cache_mb == pytest.approx(12.0)
+
+
+# ------------------------------------------------------------------ the freed memory returned after a large request
+
+def _counting_trims(monkeypatch, app):
+    """Replaces the allocator's trim by a counter that also notes what the worker's requests held of their allowance
+    when it ran."""
+    trims: list[float] = []
+    monkeypatch.setattr(guards, "release_free_memory", lambda: trims.append(app.state.memory_allowance.held_mb))
+    return trims
+
+
+def test_a_large_request_returns_its_freed_memory_as_it_ends_and_a_small_one_does_not(monkeypatch):
+    app = _app(limit_mb=100.0)
+    trims = _counting_trims(monkeypatch, app)
+    with TestClient(app) as client:                              # not supervised: no watchdog trimming each second
+        small = 0.5 * TRIM_AFTER_REQUEST_MB
+        assert client.get(f"/test/memory?mb={small}").status_code == 200
+        assert trims == []
+        assert client.get(f"/test/memory?mb={TRIM_AFTER_REQUEST_MB}").status_code == 200   # at it: not above
+        assert trims == []
+        large = 10.0 * TRIM_AFTER_REQUEST_MB
+        assert client.get(f"/test/memory?mb={large}").status_code == 200
+        assert len(trims) == 1
+        # returned before its share was given back: the next request admitted finds the memory returned
+        assert trims[0] == pytest.approx(large)
+        assert app.state.memory_allowance.held_mb == 0.0
+        assert client.get(f"/test/memory?mb={small}").status_code == 200
+        assert len(trims) == 1
+
+
+def test_a_large_request_refused_after_its_charge_returns_its_memory_too(monkeypatch):
+    # a request charged above the threshold and then refused (503 busy at its checkpoint) may have allocated
+    # before its charge; it is trimmed after like any other
+    app = _app(limit_mb=100.0)
+    trims = _counting_trims(monkeypatch, app)
+    with TestClient(app) as client:
+        holder, out = _in_thread(client, "/test/memory?mb=60&hold=true")
+        assert app.state.holding.wait(PATIENCE_S)
+        try:
+            r = client.get("/test/memory?mb=50")                     # 60 + 50 > 100: refused at its checkpoint
+        finally:
+            app.state.release.set()
+            holder.join(PATIENCE_S)
+    assert r.status_code == 503 and out["r"].status_code == 200
+    assert len(trims) == 2                                           # the refused one and the holder
+
+
+# ------------------------------------------------------------------ what the soak found# ------------------------------------------------------------------ what the soak found above its prediction
 
 def test_the_moons_nutation_stays_within_a_few_mb():
     # its extremes over a node period were summed at 27,200 epochs at once: 37 MB, charged as 2

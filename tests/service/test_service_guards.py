@@ -75,7 +75,8 @@ def test_an_over_budget_refusal_reports_the_whole_requests_estimate():
              USER["rotation_period_hours"], dynamical_ellipticity=USER["dynamical_ellipticity"])
     settings = Settings(warm_up=False, max_request_cpu_s=round(1.05 * api.answer_cost(b, order=None,
                                                                                       nutation=True).cpu_s, 3),
-                        max_request_memory_mb=2048.0, worker_request_memory_mb=2048.0)     # refused for its CPU
+                        max_request_memory_mb=2048.0, worker_request_memory_mb=2048.0,
+                        worker_rss_mb=2400.0)     # refused for its CPU
     with TestClient(create_app(settings)) as client:
         r = client.post("/v1/precession-nutation", json=_user(
             orbit__e=0.95, track={"start": "2020-01-01", "stop": "2030-01-01", "step_days": 1}))
@@ -95,7 +96,8 @@ def test_an_over_budget_refusal_reports_the_whole_requests_estimate():
 def test_a_single_charge_over_budget_has_nothing_already_charged():
     # the real orbit over 150 years: ~3.5 s predicted (benchmarks/RESULTS_calibration.md), over a budget of 2 s
     with TestClient(create_app(Settings(warm_up=False, max_request_cpu_s=2.0, max_request_memory_mb=2048.0,
-                                        worker_request_memory_mb=2048.0))) as client:     # refused for its CPU
+                                        worker_request_memory_mb=2048.0, worker_rss_mb=2400.0))) as client:
+        # refused for its CPU
         r = client.get("/v1/bodies/itokawa/track?start=1900-01-01&stop=2050-01-01&step_days=100&model=real_orbit")
     body = _problem(r, 422, "over-budget")
     assert body["already_charged_cpu_s"] == 0.0
