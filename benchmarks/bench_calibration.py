@@ -87,8 +87,10 @@ LARGE_EPOCHS = (100_000, 1_000_000)
 #: the span the large sizes run on (the per-epoch work does not depend on the span)
 LARGE_SPAN = 10
 SERIES_ORDERS = (2, 6, 15)
-#: warm repetitions: until this much CPU or this many
-WARM_CPU_S, WARM_REPS = 0.2, 5
+#: warm repetitions: until this much CPU or this many (21: the median of 5 left a sub-2-ms cell at the mercy of the
+#: repetitions right after its caches were rebuilt and of a slow spell of the machine: the Moon's 10-epoch tracks
+#: measured 0.6-1.6 ms from run to run at 5, 0.64-0.65 ms at 21)
+WARM_CPU_S, WARM_REPS = 0.2, 21
 #: the cold call is measured up to this many epochs (the per-body builds it adds do not depend on the epochs, and a
 #: call of 10^6 epochs costs seconds); --cold-all measures it at every size
 COLD_MAX_EPOCHS = 100_000
