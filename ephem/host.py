@@ -31,7 +31,7 @@ Importing this module loads nothing: each name loads its module on first use (PE
 """
 from __future__ import annotations
 
-import importlib
+from .base.lazy import lazy_names
 
 #: public name -> (module relative to ``ephem``, attribute): loaded on first access
 _NAMES = {
@@ -57,19 +57,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    try:
-        module, attribute = _NAMES[name]
-    except KeyError:
-        raise AttributeError(f"module 'ephem.host' has no attribute {name!r}") from None
-    package = importlib.import_module(module, "ephem")
-    try:
-        value = getattr(package, attribute)
-    except AttributeError:   # a submodule (memo) that nothing has imported yet
-        value = importlib.import_module(f"{module}.{attribute}", "ephem")
-    globals()[name] = value      # once: later lookups are ordinary
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names("ephem.host", globals(), _NAMES, __all__)

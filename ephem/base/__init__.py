@@ -7,6 +7,7 @@
 - :mod:`ephem.base.errors`: Exceptions raised by the science core.
 - :mod:`ephem.base.extras`: The optional extras of the distribution: which one a feature needs, checked before the feature runs.
 - :mod:`ephem.base.grids`: Even grids of epochs that float64 can hold: the one rule every track, figure, kernel and history grid obeys.
+- :mod:`ephem.base.lazy`: The faces' lazy names: each public name loads its own module on first use (PEP 562).
 - :mod:`ephem.base.memo`: Caches of per-body work bounded in bytes, not in entries.
 - :mod:`ephem.base.paths`: Where the shipped data live (the catalogue, the references, the reference tables, the lunar series).
 - :mod:`ephem.base.times`: Times at the boundary: ISO 8601 (UTC unless a scale is named) or Julian dates (TDB).
