@@ -6,6 +6,7 @@
 - :mod:`ephem.answers.batches`: The batch answer: a table of bodies through the vectorised theory, bounded like the rest.
 - :mod:`ephem.answers.figures`: Publication-quality plots of spin-axis tracks, the free wobble and histories (matplotlib, PNG and SVG).
 - :mod:`ephem.answers.kernels`: NAIF SPICE text PCK kernels (``KPL/PCK``) fitted to the spin-axis track.
+- :mod:`ephem.answers.parameters`: The answers' shared parameter descriptions: each numpydoc entry written once, filled into each docstring.
 
 The package imports none of its modules: importing one loads only what it needs.
 """

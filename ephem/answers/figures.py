@@ -77,6 +77,7 @@ from ..exports import work_precision
 from ..base.budget import Cost, Part, charge
 from .requests import Epoch
 from ..theory.requests import TrackRequest
+from .parameters import shared_parameters
 
 if TYPE_CHECKING:       # the types of the annotations only: matplotlib loads with the first figure
     from astropy.units import Quantity
@@ -346,6 +347,7 @@ class PlotRequest:
         return text + ("" if self.track is None else f", {self.track!r}") + ")"
 
 
+@shared_parameters
 def plot_request(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
                  step_days: float | Quantity | None = None, *,
                  tolerance_mas: float | Quantity | None = None, model: str | None = None,
@@ -363,49 +365,28 @@ def plot_request(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
 
     Parameters
     ----------
-    kind : str
-        One of :data:`KINDS`: "precession", "nutation-loop", "obliquity", "free-wobble", "obliquity-history".
-    body : str, int or Body
-        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    kind
+    body
     start, stop : str, float or astropy.time.Time
         The span: ISO 8601 text (UTC unless a scale is named), a JD TDB or a ``Time``; for ``obliquity-history``
         Julian years from J2000.0 TDB (numbers or numeric strings, negative in the past).
     step_days : float or Quantity, optional
         The step, days (None: :func:`default_step_days`); at most :data:`MAX_PLOT_POINTS` epochs. Not for
         ``obliquity-history``.
-    tolerance_mas : float or Quantity, optional
-        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
-        meets it over these epochs answers (not with ``model`` or ``order``).
+    tolerance_mas
         A history's: the orbit model's tolerance.
-    model : str, optional
-        A model named instead (one of ``ephem.api.MODELS`` that the body's family has); default the family's own.
-    orbit_model : str, optional
-        ``obliquity-history`` only: "secular" or "nbody", as :func:`ephem.answers.requests.history`.
-    order : int, optional
-        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
-    axis : str
-        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
-        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
-        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
-    free_wobble_phase_deg : float or Quantity, optional
-        The figure axis's position angle about the angular momentum at ``free_wobble_epoch``, degrees from the ICRF
-        north through east: with it the track can add the free wobble (and does, with a named model).
-    free_wobble_J_arcsec : float or Quantity, optional
-        The free wobble's amplitude J, arcseconds; default the published one (only with ``free_wobble_phase_deg``).
-    free_wobble_epoch : str, float or astropy.time.Time, optional
-        The epoch of ``free_wobble_phase_deg``; default the pole epoch (only with ``free_wobble_phase_deg``).
-    J_arcsec : float or Quantity, optional
-        ``free-wobble`` only: the wobble's amplitude, arcseconds (required for a body without a published one: only the
-        Earth, the Moon, Mars and Eros have one).
-    method : str
-        ``free-wobble`` only: "auto" (default), "series" or "numeric".
-    step_years : float or Quantity, optional
-        ``obliquity-history`` only: the step, Julian years (None: :func:`default_step_years`).
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
-    perturbers : str or sequence of str, optional
-        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
-        ("sun", ["Sun"], "moon,sun").
+    model
+    orbit_model
+    order
+    axis
+    free_wobble_phase_deg
+    free_wobble_J_arcsec
+    free_wobble_epoch
+    J_arcsec
+    method
+    step_years
+    dataset
+    perturbers
 
     Returns
     -------
@@ -467,6 +448,7 @@ def _history_data(request: PlotRequest) -> dict:
         raise InvalidInputError(field, exc.reason, exc.body) from exc
 
 
+@shared_parameters
 def data(request: PlotRequest) -> dict:
     """The arrays a plot draws, the answer :func:`figure` draws from.
 
@@ -476,8 +458,7 @@ def data(request: PlotRequest) -> dict:
 
     Parameters
     ----------
-    request : PlotRequest
-        The plot's request, checked (:func:`plot_request`).
+    request
 
     Returns
     -------
@@ -499,6 +480,7 @@ def data(request: PlotRequest) -> dict:
     return ans
 
 
+@shared_parameters
 def figure(request: PlotRequest) -> Figure:
     """A :class:`matplotlib.figure.Figure` (Agg canvas, no pyplot state) of one plot request.
 
@@ -509,8 +491,7 @@ def figure(request: PlotRequest) -> Figure:
 
     Parameters
     ----------
-    request : PlotRequest
-        The plot's request, checked (:func:`plot_request`).
+    request
 
     Returns
     -------
@@ -557,6 +538,7 @@ def _check_dpi(dpi) -> float:
     return float(dpi)
 
 
+@shared_parameters
 def figure_bytes(fig: Figure, *, fmt: str = "png", dpi: float = DEFAULT_DPI) -> bytes:
     """A figure as PNG or SVG bytes, the same bytes for the same figure.
 
@@ -568,8 +550,7 @@ def figure_bytes(fig: Figure, *, fmt: str = "png", dpi: float = DEFAULT_DPI) -> 
         The figure.
     fmt : str
         "png" (default) or "svg".
-    dpi : float
-        A PNG's resolution, dots per inch, 30 to 300.
+    dpi
 
     Returns
     -------
@@ -591,6 +572,7 @@ def figure_bytes(fig: Figure, *, fmt: str = "png", dpi: float = DEFAULT_DPI) -> 
     return buf.getvalue()
 
 
+@shared_parameters
 def render(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
            step_days: float | Quantity | None = None, *,
            tolerance_mas: float | Quantity | None = None, model: str | None = None, orbit_model: str | None = None,
@@ -605,49 +587,28 @@ def render(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
 
     Parameters
     ----------
-    kind : str
-        One of :data:`KINDS`: "precession", "nutation-loop", "obliquity", "free-wobble", "obliquity-history".
-    body : str, int or Body
-        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    kind
+    body
     start, stop : str, float or astropy.time.Time
         The span: ISO 8601 text (UTC unless a scale is named), a JD TDB or a ``Time``; for ``obliquity-history``
         Julian years from J2000.0 TDB (numbers or numeric strings, negative in the past).
     step_days : float or Quantity, optional
         The step, days (None: :func:`default_step_days`); at most :data:`MAX_PLOT_POINTS` epochs. Not for
         ``obliquity-history``.
-    tolerance_mas : float or Quantity, optional
-        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
-        meets it over these epochs answers (not with ``model`` or ``order``).
+    tolerance_mas
         A history's: the orbit model's tolerance.
-    model : str, optional
-        A model named instead (one of ``ephem.api.MODELS`` that the body's family has); default the family's own.
-    orbit_model : str, optional
-        ``obliquity-history`` only: "secular" or "nbody", as :func:`ephem.answers.requests.history`.
-    order : int, optional
-        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
-    axis : str
-        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
-        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
-        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
-    free_wobble_phase_deg : float or Quantity, optional
-        The figure axis's position angle about the angular momentum at ``free_wobble_epoch``, degrees from the ICRF
-        north through east: with it the track can add the free wobble (and does, with a named model).
-    free_wobble_J_arcsec : float or Quantity, optional
-        The free wobble's amplitude J, arcseconds; default the published one (only with ``free_wobble_phase_deg``).
-    free_wobble_epoch : str, float or astropy.time.Time, optional
-        The epoch of ``free_wobble_phase_deg``; default the pole epoch (only with ``free_wobble_phase_deg``).
-    J_arcsec : float or Quantity, optional
-        ``free-wobble`` only: the wobble's amplitude, arcseconds (required for a body without a published one: only the
-        Earth, the Moon, Mars and Eros have one).
-    method : str
-        ``free-wobble`` only: "auto" (default), "series" or "numeric".
-    step_years : float or Quantity, optional
-        ``obliquity-history`` only: the step, Julian years (None: :func:`default_step_years`).
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
-    perturbers : str or sequence of str, optional
-        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
-        ("sun", ["Sun"], "moon,sun").
+    model
+    orbit_model
+    order
+    axis
+    free_wobble_phase_deg
+    free_wobble_J_arcsec
+    free_wobble_epoch
+    J_arcsec
+    method
+    step_years
+    dataset
+    perturbers
     fmt : str
         "png" (default) or "svg"; :data:`CONTENT_TYPES` maps it to its media type.
     dpi : float
@@ -738,6 +699,7 @@ def drawing_cost(fmt: str, dpi: float) -> Cost:
                       FIGURE_BASE_MB + CHART_PIXEL_BYTES * pixels / (1024.0 * 1024.0)),))
 
 
+@shared_parameters
 def chart_cost(models: int, fmt: str = "svg", dpi: float = DEFAULT_DPI) -> Cost:
     """The predicted cost of drawing a work-precision chart, charged before it is drawn (:func:`models_chart`).
 
@@ -745,8 +707,7 @@ def chart_cost(models: int, fmt: str = "svg", dpi: float = DEFAULT_DPI) -> Cost:
     ----------
     models : int
         The number of models drawn.
-    fmt : str
-        "svg" (default) or "png".
+    fmt
     dpi : float
         A PNG's resolution, dots per inch.
 
@@ -761,6 +722,7 @@ def chart_cost(models: int, fmt: str = "svg", dpi: float = DEFAULT_DPI) -> Cost:
                       CHART_BASE_MB + CHART_PIXEL_BYTES * pixels / (1024.0 * 1024.0)),))
 
 
+@shared_parameters
 def models_chart(answer: dict, *, fmt: str = "svg", dpi: float = DEFAULT_DPI) -> bytes:
     """The work-precision chart of a :func:`ephem.answers.requests.track_models` answer.
 
@@ -774,8 +736,7 @@ def models_chart(answer: dict, *, fmt: str = "svg", dpi: float = DEFAULT_DPI) ->
         The :func:`ephem.answers.requests.track_models` answer (a :class:`~ephem.answers.results.ModelsAnswer`).
     fmt : str
         "svg" (default; a ``<title>`` on every point: its model, order, error and cost, shown on hover) or "png".
-    dpi : float
-        A PNG's resolution, dots per inch, 30 to 300.
+    dpi
 
     Returns
     -------
@@ -788,6 +749,7 @@ def models_chart(answer: dict, *, fmt: str = "svg", dpi: float = DEFAULT_DPI) ->
     return data if fmt == "png" else work_precision.svg_with_titles(data.decode("utf-8"), answer).encode("utf-8")
 
 
+@shared_parameters
 def track_models_chart(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity, *,
                        tolerance_mas: float | Quantity | None = None, axis: str = "figure",
                        dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None,
@@ -800,30 +762,17 @@ def track_models_chart(body: str | int | Body, start: Epoch, stop: Epoch, step_d
 
     Parameters
     ----------
-    body : str, int or Body
-        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
-    start, stop : str, float or astropy.time.Time
-        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
-        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
-    step_days : float or Quantity
-        The step between epochs, days (a ``Quantity`` in any unit of time).
+    body
+    start, stop
+    step_days
     tolerance_mas : float or Quantity, optional
         The tolerance whose choice the chart shows, milliarcseconds.
-    axis : str
-        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
-        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
-        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
-    perturbers : str or sequence of str, optional
-        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
-        ("sun", ["Sun"], "moon,sun").
-    fmt : str
-        "svg" (default) or "png".
-    dpi : float
-        A PNG's resolution, dots per inch, 30 to 300.
-    max_samples : int
-        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
+    axis
+    dataset
+    perturbers
+    fmt
+    dpi
+    max_samples
 
     Returns
     -------

@@ -78,6 +78,7 @@ from ..exports.pck_text import ascii_text, comment_lines, data_block, time_text
 from ..families import theory_for
 from . import requests
 from .requests import Epoch
+from .parameters import shared_parameters
 
 if TYPE_CHECKING:
     from astropy.units import Quantity
@@ -90,6 +91,7 @@ def _track(body, start, stop, step_days, **kwargs) -> dict:
     return requests.track_arrays(body, start, stop, step_days, **{"time_scale": None, **kwargs})
 
 
+@shared_parameters
 def write_pck(bodies: str | int | Body | Sequence[str | int | Body], start: Epoch, stop: Epoch, *,
               tolerance_mas: float | Quantity | None = None, model: str | None = None, order: int | None = None,
               axis: str = "figure", dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None,
@@ -108,22 +110,12 @@ def write_pck(bodies: str | int | Body | Sequence[str | int | Body], start: Epoc
         One body or a list: names, NAIF ids or :class:`~ephem.bodies.catalogue.Body` (with a ``naif_id``).
     start, stop : str, float or astropy.time.Time
         The span: ISO 8601 text (UTC unless a scale is named), a JD TDB or a ``Time``.
-    tolerance_mas : float or Quantity, optional
-        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
-        meets it over these epochs answers (not with ``model`` or ``order``).
-    model : str, optional
-        A model named instead (one of ``ephem.api.MODELS`` that the body's family has); default the family's own.
-    order : int, optional
-        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
-    axis : str
-        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
-        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
-        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
-    perturbers : str or sequence of str, optional
-        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
-        ("sun", ["Sun"], "moon,sun").
+    tolerance_mas
+    model
+    order
+    axis
+    dataset
+    perturbers
     fit_tolerance_mas : float or Quantity, optional
         The largest angle allowed between the kernel's pole and the track anywhere in the span, milliarcseconds.
     max_angles : int

@@ -39,6 +39,7 @@ from ..forced.uncertainty import propagated
 from ..base.grids import check_step
 from ..base.times import check_calendar_scale, to_jd_tdb
 from ..base.units import in_unit, with_units
+from .parameters import shared_parameters
 
 if TYPE_CHECKING:       # the types of the annotations only: astropy loads with the first answer that needs it
     from astropy.time import Time
@@ -87,6 +88,7 @@ def request_perturbers(b: Body, given) -> tuple[str, ...]:
     return resolve_perturbers(given, b)
 
 
+@shared_parameters
 def warm_up(*, dataset: str = DEFAULT_DATASET) -> None:
     """Build the caches the Earth's answers share, so the first request does not pay for them.
 
@@ -100,8 +102,7 @@ def warm_up(*, dataset: str = DEFAULT_DATASET) -> None:
 
     Parameters
     ----------
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    dataset
 
     Returns
     -------
@@ -115,13 +116,13 @@ def warm_up(*, dataset: str = DEFAULT_DATASET) -> None:
     history("ceres", -1000.0, 0.0, 500.0, dataset=dataset)
 
 
+@shared_parameters
 def list_bodies(*, dataset: str = DEFAULT_DATASET) -> BodiesAnswer:
     """The catalogue's bodies, one row each: name, NAIF id, kind, orbit, period, pole and H_d.
 
     Parameters
     ----------
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    dataset
 
     Returns
     -------
@@ -140,6 +141,7 @@ def list_bodies(*, dataset: str = DEFAULT_DATASET) -> BodiesAnswer:
     } for b in cat.bodies])
 
 
+@shared_parameters
 def body_record(body: str | int, *, dataset: str = DEFAULT_DATASET) -> BodyRecord:
     """The full catalogue record of a body: every value with its unit, 1-sigma and source.
 
@@ -152,8 +154,7 @@ def body_record(body: str | int, *, dataset: str = DEFAULT_DATASET) -> BodyRecor
     ----------
     body : str or int
         A catalogue name (any case) or NAIF id.
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    dataset
 
     Returns
     -------
@@ -176,6 +177,7 @@ def body_record(body: str | int, *, dataset: str = DEFAULT_DATASET) -> BodyRecor
                        "interior": interior_record(b.name)})
 
 
+@shared_parameters
 def precession(body: str | int | Body, *, tolerance_mas: float | Quantity | None = None, order: int | None = None,
                dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None,
                quantities: bool = False) -> PrecessionAnswer:
@@ -188,21 +190,12 @@ def precession(body: str | int | Body, *, tolerance_mas: float | Quantity | None
 
     Parameters
     ----------
-    body : str, int or Body
-        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
-    tolerance_mas : float or Quantity, optional
-        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
-        meets it over these epochs answers (not with ``model`` or ``order``).
-    order : int, optional
-        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
-    perturbers : str or sequence of str, optional
-        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
-        ("sun", ["Sun"], "moon,sun").
-    quantities : bool
-        True: every unit-named number as an astropy ``Quantity`` and ``jd_tdb`` as a TDB ``Time``; default plain
-        numbers (lists).
+    body
+    tolerance_mas
+    order
+    dataset
+    perturbers
+    quantities
 
     Returns
     -------
@@ -230,6 +223,7 @@ def precession(body: str | int | Body, *, tolerance_mas: float | Quantity | None
     return PrecessionAnswer(with_units(ans) if quantities else ans)
 
 
+@shared_parameters
 def answer_cost(body: Body, *, order: int | None = None, nutation: bool = False, tolerance: bool = False) -> cost.Cost:
     """What a precession (or, with ``nutation``, a nutation) answer for a body will cost.
 
@@ -240,8 +234,7 @@ def answer_cost(body: Body, *, order: int | None = None, nutation: bool = False,
     ----------
     body : Body
         The body (:func:`ephem.api.resolve_body` gives it from a name).
-    order : int, optional
-        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
+    order
     nutation : bool
         The cost of the nutation answer (its terms) rather than the precession's.
     tolerance : bool
@@ -255,6 +248,7 @@ def answer_cost(body: Body, *, order: int | None = None, nutation: bool = False,
     return theory_for(body, body.perturbers).answer_cost(order, nutation, tolerance)
 
 
+@shared_parameters
 def nutation(body: str | int | Body, *, tolerance_mas: float | Quantity | None = None, order: int | None = None,
              cut_mas: float | None = None, nonrigid: bool = False, dataset: str = DEFAULT_DATASET,
              perturbers: str | Sequence[str] | None = None, quantities: bool = False) -> NutationAnswer:
@@ -269,27 +263,18 @@ def nutation(body: str | int | Body, *, tolerance_mas: float | Quantity | None =
 
     Parameters
     ----------
-    body : str, int or Body
-        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
-    tolerance_mas : float or Quantity, optional
-        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
-        meets it over these epochs answers (not with ``model`` or ``order``).
-    order : int, optional
-        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
+    body
+    tolerance_mas
+    order
     cut_mas : float, optional
         The lunisolar series' amplitude cut, milliarcseconds (default 0.1); the Earth with the Moon only.
     nonrigid : bool
         The terms with the body's interior model applied (data/interiors.toml): Mars' liquid core, the Earth's IERS
         1996 transfer function; ``model.name`` is then "nonrigid". A rigid body is refused (not applicable) with the
         catalogue's reason.
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
-    perturbers : str or sequence of str, optional
-        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
-        ("sun", ["Sun"], "moon,sun").
-    quantities : bool
-        True: every unit-named number as an astropy ``Quantity`` and ``jd_tdb`` as a TDB ``Time``; default plain
-        numbers (lists).
+    dataset
+    perturbers
+    quantities
 
     Returns
     -------
@@ -337,6 +322,7 @@ def _within(part: str, answer):
         raise exc.within(f"{part}.") from None
 
 
+@shared_parameters
 def precession_nutation(body: Body, *, order: int | None = None, track: dict | None = None,
                         history_request: dict | None = None,
                         max_samples: int = MAX_TRACK_SAMPLES) -> PrecessionNutationAnswer:
@@ -349,16 +335,14 @@ def precession_nutation(body: Body, *, order: int | None = None, track: dict | N
     ----------
     body : Body
         The body of the user's own (orbit, pole, period, moments).
-    order : int, optional
-        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
+    order
     track : dict, optional
         The keyword arguments of :func:`track_arrays` (``start``, ``stop``, ``step_days``, ``tolerance_mas``,
         ``model``, ``axis``, ``free_wobble_*``...): with it the answer has ``track``.
     history_request : dict, optional
         The keyword arguments of :func:`history` (``start_year``, ``stop_year``, ``step_years``, ``tolerance_mas``,
         ``orbit_model``): with it the answer has ``history``.
-    max_samples : int
-        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
+    max_samples
 
     Returns
     -------
@@ -389,6 +373,7 @@ def precession_nutation(body: Body, *, order: int | None = None, track: dict | N
     return PrecessionNutationAnswer({k: ans[k] for k in ("precession", "nutation", "track", "history") if k in ans})
 
 
+@shared_parameters
 def history(body: str | int | Body, start_year: float, stop_year: float, step_years: float | Quantity, *,
             tolerance_mas: float | Quantity | None = None, orbit_model: str | None = None,
             dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None,
@@ -401,8 +386,7 @@ def history(body: str | int | Body, start_year: float, stop_year: float, step_ye
 
     Parameters
     ----------
-    body : str, int or Body
-        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
+    body
     start_year, stop_year : float
         The first and last epochs, Julian years from J2000.0 TDB (negative: the past); at most 20 Myr apart.
     step_years : float or Quantity
@@ -413,11 +397,8 @@ def history(body: str | int | Body, start_year: float, stop_year: float, step_ye
     orbit_model : str, optional
         "secular" or "nbody" (the shipped N-body orbit, -3 to +1 Myr); default: by tolerance, else the N-body orbit
         where it is shipped.
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
-    perturbers : str or sequence of str, optional
-        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
-        ("sun", ["Sun"], "moon,sun").
+    dataset
+    perturbers
     max_samples : int
         The most epochs allowed (default ``MAX_HISTORY_SAMPLES``).
     progress : callable, optional
@@ -449,6 +430,7 @@ def history(body: str | int | Body, start_year: float, stop_year: float, step_ye
     return HistoryAnswer(render.with_perturbers(render.history(result), b, per))
 
 
+@shared_parameters
 def epoch_grid(start: Epoch, stop: Epoch, step_days: float | Quantity, *,
                max_samples: int = MAX_TRACK_SAMPLES) -> tuple[float, float, int]:
     """(first JD TDB, step in days, count) of the evenly spaced epochs from start to stop.
@@ -459,13 +441,9 @@ def epoch_grid(start: Epoch, stop: Epoch, step_days: float | Quantity, *,
 
     Parameters
     ----------
-    start, stop : str, float or astropy.time.Time
-        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
-        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
-    step_days : float or Quantity
-        The step between epochs, days (a ``Quantity`` in any unit of time).
-    max_samples : int
-        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
+    start, stop
+    step_days
+    max_samples
 
     Returns
     -------
@@ -512,6 +490,7 @@ def _wobble_request(b: Body, axis: str, phase_deg, J_arcsec, epoch):
     return make_wobble(b, phase_deg, J_arcsec, None if epoch is None else to_jd_tdb(epoch, "free_wobble_epoch"))
 
 
+@shared_parameters
 def track_request(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity, *,
                   tolerance_mas: float | Quantity | None = None, model: str | None = None, order: int | None = None,
                   axis: str = "figure", free_wobble_phase_deg: float | Quantity | None = None,
@@ -529,41 +508,20 @@ def track_request(body: str | int | Body, start: Epoch, stop: Epoch, step_days: 
 
     Parameters
     ----------
-    body : str, int or Body
-        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
-    start, stop : str, float or astropy.time.Time
-        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
-        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
-    step_days : float or Quantity
-        The step between epochs, days (a ``Quantity`` in any unit of time).
-    tolerance_mas : float or Quantity, optional
-        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
-        meets it over these epochs answers (not with ``model`` or ``order``).
-    model : str, optional
-        A model named instead (one of ``ephem.api.MODELS`` that the body's family has); default the family's own.
-    order : int, optional
-        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
-    axis : str
-        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
-        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
-        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
-    free_wobble_phase_deg : float or Quantity, optional
-        The figure axis's position angle about the angular momentum at ``free_wobble_epoch``, degrees from the ICRF
-        north through east: with it the track can add the free wobble (and does, with a named model).
-    free_wobble_J_arcsec : float or Quantity, optional
-        The free wobble's amplitude J, arcseconds; default the published one (only with ``free_wobble_phase_deg``).
-    free_wobble_epoch : str, float or astropy.time.Time, optional
-        The epoch of ``free_wobble_phase_deg``; default the pole epoch (only with ``free_wobble_phase_deg``).
-    rotation_phase_deg : float or Quantity, optional
-        The angle of the body's long (least-inertia) axis in its equator from the orbit's ascending node on the equator
-        at the pole epoch, degrees: with it the track can add the rotation-scale (semi-diurnal) terms.
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
-    perturbers : str or sequence of str, optional
-        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
-        ("sun", ["Sun"], "moon,sun").
-    max_samples : int
-        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
+    body
+    start, stop
+    step_days
+    tolerance_mas
+    model
+    order
+    axis
+    free_wobble_phase_deg
+    free_wobble_J_arcsec
+    free_wobble_epoch
+    rotation_phase_deg
+    dataset
+    perturbers
+    max_samples
 
     Returns
     -------
@@ -607,6 +565,7 @@ def track_request(body: str | int | Body, start: Epoch, stop: Epoch, step_days: 
                         None if phase is None else math.radians(phase))
 
 
+@shared_parameters
 def track_arrays(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity, *,
                  tolerance_mas: float | Quantity | None = None, model: str | None = None, order: int | None = None,
                  axis: str = "figure", free_wobble_phase_deg: float | Quantity | None = None,
@@ -620,45 +579,22 @@ def track_arrays(body: str | int | Body, start: Epoch, stop: Epoch, step_days: f
 
     Parameters
     ----------
-    body : str, int or Body
-        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
-    start, stop : str, float or astropy.time.Time
-        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
-        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
-    step_days : float or Quantity
-        The step between epochs, days (a ``Quantity`` in any unit of time).
-    tolerance_mas : float or Quantity, optional
-        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
-        meets it over these epochs answers (not with ``model`` or ``order``).
-    model : str, optional
-        A model named instead (one of ``ephem.api.MODELS`` that the body's family has); default the family's own.
-    order : int, optional
-        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
-    axis : str
-        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
-        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
-        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
-    free_wobble_phase_deg : float or Quantity, optional
-        The figure axis's position angle about the angular momentum at ``free_wobble_epoch``, degrees from the ICRF
-        north through east: with it the track can add the free wobble (and does, with a named model).
-    free_wobble_J_arcsec : float or Quantity, optional
-        The free wobble's amplitude J, arcseconds; default the published one (only with ``free_wobble_phase_deg``).
-    free_wobble_epoch : str, float or astropy.time.Time, optional
-        The epoch of ``free_wobble_phase_deg``; default the pole epoch (only with ``free_wobble_phase_deg``).
-    rotation_phase_deg : float or Quantity, optional
-        The angle of the body's long (least-inertia) axis in its equator from the orbit's ascending node on the equator
-        at the pole epoch, degrees: with it the track can add the rotation-scale (semi-diurnal) terms.
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
-    perturbers : str or sequence of str, optional
-        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
-        ("sun", ["Sun"], "moon,sun").
-    time_scale : str or None
-        The scale of the epochs' calendar dates, "utc" (default), "tt" or "tdb"; None for none.
-    output : str
-        How the caller will write the answer out, "json" (default), "csv" or "ecsv": its cost is charged with it.
-    max_samples : int
-        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
+    body
+    start, stop
+    step_days
+    tolerance_mas
+    model
+    order
+    axis
+    free_wobble_phase_deg
+    free_wobble_J_arcsec
+    free_wobble_epoch
+    rotation_phase_deg
+    dataset
+    perturbers
+    time_scale
+    output
+    max_samples
 
     Returns
     -------
@@ -762,6 +698,7 @@ def track_arrays_of(request: TrackRequest, *, time_scale: str | None = "utc", ou
     return TrackAnswer(render.with_perturbers(ans, b, per))
 
 
+@shared_parameters
 def track_models(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity, *,
                  tolerance_mas: float | Quantity | None = None, axis: str = "figure",
                  dataset: str = DEFAULT_DATASET, perturbers: str | Sequence[str] | None = None,
@@ -775,26 +712,15 @@ def track_models(body: str | int | Body, start: Epoch, stop: Epoch, step_days: f
 
     Parameters
     ----------
-    body : str, int or Body
-        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
-    start, stop : str, float or astropy.time.Time
-        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
-        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
-    step_days : float or Quantity
-        The step between epochs, days (a ``Quantity`` in any unit of time).
+    body
+    start, stop
+    step_days
     tolerance_mas : float or Quantity, optional
         The tolerance whose choice the answer shows, milliarcseconds.
-    axis : str
-        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
-        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
-        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
-    perturbers : str or sequence of str, optional
-        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
-        ("sun", ["Sun"], "moon,sun").
-    max_samples : int
-        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
+    axis
+    dataset
+    perturbers
+    max_samples
 
     Returns
     -------
@@ -900,6 +826,7 @@ def _meaningful(b: Body, estimate: float | None, info: dict) -> None:
                                 "deg, these poles are rough; bring the epochs nearer the pole epoch for better")
 
 
+@shared_parameters
 def track(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity, *,
           tolerance_mas: float | Quantity | None = None, model: str | None = None, order: int | None = None,
           axis: str = "figure", free_wobble_phase_deg: float | Quantity | None = None,
@@ -923,47 +850,24 @@ def track(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | 
 
     Parameters
     ----------
-    body : str, int or Body
-        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
-    start, stop : str, float or astropy.time.Time
-        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
-        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
-    step_days : float or Quantity
-        The step between epochs, days (a ``Quantity`` in any unit of time).
-    tolerance_mas : float or Quantity, optional
-        The largest error the answer may be estimated to carry, milliarcseconds: the cheapest model whose estimate
-        meets it over these epochs answers (not with ``model`` or ``order``).
-    model : str, optional
-        A model named instead (one of ``ephem.api.MODELS`` that the body's family has); default the family's own.
-    order : int, optional
-        The eccentricity order of the series, 0 to ``ephem.api.MAX_ORDER``; None for exact Hansen coefficients.
-    axis : str
-        The axis followed: "figure" (default; the axis of largest inertia, its free wobble counted as an error unless
-        followed), "angular_momentum", "forced_figure" (the figure axis's forced motion, as the IAU's celestial
-        intermediate pole), or "mean_rotation" (a synchronous body's mean rotation axis: the Moon's).
-    free_wobble_phase_deg : float or Quantity, optional
-        The figure axis's position angle about the angular momentum at ``free_wobble_epoch``, degrees from the ICRF
-        north through east: with it the track can add the free wobble (and does, with a named model).
-    free_wobble_J_arcsec : float or Quantity, optional
-        The free wobble's amplitude J, arcseconds; default the published one (only with ``free_wobble_phase_deg``).
-    free_wobble_epoch : str, float or astropy.time.Time, optional
-        The epoch of ``free_wobble_phase_deg``; default the pole epoch (only with ``free_wobble_phase_deg``).
-    rotation_phase_deg : float or Quantity, optional
-        The angle of the body's long (least-inertia) axis in its equator from the orbit's ascending node on the equator
-        at the pole epoch, degrees: with it the track can add the rotation-scale (semi-diurnal) terms.
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
-    perturbers : str or sequence of str, optional
-        The torquing bodies: None for the catalogue's (the Earth: the Moon and the Sun; others: the Sun), or names
-        ("sun", ["Sun"], "moon,sun").
+    body
+    start, stop
+    step_days
+    tolerance_mas
+    model
+    order
+    axis
+    free_wobble_phase_deg
+    free_wobble_J_arcsec
+    free_wobble_epoch
+    rotation_phase_deg
+    dataset
+    perturbers
     time_scale : str
         The scale of the epochs' calendar dates beside ``jd_tdb``: "utc" (default; key ``utc_iso``), "tt" (``tt_iso``)
         or "tdb" (``tdb_iso``), ISO 8601 to the millisecond.
-    quantities : bool
-        True: every unit-named number as an astropy ``Quantity`` and ``jd_tdb`` as a TDB ``Time``; default plain
-        numbers (lists).
-    max_samples : int
-        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
+    quantities
+    max_samples
 
     Returns
     -------
@@ -1002,6 +906,7 @@ FREE_MOTION_KEYS = ("jd_tdb", "figure_axis_offset_x_arcsec", "figure_axis_offset
                     "wobble_angle_J_arcsec", "andoyer_nu_deg")
 
 
+@shared_parameters
 def free_motion_arrays(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity, *,
                        J_arcsec: float | Quantity | None = None, method: str = "auto", dataset: str = DEFAULT_DATASET,
                        time_scale: str | None = "utc", output: str = "json",
@@ -1013,26 +918,18 @@ def free_motion_arrays(body: str | int | Body, start: Epoch, stop: Epoch, step_d
 
     Parameters
     ----------
-    body : str, int or Body
-        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
-    start, stop : str, float or astropy.time.Time
-        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
-        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
-    step_days : float or Quantity
-        The step between epochs, days (a ``Quantity`` in any unit of time).
+    body
+    start, stop
+    step_days
     J_arcsec : float or Quantity, optional
         The wobble's amplitude J (the angle between the angular momentum and the C axis), arcseconds; required for a
         body without a published one.
     method : str
         "auto" (default), "series" (Lie series) or "numeric" (integration), :func:`ephem.rotation.free_motion.free_motion`.
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
-    time_scale : str or None
-        The scale of the epochs' calendar dates, "utc" (default), "tt" or "tdb"; None for none.
-    output : str
-        How the caller will write the answer out, "json" (default), "csv" or "ecsv": its cost is charged with it.
-    max_samples : int
-        The most epochs allowed (default ``MAX_TRACK_SAMPLES``); more is refused naming ``step_days``.
+    dataset
+    time_scale
+    output
+    max_samples
 
     Returns
     -------
@@ -1068,6 +965,7 @@ def free_motion_arrays(body: str | int | Body, start: Epoch, stop: Epoch, step_d
                                                            in_unit(J_arcsec, "arcsec", "J_arcsec"), method), time_scale))
 
 
+@shared_parameters
 def free_motion_answer(body: str | int | Body, start: Epoch, stop: Epoch, step_days: float | Quantity, *,
                        J_arcsec: float | Quantity | None = None, method: str = "auto", dataset: str = DEFAULT_DATASET,
                        time_scale: str = "utc", quantities: bool = False) -> FreeMotionAnswer:
@@ -1075,25 +973,18 @@ def free_motion_answer(body: str | int | Body, start: Epoch, stop: Epoch, step_d
 
     Parameters
     ----------
-    body : str, int or Body
-        The body: a catalogue name (any case), a NAIF id, or a :class:`~ephem.bodies.catalogue.Body` of the user's own.
-    start, stop : str, float or astropy.time.Time
-        The first and last epochs: ISO 8601 text (UTC unless a scale is named: "2040-01-01 TDB"), a Julian date TDB
-        (days), or an astropy ``Time``. ``stop`` is included when it falls on the grid.
-    step_days : float or Quantity
-        The step between epochs, days (a ``Quantity`` in any unit of time).
+    body
+    start, stop
+    step_days
     J_arcsec : float or Quantity, optional
         The wobble's amplitude J, arcseconds; required for a body without a published one.
     method : str
         "auto" (default), "series" or "numeric".
-    dataset : str
-        The catalogue dataset: "current" (default), "petit2014" (Petit et al. 2014's parameters) or one imported.
+    dataset
     time_scale : str
         The scale of the epochs' calendar dates beside ``jd_tdb``: "utc" (default; key ``utc_iso``), "tt" (``tt_iso``)
         or "tdb" (``tdb_iso``), ISO 8601 to the millisecond.
-    quantities : bool
-        True: every unit-named number as an astropy ``Quantity`` and ``jd_tdb`` as a TDB ``Time``; default plain
-        numbers (lists).
+    quantities
 
     Returns
     -------
