@@ -87,7 +87,8 @@ def shared_parameters(function: F) -> F:
     """Fill ``function``'s ``Parameters`` section from :data:`PARAMETERS` and return ``function``.
 
     Each line of the section that holds a name alone (``body``, ``start, stop``) at the entries' indentation becomes
-    that name's entry, indented as the line. A name alone that the table has not raises KeyError as the function's
+    that name's entry, indented as the line; lines indented below the name stay, adding to its description (a
+    plot's ``tolerance_mas`` says what it means for a history). A name alone that the table has not raises KeyError as the function's
     module is imported, so no entry is left empty.
     """
     lines = (function.__doc__ or "").split("\n")
