@@ -7,6 +7,7 @@ from __future__ import annotations
 import threading
 import time
 import tracemalloc
+from contextlib import contextmanager
 
 import pytest
 from fastapi.testclient import TestClient
@@ -49,6 +50,19 @@ def _in_thread(client, url: str) -> tuple[threading.Thread, dict]:
     return t, out
 
 
+@contextmanager
+def _held(app, client, mb: float):
+    """A request holding ``mb`` MB of the allowance, in a thread, until the block ends (then released and joined):
+    yields its dict, whose ``"r"`` is its response once it has ended."""
+    holder, out = _in_thread(client, f"/test/memory?mb={mb:g}&hold=true")
+    assert app.state.holding.wait(PATIENCE_S)
+    try:
+        yield out
+    finally:
+        app.state.release.set()
+        holder.join(PATIENCE_S)
+
+
 def _until(condition) -> None:
     end = time.monotonic() + PATIENCE_S
     while not condition() and time.monotonic() < end:
@@ -72,14 +86,9 @@ def test_the_allowance_counts_the_sum_and_gives_it_back():
 def test_requests_whose_predictions_sum_over_the_allowance_get_503_busy_naming_memory():
     app = _app(limit_mb=100.0)
     with TestClient(app) as client:
-        holder, out = _in_thread(client, "/test/memory?mb=60&hold=true")
-        assert app.state.holding.wait(PATIENCE_S)
-        try:
+        with _held(app, client, 60) as out:
             r = client.get("/test/memory?mb=50")                     # 60 + 50 > 100
             within = client.get("/test/memory?mb=40")                # 60 + 40 = 100: runs
-        finally:
-            app.state.release.set()
-            holder.join(PATIENCE_S)
         after = client.get("/test/memory?mb=50")                     # the holder gave its 60 MB back
     assert r.status_code == 503 and r.headers["content-type"].startswith(PROBLEM)
     body = r.json()
@@ -122,14 +131,9 @@ def test_a_free_motion_is_counted_before_its_series_is_summed():
     # the free motion's charge is followed by a checkpoint (it had none before the series: never counted)
     app = _app(limit_mb=100.0)
     with TestClient(app) as client:
-        holder, _ = _in_thread(client, "/test/memory?mb=96&hold=true")
-        assert app.state.holding.wait(PATIENCE_S)
-        try:
+        with _held(app, client, 96):
             # 10^4 epochs, ~7 MB predicted: 96 + 7 > 100
             r = client.get("/v1/bodies/mars/free-motion?start=2451545&stop=2461545&step_days=1&method=exact")
-        finally:
-            app.state.release.set()
-            holder.join(PATIENCE_S)
     assert r.status_code == 503, r.status_code
     assert "MB of memory" in r.json()["detail"]
 
@@ -230,13 +234,8 @@ def test_a_large_request_refused_after_its_charge_returns_its_memory_too(monkeyp
     app = _app(limit_mb=100.0)
     trims = _counting_trims(monkeypatch, app)
     with TestClient(app) as client:
-        holder, out = _in_thread(client, "/test/memory?mb=60&hold=true")
-        assert app.state.holding.wait(PATIENCE_S)
-        try:
+        with _held(app, client, 60) as out:
             r = client.get("/test/memory?mb=50")                     # 60 + 50 > 100: refused at its checkpoint
-        finally:
-            app.state.release.set()
-            holder.join(PATIENCE_S)
     assert r.status_code == 503 and out["r"].status_code == 200
     assert len(trims) == 2                                           # the refused one and the holder
 
