@@ -6,7 +6,8 @@ address-space ceiling (``EPHEM_WORKER_MEMORY_MB``): an allocation beyond it rais
 answered 503, instead of the kernel's OOM killer taking the machine's memory first. The service's
 own watchdog (``service/guards.py``, armed here by ``EPHEM_SUPERVISED``) ends a worker whose request
 overstays its deadline, hands the allocator's freed memory back, and recycles a worker that keeps more
-than ``EPHEM_WORKER_RSS_MB`` after its requests (one at a time).
+after its requests than ``EPHEM_WORKER_RSS_MB`` (the bound with its requests in flight) less their allowance and
+the slack (one at a time).
 
 Bind address and worker count come from the command line (``--bind``, ``--workers``).
 """

@@ -31,8 +31,11 @@ async def compute(inline_cpu_ms: float, fn: Callable[..., T], /, *args, **kwargs
     remaining = None if outer.deadline_at is None else max(outer.deadline_at - time.monotonic(), 0.0)
     try:
         with budget(min(1e-3 * inline_cpu_ms, outer.cpu_s - outer.spent_cpu_s), outer.memory_mb, remaining,
-                    admit=outer.admit):
-            return fn(*args, **kwargs)
+                    admit=outer.admit) as inner:
+            result = fn(*args, **kwargs)
+        # the request's peak is the outer budget's: the worker hands a large request's freed memory back by it
+        outer.peak_memory_mb = max(outer.peak_memory_mb, inner.peak_memory_mb)
+        return result
     except OverBudgetError:
         # over the loop's share (or the request's own budget, which the second try then refuses with its estimate)
         return await run_in_threadpool(fn, *args, **kwargs)
