@@ -218,3 +218,21 @@ def test_no_harmonics_sum_to_zero():
     out = np.ones((2, 7))
     sums.into(np.zeros(7), np.zeros(7), out)
     assert np.array_equal(out, np.zeros((2, 7)))
+
+
+# --- bounded work whatever the request (moved from tests/service/test_bounded_work.py, issue 43)
+
+def test_the_harmonic_work_table_is_bounded_whatever_the_harmonics():
+    # e = 0.99 keeps ~4e4 harmonics: an 8192-epoch block of them would be 5.5 GB
+    k = np.arange(1, 42_001)
+    _, _, work, block = harmonics._prepare(k, np.zeros((k.size, 2)), np.zeros((k.size, 2)), 10_000)
+    assert work.nbytes <= harmonics.BLOCK_BYTES and block >= 1
+
+
+def test_the_nutation_extremes_need_no_dense_table():
+    # one formula (harmonics.series_extrema) for the answers and the uncertainties; checked against a
+    # dense grid on a two-term series whose extremes are known in closed form: sin M + 0.5 sin 2M has its
+    # maximum 1.299038... (= 3√3/4) at M = π/3; half peak-to-peak the same by symmetry
+    half, x_max, x_min = harmonics.series_extrema(np.array([1.0, 0.5]), np.array([0.0, 0.0]))
+    assert half == pytest.approx(3.0 * np.sqrt(3.0) / 4.0, rel=1e-14)   # Newton-polished: rounding only
+    assert x_max == pytest.approx(np.pi / 3.0, abs=1e-7)                 # a flat maximum: sqrt(eps) in M
