@@ -658,10 +658,11 @@ def _written_once(fig, fmt: str, dpi: float) -> bytes:
 # --- the work-precision chart of a request (ephem.exports.work_precision) --------------------------
 
 #: CPU seconds of one work-precision chart, drawn and written (SVG; benchmarks/bench_work_precision.py): measured
-#: 0.08-0.09 s for 3-4 models, set about twice ...
-CHART_BASE_S = 0.2
-#: ... and per model drawn: measured ~3 ms (52 models: 0.20-0.25 s) ...
-CHART_MODEL_S = 0.005
+#: 36-42 ms for 3-5 models since the SVG's text is text and the decades plain numbers (80-150 ms before, with glyph
+#: outlines and typeset labels), set about 1.3x over ...
+CHART_BASE_S = 0.05
+#: ... and per model drawn: measured ~1.2 ms (36-52 models: 78-95 ms) ...
+CHART_MODEL_S = 0.0015
 #: ... and per pixel of a PNG: measured 2-5e-8 s (100 dpi: +0.03-0.08 s; 300 dpi, 4.9 Mpx: +0.1-0.3 s)
 CHART_PIXEL_S = 6e-8
 #: peak memory of a chart, MB: the figure, and a PNG's RGBA buffer and its compressed copy (~8 bytes a pixel); the
