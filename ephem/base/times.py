@@ -279,7 +279,7 @@ def calendar_dates(jd_tdb: ArrayLike, scale: str = "utc") -> list[str]:
     Vectorised through ERFA, the chain :func:`to_jd_tdb` runs the other way: TDB to TT, TT to TAI, TAI to UTC (ERFA's
     leap-second table; a leap second reads ``23:59:60.xxx``; before 1960 UTC is taken as TAI, as ERFA does), then
     ERFA's ``d2dtf`` rounds to the millisecond. TDB - TT (1.7 ms at most) is the USNO Circular 179 series (eq. 2.6,
-    skyfield's ``tdb_minus_tt``: within :data:`TDB_TT_ERROR_S` of ERFA's full ``dtdb`` over 1600-2200), which costs
+    skyfield's ``tdb_minus_tt`` to the bit, its terms taken in one array: :func:`_tdb_minus_tt`; within :data:`TDB_TT_ERROR_S` of ERFA's full ``dtdb`` over 1600-2200), which costs
     ~0.07 us an epoch where ``dtdb`` costs 8 us: the whole column costs 0.2-0.3 us an epoch, a 10^5-epoch track's
     dates ~30 ms of CPU (benchmarks/RESULTS_calendar.md). Years outside 0000-9999 are written with their sign
     (``-4712``, ``+10000``), as ISO 8601's expanded years.
@@ -298,7 +298,6 @@ def calendar_dates(jd_tdb: ArrayLike, scale: str = "utc") -> list[str]:
     """
     import erfa
     import numpy as np
-    from skyfield.timelib import tdb_minus_tt
 
     scale = check_calendar_scale(scale)
     jd = np.asarray(jd_tdb, dtype=float).ravel()
@@ -307,10 +306,34 @@ def calendar_dates(jd_tdb: ArrayLike, scale: str = "utc") -> list[str]:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", erfa.ErfaWarning)   # "dubious year": UTC before 1960 or far in the future
         if scale != "tdb":
-            frac = frac - tdb_minus_tt(jd) / 86400.0         # TT (the series takes TT or TDB alike, 1.7 ms apart)
+            frac = frac - _tdb_minus_tt(jd) / 86400.0        # TT (the series takes TT or TDB alike, 1.7 ms apart)
         fields = _utc_fields(*erfa.tttai(day, frac)) if scale == "utc" else \
             erfa.d2dtf(scale.upper(), CALENDAR_DECIMALS, day, frac)
     return _iso_texts(*fields)
+
+
+#: USNO Circular 179's TDB - TT (eq. 2.6), as skyfield's ``tdb_minus_tt`` writes it: seconds = sum of
+#: amplitude * sin(rate * T + phase), T in Julian centuries TDB from J2000, the last term's amplitude times T
+_TDB_TT_AMPLITUDE = (0.001657, 0.000022, 0.000014, 0.000005, 0.000005, 0.000002, 0.000010)
+_TDB_TT_RATE = (628.3076, 575.3385, 1256.6152, 606.9777, 52.9691, 21.3299, 628.3076)
+_TDB_TT_PHASE = (6.2401, 4.2970, 6.1969, 4.0212, 0.4444, 5.5431, 4.2490)
+
+
+def _tdb_minus_tt(jd):
+    """TDB - TT (s) at the Julian dates TDB ``jd`` (1-D): skyfield's ``tdb_minus_tt`` to the bit, its seven terms'
+    arguments and sines taken in one (7, epochs) array instead of 38 small numpy calls (~40 us for a few dozen
+    epochs, 10 here): each element the same IEEE operations on the same operands, and the terms summed in the same
+    order, first to last (tests/base/test_times_calendar.py compares them bit for bit)."""
+    import numpy as np
+
+    t = (jd - 2451545.0 + 0.0) / 36525.0
+    sines = np.sin(np.multiply.outer(_TDB_TT_RATE, t) + np.array(_TDB_TT_PHASE)[:, None])
+    terms = np.multiply(np.array(_TDB_TT_AMPLITUDE[:6])[:, None], sines[:6])
+    total = terms[0] + terms[1]
+    for k in range(2, 6):
+        total += terms[k]
+    total += _TDB_TT_AMPLITUDE[6] * t * sines[6]
+    return total
 
 
 def _utc_fields(day, frac):
@@ -327,6 +350,8 @@ def _utc_fields(day, frac):
     nearest = np.minimum(np.abs(tai - changes[np.maximum(after - 1, 0)]),
                          np.abs(changes[np.minimum(after, changes.size - 1)] - tai))
     slow = (after == 0) | (nearest < 2.0)
+    if not slow.any():                  # the usual column: every date on an ordinary day since 1972, in one call
+        return erfa.d2dtf("TAI", CALENDAR_DECIMALS, day, frac - offsets[after - 1])
     fast = ~slow
     year, month, mday = (np.empty(tai.size, dtype=np.int32) for _ in range(3))
     clock = None
@@ -366,10 +391,12 @@ def _leap_changes(table) -> tuple:
     return kept
 
 
-#: up to this many dates are written by one %-format each (~0.8 us a date); beyond, numpy places the digits of every
-#: date at once (a fixed ~50 us, then ~0.5 us a date): 37 dates 72 -> 31 us
+#: up to this many dates are written by one f-string each, their fields' digits looked up (~0.4 us a date); beyond,
+#: numpy places the digits of every date at once (a fixed ~50 us, then ~0.5 us a date): 37 dates 72 -> 31 -> ~15 us
 FEW_DATES = 64
-_ISO = "-%02d-%02dT%02d:%02d:%02d.%0" + str(CALENDAR_DECIMALS) + "d"
+#: the digits of a date's two-digit fields (00-99: a leap second's 60 among them) and of its milliseconds (000-999)
+_DIGITS_2 = tuple(f"{i:02d}" for i in range(100))
+_DIGITS_3 = tuple(f"{i:03d}" for i in range(10 ** CALENDAR_DECIMALS))
 
 
 def _iso_texts(year, month, mday, clock) -> list[str]:
@@ -378,10 +405,12 @@ def _iso_texts(year, month, mday, clock) -> list[str]:
     import numpy as np
 
     n = year.size
-    if n <= FEW_DATES:
-        return [("%04d" % y if 0 <= y <= 9999 else "%+05d" % y) + _ISO % tuple(rest)
-                for y, *rest in zip(year.tolist(), month.tolist(), mday.tolist(), clock["h"].tolist(),
-                                    clock["m"].tolist(), clock["s"].tolist(), clock["f"].tolist())]
+    if n <= FEW_DATES:      # the fields' digits looked up (d2dtf's fields are never negative), the year formatted
+        two, three = _DIGITS_2, _DIGITS_3
+        return [f"{y:04d}-{two[mo]}-{two[d]}T{two[h]}:{two[mi]}:{two[s]}.{three[ms]}" if 0 <= y <= 9999 else
+                f"{y:+05d}-{two[mo]}-{two[d]}T{two[h]}:{two[mi]}:{two[s]}.{three[ms]}"
+                for y, mo, d, h, mi, s, ms in zip(year.tolist(), month.tolist(), mday.tolist(), clock["h"].tolist(),
+                                                  clock["m"].tolist(), clock["s"].tolist(), clock["f"].tolist())]
     text = np.empty((n, 21 + CALENDAR_DECIMALS), dtype=np.uint8)      # each date and a newline
     for column, char in ((4, "-"), (7, "-"), (10, "T"), (13, ":"), (16, ":"), (19, "."), (-1, "\n")):
         text[:, column] = ord(char)
