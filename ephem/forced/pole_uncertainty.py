@@ -6,7 +6,8 @@ served and the true pole at each epoch).
 The inputs, their steps and correlations are those of :mod:`ephem.forced.uncertainty` (its docstring says which
 inputs and why): each input with a σ is stepped by :data:`~ephem.forced.uncertainty.STEP_FRACTION` of it both ways,
 the 2m first-order models are built once per body and order (:func:`cached_pole_sensitivity`), and a request
-evaluates their tracks together at its epochs (:meth:`PoleSensitivity.sigma`).
+evaluates their tracks together at its epochs (:meth:`PoleSensitivity.sigma`); the σ of a track's epochs is kept
+per body, order and epochs (:func:`_cached_sigma`), so the same track asked again does not evaluate them again.
 """
 from __future__ import annotations
 
@@ -17,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..base.errors import NotApplicableError
-from ..base.memo import bytes_bounded
+from ..base.memo import bytes_bounded, epochs_digest
 from ..bodies.catalogue import Body
 from .catalogue_sigmas import CatalogueInput, catalogue_inputs, correlation_matrix
 from .precession_nutation import build_model
@@ -151,7 +152,8 @@ def pole_uncertainty(b: Body, jd_tdb, order: int | None = None, *,
 
     The stepped models are built once per body and order (:func:`cached_pole_sensitivity`, when the catalogue's σ
     and correlations are used) and evaluated together at the epochs (:meth:`PoleSensitivity.sigma`): a request
-    pays for the evaluation alone.
+    pays for the evaluation alone, and up to :data:`SIGMA_MEMO_EPOCHS` epochs asked again (the same track) for a
+    look-up (:func:`_cached_sigma`).
 
     It grows from the catalogue pole's own σ at the pole epoch as the precession rate's σ accumulates. None
     where no input has a σ (a user's body); the inputs without one do not count (their σ is unknown, not zero).
@@ -159,7 +161,25 @@ def pole_uncertainty(b: Body, jd_tdb, order: int | None = None, *,
     """
     t = np.atleast_1d(np.asarray(jd_tdb, dtype=float))
     if uncertainties is None and correlations is None:
+        if t.ndim == 1 and t.size <= SIGMA_MEMO_EPOCHS:
+            sigma = _cached_sigma(b, order, t)
+            return None if sigma is None else sigma.copy()      # the caller's own: the kept one stays as computed
         sens = cached_pole_sensitivity(b, order)
     else:
         sens = pole_sensitivity(b, order, uncertainties, correlations)
+    return None if sens is None else sens.sigma(t)
+
+
+#: the most epochs whose σ :func:`pole_uncertainty` keeps (:func:`_cached_sigma`): 32 kB an entry at most, where the
+#: evaluation (~0.1 ms for a few dozen epochs, numpy's per-call overhead) is a warm small track's largest part
+SIGMA_MEMO_EPOCHS = 4096
+
+
+@bytes_bounded(key=lambda b, order, t: (b, order, epochs_digest(t)))
+def _cached_sigma(b: Body, order: int | None, t: np.ndarray) -> np.ndarray | None:
+    """The pole's 1-σ at the epochs ``t`` with the catalogue's σ and correlations (:meth:`PoleSensitivity.sigma`):
+    a pure function of the body (its dataset with it), the order and the epochs, kept per body, order and the epochs'
+    digest in the byte-bounded caches (:mod:`ephem.base.memo`, 8 bytes an epoch weighed), so that the same track asked
+    again (the same grid) looks its σ up instead of evaluating the 2m stepped tracks again."""
+    sens = cached_pole_sensitivity(b, order)
     return None if sens is None else sens.sigma(t)

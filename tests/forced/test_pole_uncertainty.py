@@ -78,3 +78,22 @@ def test_at_the_pole_epoch_it_is_the_poles_own_sigma():
     cd = math.cos(math.radians(b.pole.dec_deg))
     own = math.radians(math.hypot(sra * cd, sdec))
     assert pu.pole_uncertainty(b, [b.pole.epoch_jd_tdb])[0] == pytest.approx(own, rel=1e-3)
+
+
+def test_a_tracks_sigma_is_kept_per_epochs_and_handed_out_as_the_callers_own():
+    """The σ of a track's epochs asked again is looked up (the kept entry's hits grow), equal to the stacked
+    evaluation's to the bit (the same function of the same epochs), and each caller gets its own array: writing into
+    one answer leaves the next unchanged. Other epochs of the same ends are another entry."""
+    b = get_body("ceres")
+    t = b.pole.epoch_jd_tdb + np.arange(37) * 10.0
+    want = pu.cached_pole_sensitivity(b, None).sigma(t)
+    first = pu.pole_uncertainty(b, t)
+    hits = pu._cached_sigma.cache_info().hits
+    first[:] = -1.0
+    again = pu.pole_uncertainty(b, t)
+    assert pu._cached_sigma.cache_info().hits == hits + 1
+    assert np.array_equal(again, want)
+    other = t.copy()
+    other[1:-1] += 0.5
+    assert not np.array_equal(pu.pole_uncertainty(b, other), want)
+    assert np.array_equal(pu.pole_uncertainty(b, other), pu.cached_pole_sensitivity(b, None).sigma(other))
