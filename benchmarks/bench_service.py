@@ -297,11 +297,13 @@ def _wrk_ms(text: str) -> float:
     return float(m.group(1)) * _UNITS[m.group(2)] if m else math.nan
 
 
-def run_wrk(url: str, connections: int, duration: float, threads: int = 2) -> dict:
+def run_wrk(url: str, connections: int, duration: float, threads: int = 2, lua: str = "") -> dict:
+    """Load ``url`` with wrk; ``lua``, when given, is added to its script (e.g. a ``request`` function that varies
+    the query of each request: wrk's ``setup``, ``init`` and ``request`` hooks)."""
     threads = max(1, min(threads, connections))
     limit = max(1, MAX_LOOPBACK_REQUESTS // threads)
     with tempfile.NamedTemporaryFile("w", suffix=".lua", delete=False) as f:
-        f.write(_WRK_STOP.format(limit=limit))
+        f.write(_WRK_STOP.format(limit=limit) + lua)
         script = f.name
     try:
         cmd = ["wrk", f"-t{threads}", f"-c{connections}", f"-d{max(1, round(duration))}s", "--latency",
