@@ -50,6 +50,7 @@ from ephem import api
 
 from . import docs_pages, downloads
 from .batch_input import csv_batch_rows
+from .fast_routes import one_pass
 from .schemas import HistoryIn, TrackIn, UserBody
 
 TEMPLATES = pathlib.Path(__file__).resolve().parent / "templates"
@@ -113,6 +114,8 @@ _env = Environment(loader=FileSystemLoader(str(TEMPLATES)), autoescape=select_au
 
 def _number(value, digits: int = 10) -> str:
     """A number as the page prints it: ``digits`` significant digits, '—' where there is none."""
+    if type(value) is float:        # the common case first (a page prints some 500): inf and nan print as str's
+        return f"{value:.{digits}g}"
     if value is None:
         return "—"
     if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -232,6 +235,7 @@ def install(app: FastAPI) -> None:
                      title=f"{name}: precession and nutation")
 
     @app.get("/bodies/{body}/track", include_in_schema=False, response_class=HTMLResponse)
+    @one_pass       # its eleven text parameters read in one pass, as the API's track route reads its own
     async def track_page(request: Request, body: str, start: str = TRACK_DEFAULTS["start"],
                          stop: str = TRACK_DEFAULTS["stop"], step_days: str = TRACK_DEFAULTS["step_days"],
                          tolerance_mas: str = "", model: str = "", order: str = "", axis: str = "figure",
@@ -259,8 +263,10 @@ def install(app: FastAPI) -> None:
             # ... charted from the same answer (the drawing charged, as the .svg route charges it), inline: the
             # points' hover titles work and no second request is made
             chart = _inline_svg(api.models_chart(models, fmt="svg"))
+            # each model beside its row of the comparison's table (whether the tolerance admits it), for the table
             return {**track, "models": models, "models_chart": chart,
-                    "model_rows": api.track_models_rows(models)}
+                    "comparison": list(zip(models["models"],
+                                           (row["eligible"] for row in api.track_models_rows(models))))}
 
         result, problem = await _answer(request, compute, TRACK_FIELDS)
         rows, count = [], 0

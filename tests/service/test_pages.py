@@ -266,6 +266,37 @@ def test_the_track_page_draws_the_models_chart_inline_with_the_table_folded(clie
     _accessible(Page(text))
 
 
+def test_the_track_pages_comparison_table_says_each_models_row_as_the_api(client):
+    """Each row of the folded comparison is its model's, in the API's order: its name, e-order, estimate (4
+    significant digits) and predicted cost (3), Eligible as the API's rows say (the chart's rule), Chosen, and the
+    row marked chosen, or refused where the model is unavailable or not eligible: a model's row never takes another's
+    eligibility."""
+    import html
+    import re
+
+    q = {"start": "2020-01-01", "stop": "2025-01-01", "step_days": "10", "tolerance_mas": "30"}
+    text = client.get("/bodies/vesta/track", params=q).text
+    details = text.split("<details>", 1)[1].split("</details>", 1)[0]
+    body = details.split("<tbody>", 1)[1].split("</tbody>", 1)[0]
+    rows = re.findall(r"<tr(?: class=\"(\w+)\")?><th scope=\"row\">([^<]*)</th>(.*?)</tr>", body, flags=re.S)
+    want = client.get("/v1/bodies/vesta/track/models", params=q).json()
+    eligible = [r["eligible"] for r in api.track_models_rows(want)]
+    assert len(rows) == len(want["models"]) > 30
+    assert set(eligible) == {True, False}         # the tolerance admits some models and not others
+    for (mark, name, cells), m, ok in zip(rows, want["models"], eligible):
+        assert name == m["name"]
+        tds = [html.unescape(" ".join(x.split())) for x in re.findall(r"<td[^>]*>(.*?)</td>", cells, flags=re.S)]
+        assert tds[0] == ("" if m["order"] is None else str(m["order"]))
+        if m["available"]:
+            error, cpu = float(tds[2]), float(tds[3])
+            assert error == pytest.approx(m["estimated_error_mas"], rel=5e-4)      # 4 significant digits
+            assert cpu == pytest.approx(m["estimated_cpu_ms"], rel=5e-3)           # 3
+        else:
+            assert tds[2] == f"not available: {m['why_not']}"
+        assert tds[-2:] == ["yes" if ok else "no", "yes" if m["chosen"] else ""]
+        assert mark == ("chosen" if m["chosen"] else "refused" if not (m["available"] and ok) else "")
+
+
 def test_a_history_page_shows_the_apis_history(client):
     q = {"start_year": "-20000", "stop_year": "0", "step_years": "500"}
     text = client.get("/bodies/ceres/history", params=q).text
