@@ -133,7 +133,23 @@ def _api_url(request: Request, path: str, params: dict, absolute: bool = False) 
     relative (a link the browser resolves against the page's own address), or with ``absolute`` (a curl line) under
     the address the connection reached, the server's own socket. Never the request's Host header: a client could
     write any name there, and the page would hand it to the next reader (issue 42)."""
-    query = urlencode({k: v for k, v in params.items() if v not in (None, "")})
+    return _api_at(request, path, _query(params), absolute)
+
+
+def _query(params: dict) -> str:
+    """``params``' query string, the empty ones left out (~25 us for a track's: a page encodes them once for its
+    several links, :func:`_joined`)."""
+    return urlencode({k: v for k, v in params.items() if v not in (None, "")})
+
+
+def _joined(*queries: str) -> str:
+    """Query strings one after the other: ``_joined(_query(params), "format=csv")`` is
+    ``_query({**params, "format": "csv"})``."""
+    return "&".join(q for q in queries if q)
+
+
+def _api_at(request: Request, path: str, query: str, absolute: bool = False) -> str:
+    """:func:`_api_url` of a query string already encoded (:func:`_query`)."""
     return _api_base(request, absolute) + path + (f"?{query}" if query else "")
 
 
@@ -152,10 +168,12 @@ def _api_base(request: Request, absolute: bool) -> str:
     return f"{scheme}://{host}" + ("" if port in (None, default) else f":{port}") + root
 
 
-def _snippets(request: Request, path: str, params: dict, call: str) -> dict:
-    """The equivalent API URL (``href`` the page's link to it), a curl line and a Python call for a result."""
-    url = _api_url(request, path, params, absolute=True)
-    return {"url": url, "href": _api_url(request, path, params), "curl": f"curl -s {shlex.quote(url)}",
+def _snippets(request: Request, path: str, params: dict, call: str, query: str | None = None) -> dict:
+    """The equivalent API URL (``href`` the page's link to it), a curl line and a Python call for a result (``query``:
+    ``params`` already encoded, :func:`_query`)."""
+    query = _query(params) if query is None else query
+    url = _api_at(request, path, query, absolute=True)
+    return {"url": url, "href": _api_at(request, path, query), "curl": f"curl -s {shlex.quote(url)}",
             "python": f"from ephem import api\n{call}"}
 
 
@@ -276,6 +294,7 @@ def install(app: FastAPI) -> None:
             rows = [[result[k][i] if k.endswith("_iso") else float(result[k][i]) for k in keys]
                     for i in range(min(count, TRACK_ROWS_SHOWN))]
         name = result["body"] if result else body
+        query = _query(params)      # encoded once: the track's links (its CSV, its ECSV, the API's URL) share it
         models_query = urlencode({k: form[k] for k in ("start", "stop", "step_days", "tolerance_mas", "axis", "dataset")
                                   if form[k] not in (None, "")})
         return _page("track.html", _status(problem), body=name, form=form, result=result, problem=problem,
@@ -283,9 +302,9 @@ def install(app: FastAPI) -> None:
                      models_svg_url=f"/v1/bodies/{quote(name)}/track/models.svg?{models_query}",
                      rows=rows, count=count, keys=keys if result is not None else api.TRACK_KEYS, models=api.MODELS,
                      axes=api.AXES, time_scales=api.CALENDAR_SCALES,
-                     ecsv_url=_api_url(request, f"/v1/bodies/{name}/track", {**params, "format": "ecsv"}),
+                     ecsv_url=_api_at(request, f"/v1/bodies/{name}/track", _joined(query, "format=ecsv")),
                      ecsv_name=downloads.filename(name, dataset, "track", fmt="ecsv"),
-                     csv_url=_api_url(request, f"/v1/bodies/{name}/track", {**params, "format": "csv"}),
+                     csv_url=_api_at(request, f"/v1/bodies/{name}/track", _joined(query, "format=csv")),
                      csv_name=downloads.filename(name, dataset, "track", fmt="csv"),
                      # every parameter of the track reaches its figure (the figure of this track, not a default's)
                      plot_url=_api_url(request, f"/v1/bodies/{name}/track.svg",
@@ -295,7 +314,8 @@ def install(app: FastAPI) -> None:
                                                                      "tolerance_mas": _maybe_float(tolerance_mas),
                                                                      "order": _maybe_int(order),
                                                                      "free_wobble_phase_deg": _maybe_float(free_wobble_phase_deg),
-                                                                     "free_wobble_J_arcsec": _maybe_float(free_wobble_J_arcsec)})),
+                                                                     "free_wobble_J_arcsec": _maybe_float(free_wobble_J_arcsec)}),
+                                    query=query),
                      title=f"{name}: spin-axis track")
 
 
