@@ -62,6 +62,10 @@ from .problems import problem
 from .settings import Settings
 
 log = logging.getLogger("ephem.service")
+#: each request's predicted peak memory as it ends, at DEBUG (off by default): the charged peak
+#: (``Budget.peak_memory_mb``) and what the worker's allowance counted of it, MB, in the record's ``peak_memory_mb`` and
+#: ``admitted_memory_mb``; benchmarks/bench_request_memory.py sets it to DEBUG to set them beside the measured rise
+memory_log = logging.getLogger("ephem.service.memory")
 
 
 #: a request whose charged peak memory (``Budget.peak_memory_mb``) is above this, MB, hands the allocator's freed memory
@@ -102,6 +106,11 @@ class RequestBudget:
             with budget(s.max_request_cpu_s, s.max_request_memory_mb, s.request_deadline_s, admit=admission) as b:
                 await self.app(scope, receive, send)     # a streamed answer holds its slot until sent
         finally:
+            if b is not None and memory_log.isEnabledFor(logging.DEBUG):     # off unless asked: one attribute read
+                admitted = admission.memory_mb if admission is not None and admission.memory is not None else 0.0
+                memory_log.debug("%s %s: charged peak %.3f MB, admitted %.3f MB", scope.get("method"),
+                                 scope.get("path"), b.peak_memory_mb, admitted,
+                                 extra={"peak_memory_mb": b.peak_memory_mb, "admitted_memory_mb": admitted})
             if b is not None and self.trim_after_mb is not None and b.peak_memory_mb > self.trim_after_mb:
                 release_free_memory()   # ~1 ms (ctypes lets the interpreter's lock go meanwhile): the work is freed
             if admission is not None:

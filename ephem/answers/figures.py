@@ -638,6 +638,8 @@ def render(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
                            orbit_model=orbit_model, perturbers=perturbers, axis=axis,
                            free_wobble_phase_deg=free_wobble_phase_deg, free_wobble_J_arcsec=free_wobble_J_arcsec,
                            free_wobble_epoch=free_wobble_epoch)      # the request made, and checked, once
+    if request.kind == "free-wobble":
+        charge(wobble_drawing_cost(request, fmt, dpi), request.body.name)   # its loops' raster, before the data too
     return _written_once(figure(request), fmt, dpi)
 
 
@@ -698,6 +700,35 @@ def drawing_cost(fmt: str, dpi: float) -> Cost:
     pixels = FIGURE_AREA_IN2 * dpi * dpi if fmt == "png" else 0.0
     return Cost((Part("dpi" if fmt == "png" else "format", f"the figure drawn as {fmt}", 0.0,
                       FIGURE_BASE_MB + CHART_PIXEL_BYTES * pixels / (1024.0 * 1024.0)),))
+
+
+#: a PNG free-wobble figure's raster, bytes per cycle of its loops drawn and per dpi: matplotlib's Agg rasterizer keeps
+#: a cell for every pixel a line crosses until the line is filled, so overlapping loops (the figure axis about L turns
+#: once a rotation, ~3,400 times over the Earth's or Mars's 9 years) cost their drawn length, ~2 pi r of the panel each,
+#: whatever the pixels. Measured (benchmarks/RESULTS_request_memory.md), the whole request: 604-625 bytes a cycle a dpi
+#: over 300-3,800 cycles at 30-110 dpi (the Earth over 9.2 years, 100,000 epochs: 68 MB at 30 dpi, 232 MB at 110),
+#: where the drawing was charged 4.4-9.4 MB; SVG writes the path as text: 12 MB at 100,000 epochs, within the data's
+#: own charge ...
+WOBBLE_CYCLE_BYTES = 640.0
+#: ... and the arrays the figure holds while it is drawn, bytes per epoch (its five series and the lines' copies)
+WOBBLE_EPOCH_BYTES = 64.0
+
+
+def wobble_drawing_cost(request: PlotRequest, fmt: str, dpi: float) -> Cost:
+    """The memory of drawing a ``free-wobble`` request's loops as ``fmt`` at ``dpi``, MB: :func:`drawing_cost` and,
+    for a PNG, :data:`WOBBLE_CYCLE_BYTES` per cycle drawn per dpi (the cycles of both panels over the span, from the
+    body's wobble and precession periods) and :data:`WOBBLE_EPOCH_BYTES` per epoch; charged before the data, which
+    is held while it is drawn. The CPU is not priced here (0)."""
+    base = drawing_cost(fmt, dpi)
+    if fmt != "png":
+        return base
+    span = request.stop - request.start
+    cycles = sum(span / p for p in _wobble_periods(request.body, request.start, request.J_arcsec, request.method)
+                 if math.isfinite(p) and p > 0.0)
+    epochs = span / request.step + 1.0
+    lines = (WOBBLE_CYCLE_BYTES * cycles * dpi + WOBBLE_EPOCH_BYTES * epochs) / (1024.0 * 1024.0)
+    return Cost((Part("dpi", f"the free wobble's {cycles:.0f} cycles drawn as png at {dpi:g} dpi", 0.0,
+                      base.memory_mb + lines),))
 
 
 @shared_parameters
