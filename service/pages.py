@@ -291,8 +291,9 @@ def install(app: FastAPI) -> None:
         if result is not None:
             count = len(result["jd_tdb"])
             keys = (api.TRACK_KEYS[0], f"{time_scale}_iso", *api.TRACK_KEYS[1:])     # the date beside jd_tdb
-            rows = [[result[k][i] if k.endswith("_iso") else float(result[k][i]) for k in keys]
-                    for i in range(min(count, TRACK_ROWS_SHOWN))]
+            shown = min(count, TRACK_ROWS_SHOWN)      # by column: a slice each (not 200 numpy scalars), as floats
+            rows = list(zip(*(result[k][:shown] if k.endswith("_iso") else result[k][:shown].astype(float).tolist()
+                              for k in keys)))
         name = result["body"] if result else body
         query = _query(params)      # encoded once: the track's links (its CSV, its ECSV, the API's URL) share it
         models_query = urlencode({k: form[k] for k in ("start", "stop", "step_days", "tolerance_mas", "axis", "dataset")
