@@ -37,6 +37,9 @@ the model.
 from __future__ import annotations
 
 import math
+import threading
+import weakref
+from collections import OrderedDict
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -385,8 +388,85 @@ def error_terms(model, moments, span_days: float, axis: str = "figure",
         raise ValueError(f"pole must be 'figure', or 'momentum' with nothing modelled, got {pole!r} with {modelled!r}")
     A, B, C = (float(x) / float(moments[2]) for x in moments)
     mom = (A, B, 1.0)
-    n, w, e = model.mean_motion, model.spin_rate, model.eccentricity
+    w, e = model.spin_rate, model.eccentricity
     span = float(span_days)
+    o0, r0, o_max, r_max, figure_change, forcing_rate, drift = span_samples(model, mom, span)
+    start_offset = r0 if pole == "momentum" else {"none": o0 + r0, "oppolzer": r0, "all": 0.0}[modelled]
+    out = {}
+    if modelled == "none":
+        if pole == "momentum":
+            out["oppolzer"] = o_max if axis == "figure" else 0.0
+        else:
+            out["oppolzer"] = figure_change if axis == "figure" else o0
+    if modelled != "all":
+        out["semi_diurnal"] = r_max + r0
+    out["start"] = 0.5 * model.scaling_factor * (1.0 - e * e) ** -1.5 * math.sin(model.obliquity) ** 2 \
+        * start_offset * abs(span)
+    out["drift"] = DRIFT_FACTOR * drift
+    if modelled == "all":
+        nut = model.nutation
+        moved = float(np.sum(np.hypot(nut.lon_sin, nut.lon_cos)) + np.sum(np.hypot(nut.obl_sin, nut.obl_cos))) \
+            + abs(model.precession_rate * span)
+        out["phase"] = 2.0 * r_max * PHASE_FACTOR * moved
+    if axis == "figure":
+        figure = (1.0 + resonance_factor(mom)) * (oppolzer_factor(mom) + 2.0 * semi_diurnal_factor(mom))
+        out["next_order"] = NEXT_ORDER * figure * forcing_rate / w**3
+    else:
+        out["next_order"] = NEXT_ORDER_MOMENTUM * 2.0 * semi_diurnal_factor(mom) * forcing_rate / w**3
+    return out
+
+
+#: what :func:`span_samples` keeps: its last few answers, keyed by the model's identity (held weakly: a model the
+#: process drops is not kept alive here), the normalised moments and the span; seven floats an entry
+_SAMPLES_KEPT = 8
+_samples: OrderedDict = OrderedDict()
+_samples_lock = threading.Lock()
+
+
+@dataclass(frozen=True)
+class SpanSamples:
+    """What :func:`error_terms` reads of a span [t₀, t₀ + span] (radians; rad²/day³ for ``forcing_rate``): the same
+    for every pole ``axis``, ``modelled`` and catalogue ``pole`` it is asked about, so that the several estimates of
+    one request (none, the Oppolzer offset or all modelled, the pole as L) sample the span once."""
+
+    o0: float              # |O(t₀)|, the Oppolzer offset at t₀
+    r0: float              # R(t₀), the semi-diurnal radius at t₀
+    o_max: float           # max |O(t)| over the span (the sampled maximum's margin included)
+    r_max: float           # max R(t) over the span (likewise)
+    figure_change: float   # max |O(t) - O₀'| (O₀' the offset at t₀ carried by the precession)
+    forcing_rate: float    # max |dF/dt|, F = g z u⊥
+    drift: float           # max |∫ ε cos 2δ dL̂/dt dt| (before :data:`DRIFT_FACTOR`)
+
+    def __iter__(self):
+        return iter((self.o0, self.r0, self.o_max, self.r_max, self.figure_change, self.forcing_rate, self.drift))
+
+
+def span_samples(model, moments, span_days: float) -> SpanSamples:
+    """:class:`SpanSamples` of ``model`` over a span of ``span_days`` (signed) for ``moments`` (A/C, B/C, 1):
+    sampled once and kept for the next few asks (:data:`_SAMPLES_KEPT`), since a request bounds the same span for
+    several variants (each of :func:`error_terms`' pieces is then a few float operations on these)."""
+    key = (id(model), tuple(float(x) for x in moments), float(span_days))
+    with _samples_lock:
+        kept = _samples.get(key)
+        if kept is not None and kept[0]() is model:
+            _samples.move_to_end(key)
+            return kept[1]
+    value = _span_samples(model, key[1], key[2])
+    try:
+        ref = weakref.ref(model)
+    except TypeError:           # a model that cannot be referred to weakly is not kept
+        return value
+    with _samples_lock:
+        _samples[key] = (ref, value)
+        _samples.move_to_end(key)
+        while len(_samples) > _SAMPLES_KEPT:
+            _samples.popitem(last=False)
+    return value
+
+
+def _span_samples(model, mom: tuple[float, float, float], span: float) -> SpanSamples:
+    """:func:`span_samples` computed."""
+    n, w, e = model.mean_motion, model.spin_rate, model.eccentricity
     orbits = abs(span) * n / (2.0 * math.pi)
     t0 = model.pole_epoch
     sun0 = SunGeometry.at(model, [t0])
@@ -431,29 +511,7 @@ def error_terms(model, moments, span_days: float, axis: str = "figure",
         nu_dot = sun_rate_ratio(model) * w
         forcing_rate = g_max * nu_dot * (2.0 * math.sin(tilt) + 3.0 * e / (1.0 - e) * geo)
         drift = _long_span_drift(model, mom, span)
-    start_offset = r0 if pole == "momentum" else {"none": o0 + r0, "oppolzer": r0, "all": 0.0}[modelled]
-    out = {}
-    if modelled == "none":
-        if pole == "momentum":
-            out["oppolzer"] = o_max if axis == "figure" else 0.0
-        else:
-            out["oppolzer"] = figure_change if axis == "figure" else o0
-    if modelled != "all":
-        out["semi_diurnal"] = r_max + r0
-    out["start"] = 0.5 * model.scaling_factor * (1.0 - e * e) ** -1.5 * math.sin(model.obliquity) ** 2 \
-        * start_offset * abs(span)
-    out["drift"] = DRIFT_FACTOR * drift
-    if modelled == "all":
-        nut = model.nutation
-        moved = float(np.sum(np.hypot(nut.lon_sin, nut.lon_cos)) + np.sum(np.hypot(nut.obl_sin, nut.obl_cos))) \
-            + abs(model.precession_rate * span)
-        out["phase"] = 2.0 * r_max * PHASE_FACTOR * moved
-    if axis == "figure":
-        figure = (1.0 + resonance_factor(mom)) * (oppolzer_factor(mom) + 2.0 * semi_diurnal_factor(mom))
-        out["next_order"] = NEXT_ORDER * figure * forcing_rate / w**3
-    else:
-        out["next_order"] = NEXT_ORDER_MOMENTUM * 2.0 * semi_diurnal_factor(mom) * forcing_rate / w**3
-    return out
+    return SpanSamples(o0, r0, o_max, r_max, figure_change, forcing_rate, drift)
 
 
 def resonance_factor(moments) -> float:

@@ -256,3 +256,34 @@ def test_the_rotation_phase_at_the_interfaces():
         api.track("earth", **q, rotation_phase_deg=10.0)
     r = TestClient(app).get("/v1/bodies/eros/track", params={**q, "model": "numerical", "rotation_phase_deg": 30.0})
     assert r.status_code == 200 and r.json()["model"]["rotation_scale"]["modelled"] == "all"
+
+
+def test_error_terms_share_one_sampling_of_a_span_and_keep_no_model_alive():
+    """Every (axis, modelled, pole) variant of a span reads one sampling of it (span_samples, kept for the next few
+    asks): each variant's terms equal those of a sampling made afresh for it (to 1e-15 relative: the same
+    operations), the second ask does not sample again, and a model the process drops is not held by what is kept."""
+    import gc
+    import weakref
+
+    b = make_body()
+    model = cached_model(b)
+    moments = normalised_moments(b.moments)
+    variants = [("figure", "none", "figure"), ("momentum", "none", "figure"), ("figure", "oppolzer", "figure"),
+                ("momentum", "all", "figure"), ("figure", "none", "momentum"), ("momentum", "none", "momentum")]
+    for span in (0.0, 3.5, -40.0, 400.0, 1e5):          # short, both sides of t0, and beyond the sampled orbits
+        kept = [rs.error_terms(model, moments, span, *v) for v in variants]
+        samples = rs.span_samples(model, moments, span)
+        assert rs.span_samples(model, moments, span) is samples          # asked again: not sampled again
+        for v, terms in zip(variants, kept):
+            rs._samples.clear()
+            fresh = rs.error_terms(model, moments, span, *v)
+            assert fresh.keys() == terms.keys()
+            for k in terms:
+                assert terms[k] == pytest.approx(fresh[k], rel=1e-15, abs=0.0), (span, v, k)
+    other = replace(model)            # an equal model, another object: kept apart, and not kept alive
+    assert rs.span_samples(other, moments, 3.5) is not rs.span_samples(model, moments, 3.5)
+    ref = weakref.ref(other)
+    del other
+    gc.collect()
+    assert ref() is None
+    assert len(rs._samples) <= rs._SAMPLES_KEPT
