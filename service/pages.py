@@ -112,10 +112,14 @@ _env = Environment(loader=FileSystemLoader(str(TEMPLATES)), autoescape=select_au
                    trim_blocks=True, lstrip_blocks=True)
 
 
+#: the format specs of 0 to 17 significant digits, made once (a track page formats some 250 numbers)
+_G_SPECS = tuple(f".{d}g" for d in range(18))
+
+
 def _number(value, digits: int = 10) -> str:
     """A number as the page prints it: ``digits`` significant digits, '—' where there is none."""
-    if type(value) is float:        # the common case first (a page prints some 500): inf and nan print as str's
-        return f"{value:.{digits}g}"
+    if type(value) is float:        # the common case first: inf and nan print as str() prints them
+        return format(value, _G_SPECS[digits] if 0 <= digits < 18 else f".{digits}g")
     if value is None:
         return "—"
     if isinstance(value, bool) or not isinstance(value, (int, float)):
