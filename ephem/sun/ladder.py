@@ -371,4 +371,6 @@ def _cached_cost(ladder: Ladder, rung, start, stop, count, order, free_wobble, r
 
 @bytes_bounded
 def _cached_costs(ladder: Ladder, variants: tuple, start, stop, count, built: tuple) -> tuple[Cost, ...]:
-    return tuple(ladder.cost(rung, start, stop, count, order, wobble, scale) for rung, order, wobble, scale in variants)
+    # priced here, not through each variant's own memo (Ladder.cost): this entry keeps them, and a put and a weighing
+    # per variant cost a new question more than the ~35 prices themselves
+    return tuple(ladder.price(rung, start, stop, count, order, wobble, scale) for rung, order, wobble, scale in variants)
