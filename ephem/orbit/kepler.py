@@ -28,11 +28,16 @@ def _e_minus_sin(E: np.ndarray) -> np.ndarray:
     """``E - sin E`` without cancellation for small ``|E|`` (Taylor series
     below 1, summed to ``E^25/25!`` < 1e-25; direct above)."""
     E = np.asarray(E, dtype=float)
+    small = np.abs(E) < 1.0
+    if not small.any():          # no point takes the series (Newton's last steps on a few points, often one)
+        return E - np.sin(E)
     x2 = E * E
     series = np.ones_like(E)
     for n in range(11, 0, -1):   # E^3/3! (1 - E^2/(4*5) (1 - E^2/(6*7) (...))), on every point: no gather
         series = 1.0 - x2 / ((2 * n + 2) * (2 * n + 3)) * series
-    return np.where(np.abs(E) < 1.0, E * x2 / 6.0 * series, E - np.sin(E))
+    if small.all():
+        return E * x2 / 6.0 * series
+    return np.where(small, E * x2 / 6.0 * series, E - np.sin(E))
 
 
 def solve_kepler(M, e) -> np.ndarray:
