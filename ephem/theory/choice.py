@@ -96,8 +96,10 @@ def decide(candidates: Candidates, tolerance: float) -> Decision:
 def _rank(costs, bound, tolerance: float, tie: float) -> tuple:
     """:func:`decide` on a list of prices and a function of the bounds: (best, first, bounds made, order). Apart from
     :class:`Decision` so that :func:`choose`, on every track with a tolerance, builds no record it does not need."""
-    order = sorted(range(len(costs)), key=lambda i: (costs[i], i)) if None not in costs else \
-        sorted((i for i, c in enumerate(costs) if c is not None), key=lambda i: (costs[i], i))
+    # by price, the index breaking equal prices: a stable sort of the indices in increasing order by price alone is
+    # the order of the keys (price, index), at a C-level key (prices are sums of positive parts, never NaN)
+    order = sorted(range(len(costs)), key=costs.__getitem__) if None not in costs else \
+        sorted([i for i, c in enumerate(costs) if c is not None], key=costs.__getitem__)
     made: dict[int, float | None] = {}
     first, tied = None, []
     for i in order:
@@ -174,6 +176,19 @@ class Choice:
     reason: str
 
 
+_CANDIDATE_FIELDS = ("rung", "order", "free_wobble", "rotation_scale", "estimate", "cost", "_eligible")
+
+
+def _candidate(p, estimate: Estimate | None, cost: Cost | None, eligible: bool) -> Candidate:
+    """``Candidate(p.rung, p.order, p.free_wobble, p.rotation_scale, estimate, cost, eligible)``, its fields set in one
+    go: a choice makes one per model of the plan (~40 a track with a tolerance), and a frozen dataclass's
+    ``__init__`` sets each field by ``object.__setattr__``; the same object (equal, the same repr and hash)."""
+    c = object.__new__(Candidate)
+    c.__dict__.update(zip(_CANDIDATE_FIELDS, (p.rung, p.order, p.free_wobble, p.rotation_scale, estimate, cost,
+                                              eligible)))
+    return c
+
+
 def _label(c) -> str:
     what = c.rung + ("" if c.order is None else f" e^{c.order}")
     if c.free_wobble:
@@ -202,10 +217,9 @@ def choose(plan: list, price: Callable[[Estimate | Deferred], Cost] | list, tole
     if best is None:      # every estimate, those made above not made again (a deferred one is a run of its model)
         refuse([e for e in (made[i] if i in made else resolve([p])[0] for i, p in enumerate(plan)) if e.available])
         raise AssertionError("refuse() must raise")      # pragma: no cover
-    known = {i: made.get(i, None if isinstance(p, Deferred) else p) for i, p in enumerate(plan)}
-    candidates = tuple(Candidate(p.rung, p.order, p.free_wobble, p.rotation_scale, known[i], costs[i],
-                                 known[i] is not None and known[i].available and known[i].total <= tolerance)
-                       for i, p in enumerate(plan))
+    known = [made.get(i, None if isinstance(p, Deferred) else p) for i, p in enumerate(plan)]
+    candidates = tuple(map(_candidate, plan, known, costs, [k is not None and k.available and k.total <= tolerance
+                                                            for k in known]))
     won = made[best]
     tried = [i for i in order if i in made]
     cheaper = [i for i in tried[:tried.index(first)] if made[i].available]

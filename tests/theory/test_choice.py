@@ -119,3 +119,22 @@ def test_estimates_equal_but_for_their_last_bits_do_not_decide_a_tie(nudge):
     price = {"a": 1.0, "b": 1.0 + TIE / 2}
     got = choose(plan, lambda e: _cost(price[e.rung]), 200 * MAS, _refuse)
     assert got.chosen.rung == "a"
+
+
+def test_the_candidates_are_the_dataclass_built_in_one_go_and_equal_prices_keep_the_plans_order():
+    """choose() sets each Candidate's fields in one go (choice._candidate): the same object the dataclass's own
+    __init__ makes (equal, hashed alike, the same repr); and models of equal price are tried in the plan's order (the
+    index breaks the tie), so the first of them within the tolerance is the one chosen."""
+    from dataclasses import fields
+
+    from ephem.theory.choice import Candidate
+
+    plan = [Estimate("a", None, {"x": 500 * MAS}), Estimate("b", 2, {"x": 80 * MAS}),
+            Estimate("c", None, {"x": 80 * MAS}), Estimate("d", None, {"x": 80 * MAS})]
+    costs = [_cost(1.0), _cost(3.0), _cost(3.0), None]
+    got = choose(plan, costs, 100 * MAS, _refuse)
+    assert got.chosen is plan[1]
+    for k, p, c in zip(got.candidates, plan, costs):
+        ref = Candidate(p.rung, p.order, p.free_wobble, p.rotation_scale, p, c, p.total <= 100 * MAS)
+        assert k == ref and hash(k) == hash(ref) and repr(k) == repr(ref)
+        assert [getattr(k, f.name) for f in fields(Candidate)] == [getattr(ref, f.name) for f in fields(Candidate)]
