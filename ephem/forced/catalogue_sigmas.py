@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..base.errors import InvalidInputError
+from ..base.memo import bytes_bounded
 from ..base.units import unit_factor
 from ..bodies.catalogue import Body
 
@@ -55,8 +56,17 @@ def model_inputs(body: Body) -> list[tuple[str, float, str, str]]:
 
 
 def input_sigmas(body: Body) -> dict[str, float | None]:
-    """{input key: its catalogue 1-σ, or None where none is published} for the inputs the theory uses."""
-    return {i.key: i.sigma for i in catalogue_inputs(body, None)}
+    """{input key: its catalogue 1-σ, or None where none is published} for the inputs the theory uses: the
+    caller's own dict of the pairs kept per body (:func:`_kept_sigmas`)."""
+    return dict(_kept_sigmas(body))
+
+
+@bytes_bounded
+def _kept_sigmas(body: Body) -> tuple[tuple[str, float | None], ...]:
+    """The (input key, catalogue 1-σ or None) pairs of :func:`input_sigmas`: a function of the body alone (its
+    catalogue values and their units), kept per body in the byte-bounded caches (:mod:`ephem.base.memo`, ~1 kB),
+    since every track of a body with uncertainties asks it (~15 us to read the catalogue's values again)."""
+    return tuple((i.key, i.sigma) for i in catalogue_inputs(body, None))
 
 
 def catalogue_inputs(body: Body, overrides: Mapping[str, float | None] | None) -> list[CatalogueInput]:

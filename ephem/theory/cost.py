@@ -410,6 +410,7 @@ def truncation_bounds(e: float) -> Part:
                 1.0)
 
 
+@memo.bytes_bounded     # a function of the body alone, priced by every track of it (~14 us): kept per body and order
 def body_harmonics(body, order: int | None = None) -> int:
     """:func:`nutation_harmonics` of a :class:`~ephem.bodies.catalogue.Body`, from its parameters alone
     (:func:`spin_harmonics`)."""

@@ -163,3 +163,32 @@ def test_sizeof_counts_array_buffers_once_and_python_objects():
     assert memo.sizeof(a) >= a.nbytes
     assert memo.sizeof([a, a[10:], a.reshape(1000, 100)]) < 1.01 * memo.sizeof(a) + 1_000   # views share a
     assert memo.sizeof([{"k": None} for _ in range(1000)]) > 1000 * 64       # pure-Python entries count too
+
+
+def test_a_call_and_its_defaults_spelt_out_are_one_entry_however_given():
+    """f(x), f(x, None) and f(x, y=None) are one entry (the defaults filled in without binding the signature where every
+    parameter is positional, by binding it otherwise); a keyword-only parameter's default fills in as well, and a
+    missing required argument is still refused as the function would refuse it."""
+    pool = memo.BytePool(2**20)
+    calls = []
+
+    @memo.bytes_bounded(pool=pool)
+    def f(x, y=None, z=3):
+        calls.append((x, y, z))
+        return x
+
+    @memo.bytes_bounded(pool=pool)
+    def g(x, *, y=None):
+        calls.append((x, y))
+        return x
+
+    assert f(1) == f(1, None) == f(1, None, 3) == f(1, y=None) == f(x=1) == 1
+    assert calls == [(1, None, 3)] and f.cached(1) and f.cached(1, None, 3) and f.cache_info().currsize == 1
+    assert f(1, 2) == 1 and calls[-1] == (1, 2, 3)
+    assert g(5) == g(5, y=None) == 5 and calls[-1] == (5, None) and len(calls) == 3
+    try:
+        f()
+    except TypeError:
+        pass
+    else:
+        raise AssertionError("a missing argument must be refused")
