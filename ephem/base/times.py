@@ -323,17 +323,28 @@ def _tdb_minus_tt(jd):
     """TDB - TT (s) at the Julian dates TDB ``jd`` (1-D): skyfield's ``tdb_minus_tt`` to the bit, its seven terms'
     arguments and sines taken in one (7, epochs) array instead of 38 small numpy calls (~40 us for a few dozen
     epochs, 10 here): each element the same IEEE operations on the same operands, and the terms summed in the same
-    order, first to last (tests/base/test_times_calendar.py compares them bit for bit)."""
+    order, first to last (tests/base/test_times_calendar.py compares them, and the dates they give)."""
     import numpy as np
 
+    rate, phase, amplitude = _tdb_tt_arrays()
     t = (jd - 2451545.0 + 0.0) / 36525.0
-    sines = np.sin(np.multiply.outer(_TDB_TT_RATE, t) + np.array(_TDB_TT_PHASE)[:, None])
-    terms = np.multiply(np.array(_TDB_TT_AMPLITUDE[:6])[:, None], sines[:6])
+    sines = np.sin(rate * t + phase)
+    terms = amplitude * sines[:6]
     total = terms[0] + terms[1]
     for k in range(2, 6):
         total += terms[k]
     total += _TDB_TT_AMPLITUDE[6] * t * sines[6]
     return total
+
+
+@lru_cache(maxsize=1)
+def _tdb_tt_arrays():
+    """The series' rates and phases as (7, 1) columns and its first six amplitudes as a (6, 1) column (numpy loads
+    with the first call, not with the module)."""
+    import numpy as np
+
+    column = lambda values: np.array(values, dtype=float)[:, None]      # noqa: E731
+    return column(_TDB_TT_RATE), column(_TDB_TT_PHASE), column(_TDB_TT_AMPLITUDE[:6])
 
 
 def _utc_fields(day, frac):
@@ -346,11 +357,18 @@ def _utc_fields(day, frac):
 
     changes, offsets = _leap_changes(erfa.leap_seconds.get())
     tai = day + frac
+    if tai.size:        # the usual column: every date since 1972 between the same two changes, two days from both
+        lo, hi = float(tai.min()), float(tai.max())
+        i = int(np.searchsorted(changes, lo, side="right"))
+        # as the test below finds it date by date: each date's distance to either change is least at an end
+        if 0 < i == int(np.searchsorted(changes, hi, side="right")) and lo - changes[i - 1] >= 2.0 \
+                and abs(changes[min(i, changes.size - 1)] - hi) >= 2.0:
+            return erfa.d2dtf("TAI", CALENDAR_DECIMALS, day, frac - offsets[i - 1])
     after = np.searchsorted(changes, tai, side="right")          # offsets in force: changes[after - 1] <= tai
     nearest = np.minimum(np.abs(tai - changes[np.maximum(after - 1, 0)]),
                          np.abs(changes[np.minimum(after, changes.size - 1)] - tai))
     slow = (after == 0) | (nearest < 2.0)
-    if not slow.any():                  # the usual column: every date on an ordinary day since 1972, in one call
+    if not slow.any():                  # every date on an ordinary day since 1972 (across a change), in one call
         return erfa.d2dtf("TAI", CALENDAR_DECIMALS, day, frac - offsets[after - 1])
     fast = ~slow
     year, month, mday = (np.empty(tai.size, dtype=np.int32) for _ in range(3))

@@ -159,11 +159,17 @@ def test_the_series_taken_at_once_is_skyfields_term_by_term():
 
 def test_a_column_away_from_leap_seconds_takes_one_call():
     """A column of ordinary days since 1972 (no leap second within two days of any date) is written by one d2dtf
-    (times._utc_fields' short way): the dates of ERFA's own chain, taiutc then d2dtf("UTC")."""
-    jd = 2465424.5 + np.arange(37) * 10.0
-    day = np.floor(jd)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        tai = erfa.tttai(day, jd - day)
-        reference = times._iso_texts(*erfa.d2dtf("UTC", times.CALENDAR_DECIMALS, *erfa.taiutc(*tai)))
-        assert times._iso_texts(*times._utc_fields(*tai)) == reference
+    (times._utc_fields' short way, decided from the column's ends): the dates of ERFA's own chain, taiutc then
+    d2dtf("UTC"); so are columns whose end stands just within or just beyond two days of a change, or across one."""
+    changes, _ = times._leap_changes(erfa.leap_seconds.get())
+    columns = [2465424.5 + np.arange(37) * 10.0]
+    for c in changes:
+        for end in (c - 2.0 - 1e-6, c - 2.0 + 1e-6, c + 2.0 - 1e-6, c + 2.0 + 1e-6):
+            columns += [end - np.arange(8)[::-1] * 0.5, end + np.arange(8) * 0.5, end + np.array([-10.0, 0.0, 10.0])]
+    for tai_jd in columns:
+        day = np.floor(tai_jd)
+        tai = (day, tai_jd - day)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            reference = times._iso_texts(*erfa.d2dtf("UTC", times.CALENDAR_DECIMALS, *erfa.taiutc(*tai)))
+            assert times._iso_texts(*times._utc_fields(*tai)) == reference
