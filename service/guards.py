@@ -106,7 +106,7 @@ class RequestBudget:
             with budget(s.max_request_cpu_s, s.max_request_memory_mb, s.request_deadline_s, admit=admission) as b:
                 await self.app(scope, receive, send)     # a streamed answer holds its slot until sent
         finally:
-            if b is not None and memory_log.isEnabledFor(logging.DEBUG):     # off unless asked: one attribute read
+            if b is not None and memory_log.isEnabledFor(logging.DEBUG):     # off unless asked: a cached level check
                 admitted = admission.memory_mb if admission is not None and admission.memory is not None else 0.0
                 memory_log.debug("%s %s: charged peak %.3f MB, admitted %.3f MB", scope.get("method"),
                                  scope.get("path"), b.peak_memory_mb, admitted,
