@@ -33,6 +33,15 @@ def synchronous_track(epochs: int, terms: int = 0) -> Part:
                 epochs * (unit("track_bytes_per_epoch") + terms * _u("libration_bytes_per_term_epoch")) / MB)
 
 
+def libration_extremes(terms: int, epochs: int, block: int) -> Part:
+    """The nutation answer's half peak-to-peak σ and ρ of a series of ``terms`` terms (:func:`ephem.moon.family.
+    half_peak_to_peak`): the terms summed at ``epochs`` epochs, ``block`` at a time (kept per body and cut once
+    computed)."""
+    return Part("cut_mas", f"the librations' extremes: {terms} terms at {epochs} epochs",
+                unit("base_s") + epochs * terms * _u("libration_term_epoch_s"),
+                min(block, epochs) * terms * _u("libration_bytes_per_term_epoch") / MB)
+
+
 def libration_series() -> Part:
     """The Moon's forced physical librations (:func:`ephem.moon.physical_librations.moon_physical_librations`), with the
     catalogue's and the effective moments: built once per process (at the service's start-up)."""
