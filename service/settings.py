@@ -66,10 +66,12 @@ KEPT_FIXED_MB = 256.0
 #: what a worker's RSS held beyond that, its caches and its requests' predicted peaks, MB: the memory the requests
 #: below service.guards.TRIM_AFTER_REQUEST_MB (4 MB) freed and the once-a-second trim has not yet returned (less
 #: than 4 MB each and reused by the next, up to 4 requests at once: < 16 MB), the requests with no checkpoint, which
-#: are not counted (measured under 3.3 MB each), and the allocator's fragments. Not yet enough: the memory soak with
-#: these defaults (benchmarks/RESULTS_memory_soak.md, 4,000 requests) still had 0.4-1.0 % of its RSS samples above
-#: 400 MB, the largest 429 MB, ~80 MB beyond the idle RSS and the whole allowance: memory in use above some requests'
-#: predictions, not yet found. A slack covering it would leave ~60 MB for the caches and the requests together
+#: are not counted (measured under 3.3 MB each), and the allocator's fragments. The memory soak with these defaults
+#: (benchmarks/RESULTS_memory_soak.md, 4,000 requests) still had 0.4-1.0 % of its RSS samples above 400 MB, the
+#: largest 429 MB, ~80 MB beyond the idle RSS and the whole allowance: the free wobble drawn as PNG, which took 68-246
+#: MB against a charge of 69 (now charged for its loops: benchmarks/RESULTS_request_memory.md); each request alone is
+#: now within its charge but for a few MB (a new body's cache entries, the Moon's nutation: 3-6 MB; a posted history's
+#: secular spin, made before its charge: 9-15 MB, rare), which this covers for the few in flight at once
 RSS_SLACK_MB = 32.0
 #: the share of the room (the bound less KEPT_FIXED_MB and RSS_SLACK_MB) the requests in flight get by default; the
 #: per-body caches get the rest: 80 and 32 MB of 112 at 400

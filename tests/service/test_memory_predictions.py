@@ -5,6 +5,8 @@ what it found taking more than its charge is charged here, and these tests hold 
 """
 from __future__ import annotations
 
+import logging
+
 import pytest
 from fastapi.testclient import TestClient
 
@@ -68,3 +70,21 @@ def test_service_refuses_a_free_wobble_png_over_the_memory_budget_naming_dpi():
         assert "free wobble" in p["detail"]
         r = client.get(f"/v1/bodies/{body}/track.svg?start={start}&stop={stop}&kind=free-wobble")
         assert r.status_code == 200, r.text
+
+
+def test_service_records_each_requests_charged_and_admitted_memory(caplog):
+    """The DEBUG record the measurement reads (ephem.service.memory): a request's charged peak and what the worker's
+    allowance counted of it, the second never above the first; nothing is recorded at the default level."""
+    url = "/v1/bodies/ceres/track?start=2451545&stop=2451845&step_days=10"
+    with TestClient(create_app(Settings(warm_up=False))) as client:
+        with caplog.at_level(logging.INFO, logger="ephem.service.memory"):
+            assert client.get(url).status_code == 200
+        assert not [r for r in caplog.records if r.name == "ephem.service.memory"]
+        with caplog.at_level(logging.DEBUG, logger="ephem.service.memory"):
+            assert client.get(url + "&format=csv").status_code == 200
+    records = [r for r in caplog.records if r.name == "ephem.service.memory"]
+    assert len(records) == 1
+    r = records[0]
+    assert r.peak_memory_mb > 0.0
+    assert 0.0 <= r.admitted_memory_mb <= r.peak_memory_mb
+    assert "/v1/bodies/ceres/track" in r.getMessage()
