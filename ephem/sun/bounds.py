@@ -410,6 +410,13 @@ class _Drifts:
     d_psi: float     # sup |d_ψ|, sup |d_ε|: rung 4's drift against rung 5
     d_eps: float
     slack: float     # bound on |ψ̄ - ψ̇ (t - t0)| for rung 4's and the torque's mean poles
+    #: what every bound of the window reads, worked out once (read only: a bound that changes one copies it): the
+    #: mean rates' φ-harmonics (:func:`mean_rate_harmonics`), rung 4's drift's
+    #: (:meth:`~ephem.forced.second_order.Remainder.drift_harmonics`), and (|a|, |(b, c)|) largest over the
+    #: window's mean anomalies (``tables.abc.interval_max``)
+    rates: np.ndarray
+    drift: np.ndarray
+    abc: tuple
 
     @classmethod
     def of(cls, theory: SecondOrderTheory, tables: TheoryTables, window: Window) -> _Drifts:
@@ -419,7 +426,8 @@ class _Drifts:
         # ψ̄ - ψ̇ T = ∫ G_ψ + (K/2) f (cos ε̄ - cos ε̄0), |ε̄ - ε̄0| <= sup|G_ε + d_ε| T
         se = abs(math.sin(theory.obliquity))
         slack = (g_psi + d_psi) * T + theory.first_order_rate * se * (g_eps + d_eps) * T * T / 2.0
-        return cls(T, g_psi, g_eps, d_psi, d_eps, slack)
+        return cls(T, g_psi, g_eps, d_psi, d_eps, slack, rates, drift,
+                   tuple(tables.abc.interval_max(*window.mean_anomalies)))
 
 
 def _mean_pole_bound(theory: SecondOrderTheory, tables: TheoryTables, window: Window, drifts: _Drifts,
@@ -456,10 +464,10 @@ def second_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, tab
       in ε is at most |(w_ψ, w_ε)| <= |a| + |(b, c)|), their largest over the mean anomalies of the epochs.
     """
     dr = drifts or _Drifts.of(theory, tables, window)
-    mean = _mean_pole_bound(theory, tables, window, dr, mean_rate_harmonics(theory), dr.g_eps)
+    mean = _mean_pole_bound(theory, tables, window, dr, dr.rates, dr.g_eps)
     lo, hi = window.phases(model.precession_rate, dr.slack, from_t0=False)
     turn = min(1.0, max(abs(lo), abs(hi)))
-    a, bc = tables.abc.interval_max(*window.mean_anomalies)
+    a, bc = dr.abc
     return mean + 2.0 * turn * tables.weight * bc + dr.g_eps * dr.T * (a + bc)
 
 
@@ -499,7 +507,7 @@ def higher_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, tab
     dr = drifts or _Drifts.of(theory, tables, window)
     lo, hi = window.phases(model.precession_rate, dr.slack, from_t0=False)
     p2 = tables.periodic
-    drift = tables.remainder.drift_harmonics()
+    drift = dr.drift
     if window.whole_orbits:
         periodic = p2.orbit_max(lo, hi) + _mean_pole_bound(theory, tables, window, dr, drift, dr.d_eps)
     else:
@@ -546,7 +554,7 @@ def first_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, tabl
     wv = np.array([tables.weight, 1.0])
     m_lo, m_hi = window.mean_anomalies
     p_table, v_table = p2.table(phi0), v.table(phi0)
-    rates, drift = mean_rate_harmonics(theory), tables.remainder.drift_harmonics()
+    rates, drift = dr.rates, dr.drift
     mean_rate = (eval_phi(rates, phi0) + eval_phi(drift, phi0)) * wv
     scale = model.precession_rate / model.mean_motion
     reach_m = max(abs(m_lo - window.m0), abs(m_hi - window.m0))
@@ -572,7 +580,7 @@ def first_order_bound(model: PrecessionNutation, theory: SecondOrderTheory, tabl
     linear = peak + interpolation + tails
     lo, hi = window.phases(model.precession_rate, dr.slack, from_t0=True)
     turn = max(abs(lo), abs(hi))
-    a, bc = tables.abc.interval_max(m_lo, m_hi)
+    a, bc = dr.abc
     left = dr.slack * (2.0 * tables.weight * bc + p2.slope_phi) + turn * turn * (
         2.0 * tables.weight * bc + 0.5 * p2.curvature_phi) \
         + (dr.g_eps + dr.d_eps) * dr.T * (2.0 * p2.reach + a + bc) \
@@ -590,8 +598,8 @@ def theory_terms(model: PrecessionNutation, theory: SecondOrderTheory, tables: T
     higher = higher_order_bound(model, theory, tables, window, dr)
     first = first_order_bound(model, theory, tables, window, dr,
                               second_order_bound(model, theory, tables, window, dr) + higher)
-    _, bc = tables.abc.interval_max(*window.mean_anomalies)
-    geodesic, rephasing = geodesic_bounds(model, mean_rate_harmonics(theory), tables.weight, bc,
+    _, bc = dr.abc
+    geodesic, rephasing = geodesic_bounds(model, dr.rates, tables.weight, bc,
                                           tables.periodic.slope_phi, window.mean_anomalies, window.m0, window.span)
     return {"nutation_omitted": nutation_omitted_bound(tables, window),
             "truncation": truncation_bounds(model, tables, window), "second_order": float(first),
