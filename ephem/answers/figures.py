@@ -727,8 +727,9 @@ def wobble_drawing_cost(request: PlotRequest, fmt: str, dpi: float) -> Cost:
                  if math.isfinite(p) and p > 0.0)
     epochs = span / request.step + 1.0
     lines = (WOBBLE_CYCLE_BYTES * cycles * dpi + WOBBLE_EPOCH_BYTES * epochs) / (1024.0 * 1024.0)
-    return Cost((Part("dpi", f"the free wobble's {cycles:.0f} cycles drawn as png at {dpi:g} dpi", 0.0,
-                      base.memory_mb + lines),))
+    svg = drawing_cost("svg", dpi).memory_mb        # the way out that keeps the span: said in a refusal's detail
+    return Cost((Part("dpi", f"the free wobble's {cycles:.0f} cycles drawn as png at {dpi:g} dpi (as svg: "
+                      f"{svg:.3g} MB)", 0.0, base.memory_mb + lines),))
 
 
 @shared_parameters
