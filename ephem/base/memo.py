@@ -272,11 +272,20 @@ def bytes_bounded(func: Callable | None = None, *, name: str | None = None, grow
     counts = {"hits": 0, "misses": 0}
     signature = inspect.signature(func)
     positional = len(signature.parameters)
+    # the parameters' defaults in order, when every parameter can be given by position: a call by position only,
+    # with every required argument, is completed from them as binding it would, without binding (a few us a call; a
+    # tolerance request makes ~50 such calls, the ladder's model and theory looked up by the body alone)
+    params = list(signature.parameters.values())
+    plain = all(p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD) for p in params)
+    defaults = tuple(p.default for p in params) if plain else None
+    required = max((i + 1 for i, p in enumerate(params) if p.default is p.empty), default=0)
 
     def key_of(args, kwargs):
         if key is not None:
             return (label, key(*args, **kwargs))
         # f(body) and f(body, None) are one entry: the arguments as the function sees them, defaults filled in
+        if not kwargs and defaults is not None and required <= len(args) < positional:
+            return (label, args + defaults[len(args):])
         if kwargs or len(args) < positional:
             bound = signature.bind(*args, **kwargs)
             bound.apply_defaults()
