@@ -146,7 +146,8 @@ class Ladder:
         if self.model.hd == 0.0:
             return estimates
         modelled = self.rotation_modelled
-        averaging = self.physics_terms(t, modelled)["rotation_averaging"]
+        # physics_terms' rotation averaging alone (its orbit-motion bound, the same for every variant, not again)
+        averaging = rotation_averaging_bound(self.body, self.model, t, self.axis, modelled)
         out = []
         for e in estimates:
             out.append(e)
