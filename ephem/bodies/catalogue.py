@@ -217,6 +217,20 @@ class Body:
             object.__setattr__(self, "_hash", h)
         return h
 
+    @property
+    def sigma_key(self) -> tuple:
+        """The values' 1-σ (each with its value and unit) and their correlations, as one hashable tuple, made once.
+        A body's equality and hash leave its ``values`` out (they describe, with sources and notes, what the compared
+        fields hold), so a cache of what the σ decide (the propagated uncertainties, the pole's 1-σ) keys on this
+        beside the body: two bodies that differ in a σ alone must not share an entry."""
+        k = self.__dict__.get("_sigma_key")
+        if k is None:
+            k = (tuple(sorted((name, getattr(m, "value", None), getattr(m, "unit", None), getattr(m, "uncertainty", None))
+                              for name, m in self.values.items())),
+                 tuple(sorted(self.correlations.items())))
+            object.__setattr__(self, "_sigma_key", k)
+        return k
+
     def __getstate__(self) -> dict:
         # the kept hash is of this process's string hashing (PYTHONHASHSEED): a pickled body (a Dask task's)
         # computes its own
