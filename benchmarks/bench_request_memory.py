@@ -25,7 +25,7 @@ come (the per-body caches filled by the earlier ones): the diagnostic that found
 ``--raw FILE`` keeps each measurement as a JSON line.
 
 Linux only (``/proc``). Bounded: the child stops sending after ``--max-s`` (``MAX_RUN_S``, 300 s) and prints what it
-measured. Run: ``.venv/bin/python benchmarks/bench_request_memory.py [--per-kind N] [--out FILE]`` (~1 min).
+measured. Run: ``.venv/bin/python benchmarks/bench_request_memory.py [--per-kind N] [--out FILE]`` (1.5-2.5 min on 2 shared cores).
 """
 from __future__ import annotations
 
