@@ -416,9 +416,10 @@ def error_terms(model, moments, span_days: float, axis: str = "figure",
     return out
 
 
-#: what :func:`span_samples` keeps: its last few answers, keyed by the model's identity (held weakly: a model the
-#: process drops is not kept alive here), the normalised moments and the span; seven floats an entry
-_SAMPLES_KEPT = 8
+#: what :func:`span_samples` keeps: its last few answers, and the terms at the pole epoch they start from, keyed by
+#: the model's identity (held weakly: a model the process drops is not kept alive here), the normalised moments and
+#: the span; a few floats an entry
+_SAMPLES_KEPT = 16
 _samples: OrderedDict = OrderedDict()
 _samples_lock = threading.Lock()
 
@@ -445,13 +446,19 @@ def span_samples(model, moments, span_days: float) -> SpanSamples:
     """:class:`SpanSamples` of ``model`` over a span of ``span_days`` (signed) for ``moments`` (A/C, B/C, 1):
     sampled once and kept for the next few asks (:data:`_SAMPLES_KEPT`), since a request bounds the same span for
     several variants (each of :func:`error_terms`' pieces is then a few float operations on these)."""
-    key = (id(model), tuple(float(x) for x in moments), float(span_days))
+    mom, span = tuple(float(x) for x in moments), float(span_days)
+    return _kept(model, (mom, span), lambda: _span_samples(model, mom, span))
+
+
+def _kept(model, key: tuple, build):
+    """``build()``, kept in :data:`_samples` under the model's identity and ``key`` for the next few asks."""
+    key = (id(model),) + key
     with _samples_lock:
         kept = _samples.get(key)
         if kept is not None and kept[0]() is model:
             _samples.move_to_end(key)
             return kept[1]
-    value = _span_samples(model, key[1], key[2])
+    value = build()
     try:
         ref = weakref.ref(model)
     except TypeError:           # a model that cannot be referred to weakly is not kept
@@ -464,15 +471,21 @@ def span_samples(model, moments, span_days: float) -> SpanSamples:
     return value
 
 
+def _at_pole_epoch(model, mom: tuple[float, float, float]) -> tuple[float, float, tuple]:
+    """(|O(t₀)|, R(t₀), O(t₀)): the Oppolzer offset's size, the semi-diurnal radius and the offset (orbit frame,
+    radians) at the pole epoch, from the catalogue pole; the same for every span (a single epoch's Kepler solve and
+    terms, ~0.15 ms)."""
+    sun0 = SunGeometry.at(model, [model.pole_epoch])
+    s0 = model.catalogue_pole_orbit[None]
+    first = rotation_terms(mom, model.spin_rate, s0, sun0)
+    return float(np.linalg.norm(first.oppolzer[0])), float(first.semi_diurnal_radius[0]), tuple(first.oppolzer[0])
+
+
 def _span_samples(model, mom: tuple[float, float, float], span: float) -> SpanSamples:
     """:func:`span_samples` computed."""
     n, w, e = model.mean_motion, model.spin_rate, model.eccentricity
     orbits = abs(span) * n / (2.0 * math.pi)
-    t0 = model.pole_epoch
-    sun0 = SunGeometry.at(model, [t0])
-    s0 = model.catalogue_pole_orbit[None]
-    first = rotation_terms(mom, w, s0, sun0)
-    o0, r0 = float(np.linalg.norm(first.oppolzer[0])), float(first.semi_diurnal_radius[0])
+    o0, r0, first = _kept(model, (mom, "pole epoch"), lambda: _at_pole_epoch(model, mom))
     if orbits <= MAX_SAMPLED_ORBITS:
         # a span within minutes of t₀ (a track at the pole's epoch: zero, or a few float64 spacings of a JD) is
         # sampled over MIN_SAMPLED_SPAN_DAYS on its side: the largest rate and change over a longer span bound those
@@ -487,7 +500,7 @@ def _span_samples(model, mom: tuple[float, float, float], span: float) -> SpanSa
         radius = here.semi_diurnal_radius
         turn = -(psi - psi[0])           # the pole, and an offset it carries, turn by -Δψ about the orbit normal
         c, sn = np.cos(turn), np.sin(turn)
-        ox, oy, oz = first.oppolzer[0]
+        ox, oy, oz = first
         carried = np.stack([c * ox - sn * oy, sn * ox + c * oy, np.full_like(c, oz)], axis=-1)
         figure_change = float(np.max(np.linalg.norm(here.oppolzer - carried, axis=-1)))
         sd = np.sum(s * sun.direction, axis=-1)          # z, the sine of the Sun's declination
