@@ -441,9 +441,11 @@ def _averaging_sides(pole_epoch: float, first: float, last: float) -> list[float
 
 
 def rotation_averaging_samples(body: Body, first: float, last: float) -> int:
-    """The epochs :func:`rotation_averaging_bound` samples for epochs spanning [first, last] (JD TDB), in each of its
-    calls (:func:`ephem.forced.rotation_scale.sampled_epochs` on each side of t₀): what its cost grows with, from
-    the body's parameters alone (a price made before its model is built)."""
+    """The epochs :func:`rotation_averaging_bound` samples for epochs spanning [first, last] (JD TDB)
+    (:func:`ephem.forced.rotation_scale.sampled_epochs` on each side of t₀), once for all its calls of a request:
+    the axis, what is modelled and the catalogue pole's meaning share one sampling of a span
+    (:func:`ephem.forced.rotation_scale.span_samples`). What its cost grows with, from the body's parameters alone
+    (a price made before its model is built)."""
     if body.hd == 0.0:
         return 0
     n = mean_motion_rad_per_day(body.orbit.a_au, body.orbit.center)
@@ -453,8 +455,9 @@ def rotation_averaging_samples(body: Body, first: float, last: float) -> int:
 
 def rotation_averaging_sides(body: Body, first: float, last: float) -> int:
     """The sides of t₀ on which :func:`rotation_averaging_bound` bounds epochs spanning [first, last] (JD TDB), each
-    with its own fixed work in each call (:func:`ephem.forced.rotation_scale.error_terms`): 2 for a span across t₀,
-    else 1; 0 for a sphere (no torque to average). From the body's parameters alone, for its price."""
+    with its own fixed work (:func:`ephem.forced.rotation_scale.span_samples`, once a request; each call's terms from
+    it are a few float operations): 2 for a span across t₀, else 1; 0 for a sphere (no torque to average). From the
+    body's parameters alone, for its price."""
     if body.hd == 0.0:
         return 0
     return len(_averaging_sides(body.pole.epoch_jd_tdb, first, last))
