@@ -205,10 +205,11 @@ def test_kept_asks_the_caches_it_names():
     for fn in (pole_uncertainty.cached_pole_sensitivity, uncertainty.propagated):
         fn.cache_clear()
     cold = cost.pole_uncertainty(b, with_sigma, 100)
-    assert not cost.kept(cost.POLE_SENSITIVITY, b, None) and not cost.kept(cost.PROPAGATED, b, None)
+    key = (b, b.sigma_key, None)          # the σ caches key on the σ too (Body.sigma_key)
+    assert not cost.kept(cost.POLE_SENSITIVITY, *key) and not cost.kept(cost.PROPAGATED, *key)
     pole_uncertainty.cached_pole_sensitivity(b, None)
     uncertainty.propagated(b, None)
-    assert cost.kept(cost.POLE_SENSITIVITY, b, None) and cost.kept(cost.PROPAGATED, b, None)
+    assert cost.kept(cost.POLE_SENSITIVITY, *key) and cost.kept(cost.PROPAGATED, *key)
     warm = cost.pole_uncertainty(b, with_sigma, 100)
     assert len(warm.parts) == 1 and len(cold.parts) == 3 and warm.cpu_s < cold.cpu_s
     assert cost.pole_uncertainty(b, 0, 100) == cost.FREE
@@ -242,6 +243,7 @@ def test_the_estimates_are_priced_for_the_samples_the_rotation_averaging_takes(b
     b = get_body(body)
     first, last = J2000 + 365.25 * years[0], J2000 + 365.25 * years[1]
     physics_errors.rotation_averaging_bound(b, cached_model(b), np.array([first, last]))
+    rotation_scale._samples.clear()       # the span's samples, kept for the next few asks: sampled afresh here
     sampled = []
     real = rotation_scale._span_grid
     monkeypatch.setattr(rotation_scale, "_span_grid", lambda m, span, count: sampled.append(count) or real(m, span, count))
