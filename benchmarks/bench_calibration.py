@@ -220,11 +220,23 @@ def call(cell: Cell, epochs: int | None = None):
                                     max_samples=max(n, api.MAX_TRACK_SAMPLES))
 
 
+class _Forget:
+    """A memo-like face (``cache_clear``) of a function that drops what a module keeps for a question."""
+
+    def __init__(self, fn):
+        self.cache_clear = fn
+
+
 def question_memos() -> list:
-    """The memos of a repeated identical question (the ladder's estimates for the same epochs): emptied before each
-    warm repetition, so that it does the request's own work as a new question about a body already served does."""
+    """The memos of a repeated identical question (the ladder's estimates for the same epochs, the rotation
+    averaging's samples of the same span): emptied before each warm repetition, so that it does the request's own
+    work as a new question about a body already served does."""
+    from ephem.forced import rotation_scale
     from ephem.sun import ladder
-    return [m for m in (getattr(ladder, "_cached_estimates", None),) if m is not None]
+    memos = [m for m in (getattr(ladder, "_cached_estimates", None),) if m is not None]
+    if hasattr(rotation_scale, "forget_spans"):
+        memos.append(_Forget(rotation_scale.forget_spans))
+    return memos
 
 
 def run_once(work, epochs: int, memos: bool = False) -> tuple[float, float, list]:

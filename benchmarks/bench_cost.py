@@ -423,6 +423,14 @@ def build_cases() -> list[Case]:
     from ephem.families import theory_for
     from ephem.longterm import averaged_spin, history as long_term_history
     from ephem.sun import ladder as ladder_module
+    from ephem.forced.rotation_scale import forget_spans
+
+    def new_question():
+        """The memos of an identical question emptied: the ladder's estimates for these epochs and the spans' samples
+        (each repetition then estimates as a new question about a body already served does)."""
+        ladder_module._cached_estimates.cache_clear()
+        forget_spans()
+
     side_cases = (("mars", True), ("steins", False), ("itokawa", True))
     for name, quick in side_cases:
         b = get_body(name)
@@ -444,7 +452,8 @@ def build_cases() -> list[Case]:
                      part(cost.Part("", "", n_sides * cost.unit("estimates_averaging_side_s")
                                     + samples * cost.unit("estimates_averaging_sample_s"), 0.0)),
                      lambda b=b, m=m, t=t10: [rotation_averaging_bound(b, m, t, "figure", x) for x in ("none", "oppolzer")],
-                     None, quick, trace=False, reps=15, extra={**extra, "what": "averaging", "samples": samples}))
+                     forget_spans, quick, trace=False, reps=15,
+                     extra={**extra, "what": "averaging", "samples": samples}))
         spin = theory_for(b, b.perturbers).secular_spin()
         t0 = spin.epoch_years
         for label, lo, hi in (("across", t0 - 50.0, t0 + 50.0), ("one side", t0, t0 + 100.0)):
@@ -465,7 +474,7 @@ def build_cases() -> list[Case]:
                                      ("_estimates()", lambda lad=lad, t=t: lad._estimates(t), False)):
             add(Case("pole_epoch_sides", f"every rung's estimates, {name}, 2030-2040, 10 epochs: {label}",
                      part(cost.ladder_estimates(10, k, samples, 1, weighed)), work,
-                     ladder_module._cached_estimates.cache_clear, quick, trace=False, reps=15,
+                     new_question, quick, trace=False, reps=15,
                      extra={"body": name, "what": "weighed" if weighed else "unweighed"}))
 
     # --- the spin axis integrated (numerical, real_orbit rungs) -----------------------------------

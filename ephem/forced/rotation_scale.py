@@ -450,6 +450,14 @@ def span_samples(model, moments, span_days: float) -> SpanSamples:
     return _kept(model, (mom, span), lambda: _span_samples(model, mom, span))
 
 
+def forget_spans() -> None:
+    """Drop the spans' kept samples (:func:`span_samples`), keeping each model's terms at its pole epoch: what a
+    process that has served the body but never these spans holds (the calibration's warm call of a new question)."""
+    with _samples_lock:
+        for key in [k for k in _samples if k[-1] != "pole epoch"]:
+            del _samples[key]
+
+
 def _kept(model, key: tuple, build):
     """``build()``, kept in :data:`_samples` under the model's identity and ``key`` for the next few asks."""
     key = (id(model),) + key

@@ -177,7 +177,8 @@ def ladder_estimates(epochs: int, k: int, averaging_samples: int = 0, averaging_
     (``averaging_samples``: :func:`ephem.forced.physics_errors.rotation_averaging_samples`, up to ~4000 for 20
     orbits; none beyond, where its bounds take no samples). The bound works from the pole epoch to each side the
     epochs reach (``averaging_sides``, :func:`pole_epoch_sides`; the fixed part holds one): each further side costs
-    its fixed work in every call (``estimates_averaging_side_s``, the estimates' two calls). ``weighed``: the new
+    its fixed work (``estimates_averaging_side_s``; the span is sampled once a request, every bound of it reading
+    those samples: :func:`ephem.forced.rotation_scale.span_samples`). ``weighed``: the new
     estimates are kept (:func:`ephem.sun.ladder._cached_estimates`, up to its epochs' limit), weighed first against
     the per-body caches' byte budget (:mod:`ephem.base.memo`): ``estimates_weighed_s``, whatever the epochs."""
     extra_sides = max(0, averaging_sides - 1)
