@@ -228,12 +228,13 @@ class _Forget:
 
 
 def question_memos() -> list:
-    """The memos of a repeated identical question (the ladder's estimates for the same epochs, the rotation
-    averaging's samples of the same span): emptied before each warm repetition, so that it does the request's own
-    work as a new question about a body already served does."""
-    from ephem.forced import rotation_scale
+    """The memos of a repeated identical question (the ladder's estimates for the same epochs, the pole's 1-sigma at
+    the same epochs, the rotation averaging's samples of the same span): emptied before each warm repetition, so that
+    it does the request's own work as a new question about a body already served does."""
+    from ephem.forced import pole_uncertainty, rotation_scale
     from ephem.sun import ladder
-    memos = [m for m in (getattr(ladder, "_cached_estimates", None),) if m is not None]
+    memos = [m for m in (getattr(ladder, "_cached_estimates", None), getattr(pole_uncertainty, "_cached_sigma", None))
+             if m is not None]
     if hasattr(rotation_scale, "forget_spans"):
         memos.append(_Forget(rotation_scale.forget_spans))
     return memos

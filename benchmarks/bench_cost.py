@@ -215,9 +215,12 @@ def body_caches() -> list:
     from ephem.longterm import history as long_term
     from ephem.forced import cassini
     from ephem.sun import family, geodesic
+    from ephem.forced import catalogue_sigmas
     return [cached_model, tables.cached_theory, tables.cached_tables, uncertainty.propagated, spectrum.semi_amplitudes,
             pole_uncertainty.cached_pole_sensitivity, ephemeris._cached_path, hansen.hansen_exact,
-            geodesic.periodic_excess, long_term._nbody, family.cached_secular_spin, cassini._free_librations]
+            geodesic.periodic_excess, long_term._nbody, family.cached_secular_spin, cassini._free_librations,
+            *(getattr(m, n) for m, n in ((pole_uncertainty, "_cached_sigma"), (catalogue_sigmas, "_kept_sigmas"))
+              if hasattr(m, n))]
 
 
 def cold() -> None:
@@ -543,7 +546,7 @@ def build_cases() -> list[Case]:
                  extra={"n": n, "fmt": "json"}))
         if n <= 100_000:
             add(Case("serialised", f"CSV (service _csv_rows, streamed), {n} epochs x 7",
-                     part(cost.serialised(n, 7, "csv")), lambda ans=ans: "".join(_csv_rows(ans())), ans, quick,
+                     part(cost.serialised(n, 7, "csv")), lambda ans=ans: "".join(_csv_rows(ans(), "utc")), ans, quick,
                      trace=n <= 10_000, extra={"n": n, "fmt": "csv"}, why=WHY_CSV))
 
     # --- requests: what the service charges --------------------------------------------------------
@@ -598,7 +601,7 @@ def build_cases() -> list[Case]:
     request("track Vesta (hansen) 10^6 epochs as CSV: track_arrays + service _csv_rows (the library's cap; the "
             "service's is 10^5)",
             lambda: "".join(_csv_rows(api.track_arrays("vesta", J2000, J2000 + 9999.99, 0.01,
-                                                       max_samples=1_000_001, output="csv"))),
+                                                       max_samples=1_000_001, output="csv"), "utc")),
             False, trace=False, reps=2, why=WHY_CSV)
     request("precession Moon (Cassini state, shipped libration series)", lambda: api.precession("moon"), True)
     for model, quick in (("cassini", True), ("librations", True)):
