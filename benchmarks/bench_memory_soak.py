@@ -298,7 +298,7 @@ class Soak:
         self.samples: dict[int, list[float]] = collections.defaultdict(list)    # pid -> every RSS sampled under load
         self.seen: list[int] = []                   # every worker pid, in the order first seen
         self.rows: list[dict] = []                  # one per checkpoint
-        self.failures: list[str] = []               # the first 5xx answers: what was asked, what came back
+        self.failures: list[str] = []               # the 5xx answers (503s: the first ten): what was asked, what came back
         self.refusals: collections.Counter = collections.Counter()   # refusals by reason (refusal_reason)
 
     def snapshot(self) -> dict[int, float]:
@@ -334,7 +334,9 @@ class Soak:
                     reason = refusal_reason(r.status_code, r.text)
                     if reason is not None:
                         self.refusals[reason] += 1
-                    if r.status_code >= 500 and len(self.failures) < 10:
+                    # every 5xx but a 503 (a refusal that says when to retry) is kept; the first ten 503s with them
+                    if r.status_code >= 500 and (r.status_code != 503 or
+                                                 sum(" -> 503 " in f for f in self.failures) < 10):
                         self.failures.append(f"{method} {path} {'' if body is None else body} -> {r.status_code} "
                                              f"{r.text[:300]}")
                 except httpx.HTTPError as exc:
@@ -454,7 +456,7 @@ def render(soak: Soak, args, wall_s: float, ready_s: float, started: str) -> str
               + ", ".join(f"{why} {soak.refusals.get(why, 0)} ({soak.refusals.get(why, 0) / total:.2%})"
                           for why in ("503 memory", "503 heavy", "503 other", "422 memory")) + "."]
     if soak.failures:
-        lines += ["", "The first 5xx answers:", "", *(f"- `{f}`" for f in soak.failures)]
+        lines += ["", "The 5xx answers (of the 503s, the first ten):", "", *(f"- `{f}`" for f in soak.failures)]
     return "\n".join(lines) + "\n"
 
 

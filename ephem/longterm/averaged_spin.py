@@ -36,6 +36,7 @@ import numpy as np
 from ..base.budget import checkpoint
 from ..bodies.catalogue import Body
 from ..base.constants import J2000_JD, JULIAN_YEAR_DAYS
+from ..base.errors import NotApplicableError
 from ..orbit.geometry import angle_between, icrf_to_ecliptic_matrix, lon_lat
 from ..orbit.relativity import geodesic_precession_rate
 from ..forced.catalogue_sigmas import dynamical_ellipticity_sigma, input_sigmas
@@ -98,8 +99,14 @@ class SpinConstants:
 
     def constants(self, a_au, e) -> tuple[np.ndarray, np.ndarray]:
         """(α, Ω_gp) in rad/yr on an orbit of semi-major axis ``a_au`` and eccentricity ``e`` (arrays)."""
-        a_ratio = self.a0_au / np.asarray(a_au, dtype=float)
-        e2 = np.asarray(e, dtype=float) ** 2
+        a_au, e = np.asarray(a_au, dtype=float), np.asarray(e, dtype=float)
+        bound = np.isfinite(a_au) & (a_au > 0.0) & np.isfinite(e) & (np.abs(e) < 1.0)
+        if not bound.all():     # an orbit's history (its spline between samples, say) leaving the bound orbits
+            i = int(np.argmin(bound))
+            raise NotApplicableError(self.body, f"the orbit's history leaves the bound orbits (a = {a_au.flat[i]:.4g} "
+                                     f"AU, e = {e.flat[i]:.4g}), where the averaged spin's constants are undefined")
+        a_ratio = self.a0_au / a_au
+        e2 = e ** 2
         one_e2 = (1.0 - self.e0**2) / (1.0 - e2)
         alpha = self.orbit_constant * a_ratio**3 * one_e2**1.5 + self.fixed_constant
         return alpha, self.geodesic_rate * a_ratio**2.5 * one_e2

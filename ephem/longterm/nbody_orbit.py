@@ -442,6 +442,13 @@ def nbody_cost_seconds(start_years: float, stop_years: float) -> float:
     return COST_SECONDS_FIXED + COST_SECONDS_PER_YEAR * simulated
 
 
+#: the factor by which the semi-major axis of an orbit run on demand may move from its J2000 value before the run is
+#: refused as scattered: an osculating a near a planet swings by ten percent or more (a Hilda's near Jupiter at
+#: aphelion: 4.13 to 3.58 AU), a close encounter scatters it by tens (a Jupiter-crossing orbit, e = 0.51 at 4.06 AU,
+#: reached 7.1 AU within 1,000 years and 1,400 AU within 14,000)
+MAX_A_FACTOR = 1.5
+
+
 def nbody_orbit_history(orbit: Orbit, start_years: float, stop_years: float,
                         step_years: float = SAMPLE_YEARS) -> OrbitHistory:
     """The orbit history of a heliocentric ``orbit`` (catalogue elements, ecliptic J2000, at their epoch), by the
@@ -488,5 +495,13 @@ def nbody_orbit_history(orbit: Orbit, start_years: float, stop_years: float,
     if not ok.all():
         raise NotApplicableError(body, "the orbit became unbound or singular within the span (a close "
                                  "encounter WHFast cannot follow); shorten the span")
+    a0 = float(a[np.argmin(np.abs(years))])            # J2000, where the run starts
+    scattered = np.abs(np.log(a / a0)) > math.log(MAX_A_FACTOR)
+    if scattered.any():
+        i = int(np.flatnonzero(scattered)[np.argmin(np.abs(years[scattered]))])      # the nearest J2000
+        raise NotApplicableError(body, f"the orbit was scattered within the span: its semi-major axis went from "
+                                 f"{a0:.4g} AU at J2000 to {a[i]:.4g} AU (e = {e[i]:.3g}) by year {years[i]:+.0f}, a "
+                                 "close encounter with a planet, which the fixed-step N-body run does not resolve and "
+                                 "the averaged spin does not follow; shorten the span to before it")
     return OrbitHistory(body, years, pole, a, e, (float(years[0]), float(years[-1])),
                         f"REBOUND WHFast dt={DT_DAYS:.5f} d N-body run from DE421 at J2000 (ephem.longterm.nbody_orbit)")

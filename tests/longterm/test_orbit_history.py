@@ -254,3 +254,36 @@ def test_bad_input_is_refused_clearly():
         OrbitHistory("x", np.array([0.0, 1.0, 1.0, 2.0]), np.tile([0.0, 0.0, 1.0], (4, 1)), np.ones(4),
                      np.zeros(4), (0.0, 2.0), "test")
     assert isinstance(orbit, Orbit)
+
+
+#: a Jupiter-crossing orbit (perihelion 2.0, aphelion 6.1 AU) the memory soak posted with a 20-kyr history: its run
+#: reached a = 1,400 AU, and the history's spline of e crossed 1, a 500 ("non-finite values") before this refusal
+JUPITER_CROSSER = Orbit(a_au=4.064802494, e=0.507698445, i_deg=9.97891453313951, node_deg=23.515563533894444,
+                        peri_deg=37.958507408822506, mean_anomaly_deg=334.9514680266173, epoch_jd_tdb=2460200.5)
+
+
+def test_a_scattered_orbit_is_not_applicable_and_a_resonant_one_runs():
+    """An orbit run on demand whose semi-major axis moves by more than MAX_A_FACTOR from its J2000 value (a close
+    encounter) is refused, naming the year; a Hilda-like orbit in Jupiter's 3:2 resonance (its osculating a swinging
+    by ~15 % at aphelion) and Ceres run."""
+    from ephem.longterm.nbody_orbit import MAX_A_FACTOR
+    with pytest.raises(NotApplicableError, match="scattered within the span: its semi-major axis went from"):
+        nbody_orbit_history(JUPITER_CROSSER, -1500.0, 500.0, 100.0)
+    # (153) Hilda's osculating elements (JPL SBDB, epoch 2460200.5), in the 3:2 resonance
+    hilda = Orbit(a_au=3.9594, e=0.1378, i_deg=7.8766, node_deg=227.75, peri_deg=42.39, mean_anomaly_deg=120.0,
+                  epoch_jd_tdb=2460200.5)
+    for orbit in (hilda, get_body("Ceres").orbit):
+        h = nbody_orbit_history(orbit, -1500.0, 500.0, 100.0)
+        assert np.all(np.abs(np.log(h.a_au / h.a_au[np.argmin(np.abs(h.years))])) < math.log(MAX_A_FACTOR))
+
+
+def test_a_history_leaving_the_bound_orbits_is_not_applicable():
+    """The averaged spin's constants on an orbit with e >= 1 or a <= 0 (an orbit history's spline between its
+    samples can overshoot) are refused, never NaN."""
+    from ephem.sun.family import cached_secular_spin
+    spin = cached_secular_spin(get_body("Vesta"))
+    alpha, _ = spin.constants(np.array([2.36, 2.37]), np.array([0.09, 0.1]))
+    assert np.all(np.isfinite(alpha))
+    for a, e in ((2.36, 1.0), (2.36, 1.2), (-1.0, 0.1), (math.nan, 0.1)):
+        with pytest.raises(NotApplicableError, match="bound orbits"):
+            spin.constants(np.array([2.36, a]), np.array([0.09, e]))

@@ -191,3 +191,20 @@ def test_the_batch_page_refuses_an_uploaded_json_with_a_key_twice(client):
     with pytest.raises(InvalidInputError) as err:
         batch_rows(b'[{"name": "a", "name": "b"}]', "application/json")
     assert err.value.field == "[0].name"
+
+
+def test_a_posted_bodys_history_on_a_scattered_orbit_is_a_422_naming_it(client):
+    """The memory soak's one 500 (seed 42, request 7401): a posted Jupiter-crossing body (perihelion 2.0, aphelion
+    6.1 AU) with a history. Its on-demand N-body orbit was scattered (a = 4.0 -> 7.1 AU within 1,000 years), the
+    history's spline of e crossed 1 and the answer held NaN. Now a 422 saying why."""
+    body = {"name": "soak-7401", "orbit": {"a_au": 4.064802494, "e": 0.507698445, "i_deg": 9.97891453313951,
+                                           "node_deg": 23.515563533894444, "peri_deg": 37.958507408822506,
+                                           "mean_anomaly_deg": 334.9514680266173, "epoch_jd_tdb": 2460200.5},
+            "pole": {"ra_deg": 315.63613037056706, "dec_deg": 27.667951838710735, "epoch_jd_tdb": 2451545.0},
+            "rotation_period_hours": 31.566677021654233, "dynamical_ellipticity": 0.023180429027110455,
+            "history": {"start_year": -1500.0, "stop_year": 500.0, "step_years": 50.0}}
+    r = client.post("/v1/precession-nutation", json=body)
+    assert r.status_code == 422, r.text
+    assert "scattered" in r.json()["detail"]
+    body["history"] = None
+    assert client.post("/v1/precession-nutation", json=body).status_code == 200    # the body itself is fine
