@@ -195,26 +195,11 @@ def test_a_call_and_its_defaults_spelt_out_are_one_entry_however_given():
         raise AssertionError("a missing argument must be refused")
 
 
-def test_a_call_by_position_is_one_entry_with_its_defaults_given_or_not():
-    """f(x), f(x, None) and f(x, c=3) are one entry (the defaults filled in without binding the call when it gives its
-    arguments by position); a missing required argument is still the function's TypeError; a signature with *args
-    still binds."""
+def test_a_signature_with_args_still_binds():
+    """A signature with *args is completed by binding (the position-only shortcut of the test above does not apply):
+    g(1) and g(1, k=1) are one entry."""
     pool = memo.BytePool(10**7)
     calls = []
-
-    @memo.bytes_bounded(pool=pool)
-    def f(a, b=None, c=3):
-        calls.append((a, b, c))
-        return a
-
-    for call in (lambda: f(1), lambda: f(1, None), lambda: f(1, None, 3), lambda: f(1, c=3), lambda: f(a=1)):
-        call()
-    assert calls == [(1, None, 3)] and f.cache_info().hits == 4
-    assert f.cached(1) and f.cached(1, None, 3) and not f.cached(1, 2)
-    f(1, 2)
-    assert calls[-1] == (1, 2, 3)
-    with pytest.raises(TypeError):
-        f()
 
     @memo.bytes_bounded(pool=pool)
     def g(a, *rest, k=1):
