@@ -77,7 +77,7 @@ from ..exports import work_precision
 from ..base.budget import Cost, Part, charge
 from .requests import Epoch
 from ..theory.requests import TrackRequest
-from .parameters import shared_parameters
+from .parameters import entries, shared_parameters
 
 if TYPE_CHECKING:       # the types of the annotations only: matplotlib loads with the first figure
     from astropy.units import Quantity
@@ -347,7 +347,18 @@ class PlotRequest:
         return text + ("" if self.track is None else f", {self.track!r}") + ")"
 
 
-@shared_parameters
+#: a plot's span and step, as :func:`plot_request` and :func:`render` take them (in years for a history)
+_PLOT_SPAN = entries("""\
+start, stop : str, float or astropy.time.Time
+    The span: ISO 8601 text (UTC unless a scale is named), a JD TDB or a ``Time``; for ``obliquity-history``
+    Julian years from J2000.0 TDB (numbers or numeric strings, negative in the past).
+step_days : float or Quantity, optional
+    The step, days (None: :func:`default_step_days`); at most :data:`MAX_PLOT_POINTS` epochs. Not for
+    ``obliquity-history``.
+""")
+
+
+@shared_parameters(own=_PLOT_SPAN)
 def plot_request(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
                  step_days: float | Quantity | None = None, *,
                  tolerance_mas: float | Quantity | None = None, model: str | None = None,
@@ -367,12 +378,8 @@ def plot_request(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
     ----------
     kind
     body
-    start, stop : str, float or astropy.time.Time
-        The span: ISO 8601 text (UTC unless a scale is named), a JD TDB or a ``Time``; for ``obliquity-history``
-        Julian years from J2000.0 TDB (numbers or numeric strings, negative in the past).
-    step_days : float or Quantity, optional
-        The step, days (None: :func:`default_step_days`); at most :data:`MAX_PLOT_POINTS` epochs. Not for
-        ``obliquity-history``.
+    start, stop
+    step_days
     tolerance_mas
         A history's: the orbit model's tolerance.
     model
@@ -572,7 +579,7 @@ def figure_bytes(fig: Figure, *, fmt: str = "png", dpi: float = DEFAULT_DPI) -> 
     return buf.getvalue()
 
 
-@shared_parameters
+@shared_parameters(own=_PLOT_SPAN)
 def render(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
            step_days: float | Quantity | None = None, *,
            tolerance_mas: float | Quantity | None = None, model: str | None = None, orbit_model: str | None = None,
@@ -589,12 +596,8 @@ def render(kind: str, body: str | int | Body, start: Epoch, stop: Epoch,
     ----------
     kind
     body
-    start, stop : str, float or astropy.time.Time
-        The span: ISO 8601 text (UTC unless a scale is named), a JD TDB or a ``Time``; for ``obliquity-history``
-        Julian years from J2000.0 TDB (numbers or numeric strings, negative in the past).
-    step_days : float or Quantity, optional
-        The step, days (None: :func:`default_step_days`); at most :data:`MAX_PLOT_POINTS` epochs. Not for
-        ``obliquity-history``.
+    start, stop
+    step_days
     tolerance_mas
         A history's: the orbit model's tolerance.
     model

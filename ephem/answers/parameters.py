@@ -79,18 +79,27 @@ output : str
 """
 
 #: entry name (``body``, ``start, stop``) -> its entry: the ``name : type`` line, then the description indented by four
-PARAMETERS: dict[str, str] = {entry.split(" : ")[0]: entry.rstrip()
-                              for entry in re.split(r"\n(?=\S)", _SECTION) if entry.strip()}
+PARAMETERS: dict[str, str] = {}
 
 
-def shared_parameters(function: F) -> F:
-    """Fill ``function``'s ``Parameters`` section from :data:`PARAMETERS` and return ``function``.
+def entries(section: str) -> dict[str, str]:
+    """A section of entries (a line ``name : type``, then its description indented) as {name: entry}."""
+    return {entry.split(" : ")[0]: entry.rstrip() for entry in re.split(r"\n(?=\S)", section) if entry.strip()}
+
+
+def shared_parameters(function: F | None = None, *, own: dict[str, str] | None = None):
+    """Fill ``function``'s ``Parameters`` section from :data:`PARAMETERS` and return ``function``. ``own``: entries
+    (:func:`entries`) that stand instead of the shared ones for a family of answers whose parameter of the same name
+    means more (a plot's span, in years for a history), written once for all of them.
 
     Each line of the section that holds a name alone (``body``, ``start, stop``) at the entries' indentation becomes
     that name's entry, indented as the line; lines indented below the name stay, adding to its description (a
     plot's ``tolerance_mas`` says what it means for a history). A name alone that the table has not raises KeyError as the function's
     module is imported, so no entry is left empty.
     """
+    if function is None:
+        return lambda f: shared_parameters(f, own=own)
+    table = PARAMETERS if not own else {**PARAMETERS, **own}
     lines = (function.__doc__ or "").split("\n")
     out, indent = [], None   # indent: the entries' indentation while in the Parameters section
     for i, line in enumerate(lines):
@@ -100,16 +109,18 @@ def shared_parameters(function: F) -> F:
         elif indent is not None and _ALONE.fullmatch(line) and line.startswith(indent) \
                 and not line[len(indent)].isspace():
             name = line.strip()
-            if name not in PARAMETERS:
+            if name not in table:
                 raise KeyError(f"{function.__qualname__}: no shared description of {name!r} in "
                                "ephem.answers.parameters.PARAMETERS: write its entry in full")
-            head, *description = PARAMETERS[name].split("\n")
+            head, *description = table[name].split("\n")
             out += [indent + head, *(indent + "    " + d.strip() for d in description)]
             continue
         out.append(line)
     function.__doc__ = "\n".join(out)
     return function
 
+
+PARAMETERS.update(entries(_SECTION))
 
 #: a line holding parameter names alone: ``body``, ``start, stop``, ``**kwargs``
 _ALONE = re.compile(r"[ \t]*\**\w+(, \**\w+)*[ \t]*")

@@ -54,3 +54,27 @@ def test_every_public_answer_has_each_entry_in_full():
         section = doc.split("Parameters\n----------\n", 1)[1].split("\n\n")[0]
         bare = [line for line in section.splitlines() if line.strip() in PARAMETERS]
         assert not bare, f"{name}: {bare}"
+
+
+def test_a_familys_own_entries_stand_instead_of_the_shared_ones():
+    """``own`` entries (a plot's span, in years for a history) replace the shared entry of that name for the
+    functions that give them, written once; the other names still come from the shared table."""
+    from ephem.answers import figures
+    from ephem.answers.parameters import PARAMETERS, entries, shared_parameters
+
+    own = entries("start, stop : float\n    Years.\n")
+
+    @shared_parameters(own=own)
+    def f(start, stop, body):
+        """F.
+
+        Parameters
+        ----------
+        start, stop
+        body
+        """
+
+    assert "start, stop : float\n            Years." in f.__doc__ and PARAMETERS["body"].split("\n")[0] in f.__doc__
+    assert PARAMETERS["start, stop"].split("\n")[1].strip() not in f.__doc__
+    for fn in (figures.plot_request, figures.render):
+        assert "for ``obliquity-history``" in fn.__doc__ and "at most :data:`MAX_PLOT_POINTS` epochs" in fn.__doc__
