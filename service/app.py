@@ -272,7 +272,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                                                                   "or amp-period (Tables 9-10: Amp in mas, Period "
                                                                   "in days)")] = TableLayout.sin_cos):
         # parameters in one pass and one thread hop (FastAPI's sync route takes two, the answer validated in the
-        # second); the work stays in the thread pool: the Moon's terms cost ~0.2-0.7 s where ~0.4 ms is predicted
+        # second); the work stays in the thread pool: a nutation's price can still fall short of its work (the Moon's
+        # amplitude cuts for a tolerance, ~10 ms, are not charged), which on the event loop would hold every request
         def answer() -> Response:
             ans = api.nutation(body, dataset=dataset.value, order=order, tolerance_mas=tolerance_mas,
                                perturbers=perturbers, cut_mas=cut_mas,

@@ -34,8 +34,8 @@
   while its caches held 64 MB (benchmarks/RESULTS_memory_soak.md). Under the supervisor the worker keeps two
   arenas and maps large blocks on their own (:data:`ALLOCATOR`), the watchdog hands the freed memory back
   (``malloc_trim``, ~1 ms) about once a second while requests come, and a worker still above what it may keep
-  (``Settings.worker_keep_mb``: the bound less the allowance and the slack) when it goes idle is recycled gracefully (SIGTERM: its requests finish, the supervisor starts a fresh one), one worker
-  of the service at a time.
+  (``Settings.worker_keep_mb``: the bound less the allowance and the slack) when it goes idle is recycled
+  gracefully (SIGTERM: its requests finish, the supervisor starts a fresh one), one worker of the service at a time.
 """
 from __future__ import annotations
 
