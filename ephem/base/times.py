@@ -279,8 +279,8 @@ def calendar_dates(jd_tdb: ArrayLike, scale: str = "utc") -> list[str]:
     Vectorised through ERFA, the chain :func:`to_jd_tdb` runs the other way: TDB to TT, TT to TAI, TAI to UTC (ERFA's
     leap-second table; a leap second reads ``23:59:60.xxx``; before 1960 UTC is taken as TAI, as ERFA does), then
     ERFA's ``d2dtf`` rounds to the millisecond. TDB - TT (1.7 ms at most) is the USNO Circular 179 series (eq. 2.6,
-    skyfield's ``tdb_minus_tt`` to the bit, its terms taken in one array: :func:`_tdb_minus_tt`; within :data:`TDB_TT_ERROR_S` of ERFA's full ``dtdb`` over 1600-2200), which costs
-    ~0.07 us an epoch where ``dtdb`` costs 8 us: the whole column costs 0.2-0.3 us an epoch, a 10^5-epoch track's
+    skyfield's ``tdb_minus_tt`` to the bit, its terms taken in one array: :func:`_tdb_minus_tt`; within
+    :data:`TDB_TT_ERROR_S` of ERFA's full ``dtdb`` over 1600-2200), which costs ~0.07 us an epoch where ``dtdb`` costs 8 us: the whole column costs 0.2-0.3 us an epoch, a 10^5-epoch track's
     dates ~30 ms of CPU (benchmarks/RESULTS_calendar.md). Years outside 0000-9999 are written with their sign
     (``-4712``, ``+10000``), as ISO 8601's expanded years.
 

@@ -22,7 +22,7 @@ for all: :func:`choose` is :func:`decide` over a plan's estimates.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Callable, Sequence
 
 import numpy as np
@@ -176,7 +176,12 @@ class Choice:
     reason: str
 
 
-_CANDIDATE_FIELDS = ("rung", "order", "free_wobble", "rotation_scale", "estimate", "cost", "_eligible")
+#: Candidate's fields in their order, read from the class (so :func:`_candidate` follows a field added or moved); a
+#: ``__post_init__`` or slots would not be honoured there, so they are refused as the module loads
+_CANDIDATE_FIELDS = tuple(f.name for f in fields(Candidate))
+if hasattr(Candidate, "__post_init__") or hasattr(Candidate, "__slots__"):
+    raise TypeError("_candidate sets Candidate's fields directly: give it the __post_init__'s work, or build by the "
+                    "constructor")
 
 
 def _candidate(p, estimate: Estimate | None, cost: Cost | None, eligible: bool) -> Candidate:
