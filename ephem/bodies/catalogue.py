@@ -231,6 +231,11 @@ class Body:
             object.__setattr__(self, "_sigma_key", k)
         return k
 
+    def with_sigmas(self, *rest) -> tuple:
+        """The key of a cache of what the body's σ decide: ``(body, sigma_key, *rest)``. The σ caches key by it and
+        the predictors ask them by it (``ephem.theory.cost.kept``), so the two cannot drift apart."""
+        return (self, self.sigma_key, *rest)
+
     def __getstate__(self) -> dict:
         # the kept hash is of this process's string hashing (PYTHONHASHSEED): a pickled body (a Dask task's)
         # computes its own

@@ -61,7 +61,7 @@ def input_sigmas(body: Body) -> dict[str, float | None]:
     return dict(_kept_sigmas(body))
 
 
-@bytes_bounded(key=lambda body: (body, body.sigma_key))      # the σ too: a body's equality leaves its values out
+@bytes_bounded(key=lambda body: body.with_sigmas())      # the σ too: a body's equality leaves its values out
 def _kept_sigmas(body: Body) -> tuple[tuple[str, float | None], ...]:
     """The (input key, catalogue 1-σ or None) pairs of :func:`input_sigmas`: a function of the body alone (its
     catalogue values and their units), kept per body in the byte-bounded caches (:mod:`ephem.base.memo`, ~1 kB),

@@ -135,7 +135,7 @@ def pole_sensitivity(b: Body, order: int | None, uncertainties=None, correlation
     return PoleSensitivity.of_models(models, np.array(steps), s[:, None] * rho[np.ix_(which, which)] * s[None, :])
 
 
-@bytes_bounded(key=lambda b, order=None: (b, b.sigma_key, order))     # the σ too: a body's equality leaves them out
+@bytes_bounded(key=lambda b, order=None: b.with_sigmas(order))     # the σ too: a body's equality leaves them out
 def cached_pole_sensitivity(b: Body, order: int | None) -> PoleSensitivity | None:
     """:func:`pole_sensitivity` with the catalogue's σ and correlations, memoised per body and order in the
     byte-bounded per-body caches (:mod:`ephem.base.memo`: ~1 kB a harmonic and input)."""
@@ -175,7 +175,7 @@ def pole_uncertainty(b: Body, jd_tdb, order: int | None = None, *,
 SIGMA_MEMO_EPOCHS = 4096
 
 
-@bytes_bounded(key=lambda b, order, t: (b, b.sigma_key, order, epochs_digest(t)))
+@bytes_bounded(key=lambda b, order, t: b.with_sigmas(order, epochs_digest(t)))
 def _cached_sigma(b: Body, order: int | None, t: np.ndarray) -> np.ndarray | None:
     """The pole's 1-σ at the epochs ``t`` with the catalogue's σ and correlations (:meth:`PoleSensitivity.sigma`):
     a pure function of the body (its dataset with it), the order and the epochs, kept per body, order and the epochs'

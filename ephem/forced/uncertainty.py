@@ -424,7 +424,7 @@ def monte_carlo(body: str | int | Body, n: int = 1000, seed: int = 0, order: int
 
 
 # a user's body of many harmonics holds ~0.5 MB here (e = 0.9): bounded in bytes (ephem.base.memo); keyed by the σ too
-@bytes_bounded(key=lambda b, order=None: (b, b.sigma_key, order))
+@bytes_bounded(key=lambda b, order=None: b.with_sigmas(order))
 def propagated(b: Body, order: int | None) -> dict:
     """The 1-σ uncertainties of :func:`propagate`, with 0 (no input of known σ moves the value: its σ is
     unknown, not zero) replaced by None. A body none of whose inputs has a σ (a user's body) skips the

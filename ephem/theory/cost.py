@@ -64,7 +64,7 @@ def kept(function: str, *args) -> bool:
     function, e.g. ``ephem.forced.pole_uncertainty.cached_pole_sensitivity``) holds its value for ``args`` (its key:
     all its arguments, in order): how a predictor asks whether a request will build it without importing the layer that
     keeps it (``tests/theory/test_cost_model.py`` holds the names to the caches). A cache with a ``key`` function
-    is asked with what that function gives (the σ caches: the body, its ``sigma_key`` and the order)."""
+    is asked with what that function gives (the σ caches: ``body.with_sigmas(order)``)."""
     return (function, tuple(args)) in memo.POOL
 
 
@@ -367,11 +367,11 @@ def pole_uncertainty(body, inputs_with_sigma: int, epochs: int, order: int | Non
                   _u("pole_sigma_base_s") + epochs * rows * (_u("pole_sigma_row_epoch_s")
                                                              + k * _u("pole_sigma_row_harmonic_s")),
                   epochs * rows * 48.0 / MB)]
-    if not kept(POLE_SENSITIVITY, body, body.sigma_key, order):     # the caches' keys hold the σ (Body.sigma_key)
+    if not kept(POLE_SENSITIVITY, *body.with_sigmas(order)):     # the caches' key (Body.with_sigmas)
         build = model_build(body.orbit.e, order)
         parts.append(Part("body", f"the pole's {rows} stepped models (once per body and order)",
                           rows * (build.cpu_s + _u("pole_sigma_model_s")), build.memory_mb))
-    if not kept(PROPAGATED, body, body.sigma_key, order):
+    if not kept(PROPAGATED, *body.with_sigmas(order)):
         parts.append(propagation(inputs_with_sigma))
     return Cost(tuple(parts))
 

@@ -205,7 +205,7 @@ def test_kept_asks_the_caches_it_names():
     for fn in (pole_uncertainty.cached_pole_sensitivity, uncertainty.propagated):
         fn.cache_clear()
     cold = cost.pole_uncertainty(b, with_sigma, 100)
-    key = (b, b.sigma_key, None)          # the σ caches key on the σ too (Body.sigma_key)
+    key = b.with_sigmas(None)          # the σ caches key on the σ too (Body.with_sigmas)
     assert not cost.kept(cost.POLE_SENSITIVITY, *key) and not cost.kept(cost.PROPAGATED, *key)
     pole_uncertainty.cached_pole_sensitivity(b, None)
     uncertainty.propagated(b, None)
